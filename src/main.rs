@@ -1,1 +1,132 @@
-fn main() {}
+//! The `solver` command line: parse, initialise MPI, run; every error becomes one message
+//! and a non-zero exit code (2 for bad input, 1 for a run that failed).
+
+use clap::{Parser, Subcommand};
+use solver::comm::{Comm, SerialComm};
+use solver::post::{run_post, PostCommand};
+use solver::run::{run, RunOptions};
+use solver::scene::load_scene;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "solver",
+    version,
+    about = "Quasi-static nonlinear finite element solver for 3-D solids with master/slave contact",
+    after_help = "Examples:\n  solver run run/paper/capture_release.toml\n  run/mpirun -np 2 target/release/solver run scene.toml -o out/scene.h5\n  solver check scene.toml\n  solver post info out/scene.h5\n  solver post compare out/a.h5 out/b.h5"
+)]
+struct Cli {
+    /// More output (-v: step details); repeat for more.
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    verbose: u8,
+    /// Only errors.
+    #[arg(short, long, global = true)]
+    quiet: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scene and write its results (HDF5 + XDMF).
+    Run {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Result file; default out/<scene name>.h5.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Validate a scene and print a summary, without solving.
+    Check {
+        /// The scene file (TOML).
+        scene: PathBuf,
+    },
+    /// Work with result files.
+    #[command(subcommand)]
+    Post(PostCommand),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let verbosity = if cli.quiet { 0 } else { 1 + cli.verbose };
+    match cli.command {
+        Command::Post(cmd) => match run_post(&cmd) {
+            Ok(code) => ExitCode::from(code as u8),
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::Check { scene } => match load_scene(&scene) {
+            Ok(p) => {
+                println!("{}", solver::problem::summary(&p));
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::Run { scene, output } => with_comm(|comm| {
+            let problem = match load_scene(&scene) {
+                Ok(p) => p,
+                Err(e) => {
+                    if comm.is_root() {
+                        eprintln!("error: {e}");
+                    }
+                    return 2;
+                }
+            };
+            let output =
+                output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
+            match run(
+                comm,
+                &problem,
+                &RunOptions {
+                    output: Some(output),
+                    verbosity,
+                },
+            ) {
+                Ok((summary, _)) => {
+                    if let Some(f) = &summary.failure {
+                        if comm.is_root() {
+                            eprintln!("error: {f}");
+                            if let Some(p) = &summary.output {
+                                eprintln!("the completed steps are in {}", p.display());
+                            }
+                        }
+                        1
+                    } else {
+                        if comm.is_root() && verbosity > 0 {
+                            let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
+                            eprintln!(
+                                "done: {} steps, {} CG iterations, {:.3} s; results in {}",
+                                summary.steps.len(),
+                                iters,
+                                summary.wall_time,
+                                summary
+                                    .output
+                                    .as_ref()
+                                    .map(|p| p.display().to_string())
+                                    .unwrap_or_default()
+                            );
+                        }
+                        0
+                    }
+                }
+                Err(e) => {
+                    if comm.is_root() {
+                        eprintln!("error: {e}");
+                    }
+                    1
+                }
+            }
+        }),
+    }
+}
+
+/// Runs `f` with the MPI communicator when started under mpirun, else serially.
+fn with_comm(f: impl FnOnce(&dyn Comm) -> u8) -> ExitCode {
+    ExitCode::from(f(&SerialComm))
+}

@@ -1,0 +1,102 @@
+//! Communication between ranks. Everything above this module is generic over `Comm`, so
+//! `cargo test` runs the same solver code serially that `mpirun` runs in parallel.
+
+pub mod exact_sum;
+mod serial;
+
+pub use exact_sum::ExactSum;
+pub use serial::SerialComm;
+
+use crate::math::Vec3;
+
+/// What the solver needs from the parallel machine. Implementations: `SerialComm` (one
+/// rank) and the MPI one. Collective calls must be made by every rank in the same order.
+pub trait Comm {
+    fn rank(&self) -> usize;
+    fn size(&self) -> usize;
+    fn is_root(&self) -> bool {
+        self.rank() == 0
+    }
+    /// Element-wise sum of integer arrays over all ranks (exact, so order-independent).
+    fn sum_i64(&self, values: &mut [i64]);
+    /// Element-wise maximum over all ranks.
+    fn max_f64(&self, values: &mut [f64]);
+    /// Element-wise minimum over all ranks.
+    fn min_i64(&self, values: &mut [i64]);
+    /// Point-to-point exchange: send each (rank, data) and fill each receive buffer, whose
+    /// length the caller knows.
+    fn exchange(&self, send: &[(usize, Vec<f64>)], recv: &mut [(usize, Vec<f64>)]);
+    /// Gathers variable-length data on rank 0 (one entry per rank, in rank order);
+    /// other ranks get an empty vector.
+    fn gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
+    fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>>;
+    /// Broadcasts bytes from `root` to every rank.
+    fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>);
+}
+
+/// Reproducible global dot product of the first `n` nodes (the owned ones) of two nodal
+/// vectors: summed exactly, rounded once, identical on any number of ranks.
+pub fn dot<C: Comm + ?Sized>(comm: &C, a: &[Vec3], b: &[Vec3], n: usize) -> f64 {
+    let mut acc = ExactSum::new();
+    for k in 0..n {
+        acc.add_product(a[k][0], b[k][0]);
+        acc.add_product(a[k][1], b[k][1]);
+        acc.add_product(a[k][2], b[k][2]);
+    }
+    global_sum(comm, acc)
+}
+
+/// Rounds an exact local accumulator's global total once.
+pub fn global_sum<C: Comm + ?Sized>(comm: &C, acc: ExactSum) -> f64 {
+    if comm.size() == 1 {
+        return acc.to_f64();
+    }
+    let mut limbs = acc.limbs().to_vec();
+    comm.sum_i64(&mut limbs);
+    ExactSum::from_limbs(&limbs).to_f64()
+}
+
+/// Reproducible global 2-norm of the owned part of a nodal vector.
+pub fn norm<C: Comm + ?Sized>(comm: &C, a: &[Vec3], n: usize) -> f64 {
+    dot(comm, a, a, n).sqrt()
+}
+
+pub fn max_f64<C: Comm + ?Sized>(comm: &C, x: f64) -> f64 {
+    let mut v = [x];
+    comm.max_f64(&mut v);
+    v[0]
+}
+
+pub fn sum_u64<C: Comm + ?Sized>(comm: &C, x: u64) -> u64 {
+    let mut v = [x as i64];
+    comm.sum_i64(&mut v);
+    v[0] as u64
+}
+
+pub fn any<C: Comm + ?Sized>(comm: &C, b: bool) -> bool {
+    let mut v = [b as i64];
+    comm.sum_i64(&mut v);
+    v[0] > 0
+}
+
+/// Every rank learns the error of the lowest-numbered failing rank, if any, so all ranks
+/// take the same branch and stop with the same message.
+pub fn first_error<C: Comm + ?Sized>(comm: &C, local: Option<String>) -> Option<String> {
+    let mut who = [if local.is_some() {
+        comm.rank() as i64
+    } else {
+        i64::MAX
+    }];
+    comm.min_i64(&mut who);
+    if who[0] == i64::MAX {
+        return None;
+    }
+    let root = who[0] as usize;
+    let mut bytes = if comm.rank() == root {
+        local.unwrap_or_default().into_bytes()
+    } else {
+        Vec::new()
+    };
+    comm.broadcast_bytes(root, &mut bytes);
+    Some(String::from_utf8_lossy(&bytes).into_owned())
+}

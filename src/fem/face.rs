@@ -1,0 +1,86 @@
+//! Bilinear quadrilateral faces: geometry, consistent nodal loads of pressure and traction.
+
+use crate::math::{cross, Vec3};
+
+const G: f64 = 0.577_350_269_189_625_8;
+const GAUSS2: [[f64; 2]; 4] = [[-G, -G], [G, -G], [G, G], [-G, G]];
+const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+
+#[inline]
+pub fn shape(s: f64, t: f64) -> [f64; 4] {
+    let mut n = [0.0; 4];
+    for (a, na) in n.iter_mut().enumerate() {
+        *na = 0.25 * (1.0 + s * CORNERS[a][0]) * (1.0 + t * CORNERS[a][1]);
+    }
+    n
+}
+
+#[inline]
+pub fn shape_derivatives(s: f64, t: f64) -> [[f64; 2]; 4] {
+    let mut d = [[0.0; 2]; 4];
+    for (a, da) in d.iter_mut().enumerate() {
+        let (ps, pt) = (CORNERS[a][0], CORNERS[a][1]);
+        *da = [0.25 * ps * (1.0 + t * pt), 0.25 * pt * (1.0 + s * ps)];
+    }
+    d
+}
+
+/// Tangent vectors dx/ds and dx/dt.
+#[inline]
+pub fn tangents(x: &[Vec3; 4], s: f64, t: f64) -> (Vec3, Vec3) {
+    let d = shape_derivatives(s, t);
+    let mut ts = [0.0; 3];
+    let mut tt = [0.0; 3];
+    for a in 0..4 {
+        for i in 0..3 {
+            ts[i] += d[a][0] * x[a][i];
+            tt[i] += d[a][1] * x[a][i];
+        }
+    }
+    (ts, tt)
+}
+
+/// Consistent nodal forces of a uniform pressure `p` (positive pushes against the outward
+/// normal) on the face with corner positions `x` (ordered with an outward normal).
+pub fn pressure_forces(x: &[Vec3; 4], p: f64) -> [Vec3; 4] {
+    let mut f = [[0.0; 3]; 4];
+    for gp in GAUSS2.iter() {
+        let (ts, tt) = tangents(x, gp[0], gp[1]);
+        // |ts x tt| ds dt is the area element; ts x tt is outward.
+        let an = cross(&ts, &tt);
+        let n = shape(gp[0], gp[1]);
+        for a in 0..4 {
+            for i in 0..3 {
+                f[a][i] -= p * n[a] * an[i];
+            }
+        }
+    }
+    f
+}
+
+/// Consistent nodal forces of a uniform traction vector (force per unit area).
+pub fn traction_forces(x: &[Vec3; 4], traction: &Vec3) -> [Vec3; 4] {
+    let mut f = [[0.0; 3]; 4];
+    for gp in GAUSS2.iter() {
+        let (ts, tt) = tangents(x, gp[0], gp[1]);
+        let area = crate::math::norm(&cross(&ts, &tt));
+        let n = shape(gp[0], gp[1]);
+        for a in 0..4 {
+            for i in 0..3 {
+                f[a][i] += n[a] * area * traction[i];
+            }
+        }
+    }
+    f
+}
+
+/// Area of the face.
+pub fn area(x: &[Vec3; 4]) -> f64 {
+    GAUSS2
+        .iter()
+        .map(|gp| {
+            let (ts, tt) = tangents(x, gp[0], gp[1]);
+            crate::math::norm(&cross(&ts, &tt))
+        })
+        .sum()
+}

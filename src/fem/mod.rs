@@ -1,0 +1,8 @@
+//! Finite element kernels: the 8-node hexahedron, its faces, and the element force and
+//! diagonal-tangent kernels. Everything here is pure: fixed-size arrays in, arrays out.
+
+pub mod element;
+pub mod face;
+pub mod hex8;
+
+pub use element::{ElementFailure, Formulation};

@@ -1,0 +1,113 @@
+//! A rank's view of the mesh: owned elements and one layer of ghost elements (every
+//! element touching an owned node), owned nodes first, then ghost nodes, and the halo
+//! exchange plan. Local elements are in ascending global order, so every owned node sums
+//! its element contributions in the same order as a one-rank run: the nodal forces are
+//! bitwise the same on any number of ranks.
+
+use super::GlobalMesh;
+use crate::comm::Comm;
+use crate::math::Vec3;
+use partition::RankPart;
+
+#[derive(Clone, Debug)]
+pub struct HaloPlan {
+    /// (rank, local indices of owned nodes to send)
+    pub send: Vec<(usize, Vec<u32>)>,
+    /// (rank, local indices of ghost nodes to fill)
+    pub recv: Vec<(usize, Vec<u32>)>,
+}
+
+#[derive(Clone, Debug)]
+pub struct LocalMesh {
+    pub num_owned_nodes: usize,
+    pub node_global: Vec<u32>,
+    pub coords: Vec<Vec3>,
+    pub elements: Vec<[u32; 8]>,
+    pub element_global: Vec<u32>,
+    pub element_owned: Vec<bool>,
+    pub element_body: Vec<u32>,
+    pub halo: HaloPlan,
+    global_to_local: std::collections::HashMap<u32, u32>,
+}
+
+impl LocalMesh {
+    pub fn new(global: &GlobalMesh, part: &RankPart) -> Self {
+        let node_global = part.local_nodes();
+        let global_to_local = part.global_to_local();
+        let coords = node_global
+            .iter()
+            .map(|&g| global.coords[g as usize])
+            .collect();
+        let element_global = part.local_elements();
+        let elements = element_global
+            .iter()
+            .map(|&e| global.elements[e as usize].map(|n| global_to_local[&n]))
+            .collect();
+        let element_owned = element_global
+            .iter()
+            .map(|&e| part.owns_element(e))
+            .collect();
+        let element_body = element_global
+            .iter()
+            .map(|&e| global.element_body[e as usize])
+            .collect();
+        let map = |lists: &[(usize, Vec<u32>)]| -> Vec<(usize, Vec<u32>)> {
+            lists
+                .iter()
+                .map(|(r, ids)| (*r, ids.iter().map(|g| global_to_local[g]).collect()))
+                .collect()
+        };
+        LocalMesh {
+            num_owned_nodes: part.num_owned_nodes(),
+            node_global,
+            coords,
+            elements,
+            element_global,
+            element_owned,
+            element_body,
+            halo: HaloPlan {
+                send: map(&part.send),
+                recv: map(&part.recv),
+            },
+            global_to_local,
+        }
+    }
+
+    pub fn num_nodes(&self) -> usize {
+        self.node_global.len()
+    }
+
+    pub fn local_node(&self, global: u32) -> Option<usize> {
+        self.global_to_local.get(&global).map(|&l| l as usize)
+    }
+
+    pub fn element_coords(&self, e: usize) -> [Vec3; 8] {
+        let el = &self.elements[e];
+        std::array::from_fn(|a| self.coords[el[a] as usize])
+    }
+
+    /// Copies owned values to the ghost copies on neighbouring ranks.
+    pub fn exchange<C: Comm + ?Sized>(&self, comm: &C, data: &mut [Vec3]) {
+        if self.halo.send.is_empty() && self.halo.recv.is_empty() {
+            return;
+        }
+        let send: Vec<(usize, Vec<f64>)> = self
+            .halo
+            .send
+            .iter()
+            .map(|(r, idx)| (*r, idx.iter().flat_map(|&i| data[i as usize]).collect()))
+            .collect();
+        let mut recv: Vec<(usize, Vec<f64>)> = self
+            .halo
+            .recv
+            .iter()
+            .map(|(r, idx)| (*r, vec![0.0; 3 * idx.len()]))
+            .collect();
+        comm.exchange(&send, &mut recv);
+        for ((_, idx), (_, buf)) in self.halo.recv.iter().zip(recv.iter()) {
+            for (k, &i) in idx.iter().enumerate() {
+                data[i as usize] = [buf[3 * k], buf[3 * k + 1], buf[3 * k + 2]];
+            }
+        }
+    }
+}

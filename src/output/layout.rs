@@ -1,0 +1,167 @@
+//! Names of the datasets and attributes of a result file, and the file names beside it.
+//!
+//! `src/output/README-section.md` documents the layout for users; keep the two in step.
+
+use std::path::{Path, PathBuf};
+
+/// Version of the layout below, written as the root attribute `format_version`.
+pub const FORMAT_VERSION: u64 = 1;
+
+pub const COORDINATES: &str = "/mesh/coordinates";
+pub const NODE_IDS: &str = "/mesh/node_ids";
+pub const ALL_CONNECTIVITY: &str = "/mesh/all_connectivity";
+pub const NODE_SETS: &str = "/mesh/node_sets";
+pub const SIDE_SETS: &str = "/mesh/side_sets";
+/// Names that cannot be body names because they are taken in `/mesh`.
+pub const RESERVED_MESH_NAMES: [&str; 5] = [
+    "coordinates",
+    "node_ids",
+    "all_connectivity",
+    "node_sets",
+    "side_sets",
+];
+
+pub const TIME: &str = "/results/time";
+pub const DISPLACEMENT: &str = "/results/displacement";
+pub const STRESS: &str = "/results/stress";
+pub const REACTION: &str = "/results/reaction";
+pub const CONTACT_FORCE: &str = "/results/contact/force";
+pub const CONTACT_STATUS: &str = "/results/contact/status";
+pub const CONTACT_GAP: &str = "/results/contact/gap";
+
+pub const STATS_CG_ITERATIONS: &str = "/stats/cg_iterations";
+pub const STATS_CONTACT_UPDATES: &str = "/stats/contact_updates";
+pub const STATS_RESIDUAL: &str = "/stats/residual";
+pub const STATS_WALL_TIME: &str = "/stats/wall_time";
+pub const STATS_CUTBACKS: &str = "/stats/cutbacks";
+
+pub const ELEMENT_RANK: &str = "/partition/element_rank";
+
+/// Attribute of each `/mesh/<body>` group: the body's position in the body order.
+pub const BODY_INDEX_ATTR: &str = "body_index";
+/// Attribute of each `/mesh/<body>` group: index of its first element in global element order.
+pub const FIRST_ELEMENT_ATTR: &str = "first_element";
+/// Attribute of each node/side set dataset: its position in the set order.
+pub const SET_INDEX_ATTR: &str = "index";
+
+pub const ATTR_FORMAT_VERSION: &str = "format_version";
+pub const ATTR_SOLVER_VERSION: &str = "solver_version";
+pub const ATTR_RANKS: &str = "ranks";
+pub const ATTR_SCENE: &str = "scene";
+pub const ATTR_SCENE_NAME: &str = "scene_name";
+pub const ATTR_UNITS: &str = "units";
+pub const ATTR_START_TIME: &str = "start_time";
+pub const ATTR_WALL_TIME: &str = "wall_time";
+pub const ATTR_EXIT_STATUS: &str = "exit_status";
+
+/// The text of the `units` attribute.
+pub const UNITS_NOTE: &str = "consistent units; the scene's";
+/// `exit_status` while the run is under way (only ever seen in a `.tmp` file).
+pub const STATUS_RUNNING: &str = "running";
+/// `exit_status` of a run that finished.
+pub const STATUS_COMPLETED: &str = "completed";
+/// Prefix of `exit_status` of a run that failed.
+pub const STATUS_FAILED_PREFIX: &str = "failed: ";
+
+/// The per-step node datasets with three components.
+pub const NODE_VECTOR_DATASETS: [&str; 3] = [DISPLACEMENT, REACTION, CONTACT_FORCE];
+
+/// Every dataset a result file has whatever its mesh (body and set datasets come on top).
+pub const REQUIRED_DATASETS: [&str; 16] = [
+    COORDINATES,
+    NODE_IDS,
+    ALL_CONNECTIVITY,
+    TIME,
+    DISPLACEMENT,
+    STRESS,
+    REACTION,
+    CONTACT_FORCE,
+    CONTACT_STATUS,
+    CONTACT_GAP,
+    STATS_CG_ITERATIONS,
+    STATS_CONTACT_UPDATES,
+    STATS_RESIDUAL,
+    STATS_WALL_TIME,
+    STATS_CUTBACKS,
+    ELEMENT_RANK,
+];
+
+/// Every root attribute a finished result file has.
+pub const REQUIRED_ATTRIBUTES: [&str; 9] = [
+    ATTR_FORMAT_VERSION,
+    ATTR_SOLVER_VERSION,
+    ATTR_RANKS,
+    ATTR_SCENE,
+    ATTR_SCENE_NAME,
+    ATTR_UNITS,
+    ATTR_START_TIME,
+    ATTR_WALL_TIME,
+    ATTR_EXIT_STATUS,
+];
+
+pub fn body_group(body: &str) -> String {
+    format!("/mesh/{body}")
+}
+
+pub fn body_connectivity(body: &str) -> String {
+    format!("/mesh/{body}/connectivity")
+}
+
+pub fn body_element_ids(body: &str) -> String {
+    format!("/mesh/{body}/element_ids")
+}
+
+pub fn node_set(name: &str) -> String {
+    format!("{NODE_SETS}/{name}")
+}
+
+pub fn side_set(name: &str) -> String {
+    format!("{SIDE_SETS}/{name}")
+}
+
+/// A body or set name must be usable as one HDF5 link name.
+pub(crate) fn check_name(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        Err("empty name".into())
+    } else if name == "." || name == ".." {
+        Err(format!("'{name}' cannot be a name"))
+    } else if name.contains('/') || name.contains('\0') {
+        Err(format!("name '{name}' contains '/' or a NUL byte"))
+    } else {
+        Ok(())
+    }
+}
+
+/// The file names a run writes for the result path `<dir>/<stem>.h5`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResultPaths {
+    /// `<dir>/<stem>.h5`: the complete result, present only after `finish()`.
+    pub result: PathBuf,
+    /// `<dir>/<stem>.h5.tmp`: the file while the run writes it.
+    pub tmp: PathBuf,
+    /// `<dir>/<stem>.failed.h5`: the partial result of a failed run.
+    pub failed: PathBuf,
+    /// `<dir>/<stem>.xmf`: XDMF for `result`.
+    pub xdmf: PathBuf,
+    /// `<dir>/<stem>.failed.xmf`: XDMF for `failed`.
+    pub failed_xdmf: PathBuf,
+}
+
+impl ResultPaths {
+    pub fn new(result: &Path) -> Self {
+        let dir = result.parent().unwrap_or(Path::new(""));
+        let stem = result
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "result".into());
+        let mut tmp = result.as_os_str().to_owned();
+        tmp.push(".tmp");
+        ResultPaths {
+            result: result.to_path_buf(),
+            tmp: PathBuf::from(tmp),
+            failed: dir.join(format!("{stem}.failed.h5")),
+            xdmf: dir.join(format!("{stem}.xmf")),
+            failed_xdmf: dir.join(format!("{stem}.failed.xmf")),
+        }
+    }
+}

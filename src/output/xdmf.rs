@@ -1,0 +1,207 @@
+//! The XDMF 3 companion file: a temporal collection of uniform hexahedral grids whose data
+//! items point into the HDF5 result file (hyperslabs of the per-step datasets).
+
+use super::layout;
+
+/// What the XDMF text needs to know about the result file.
+pub struct XdmfDescription<'a> {
+    /// The HDF5 file's name relative to the `.xmf` file (they sit side by side).
+    pub h5_name: &'a str,
+    pub nodes: usize,
+    pub elements: usize,
+    pub times: &'a [f64],
+}
+
+fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// NumberType and Precision attributes of a data item.
+#[derive(Clone, Copy)]
+enum Number {
+    F64,
+    U64,
+    U8,
+}
+
+impl Number {
+    fn attrs(self) -> &'static str {
+        match self {
+            Number::F64 => r#"NumberType="Float" Precision="8""#,
+            Number::U64 => r#"NumberType="UInt" Precision="8""#,
+            Number::U8 => r#"NumberType="UChar" Precision="1""#,
+        }
+    }
+}
+
+/// One per-step attribute of every grid.
+struct AttributeSpec {
+    name: &'static str,
+    /// XDMF AttributeType.
+    kind: &'static str,
+    on_cells: bool,
+    /// Components per node/cell, `None` for a scalar.
+    components: Option<usize>,
+    number: Number,
+    dataset: &'static str,
+}
+
+const ATTRIBUTES: [AttributeSpec; 6] = [
+    AttributeSpec {
+        name: "displacement",
+        kind: "Vector",
+        on_cells: false,
+        components: Some(3),
+        number: Number::F64,
+        dataset: layout::DISPLACEMENT,
+    },
+    AttributeSpec {
+        name: "reaction",
+        kind: "Vector",
+        on_cells: false,
+        components: Some(3),
+        number: Number::F64,
+        dataset: layout::REACTION,
+    },
+    AttributeSpec {
+        name: "contact_force",
+        kind: "Vector",
+        on_cells: false,
+        components: Some(3),
+        number: Number::F64,
+        dataset: layout::CONTACT_FORCE,
+    },
+    AttributeSpec {
+        name: "contact_status",
+        kind: "Scalar",
+        on_cells: false,
+        components: None,
+        number: Number::U8,
+        dataset: layout::CONTACT_STATUS,
+    },
+    AttributeSpec {
+        name: "contact_gap",
+        kind: "Scalar",
+        on_cells: false,
+        components: None,
+        number: Number::F64,
+        dataset: layout::CONTACT_GAP,
+    },
+    // Stored order xx yy zz xy yz zx equals ParaView's Tensor6 order xx yy zz xy yz xz.
+    AttributeSpec {
+        name: "stress",
+        kind: "Tensor6",
+        on_cells: true,
+        components: Some(6),
+        number: Number::F64,
+        dataset: layout::STRESS,
+    },
+];
+
+fn dims(d: &[usize]) -> String {
+    d.iter().map(usize::to_string).collect::<Vec<_>>().join(" ")
+}
+
+impl XdmfDescription<'_> {
+    fn hdf_item(&self, indent: &str, shape: &[usize], number: Number, dataset: &str) -> String {
+        format!(
+            "{indent}<DataItem Dimensions=\"{}\" {} Format=\"HDF\">{}:{dataset}</DataItem>\n",
+            dims(shape),
+            number.attrs(),
+            escape(self.h5_name)
+        )
+    }
+
+    /// A hyperslab picking `step` out of a dataset of shape `[steps, inner...]`.
+    fn step_slab(
+        &self,
+        indent: &str,
+        step: usize,
+        inner: &[usize],
+        number: Number,
+        dataset: &str,
+    ) -> String {
+        let rank = inner.len() + 1;
+        let mut start = vec![step];
+        start.extend(std::iter::repeat_n(0, inner.len()));
+        let stride = vec![1; rank];
+        let mut count = vec![1];
+        count.extend_from_slice(inner);
+        let mut full = vec![self.times.len()];
+        full.extend_from_slice(inner);
+        let mut s = format!(
+            "{indent}<DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"{}\">\n",
+            dims(inner)
+        );
+        s += &format!(
+            "{indent}  <DataItem Dimensions=\"3 {rank}\" Format=\"XML\">{} {} {}</DataItem>\n",
+            dims(&start),
+            dims(&stride),
+            dims(&count)
+        );
+        s += &self.hdf_item(&format!("{indent}  "), &full, number, dataset);
+        s += &format!("{indent}</DataItem>\n");
+        s
+    }
+
+    fn attribute(&self, step: usize, a: &AttributeSpec) -> String {
+        let (count, center) = if a.on_cells {
+            (self.elements, "Cell")
+        } else {
+            (self.nodes, "Node")
+        };
+        let inner: Vec<usize> = match a.components {
+            Some(c) => vec![count, c],
+            None => vec![count],
+        };
+        let mut s = format!(
+            "      <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{center}\">\n",
+            a.name, a.kind
+        );
+        s += &self.step_slab("        ", step, &inner, a.number, a.dataset);
+        s += "      </Attribute>\n";
+        s
+    }
+
+    /// The complete `.xmf` text.
+    pub fn render(&self) -> String {
+        let (n, e) = (self.nodes, self.elements);
+        let mut s = String::from(
+            "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n\
+             <!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n\
+             <Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n\
+             <Domain>\n\
+             <Grid Name=\"results\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+        );
+        for (step, time) in self.times.iter().enumerate() {
+            s += &format!("    <Grid Name=\"step {step}\" GridType=\"Uniform\">\n");
+            s += &format!("      <Time Value=\"{time:e}\"/>\n");
+            s += &format!(
+                "      <Topology TopologyType=\"Hexahedron\" NumberOfElements=\"{e}\" \
+                 NodesPerElement=\"8\">\n"
+            );
+            s += &self.hdf_item("        ", &[e, 8], Number::U64, layout::ALL_CONNECTIVITY);
+            s += "      </Topology>\n";
+            s += "      <Geometry GeometryType=\"XYZ\">\n";
+            s += &self.hdf_item("        ", &[n, 3], Number::F64, layout::COORDINATES);
+            s += "      </Geometry>\n";
+            for a in &ATTRIBUTES {
+                s += &self.attribute(step, a);
+            }
+            s += "    </Grid>\n";
+        }
+        s += "</Grid>\n</Domain>\n</Xdmf>\n";
+        s
+    }
+}

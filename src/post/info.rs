@@ -1,0 +1,88 @@
+//! `solver post info`: a summary of one result file.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use crate::output::{OutputError, ResultFile};
+
+/// The summary `solver post info` prints.
+pub fn info_text(path: &Path) -> Result<String, OutputError> {
+    let f = ResultFile::open(path)?;
+    let attrs = f.attributes()?;
+    let mesh = f.mesh()?;
+    let time = f.time()?;
+    let stats = f.stats()?;
+    let mut s = String::new();
+    let wall = attrs.wall_time.map_or_else(
+        || "- (run not finished)".to_string(),
+        |w| format!("{w:.3} s"),
+    );
+    let bodies = mesh
+        .bodies
+        .iter()
+        .map(|b| format!("{} ({} elements)", b.name, b.connectivity.len()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let sets = |names: Vec<&String>| {
+        if names.is_empty() {
+            "-".to_string()
+        } else {
+            names
+                .iter()
+                .map(|n| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    };
+    // Writing to a String cannot fail.
+    let _ = writeln!(s, "file:         {}", path.display());
+    let _ = writeln!(s, "scene:        {}", attrs.scene_name);
+    let _ = writeln!(s, "solver:       {}", attrs.solver_version);
+    let _ = writeln!(s, "ranks:        {}", attrs.ranks);
+    let _ = writeln!(s, "start time:   {}", attrs.start_time);
+    let _ = writeln!(s, "wall time:    {wall}");
+    let _ = writeln!(s, "exit status:  {}", attrs.exit_status);
+    let _ = writeln!(s, "units:        {}", attrs.units);
+    let _ = writeln!(s, "nodes:        {}", f.num_nodes());
+    let _ = writeln!(s, "elements:     {} in {}", f.num_elements(), bodies);
+    let _ = writeln!(
+        s,
+        "node sets:    {}",
+        sets(mesh.node_sets.iter().map(|x| &x.0).collect())
+    );
+    let _ = writeln!(
+        s,
+        "side sets:    {}",
+        sets(mesh.side_sets.iter().map(|x| &x.0).collect())
+    );
+    let _ = writeln!(s, "steps:        {}", f.num_steps());
+    if !time.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10}",
+            "step", "time", "CG its", "contact", "cutback", "residual", "wall [s]"
+        );
+        for (i, (t, st)) in time.iter().zip(&stats).enumerate() {
+            let _ = writeln!(
+                s,
+                "{:>5} {:>14.6e} {:>8} {:>8} {:>8} {:>12.4e} {:>10.3}",
+                i, t, st.cg_iterations, st.contact_updates, st.cutbacks, st.residual, st.wall_time
+            );
+        }
+        let cg: u64 = stats.iter().map(|st| st.cg_iterations).sum();
+        let wall: f64 = stats.iter().map(|st| st.wall_time).sum();
+        let _ = writeln!(
+            s,
+            "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10.3}",
+            "total",
+            "",
+            cg,
+            stats.iter().map(|st| st.contact_updates).sum::<u64>(),
+            stats.iter().map(|st| st.cutbacks).sum::<u64>(),
+            "",
+            wall
+        );
+    }
+    Ok(s)
+}

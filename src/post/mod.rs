@@ -1,0 +1,81 @@
+//! `solver post`: tools working on result files (summary, comparison, plots).
+//!
+//! Embed [`PostCommand`] as a subcommand and call [`run_post`]; its `Ok` value is the process
+//! exit code (0, or 1 when `compare` finds a difference beyond the tolerance). An `Err`
+//! (missing or bad file, meshes or shapes that cannot be compared, bad arguments) should be
+//! printed and end the process with exit code 2.
+
+mod compare;
+mod info;
+mod plot;
+
+use std::path::PathBuf;
+
+pub use compare::{compare_files, CompareReport, DatasetComparison};
+pub use info::info_text;
+pub use plot::{
+    fonts_available, plot_data, render_plot, Axis, Component, PlotArgs, PlotData, Quantity, Series,
+};
+
+use crate::output::OutputError;
+
+/// The `post` subcommands.
+#[derive(clap::Subcommand, Debug, Clone, PartialEq)]
+pub enum PostCommand {
+    /// Summarise a result file: scene, ranks, steps, wall time, exit status and a per-step
+    /// table of solver statistics.
+    Info {
+        /// The result file (.h5).
+        file: PathBuf,
+    },
+    /// Compare two result files dataset by dataset. Exit code 0 when every counted dataset
+    /// is within the tolerance, 1 when one is not, 2 when the files cannot be compared
+    /// (different meshes or dataset shapes, unreadable file).
+    Compare {
+        /// The reference result file.
+        a: PathBuf,
+        /// The result file compared with it.
+        b: PathBuf,
+        /// Largest allowed relative difference (max |a-b| over max |a| of the dataset);
+        /// 0 demands bitwise equality.
+        #[arg(long, default_value_t = 0.0)]
+        tol: f64,
+    },
+    /// Plot a nodal quantity along a node set (one line per step), or with --history
+    /// through time.
+    Plot(PlotArgs),
+}
+
+/// Runs a `post` subcommand, printing its report to standard output; returns the exit code.
+pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
+    match cmd {
+        PostCommand::Info { file } => {
+            print!("{}", info_text(file)?);
+            Ok(0)
+        }
+        PostCommand::Compare { a, b, tol } => {
+            let report = compare_files(a, b, *tol)?;
+            print!("{}", report.render());
+            Ok(report.exit_code())
+        }
+        PostCommand::Plot(args) => {
+            let data = plot_data(args)?;
+            let text = fonts_available();
+            if !text {
+                eprintln!(
+                    "warning: no usable system font (sans-serif); the plot is drawn without \
+                     text (install fonts-dejavu-core for labels)"
+                );
+            }
+            render_plot(&data, &args.output, text)?;
+            println!(
+                "wrote {} ({} line{}, {} points each)",
+                args.output.display(),
+                data.series.len(),
+                if data.series.len() == 1 { "" } else { "s" },
+                data.series.first().map_or(0, |s| s.points.len())
+            );
+            Ok(0)
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! A validated scene: the mesh with resolved sets, materials, loads, time steps and solver
+//! settings. Built once by `scene::load_scene`; nothing here refers to names any more.
+
+use crate::fem::Formulation;
+use crate::material::Material;
+use crate::math::Vec3;
+use crate::mesh::GlobalMesh;
+use crate::scene::{Kinematics, PiecewiseLinear};
+
+#[derive(Clone, Debug)]
+pub struct BodyModel {
+    pub material: Material,
+    pub formulation: Formulation,
+    pub density: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct NodeSet {
+    pub name: String,
+    pub nodes: Vec<u32>,
+}
+
+#[derive(Clone, Debug)]
+pub struct SideSet {
+    pub name: String,
+    pub faces: Vec<(u32, u8)>,
+}
+
+/// u . direction = function(t) on every node of the set.
+#[derive(Clone, Debug)]
+pub struct Dirichlet {
+    pub node_set: usize,
+    pub direction: Vec3,
+    pub function: PiecewiseLinear,
+}
+
+#[derive(Clone, Debug)]
+pub struct Pressure {
+    pub side_set: usize,
+    pub function: PiecewiseLinear,
+}
+
+#[derive(Clone, Debug)]
+pub struct Traction {
+    pub side_set: usize,
+    pub vector: Vec3,
+    pub function: PiecewiseLinear,
+}
+
+#[derive(Clone, Debug)]
+pub struct BodyForce {
+    pub body: usize,
+    /// Force per unit reference volume (density times acceleration).
+    pub force_density: Vec3,
+    pub function: PiecewiseLinear,
+}
+
+#[derive(Clone, Debug)]
+pub struct SolverSettings {
+    /// Converged when |r| <= tolerance * reference force.
+    pub tolerance: f64,
+    /// CG iterations allowed for one load step's model problem.
+    pub max_iterations: usize,
+    /// Extrapolate the previous step's increment as the starting guess.
+    pub predictor: bool,
+    /// How many times a failing step may be halved.
+    pub max_cutbacks: usize,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            tolerance: 1e-10,
+            max_iterations: 20_000,
+            predictor: true,
+            max_cutbacks: 6,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Problem {
+    pub name: String,
+    /// The scene file's full text, kept for the result file.
+    pub text: String,
+    pub file: String,
+    pub kinematics: Kinematics,
+    pub mesh: GlobalMesh,
+    pub body_models: Vec<BodyModel>,
+    pub node_sets: Vec<NodeSet>,
+    pub side_sets: Vec<SideSet>,
+    pub dirichlet: Vec<Dirichlet>,
+    pub pressures: Vec<Pressure>,
+    pub tractions: Vec<Traction>,
+    pub body_forces: Vec<BodyForce>,
+    pub start_time: f64,
+    /// End time of every load step, in order.
+    pub step_times: Vec<f64>,
+    pub solver: SolverSettings,
+    pub output_every: usize,
+}
+
+impl Problem {
+    pub fn node_set(&self, name: &str) -> Option<&NodeSet> {
+        self.node_sets.iter().find(|s| s.name == name)
+    }
+
+    pub fn side_set(&self, name: &str) -> Option<&SideSet> {
+        self.side_sets.iter().find(|s| s.name == name)
+    }
+}
+
+/// A human-readable summary of a problem (what `solver check` prints).
+pub fn summary(p: &Problem) -> String {
+    use std::fmt::Write;
+    let m = &p.mesh;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "scene '{}' ({}), kinematics {:?}",
+        p.name, p.file, p.kinematics
+    );
+    let _ = writeln!(
+        s,
+        "  {} bodies, {} elements, {} nodes",
+        m.bodies.len(),
+        m.num_elements(),
+        m.num_nodes()
+    );
+    for (b, model) in m.bodies.iter().zip(&p.body_models) {
+        let _ = writeln!(
+            s,
+            "  body '{}': elements {}..{}, nodes {}..{}, {:?}, {:?}",
+            b.name,
+            b.first_element + 1,
+            b.first_element + b.num_elements,
+            b.first_node + 1,
+            b.first_node + b.num_nodes,
+            model.material,
+            model.formulation
+        );
+    }
+    for ns in &p.node_sets {
+        let _ = writeln!(s, "  node set '{}': {} nodes", ns.name, ns.nodes.len());
+    }
+    for ss in &p.side_sets {
+        let _ = writeln!(s, "  side set '{}': {} faces", ss.name, ss.faces.len());
+    }
+    let _ = writeln!(
+        s,
+        "  {} prescribed directions, {} pressures, {} tractions, {} body forces",
+        p.dirichlet.len(),
+        p.pressures.len(),
+        p.tractions.len(),
+        p.body_forces.len()
+    );
+    let _ = write!(
+        s,
+        "  {} steps from t = {} to t = {}; tolerance {:e}",
+        p.step_times.len(),
+        p.start_time,
+        p.step_times.last().copied().unwrap_or(p.start_time),
+        p.solver.tolerance
+    );
+    s
+}

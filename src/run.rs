@@ -1,0 +1,368 @@
+//! One analysis from a validated problem to a result file: decompose, build the rank's
+//! local mesh, step through time, gather each step's results on rank 0 and write them.
+
+use crate::comm::{self, Comm};
+use crate::math::{matvec, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::output::{OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats};
+use crate::problem::Problem;
+use crate::solver::{StepRecord, Stepper};
+use partition::Decomposition;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Result file; None writes nothing (tests that only need the numbers).
+    pub output: Option<PathBuf>,
+    /// 0 quiet, 1 step lines, 2 more.
+    pub verbosity: u8,
+}
+
+/// The run's outcome as every rank sees it.
+#[derive(Clone, Debug)]
+pub struct RunSummary {
+    pub steps: Vec<StepRecord>,
+    pub wall_time: f64,
+    pub output: Option<PathBuf>,
+    /// Set when a step failed: the diagnostic (the result file then holds the steps before).
+    pub failure: Option<String>,
+}
+
+/// The final state on rank 0 in global order (for tests and the verification checks).
+#[derive(Clone, Debug, Default)]
+pub struct GlobalState {
+    pub displacement: Vec<Vec3>,
+    pub stress: Vec<[f64; 6]>,
+    pub reaction: Vec<Vec3>,
+}
+
+/// The whole mesh as the result file records it.
+pub fn output_mesh(problem: &Problem) -> OutputMesh {
+    let m = &problem.mesh;
+    OutputMesh {
+        coordinates: m.coords.clone(),
+        node_ids: (1..=m.num_nodes() as u64).collect(),
+        bodies: m
+            .bodies
+            .iter()
+            .map(|b| OutputBody {
+                name: b.name.clone(),
+                connectivity: m.elements[b.first_element..b.first_element + b.num_elements]
+                    .iter()
+                    .map(|el| el.map(|n| n as u64))
+                    .collect(),
+                element_ids: (b.first_element as u64 + 1
+                    ..=(b.first_element + b.num_elements) as u64)
+                    .collect(),
+            })
+            .collect(),
+        node_sets: problem
+            .node_sets
+            .iter()
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.nodes.iter().map(|&n| n as u64 + 1).collect(),
+                )
+            })
+            .collect(),
+        side_sets: problem
+            .side_sets
+            .iter()
+            .map(|s| {
+                (
+                    s.name.clone(),
+                    s.faces.iter().map(|&(e, f)| (e as u64 + 1, f)).collect(),
+                )
+            })
+            .collect(),
+    }
+}
+
+/// Gathers the owned entries of a per-node array onto rank 0, in global node order.
+struct Gather {
+    node_ids: Vec<Vec<u64>>,
+    element_ids: Vec<Vec<u64>>,
+    num_nodes: usize,
+    num_elements: usize,
+}
+
+impl Gather {
+    fn new<C: Comm + ?Sized>(
+        comm: &C,
+        mesh: &LocalMesh,
+        num_nodes: usize,
+        num_elements: usize,
+    ) -> Self {
+        let owned: Vec<u64> = mesh.node_global[..mesh.num_owned_nodes]
+            .iter()
+            .map(|&g| g as u64)
+            .collect();
+        let elems: Vec<u64> = mesh
+            .element_global
+            .iter()
+            .zip(&mesh.element_owned)
+            .filter(|(_, &o)| o)
+            .map(|(&g, _)| g as u64)
+            .collect();
+        Gather {
+            node_ids: comm.gather_u64(&owned),
+            element_ids: comm.gather_u64(&elems),
+            num_nodes,
+            num_elements,
+        }
+    }
+
+    fn place<const W: usize, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        local: &[[f64; W]],
+        ids: &[Vec<u64>],
+        total: usize,
+    ) -> Vec<[f64; W]> {
+        let flat: Vec<f64> = local.iter().flatten().copied().collect();
+        let parts = comm.gather_f64(&flat);
+        if !comm.is_root() {
+            return Vec::new();
+        }
+        let mut out = vec![[0.0; W]; total];
+        for (r, part) in parts.iter().enumerate() {
+            for (k, &g) in ids[r].iter().enumerate() {
+                out[g as usize].copy_from_slice(&part[W * k..W * (k + 1)]);
+            }
+        }
+        out
+    }
+
+    fn nodes<C: Comm + ?Sized>(&self, comm: &C, mesh: &LocalMesh, v: &[Vec3]) -> Vec<Vec3> {
+        self.place(
+            comm,
+            &v[..mesh.num_owned_nodes],
+            &self.node_ids,
+            self.num_nodes,
+        )
+    }
+
+    fn elements<C: Comm + ?Sized>(&self, comm: &C, v: &[[f64; 6]]) -> Vec<[f64; 6]> {
+        self.place(comm, v, &self.element_ids, self.num_elements)
+    }
+}
+
+pub fn run<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    opts: &RunOptions,
+) -> Result<(RunSummary, GlobalState), String> {
+    let start = Instant::now();
+    let root = comm.is_root();
+    let log = |level: u8, msg: &str| {
+        if root && opts.verbosity >= level {
+            eprintln!("{msg}");
+        }
+    };
+    let mesh = &problem.mesh;
+    let decomposition = Decomposition::partition(mesh.num_nodes(), &mesh.elements, comm.size())
+        .map_err(|e| {
+            format!(
+                "{}: cannot partition the mesh over {} ranks: {e}",
+                problem.file,
+                comm.size()
+            )
+        })?;
+    let local = LocalMesh::new(mesh, decomposition.part(comm.rank()));
+    log(
+        1,
+        &format!(
+            "{}: {} bodies, {} elements, {} nodes, {} steps, {} rank(s)",
+            problem.name,
+            mesh.bodies.len(),
+            mesh.num_elements(),
+            mesh.num_nodes(),
+            problem.step_times.len(),
+            comm.size()
+        ),
+    );
+    if comm.size() > 1 {
+        log(2, &format!("{}", decomposition.stats()));
+    }
+
+    let mut writer = None;
+    let mut local_err = None;
+    if root {
+        if let Some(path) = &opts.output {
+            let info = RunInfo {
+                solver_version: env!("CARGO_PKG_VERSION").to_string(),
+                ranks: comm.size() as u64,
+                scene_text: problem.text.clone(),
+                scene_name: problem.name.clone(),
+                start_time: crate::output::rfc3339_now(),
+                element_rank: decomposition.element_part().to_vec(),
+            };
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                if let Err(e) = std::fs::create_dir_all(dir) {
+                    local_err = Some(format!(
+                        "{}: cannot create the output directory: {e}",
+                        dir.display()
+                    ));
+                }
+            }
+            if local_err.is_none() {
+                match ResultWriter::create(path, &info, &output_mesh(problem)) {
+                    Ok(w) => writer = Some(w),
+                    Err(e) => local_err = Some(e.to_string()),
+                }
+            }
+        }
+    }
+    if let Some(e) = comm::first_error(comm, local_err.take()) {
+        return Err(e);
+    }
+
+    let gather = Gather::new(comm, &local, mesh.num_nodes(), mesh.num_elements());
+    let mut stepper = Stepper::new(comm, problem, &local);
+    let mut records = Vec::new();
+    let mut failure = None;
+    let nsteps = problem.step_times.len();
+    let progress = (root && opts.verbosity >= 1 && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(nsteps as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:30} step {pos}/{len}  {msg}  [{elapsed} elapsed, ~{eta} left]",
+            )
+            .expect("a valid progress template"),
+        );
+        bar
+    });
+    let mut state = GlobalState::default();
+    for (k, &t) in problem.step_times.iter().enumerate() {
+        let step = k + 1;
+        match stepper.advance(step, t) {
+            Ok(rec) => {
+                let line = format!(
+                    "step {step}/{nsteps}  t = {t:<10.6}  CG {:>6}  residual {:.3e} (reference {:.3e})  cut-backs {}  {:.3} s",
+                    rec.cg_iterations, rec.residual, rec.reference, rec.cutbacks, rec.wall_time
+                );
+                match &progress {
+                    Some(bar) => {
+                        bar.set_message(format!("t = {t:.4}  CG {}", rec.cg_iterations));
+                        bar.inc(1);
+                        if opts.verbosity >= 2 {
+                            bar.println(&line);
+                        }
+                    }
+                    None => log(1, &line),
+                }
+                records.push(rec);
+                let last = step == nsteps;
+                let write = opts.output.is_some() && (step % problem.output_every == 0 || last);
+                if write || last {
+                    let (s, err) = step_output(comm, &stepper, &gather, &local, rec);
+                    if let Some(e) = comm::first_error(comm, err) {
+                        failure = Some(e);
+                        break;
+                    }
+                    if root {
+                        if let Some(w) = writer.as_mut().filter(|_| write) {
+                            local_err = w.append_step(&s).err().map(|e| e.to_string());
+                        }
+                    }
+                    if let Some(e) = comm::first_error(comm, local_err.take()) {
+                        failure = Some(e);
+                        break;
+                    }
+                    if last {
+                        state = GlobalState {
+                            displacement: s.displacement,
+                            stress: s.stress,
+                            reaction: s.reaction,
+                        };
+                    }
+                }
+            }
+            Err(f) => {
+                failure = Some(format!("{}: {f}", problem.file));
+                break;
+            }
+        }
+    }
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let wall_time = start.elapsed().as_secs_f64();
+    let mut output = None;
+    if let Some(w) = writer {
+        let r = match &failure {
+            None => w.finish(wall_time),
+            Some(m) => w.finish_failed(wall_time, m),
+        };
+        match r {
+            Ok(p) => output = Some(p),
+            Err(e) => local_err = Some(e.to_string()),
+        }
+    }
+    if let Some(e) = comm::first_error(comm, local_err) {
+        return Err(e);
+    }
+    Ok((
+        RunSummary {
+            steps: records,
+            wall_time,
+            output,
+            failure,
+        },
+        state,
+    ))
+}
+
+fn step_output<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    gather: &Gather,
+    local: &LocalMesh,
+    rec: StepRecord,
+) -> (StepOutput, Option<String>) {
+    let (stress, err) = match stepper.assembly().owned_stresses(&stepper.u) {
+        Ok(s) => (s, None),
+        Err(e) => (Vec::new(), Some(e.to_string())),
+    };
+    let (fi, fe) = stepper.forces();
+    let mut reaction = vec![[0.0; 3]; local.num_owned_nodes];
+    for (a, r) in reaction.iter_mut().enumerate() {
+        if let Some(p) = stepper.dirichlet().projector(a) {
+            let d = sub(&fi[a], &fe[a]);
+            *r = sub(&d, &matvec(p, &d));
+        }
+    }
+    let n = gather.num_nodes;
+    let out = StepOutput {
+        time: rec.time,
+        displacement: gather.nodes(comm, local, &stepper.u),
+        stress: gather.elements(comm, &stress),
+        reaction: gather.nodes(comm, local, &reaction),
+        contact_force: if comm.is_root() {
+            vec![[0.0; 3]; n]
+        } else {
+            Vec::new()
+        },
+        contact_status: if comm.is_root() {
+            vec![0; n]
+        } else {
+            Vec::new()
+        },
+        contact_gap: if comm.is_root() {
+            vec![0.0; n]
+        } else {
+            Vec::new()
+        },
+        stats: StepStats {
+            cg_iterations: rec.cg_iterations,
+            contact_updates: rec.contact_updates,
+            residual: rec.residual,
+            wall_time: rec.wall_time,
+            cutbacks: rec.cutbacks,
+        },
+    };
+    (out, err)
+}

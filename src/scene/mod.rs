@@ -1,0 +1,10 @@
+//! Scene files: TOML, read and validated once, up front. Nothing below this layer looks up
+//! names; it gets indices and resolved numbers.
+
+mod function;
+mod types;
+mod validate;
+
+pub use function::PiecewiseLinear;
+pub use types::*;
+pub use validate::{load_scene, parse_scene, SceneError};

@@ -1,0 +1,193 @@
+//! The scene file's structure as serde reads it. Unknown keys are rejected everywhere.
+
+use serde::Deserialize;
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub name: Option<String>,
+    #[serde(default)]
+    pub kinematics: Kinematics,
+    #[serde(default)]
+    pub body: Vec<BodyDef>,
+    #[serde(default)]
+    pub node_set: Vec<SetDef>,
+    #[serde(default)]
+    pub side_set: Vec<SetDef>,
+    #[serde(default)]
+    pub displacement: Vec<DisplacementDef>,
+    #[serde(default)]
+    pub pressure: Vec<PressureDef>,
+    #[serde(default)]
+    pub traction: Vec<TractionDef>,
+    #[serde(default)]
+    pub body_force: Vec<BodyForceDef>,
+    pub time: TimeDef,
+    #[serde(default)]
+    pub solver: SolverDef,
+    #[serde(default)]
+    pub output: OutputDef,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Kinematics {
+    #[default]
+    Small,
+    Large,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    pub name: String,
+    /// Element divisions along the block's three parametric directions (x, y, z for a box).
+    pub divisions: [i64; 3],
+    #[serde(rename = "box")]
+    pub box_: Option<BoxDef>,
+    /// Eight corner points in the hexahedron node order (see the README).
+    pub corners: Option<Vec<[f64; 3]>>,
+    pub material: MaterialDef,
+    #[serde(default)]
+    pub integration: Integration,
+    #[serde(default)]
+    pub volumetric: Volumetric,
+    /// Hourglass stiffness coefficient, `mean` integration only.
+    pub hourglass: Option<f64>,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct BoxDef {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq)]
+#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialDef {
+    LinearElastic {
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+        #[serde(default)]
+        density: f64,
+    },
+    NeoHookean {
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+        #[serde(default)]
+        density: f64,
+    },
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Integration {
+    #[default]
+    Full,
+    Mean,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Volumetric {
+    #[default]
+    Standard,
+    MeanDilatation,
+}
+
+/// A node set or side set selection: exactly one of plane, box, ids, faces.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SetDef {
+    pub name: String,
+    pub body: Option<String>,
+    pub plane: Option<PlaneDef>,
+    #[serde(rename = "box")]
+    pub box_: Option<BoxDef>,
+    /// Node ids (node sets only), 1-based as in the paper numbering.
+    pub ids: Option<Vec<i64>>,
+    /// [element id, local face 0..5] pairs (side sets only).
+    pub faces: Option<Vec<[i64; 2]>>,
+    /// Geometric tolerance, absolute; default 1e-6 times the mesh's bounding-box diagonal.
+    pub tolerance: Option<f64>,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneDef {
+    pub point: [f64; 3],
+    pub normal: [f64; 3],
+}
+
+/// A value: a constant or a piecewise-linear function of time as [[t, v], ...].
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct DisplacementDef {
+    pub node_set: String,
+    /// Components "x", "y", "z"; or give `direction`.
+    pub components: Option<Vec<String>>,
+    pub direction: Option<[f64; 3]>,
+    pub value: Option<f64>,
+    pub function: Option<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct PressureDef {
+    pub side_set: String,
+    pub value: Option<f64>,
+    pub function: Option<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct TractionDef {
+    pub side_set: String,
+    /// Force per unit area.
+    pub vector: [f64; 3],
+    /// Scale factor through time (default 1).
+    pub function: Option<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct BodyForceDef {
+    pub body: String,
+    /// Acceleration (for gravity, g); the force density is the material density times it.
+    pub acceleration: [f64; 3],
+    pub function: Option<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct TimeDef {
+    #[serde(default)]
+    pub start: f64,
+    pub segments: Vec<SegmentDef>,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentDef {
+    pub end: f64,
+    pub steps: i64,
+}
+
+#[derive(Deserialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+pub struct SolverDef {
+    pub tolerance: Option<f64>,
+    pub max_iterations: Option<i64>,
+    pub predictor: Option<bool>,
+    pub max_cutbacks: Option<i64>,
+}
+
+#[derive(Deserialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+pub struct OutputDef {
+    /// Write every n-th step (the last step is always written).
+    pub every: Option<i64>,
+}

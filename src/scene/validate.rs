@@ -1,0 +1,785 @@
+//! From the scene file's text to a validated `Problem`: every error names the file, the
+//! key and what was expected.
+
+use super::types::*;
+use super::PiecewiseLinear;
+use crate::fem::hex8::min_jacobian_ratio;
+use crate::fem::Formulation;
+use crate::material::{LinearElastic, Material, NeoHookean};
+use crate::math::{norm, scale, Vec3};
+use crate::mesh::sets::{select_faces, select_nodes, Selector};
+use crate::mesh::{block, Body, GlobalMesh};
+use crate::problem::*;
+use std::path::Path;
+
+/// A scene that cannot be run, with where and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    pub file: String,
+    pub key: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}: {}: {}", self.file, self.key, self.message)
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Default hourglass coefficient for `mean` integration.
+pub const DEFAULT_HOURGLASS: f64 = 0.5;
+
+pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: file.clone(),
+        key: String::new(),
+        message: format!("cannot read the scene file: {e}"),
+    })?;
+    let default_name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "scene".into());
+    parse_scene(&text, &file, &default_name)
+}
+
+pub fn parse_scene(text: &str, file: &str, default_name: &str) -> Result<Problem, SceneError> {
+    let raw: SceneFile = toml::from_str(text).map_err(|e| SceneError {
+        file: file.to_string(),
+        key: String::new(),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    Builder {
+        file: file.to_string(),
+    }
+    .build(raw, text, default_name)
+}
+
+struct Builder {
+    file: String,
+}
+
+impl Builder {
+    fn err(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
+        SceneError {
+            file: self.file.clone(),
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    fn finite(&self, key: &str, v: f64) -> Result<f64, SceneError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(key, format!("expected a finite number, got {v}")))
+        }
+    }
+
+    fn finite3(&self, key: &str, v: &Vec3) -> Result<Vec3, SceneError> {
+        for x in v {
+            self.finite(key, *x)?;
+        }
+        Ok(*v)
+    }
+
+    fn function(
+        &self,
+        key: &str,
+        value: Option<f64>,
+        function: &Option<Vec<[f64; 2]>>,
+    ) -> Result<PiecewiseLinear, SceneError> {
+        match (value, function) {
+            (Some(v), None) => Ok(PiecewiseLinear::constant(
+                self.finite(&format!("{key}.value"), v)?,
+            )),
+            (None, Some(points)) => self.points(&format!("{key}.function"), points),
+            (Some(_), Some(_)) => Err(self.err(key, "give either `value` or `function`, not both")),
+            (None, None) => Err(self.err(
+                key,
+                "expected `value = <number>` or `function = [[t, v], ...]`",
+            )),
+        }
+    }
+
+    fn points(&self, key: &str, points: &[[f64; 2]]) -> Result<PiecewiseLinear, SceneError> {
+        if points.is_empty() {
+            return Err(self.err(key, "expected at least one [t, v] point"));
+        }
+        for (i, p) in points.iter().enumerate() {
+            self.finite(&format!("{key}[{i}]"), p[0])?;
+            self.finite(&format!("{key}[{i}]"), p[1])?;
+            if i > 0 && p[0] <= points[i - 1][0] {
+                return Err(self.err(format!("{key}[{i}]"), "times must increase strictly"));
+            }
+        }
+        Ok(PiecewiseLinear::new(
+            points.iter().map(|p| (p[0], p[1])).collect(),
+        ))
+    }
+
+    fn build(&self, raw: SceneFile, text: &str, default_name: &str) -> Result<Problem, SceneError> {
+        let name = raw.name.clone().unwrap_or_else(|| default_name.to_string());
+        if name.is_empty() || name.contains(['/', '\\']) {
+            return Err(self.err("name", "expected a non-empty name without path separators"));
+        }
+        if raw.body.is_empty() {
+            return Err(self.err("body", "expected at least one [[body]]"));
+        }
+        let (mesh, body_models) = self.bodies(&raw)?;
+        let diag = mesh.bounding_diagonal();
+        let boundary = mesh.boundary_faces();
+        let node_sets = self.node_sets(&raw, &mesh, diag)?;
+        let side_sets = self.side_sets(&raw, &mesh, &boundary, diag)?;
+
+        let node_set_index = |key: &str, name: &str| -> Result<usize, SceneError> {
+            node_sets
+                .iter()
+                .position(|s| s.name == name)
+                .ok_or_else(|| {
+                    self.err(
+                        key,
+                        format!(
+                            "no node set named '{name}' (defined: {})",
+                            list(node_sets.iter().map(|s| &s.name))
+                        ),
+                    )
+                })
+        };
+        let side_set_index = |key: &str, name: &str| -> Result<usize, SceneError> {
+            side_sets
+                .iter()
+                .position(|s| s.name == name)
+                .ok_or_else(|| {
+                    self.err(
+                        key,
+                        format!(
+                            "no side set named '{name}' (defined: {})",
+                            list(side_sets.iter().map(|s| &s.name))
+                        ),
+                    )
+                })
+        };
+
+        let mut dirichlet = Vec::new();
+        for (i, d) in raw.displacement.iter().enumerate() {
+            let key = format!("displacement[{i}]");
+            let set = node_set_index(&format!("{key}.node_set"), &d.node_set)?;
+            let function = self.function(&key, d.value, &d.function)?;
+            let directions: Vec<Vec3> = match (&d.components, &d.direction) {
+                (Some(c), None) => {
+                    if c.is_empty() {
+                        return Err(self.err(
+                            format!("{key}.components"),
+                            "expected one or more of \"x\", \"y\", \"z\"",
+                        ));
+                    }
+                    let mut dirs = Vec::new();
+                    for s in c {
+                        let axis = match s.as_str() {
+                            "x" => 0,
+                            "y" => 1,
+                            "z" => 2,
+                            _ => {
+                                return Err(self.err(
+                                    format!("{key}.components"),
+                                    format!("expected \"x\", \"y\" or \"z\", got \"{s}\""),
+                                ))
+                            }
+                        };
+                        let mut v = [0.0; 3];
+                        v[axis] = 1.0;
+                        if dirs.contains(&v) {
+                            return Err(self.err(
+                                format!("{key}.components"),
+                                format!("component \"{s}\" given twice"),
+                            ));
+                        }
+                        dirs.push(v);
+                    }
+                    dirs
+                }
+                (None, Some(v)) => {
+                    let v = self.finite3(&format!("{key}.direction"), v)?;
+                    let n = norm(&v);
+                    if !(n > 0.0) {
+                        return Err(
+                            self.err(format!("{key}.direction"), "expected a non-zero vector")
+                        );
+                    }
+                    vec![scale(&v, 1.0 / n)]
+                }
+                (Some(_), Some(_)) => {
+                    return Err(self.err(&key, "give either `components` or `direction`, not both"))
+                }
+                (None, None) => {
+                    return Err(self.err(
+                        &key,
+                        "expected `components = [\"x\", ...]` or `direction = [a, b, c]`",
+                    ))
+                }
+            };
+            for direction in directions {
+                dirichlet.push(Dirichlet {
+                    node_set: set,
+                    direction,
+                    function: function.clone(),
+                });
+            }
+        }
+
+        let mut pressures = Vec::new();
+        for (i, p) in raw.pressure.iter().enumerate() {
+            let key = format!("pressure[{i}]");
+            let side_set = side_set_index(&format!("{key}.side_set"), &p.side_set)?;
+            pressures.push(Pressure {
+                side_set,
+                function: self.function(&key, p.value, &p.function)?,
+            });
+        }
+        let mut tractions = Vec::new();
+        for (i, t) in raw.traction.iter().enumerate() {
+            let key = format!("traction[{i}]");
+            let side_set = side_set_index(&format!("{key}.side_set"), &t.side_set)?;
+            let vector = self.finite3(&format!("{key}.vector"), &t.vector)?;
+            let function = match &t.function {
+                Some(p) => self.points(&format!("{key}.function"), p)?,
+                None => PiecewiseLinear::constant(1.0),
+            };
+            tractions.push(Traction {
+                side_set,
+                vector,
+                function,
+            });
+        }
+        let mut body_forces = Vec::new();
+        for (i, b) in raw.body_force.iter().enumerate() {
+            let key = format!("body_force[{i}]");
+            let body = mesh
+                .bodies
+                .iter()
+                .position(|x| x.name == b.body)
+                .ok_or_else(|| {
+                    self.err(
+                        format!("{key}.body"),
+                        format!(
+                            "no body named '{}' (defined: {})",
+                            b.body,
+                            list(mesh.bodies.iter().map(|x| &x.name))
+                        ),
+                    )
+                })?;
+            let a = self.finite3(&format!("{key}.acceleration"), &b.acceleration)?;
+            let density = body_models[body].density;
+            if !(density > 0.0) {
+                return Err(self.err(
+                    format!("{key}.body"),
+                    format!(
+                        "body '{}' needs a material density > 0 for a body force",
+                        b.body
+                    ),
+                ));
+            }
+            let function = match &b.function {
+                Some(p) => self.points(&format!("{key}.function"), p)?,
+                None => PiecewiseLinear::constant(1.0),
+            };
+            body_forces.push(BodyForce {
+                body,
+                force_density: scale(&a, density),
+                function,
+            });
+        }
+
+        let (start_time, step_times) = self.time(&raw.time)?;
+        let solver = self.solver(&raw.solver)?;
+        let output_every = match raw.output.every {
+            None => 1,
+            Some(n) if n >= 1 => n as usize,
+            Some(n) => {
+                return Err(self.err("output.every", format!("expected an integer >= 1, got {n}")))
+            }
+        };
+
+        Ok(Problem {
+            name,
+            text: text.to_string(),
+            file: self.file.clone(),
+            kinematics: raw.kinematics,
+            mesh,
+            body_models,
+            node_sets,
+            side_sets,
+            dirichlet,
+            pressures,
+            tractions,
+            body_forces,
+            start_time,
+            step_times,
+            solver,
+            output_every,
+        })
+    }
+
+    fn bodies(&self, raw: &SceneFile) -> Result<(GlobalMesh, Vec<BodyModel>), SceneError> {
+        let mut mesh = GlobalMesh::default();
+        let mut models = Vec::new();
+        for (bi, b) in raw.body.iter().enumerate() {
+            let key = format!("body[{bi}]");
+            if b.name.is_empty() {
+                return Err(self.err(format!("{key}.name"), "expected a non-empty name"));
+            }
+            if raw.body[..bi].iter().any(|o| o.name == b.name) {
+                return Err(self.err(
+                    format!("{key}.name"),
+                    format!("body name '{}' used twice", b.name),
+                ));
+            }
+            let mut div = [0usize; 3];
+            for i in 0..3 {
+                if b.divisions[i] < 1 || b.divisions[i] > 10_000 {
+                    return Err(self.err(
+                        format!("{key}.divisions"),
+                        format!("expected integers from 1 to 10000, got {:?}", b.divisions),
+                    ));
+                }
+                div[i] = b.divisions[i] as usize;
+            }
+            let corners: [Vec3; 8] = match (&b.box_, &b.corners) {
+                (Some(bx), None) => {
+                    let min = self.finite3(&format!("{key}.box.min"), &bx.min)?;
+                    let max = self.finite3(&format!("{key}.box.max"), &bx.max)?;
+                    if (0..3).any(|i| !(max[i] > min[i])) {
+                        return Err(self.err(format!("{key}.box"), format!("expected max > min in every direction, got min {min:?} max {max:?}")));
+                    }
+                    block::box_corners(&min, &max)
+                }
+                (None, Some(c)) => {
+                    if c.len() != 8 {
+                        return Err(self.err(format!("{key}.corners"), format!("expected 8 corner points, got {}", c.len())));
+                    }
+                    let mut out = [[0.0; 3]; 8];
+                    for (i, p) in c.iter().enumerate() {
+                        out[i] = self.finite3(&format!("{key}.corners[{i}]"), p)?;
+                    }
+                    out
+                }
+                (Some(_), Some(_)) => return Err(self.err(&key, "give either `box` or `corners`, not both")),
+                (None, None) => return Err(self.err(&key, "expected `box = { min = [..], max = [..] }` or `corners = [[x, y, z], ... 8 points]`")),
+            };
+            let (material, density) =
+                self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
+            let formulation = match (b.integration, b.volumetric, b.hourglass) {
+                (Integration::Full, Volumetric::Standard, None) => Formulation::Full,
+                (Integration::Full, Volumetric::MeanDilatation, None) => Formulation::FullBar,
+                (Integration::Full, _, Some(_)) => {
+                    return Err(self.err(format!("{key}.hourglass"), "hourglass stiffness applies to integration = \"mean\" only"))
+                }
+                (Integration::Mean, Volumetric::MeanDilatation, _) => {
+                    return Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
+                }
+                (Integration::Mean, Volumetric::Standard, h) => {
+                    let h = h.unwrap_or(DEFAULT_HOURGLASS);
+                    if !(h.is_finite() && h >= 0.0) {
+                        return Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, got {h}")));
+                    }
+                    Formulation::Mean { hourglass: h }
+                }
+            };
+            let blk = block::generate(&corners, div[0], div[1], div[2]);
+            let first_node = mesh.coords.len();
+            let first_element = mesh.elements.len();
+            for (e, el) in blk.elements.iter().enumerate() {
+                let x: [Vec3; 8] = std::array::from_fn(|a| blk.coords[el[a] as usize]);
+                let r = min_jacobian_ratio(&x);
+                if !(r > 1e-8) {
+                    return Err(self.err(
+                        &key,
+                        format!(
+                            "element {} (global id {}) is inverted or degenerate (min Jacobian ratio {r:.3e}); check the corner order (see README: x-,y-,z- first, counter-clockwise seen from +z, bottom then top)",
+                            e + 1,
+                            first_element + e + 1
+                        ),
+                    ));
+                }
+            }
+            let offset = first_node as u32;
+            mesh.coords.extend_from_slice(&blk.coords);
+            mesh.elements
+                .extend(blk.elements.iter().map(|el| el.map(|n| n + offset)));
+            mesh.element_body
+                .extend(std::iter::repeat_n(bi as u32, blk.elements.len()));
+            mesh.bodies.push(Body {
+                name: b.name.clone(),
+                first_node,
+                num_nodes: blk.coords.len(),
+                first_element,
+                num_elements: blk.elements.len(),
+            });
+            models.push(BodyModel {
+                material,
+                formulation,
+                density,
+            });
+        }
+        if mesh.coords.len() > u32::MAX as usize / 2 {
+            return Err(self.err("body", "mesh too large"));
+        }
+        Ok((mesh, models))
+    }
+
+    fn material(
+        &self,
+        key: &str,
+        m: &MaterialDef,
+        kin: Kinematics,
+    ) -> Result<(Material, f64), SceneError> {
+        let (e, nu, density, model) = match m {
+            MaterialDef::LinearElastic { e, nu, density } => (*e, *nu, *density, "linear_elastic"),
+            MaterialDef::NeoHookean { e, nu, density } => (*e, *nu, *density, "neo_hookean"),
+        };
+        if !(e.is_finite() && e > 0.0) {
+            return Err(self.err(
+                format!("{key}.E"),
+                format!("expected Young's modulus > 0, got {e}"),
+            ));
+        }
+        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
+            return Err(self.err(
+                format!("{key}.nu"),
+                format!("expected Poisson's ratio in (-1, 0.5), got {nu}"),
+            ));
+        }
+        if !(density.is_finite() && density >= 0.0) {
+            return Err(self.err(
+                format!("{key}.density"),
+                format!("expected a density >= 0, got {density}"),
+            ));
+        }
+        let mat = match (model, kin) {
+            ("linear_elastic", Kinematics::Small) => Material::LinearElastic(LinearElastic::new(e, nu)),
+            ("neo_hookean", Kinematics::Large) => Material::NeoHookean(NeoHookean::new(e, nu)),
+            ("linear_elastic", Kinematics::Large) => {
+                return Err(self.err(format!("{key}.model"), "linear_elastic needs kinematics = \"small\"; use neo_hookean for kinematics = \"large\""))
+            }
+            _ => return Err(self.err(format!("{key}.model"), "neo_hookean needs kinematics = \"large\"")),
+        };
+        Ok((mat, density))
+    }
+
+    fn selector(
+        &self,
+        key: &str,
+        s: &SetDef,
+        default_tol: f64,
+    ) -> Result<Option<Selector>, SceneError> {
+        let tol = match s.tolerance {
+            None => default_tol,
+            Some(t) if t.is_finite() && t >= 0.0 => t,
+            Some(t) => {
+                return Err(self.err(
+                    format!("{key}.tolerance"),
+                    format!("expected a number >= 0, got {t}"),
+                ))
+            }
+        };
+        let given = [
+            s.plane.is_some(),
+            s.box_.is_some(),
+            s.ids.is_some(),
+            s.faces.is_some(),
+        ]
+        .iter()
+        .filter(|&&b| b)
+        .count();
+        if given != 1 {
+            return Err(self.err(
+                key,
+                "expected exactly one of `plane`, `box`, `ids` (node sets) or `faces` (side sets)",
+            ));
+        }
+        if let Some(p) = &s.plane {
+            let point = self.finite3(&format!("{key}.plane.point"), &p.point)?;
+            let normal = self.finite3(&format!("{key}.plane.normal"), &p.normal)?;
+            if !(norm(&normal) > 0.0) {
+                return Err(self.err(format!("{key}.plane.normal"), "expected a non-zero vector"));
+            }
+            return Ok(Some(Selector::plane(point, normal, tol)));
+        }
+        if let Some(b) = &s.box_ {
+            let min = self.finite3(&format!("{key}.box.min"), &b.min)?;
+            let max = self.finite3(&format!("{key}.box.max"), &b.max)?;
+            if (0..3).any(|i| max[i] < min[i]) {
+                return Err(self.err(
+                    format!("{key}.box"),
+                    "expected max >= min in every direction",
+                ));
+            }
+            return Ok(Some(Selector::Box { min, max, tol }));
+        }
+        Ok(None)
+    }
+
+    fn set_body(
+        &self,
+        key: &str,
+        s: &SetDef,
+        mesh: &GlobalMesh,
+    ) -> Result<Option<usize>, SceneError> {
+        match &s.body {
+            None => Ok(None),
+            Some(name) => mesh
+                .bodies
+                .iter()
+                .position(|b| &b.name == name)
+                .map(Some)
+                .ok_or_else(|| {
+                    self.err(
+                        format!("{key}.body"),
+                        format!(
+                            "no body named '{name}' (defined: {})",
+                            list(mesh.bodies.iter().map(|b| &b.name))
+                        ),
+                    )
+                }),
+        }
+    }
+
+    fn node_sets(
+        &self,
+        raw: &SceneFile,
+        mesh: &GlobalMesh,
+        diag: f64,
+    ) -> Result<Vec<NodeSet>, SceneError> {
+        let mut out: Vec<NodeSet> = Vec::new();
+        for (i, s) in raw.node_set.iter().enumerate() {
+            let key = format!("node_set[{i}]");
+            self.set_name(&key, &s.name, out.iter().map(|x| &x.name))?;
+            if s.faces.is_some() {
+                return Err(self.err(
+                    format!("{key}.faces"),
+                    "`faces` selects side sets; a node set takes `plane`, `box` or `ids`",
+                ));
+            }
+            let body = self.set_body(&key, s, mesh)?;
+            let nodes = match self.selector(&key, s, 1e-6 * diag)? {
+                Some(sel) => select_nodes(mesh, &sel, body),
+                None => {
+                    let ids = s.ids.as_ref().expect("one selector is present");
+                    let mut nodes = Vec::with_capacity(ids.len());
+                    for &id in ids {
+                        if id < 1 || id as usize > mesh.num_nodes() {
+                            return Err(self.err(
+                                format!("{key}.ids"),
+                                format!("node id {id} out of range 1..={}", mesh.num_nodes()),
+                            ));
+                        }
+                        let n = (id - 1) as u32;
+                        if let Some(b) = body {
+                            if mesh.bodies[b].first_node > n as usize
+                                || n as usize
+                                    >= mesh.bodies[b].first_node + mesh.bodies[b].num_nodes
+                            {
+                                return Err(self.err(
+                                    format!("{key}.ids"),
+                                    format!(
+                                        "node id {id} is not in body '{}'",
+                                        mesh.bodies[b].name
+                                    ),
+                                ));
+                            }
+                        }
+                        nodes.push(n);
+                    }
+                    nodes.sort_unstable();
+                    nodes.dedup();
+                    nodes
+                }
+            };
+            if nodes.is_empty() {
+                return Err(self.err(
+                    &key,
+                    format!(
+                        "node set '{}' selects no nodes (check the plane/box and its tolerance)",
+                        s.name
+                    ),
+                ));
+            }
+            out.push(NodeSet {
+                name: s.name.clone(),
+                nodes,
+            });
+        }
+        Ok(out)
+    }
+
+    fn side_sets(
+        &self,
+        raw: &SceneFile,
+        mesh: &GlobalMesh,
+        boundary: &[(u32, u8)],
+        diag: f64,
+    ) -> Result<Vec<SideSet>, SceneError> {
+        let mut out: Vec<SideSet> = Vec::new();
+        for (i, s) in raw.side_set.iter().enumerate() {
+            let key = format!("side_set[{i}]");
+            self.set_name(&key, &s.name, out.iter().map(|x| &x.name))?;
+            if s.ids.is_some() {
+                return Err(self.err(
+                    format!("{key}.ids"),
+                    "`ids` selects nodes; a side set takes `plane`, `box` or `faces`",
+                ));
+            }
+            let body = self.set_body(&key, s, mesh)?;
+            let faces = match self.selector(&key, s, 1e-6 * diag)? {
+                Some(sel) => select_faces(mesh, boundary, &sel, body),
+                None => {
+                    let pairs = s.faces.as_ref().expect("one selector is present");
+                    let mut faces = Vec::with_capacity(pairs.len());
+                    for p in pairs {
+                        if p[0] < 1
+                            || p[0] as usize > mesh.num_elements()
+                            || !(0..6).contains(&p[1])
+                        {
+                            return Err(self.err(
+                                format!("{key}.faces"),
+                                format!(
+                                    "expected [element id in 1..={}, face in 0..=5], got {p:?}",
+                                    mesh.num_elements()
+                                ),
+                            ));
+                        }
+                        let f = ((p[0] - 1) as u32, p[1] as u8);
+                        if !boundary.contains(&f) {
+                            return Err(self.err(
+                                format!("{key}.faces"),
+                                format!("face {p:?} is not on the boundary of its body"),
+                            ));
+                        }
+                        faces.push(f);
+                    }
+                    faces.sort_unstable();
+                    faces.dedup();
+                    faces
+                }
+            };
+            if faces.is_empty() {
+                return Err(self.err(&key, format!("side set '{}' selects no boundary faces (check the plane/box and its tolerance)", s.name)));
+            }
+            out.push(SideSet {
+                name: s.name.clone(),
+                faces,
+            });
+        }
+        Ok(out)
+    }
+
+    fn set_name<'a>(
+        &self,
+        key: &str,
+        name: &str,
+        mut existing: impl Iterator<Item = &'a String>,
+    ) -> Result<(), SceneError> {
+        if name.is_empty() || name.contains('/') {
+            return Err(self.err(
+                format!("{key}.name"),
+                "expected a non-empty name without '/'",
+            ));
+        }
+        if existing.any(|n| n == name) {
+            return Err(self.err(
+                format!("{key}.name"),
+                format!("set name '{name}' used twice"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn time(&self, t: &TimeDef) -> Result<(f64, Vec<f64>), SceneError> {
+        let start = self.finite("time.start", t.start)?;
+        if t.segments.is_empty() {
+            return Err(self.err(
+                "time.segments",
+                "expected at least one { end = <time>, steps = <n> }",
+            ));
+        }
+        let mut times = Vec::new();
+        let mut t0 = start;
+        for (i, s) in t.segments.iter().enumerate() {
+            let key = format!("time.segments[{i}]");
+            let end = self.finite(&format!("{key}.end"), s.end)?;
+            if !(end > t0) {
+                return Err(self.err(
+                    format!("{key}.end"),
+                    format!("expected an end time after {t0}, got {end}"),
+                ));
+            }
+            if s.steps < 1 || s.steps > 1_000_000 {
+                return Err(self.err(
+                    format!("{key}.steps"),
+                    format!("expected an integer from 1 to 1000000, got {}", s.steps),
+                ));
+            }
+            let n = s.steps as usize;
+            for k in 1..=n {
+                times.push(if k == n {
+                    end
+                } else {
+                    t0 + (end - t0) * k as f64 / n as f64
+                });
+            }
+            t0 = end;
+        }
+        Ok((start, times))
+    }
+
+    fn solver(&self, s: &SolverDef) -> Result<SolverSettings, SceneError> {
+        let mut out = SolverSettings::default();
+        if let Some(t) = s.tolerance {
+            if !(t.is_finite() && t > 0.0 && t < 1.0) {
+                return Err(self.err(
+                    "solver.tolerance",
+                    format!("expected a number in (0, 1), got {t}"),
+                ));
+            }
+            out.tolerance = t;
+        }
+        if let Some(n) = s.max_iterations {
+            if n < 1 {
+                return Err(self.err(
+                    "solver.max_iterations",
+                    format!("expected an integer >= 1, got {n}"),
+                ));
+            }
+            out.max_iterations = n as usize;
+        }
+        if let Some(p) = s.predictor {
+            out.predictor = p;
+        }
+        if let Some(n) = s.max_cutbacks {
+            if !(0..=30).contains(&n) {
+                return Err(self.err(
+                    "solver.max_cutbacks",
+                    format!("expected an integer from 0 to 30, got {n}"),
+                ));
+            }
+            out.max_cutbacks = n as usize;
+        }
+        Ok(out)
+    }
+}
+
+fn list<'a>(names: impl Iterator<Item = &'a String>) -> String {
+    let v: Vec<&str> = names.map(|s| s.as_str()).collect();
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
+    }
+}

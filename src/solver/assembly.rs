@@ -1,0 +1,139 @@
+//! The element loop: internal force, diagonal tangent blocks, body forces and stresses,
+//! gathered from and scattered to rank-local nodal arrays. Elements are visited in
+//! ascending global order (see `mesh::local`).
+
+use crate::fem::{element, hex8, ElementFailure};
+use crate::math::{Mat3, Vec3, ZERO33};
+use crate::mesh::local::LocalMesh;
+use crate::problem::BodyModel;
+
+/// A failure inside one element, with its global (1-based) id.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ElementError {
+    pub element: u64,
+    pub failure: ElementFailure,
+}
+
+impl std::fmt::Display for ElementError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "element {}: {}", self.element, self.failure)
+    }
+}
+
+pub struct Assembly<'a> {
+    pub mesh: &'a LocalMesh,
+    pub models: &'a [BodyModel],
+    /// True when every body is linear (small kinematics): then f_int(u) = K u.
+    pub linear: bool,
+}
+
+impl<'a> Assembly<'a> {
+    pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Self {
+        let linear = models.iter().all(|m| !m.material.is_large());
+        Assembly {
+            mesh,
+            models,
+            linear,
+        }
+    }
+
+    #[inline]
+    fn gather(&self, e: usize, u: &[Vec3]) -> [Vec3; 8] {
+        let el = &self.mesh.elements[e];
+        std::array::from_fn(|a| u[el[a] as usize])
+    }
+
+    fn fail(&self, e: usize, failure: ElementFailure) -> ElementError {
+        ElementError {
+            element: self.mesh.element_global[e] as u64 + 1,
+            failure,
+        }
+    }
+
+    /// f = f_int(u) on every local node (complete on owned nodes).
+    pub fn internal_force(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
+        f.iter_mut().for_each(|v| *v = [0.0; 3]);
+        let mut fe = [[0.0; 3]; 8];
+        for e in 0..self.mesh.elements.len() {
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            let x = self.mesh.element_coords(e);
+            let ue = self.gather(e, u);
+            element::internal_force(&x, &ue, &m.material, m.formulation, &mut fe)
+                .map_err(|k| self.fail(e, k))?;
+            for (a, &n) in self.mesh.elements[e].iter().enumerate() {
+                let fa = &mut f[n as usize];
+                fa[0] += fe[a][0];
+                fa[1] += fe[a][1];
+                fa[2] += fe[a][2];
+            }
+        }
+        Ok(())
+    }
+
+    /// Nodal 3x3 diagonal blocks of the tangent at u.
+    pub fn diagonal(&self, u: &[Vec3], d: &mut [Mat3]) -> Result<(), ElementError> {
+        d.iter_mut().for_each(|v| *v = ZERO33);
+        let mut de = [ZERO33; 8];
+        for e in 0..self.mesh.elements.len() {
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            let x = self.mesh.element_coords(e);
+            let ue = self.gather(e, u);
+            element::diagonal_blocks(&x, &ue, &m.material, m.formulation, &mut de)
+                .map_err(|k| self.fail(e, k))?;
+            for (a, &n) in self.mesh.elements[e].iter().enumerate() {
+                for i in 0..3 {
+                    for k in 0..3 {
+                        d[n as usize][i][k] += de[a][i][k];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds the consistent nodal body force `scale * force_density` of every element of
+    /// `body` to `f`.
+    pub fn add_body_force(
+        &self,
+        body: usize,
+        force_density: &Vec3,
+        scale: f64,
+        f: &mut [Vec3],
+    ) -> Result<(), ElementError> {
+        for e in 0..self.mesh.elements.len() {
+            if self.mesh.element_body[e] as usize != body {
+                continue;
+            }
+            let x = self.mesh.element_coords(e);
+            for xi in hex8::GAUSS.iter() {
+                let (_, det) = hex8::gradients(&x, xi)
+                    .ok_or_else(|| self.fail(e, ElementFailure::InvertedReference))?;
+                let n = hex8::shape(xi);
+                for (a, &node) in self.mesh.elements[e].iter().enumerate() {
+                    for i in 0..3 {
+                        f[node as usize][i] += scale * n[a] * det * force_density[i];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Element-average Cauchy stress of the owned elements, in local element order.
+    pub fn owned_stresses(&self, u: &[Vec3]) -> Result<Vec<[f64; 6]>, ElementError> {
+        let mut out = Vec::new();
+        for e in 0..self.mesh.elements.len() {
+            if !self.mesh.element_owned[e] {
+                continue;
+            }
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            let x = self.mesh.element_coords(e);
+            let ue = self.gather(e, u);
+            out.push(
+                element::average_cauchy(&x, &ue, &m.material, m.formulation)
+                    .map_err(|k| self.fail(e, k))?,
+            );
+        }
+        Ok(out)
+    }
+}

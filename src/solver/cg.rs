@@ -1,0 +1,390 @@
+//! The model problem: with the constraint set frozen, find u with the projected residual
+//! P (f_ext(u) - f_int(u)) within tolerance, by nonlinear preconditioned CG.
+//!
+//! Step length along a direction p comes from the directional stiffness p.K p: exact
+//! (K p = f_int(p)) when every body is linear, otherwise a finite-difference probe
+//! followed by a secant correction. Linear problems therefore get plain linear PCG
+//! (Fletcher-Reeves beta); nonlinear ones use Polak-Ribiere+ with restarts.
+
+use super::assembly::{Assembly, ElementError};
+use super::constraints::Dirichlet;
+use super::loads::Loads;
+use crate::comm::{self, Comm};
+use crate::math::{inverse, matvec, Mat3, Vec3};
+
+/// Why a model problem could not be solved. Rank-agreed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolveFailure {
+    Element(String),
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        reference: f64,
+    },
+    NonPositiveCurvature {
+        iterations: usize,
+    },
+    NonFinite {
+        iterations: usize,
+    },
+}
+
+impl std::fmt::Display for SolveFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolveFailure::Element(m) => write!(f, "{m}"),
+            SolveFailure::NotConverged { iterations, residual, reference } => write!(
+                f,
+                "CG did not converge in {iterations} iterations (residual {residual:.3e}, reference force {reference:.3e})"
+            ),
+            SolveFailure::NonPositiveCurvature { iterations } => {
+                write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
+            }
+            SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ModelOutcome {
+    pub iterations: usize,
+    pub residual: f64,
+    pub reference: f64,
+}
+
+/// Settings of one model solve.
+#[derive(Clone, Copy, Debug)]
+pub struct CgSettings {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// A force below which nothing counts (from earlier steps' reference forces): keeps
+    /// steps that unload to zero from chasing round-off.
+    pub reference_floor: f64,
+    /// A length for the finite-difference probe.
+    pub length_scale: f64,
+}
+
+/// Buffers for the model solve, allocated once per run.
+pub struct Cg {
+    fi: Vec<Vec3>,
+    fe: Vec<Vec3>,
+    r: Vec<Vec3>,
+    r_old: Vec<Vec3>,
+    z: Vec<Vec3>,
+    p: Vec<Vec3>,
+    q: Vec<Vec3>,
+    trial: Vec<Vec3>,
+    fi_trial: Vec<Vec3>,
+    fe_trial: Vec<Vec3>,
+    diag: Vec<Mat3>,
+    minv: Vec<Mat3>,
+}
+
+impl Cg {
+    pub fn new(n: usize) -> Self {
+        let v = || vec![[0.0; 3]; n];
+        Cg {
+            fi: v(),
+            fe: v(),
+            r: v(),
+            r_old: v(),
+            z: v(),
+            p: v(),
+            q: v(),
+            trial: v(),
+            fi_trial: v(),
+            fe_trial: v(),
+            diag: vec![[[0.0; 3]; 3]; n],
+            minv: vec![[[0.0; 3]; 3]; n],
+        }
+    }
+
+    /// The internal and external forces of the last accepted iterate.
+    pub fn forces(&self) -> (&[Vec3], &[Vec3]) {
+        (&self.fi, &self.fe)
+    }
+}
+
+fn agree<C: Comm + ?Sized>(comm: &C, r: Result<(), ElementError>) -> Result<(), SolveFailure> {
+    match comm::first_error(comm, r.err().map(|e| e.to_string())) {
+        None => Ok(()),
+        Some(m) => Err(SolveFailure::Element(m)),
+    }
+}
+
+pub struct Problem<'a, C: Comm + ?Sized> {
+    pub comm: &'a C,
+    pub asm: &'a Assembly<'a>,
+    pub loads: &'a Loads,
+    pub bc: &'a Dirichlet,
+    pub time: f64,
+}
+
+impl<'a, C: Comm + ?Sized> Problem<'a, C> {
+    fn owned(&self) -> usize {
+        self.asm.mesh.num_owned_nodes
+    }
+
+    /// fi = f_int(u), fe = f_ext(t, u).
+    fn forces(&self, u: &[Vec3], fi: &mut [Vec3], fe: &mut [Vec3]) -> Result<(), SolveFailure> {
+        let r = self.asm.internal_force(u, fi);
+        let r = r.and_then(|_| self.loads.external_force(self.asm, self.time, u, fe));
+        agree(self.comm, r)
+    }
+
+    /// |P r| and the reference force max(|f_ext|, |reaction|).
+    fn measure(&self, r: &[Vec3], fi: &[Vec3], fe: &[Vec3]) -> (f64, f64) {
+        let n = self.owned();
+        let rn = comm::norm(self.comm, r, n);
+        let fen = comm::norm(self.comm, fe, n);
+        let mut acc = comm::ExactSum::new();
+        for a in 0..n {
+            if let Some(p) = self.bc.projector(a) {
+                let d = crate::math::sub(&fi[a], &fe[a]);
+                let free = matvec(p, &d);
+                for i in 0..3 {
+                    let c = d[i] - free[i];
+                    acc.add_product(c, c);
+                }
+            }
+        }
+        let reaction = comm::global_sum(self.comm, acc).sqrt();
+        (rn, fen.max(reaction))
+    }
+}
+
+fn residual(bc: &Dirichlet, fi: &[Vec3], fe: &[Vec3], r: &mut [Vec3]) {
+    for a in 0..r.len() {
+        r[a] = crate::math::sub(&fe[a], &fi[a]);
+    }
+    bc.project(r);
+}
+
+impl Cg {
+    /// Solves the model problem in place; `u` must satisfy the constraints on entry.
+    pub fn solve<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+    ) -> Result<ModelOutcome, SolveFailure> {
+        let comm = pb.comm;
+        let n = pb.owned();
+        let nl = u.len();
+        let linear = pb.asm.linear && !pb.loads.is_follower();
+        pb.forces(u, &mut self.fi, &mut self.fe)?;
+        residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+        let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+        let mut refv = reference.max(s.reference_floor);
+        if !rnorm.is_finite() {
+            return Err(SolveFailure::NonFinite { iterations: 0 });
+        }
+        if rnorm <= s.tolerance * refv {
+            return Ok(ModelOutcome {
+                iterations: 0,
+                residual: rnorm,
+                reference: refv,
+            });
+        }
+        self.precondition(pb, u)?;
+
+        let mut rz_old = 0.0;
+        let mut restart = true;
+        let mut since_true = 0usize;
+        for it in 1..=s.max_iterations {
+            // z = M^-1 r
+            for a in 0..nl {
+                self.z[a] = matvec(&self.minv[a], &self.r[a]);
+            }
+            let rz = comm::dot(comm, &self.r, &self.z, n);
+            let beta = if restart || rz_old == 0.0 {
+                0.0
+            } else if linear {
+                rz / rz_old
+            } else {
+                let zr_old = comm::dot(comm, &self.z, &self.r_old, n);
+                ((rz - zr_old) / rz_old).max(0.0)
+            };
+            for a in 0..nl {
+                for i in 0..3 {
+                    self.p[a][i] = self.z[a][i] + beta * self.p[a][i];
+                }
+            }
+            let mut rp = comm::dot(comm, &self.r, &self.p, n);
+            if !(rp > 0.0) {
+                self.p.copy_from_slice(&self.z);
+                rp = rz;
+            }
+            if !(rp > 0.0) {
+                // The preconditioned residual vanished: the residual is at round-off level.
+                return Ok(ModelOutcome {
+                    iterations: it - 1,
+                    residual: rnorm,
+                    reference: refv,
+                });
+            }
+            restart = false;
+            rz_old = rz;
+            self.r_old.copy_from_slice(&self.r);
+            pb.asm.mesh.exchange(comm, &mut self.p);
+
+            if linear {
+                agree(comm, pb.asm.internal_force(&self.p, &mut self.q))?;
+                let pkp = comm::dot(comm, &self.p, &self.q, n);
+                if !(pkp > 0.0) {
+                    return Err(SolveFailure::NonPositiveCurvature { iterations: it });
+                }
+                let alpha = rp / pkp;
+                for a in 0..nl {
+                    for i in 0..3 {
+                        u[a][i] += alpha * self.p[a][i];
+                    }
+                }
+                pb.bc.project(&mut self.q);
+                for a in 0..nl {
+                    for i in 0..3 {
+                        self.r[a][i] -= alpha * self.q[a][i];
+                    }
+                }
+                since_true += 1;
+                rnorm = comm::norm(comm, &self.r, n);
+                let maybe_done = rnorm <= s.tolerance * refv;
+                if maybe_done || since_true >= 50 {
+                    // Replace the recurrence by the true residual.
+                    pb.forces(u, &mut self.fi, &mut self.fe)?;
+                    residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+                    let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+                    rnorm = rn;
+                    refv = reference.max(s.reference_floor);
+                    since_true = 0;
+                    restart = !maybe_done;
+                }
+            } else {
+                let pmax = max_abs(comm, &self.p, n);
+                let eps = 1e-7 * s.length_scale / pmax;
+                for a in 0..nl {
+                    for i in 0..3 {
+                        self.trial[a][i] = u[a][i] + eps * self.p[a][i];
+                    }
+                }
+                pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+                for a in 0..nl {
+                    for i in 0..3 {
+                        self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                            - (self.fi[a][i] - self.fe[a][i]))
+                            / eps;
+                    }
+                }
+                let pkp = comm::dot(comm, &self.p, &self.q, n);
+                if !(pkp > 0.0) {
+                    return Err(SolveFailure::NonPositiveCurvature { iterations: it });
+                }
+                let mut alpha = rp / pkp;
+                // Accept the Newton step along p, halving it if an element inverts, then one
+                // secant correction when the directional residual is far from zero.
+                for attempt in 0..12 {
+                    match self.try_step(pb, u, alpha) {
+                        Ok(()) => break,
+                        Err(e) if attempt == 11 => return Err(e),
+                        Err(_) => alpha *= 0.5,
+                    }
+                }
+                let s1 = comm::dot(comm, &self.r, &self.p, n);
+                if s1.abs() > 0.25 * rp {
+                    // try_step leaves the state untouched when the corrected point fails.
+                    let a2 = (alpha * rp / (rp - s1)).clamp(0.1 * alpha, 4.0 * alpha);
+                    let _ = self.try_step(pb, u, a2 - alpha);
+                }
+                let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+                rnorm = rn;
+                refv = reference.max(s.reference_floor);
+                if it % 100 == 0 {
+                    self.precondition(pb, u)?;
+                    restart = true;
+                }
+            }
+            if !rnorm.is_finite() {
+                return Err(SolveFailure::NonFinite { iterations: it });
+            }
+            if rnorm <= s.tolerance * refv {
+                return Ok(ModelOutcome {
+                    iterations: it,
+                    residual: rnorm,
+                    reference: refv,
+                });
+            }
+        }
+        Err(SolveFailure::NotConverged {
+            iterations: s.max_iterations,
+            residual: rnorm,
+            reference: refv,
+        })
+    }
+
+    /// u += alpha p with forces and residual at the new point; on an element failure u is
+    /// left unchanged.
+    fn try_step<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        alpha: f64,
+    ) -> Result<(), SolveFailure> {
+        for a in 0..u.len() {
+            for i in 0..3 {
+                self.trial[a][i] = u[a][i] + alpha * self.p[a][i];
+            }
+        }
+        pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+        u.copy_from_slice(&self.trial);
+        std::mem::swap(&mut self.fi, &mut self.fi_trial);
+        std::mem::swap(&mut self.fe, &mut self.fe_trial);
+        residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+        Ok(())
+    }
+
+    /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with
+    /// d a positive scale so M is invertible, then z = P M^-1 P r.
+    fn precondition<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+    ) -> Result<(), SolveFailure> {
+        agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
+        for a in 0..u.len() {
+            let d = &self.diag[a];
+            let m = match pb.bc.projector(a) {
+                None => *d,
+                Some(p) => {
+                    let pdp = crate::math::matmul(p, &crate::math::matmul(d, p));
+                    let s = (d[0][0] + d[1][1] + d[2][2]).abs() / 3.0;
+                    let mut m = pdp;
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            let ip = if i == j { 1.0 } else { 0.0 } - p[i][j];
+                            m[i][j] += s * ip;
+                        }
+                    }
+                    m
+                }
+            };
+            let (inv, det) = inverse(&m);
+            let mut minv =
+                if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
+                    inv
+                } else {
+                    let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
+                    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
+                };
+            if let Some(p) = pb.bc.projector(a) {
+                minv = crate::math::matmul(p, &crate::math::matmul(&minv, p));
+            }
+            self.minv[a] = minv;
+        }
+        Ok(())
+    }
+}
+
+fn max_abs<C: Comm + ?Sized>(comm: &C, v: &[Vec3], n: usize) -> f64 {
+    let m = v[..n].iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    comm::max_f64(comm, m).max(f64::MIN_POSITIVE)
+}

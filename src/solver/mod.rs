@@ -1,0 +1,11 @@
+//! Quasi-static equilibrium: matrix-free nonlinear preconditioned conjugate gradients over
+//! load steps.
+
+pub mod assembly;
+pub mod cg;
+pub mod constraints;
+pub mod loads;
+pub mod stepping;
+
+pub use cg::{ModelOutcome, SolveFailure};
+pub use stepping::{StepRecord, Stepper};

@@ -1,0 +1,989 @@
+//! The result file: writing, reading back, XDMF, `post compare/info/plot`, bad files, and the
+//! independent Python check (run/check_h5.py).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use clap::Parser;
+use solver::output::{
+    layout, OutputBody, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepOutput,
+    StepStats,
+};
+use solver::post::{self, PostCommand};
+
+/// A fresh, empty directory for one test.
+fn test_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("output-tests/{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Nodes and hexahedra of a structured box of `n` elements, node indices from `first`.
+fn block(origin: [f64; 3], n: [usize; 3], first: u64) -> (Vec<[f64; 3]>, Vec<[u64; 8]>) {
+    let mut coords = Vec::new();
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            for i in 0..=n[0] {
+                coords.push([
+                    origin[0] + i as f64,
+                    origin[1] + j as f64,
+                    origin[2] + k as f64,
+                ]);
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| first + (i + (n[0] + 1) * (j + (n[1] + 1) * k)) as u64;
+    let mut hexes = Vec::new();
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                hexes.push([
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ]);
+            }
+        }
+    }
+    (coords, hexes)
+}
+
+/// Two bodies: a unit cube ("base", 8 nodes, 1 element) and a 2x1x1 plate above it ("lid",
+/// 12 nodes, 2 elements). Node ids are 2i+1, element ids 1..3.
+fn synthetic_mesh() -> OutputMesh {
+    let (mut coordinates, base) = block([0.0, 0.0, 0.0], [1, 1, 1], 0);
+    let (lid_coords, lid) = block([0.0, 0.0, 1.25], [2, 1, 1], 8);
+    coordinates.extend(lid_coords);
+    let node_ids: Vec<u64> = (0..coordinates.len() as u64).map(|i| 2 * i + 1).collect();
+    let top: Vec<u64> = coordinates
+        .iter()
+        .zip(&node_ids)
+        .filter(|(c, _)| c[2] == 2.25)
+        .map(|(_, &id)| id)
+        .collect();
+    let bottom: Vec<u64> = coordinates
+        .iter()
+        .zip(&node_ids)
+        .filter(|(c, _)| c[2] == 0.0)
+        .map(|(_, &id)| id)
+        .collect();
+    OutputMesh {
+        coordinates,
+        node_ids,
+        bodies: vec![
+            OutputBody {
+                name: "base".into(),
+                connectivity: base,
+                element_ids: vec![1],
+            },
+            OutputBody {
+                name: "lid".into(),
+                connectivity: lid,
+                element_ids: vec![2, 3],
+            },
+        ],
+        node_sets: vec![("top".into(), top), ("bottom".into(), bottom)],
+        side_sets: vec![
+            ("contact_slave".into(), vec![(2, 4), (3, 4)]),
+            ("contact_master".into(), vec![(1, 5)]),
+        ],
+    }
+}
+
+fn synthetic_info() -> RunInfo {
+    RunInfo {
+        solver_version: "0.1.0-test".into(),
+        ranks: 2,
+        scene_text: "[scene]\nname = \"two blocks\"\n# a comment with <xml> & \"quotes\"\n".into(),
+        scene_name: "two blocks".into(),
+        start_time: "2024-05-01T12:00:00Z".into(),
+        element_rank: vec![0, 1, 1],
+    }
+}
+
+/// Step `s` with values distinct per step, node, element and component.
+fn synthetic_step(s: usize, mesh: &OutputMesh) -> StepOutput {
+    let n = mesh.coordinates.len();
+    let e = mesh.num_elements();
+    let sf = s as f64 + 1.0;
+    StepOutput {
+        time: 0.25 * sf,
+        displacement: (0..n)
+            .map(|i| {
+                let c = mesh.coordinates[i];
+                [1e-3 * sf * c[0], -2e-3 * sf * c[2], 1e-4 * (i as f64) + sf]
+            })
+            .collect(),
+        stress: (0..e)
+            .map(|j| std::array::from_fn(|k| 1e6 * sf + 1e3 * j as f64 + k as f64))
+            .collect(),
+        reaction: (0..n)
+            .map(|i| [sf, -(i as f64), 0.5 * sf * i as f64])
+            .collect(),
+        contact_force: (0..n)
+            .map(|i| [0.0, 10.0 * sf + i as f64, -3.0 * sf])
+            .collect(),
+        contact_status: (0..n).map(|i| ((i + s) % 4) as u8).collect(),
+        contact_gap: (0..n).map(|i| 1e-2 * (i as f64) - 1e-3 * sf).collect(),
+        stats: StepStats {
+            cg_iterations: 40 + s as u64,
+            contact_updates: s as u64 % 2 + 1,
+            residual: 1e-9 / sf,
+            wall_time: 0.5 + 0.1 * sf,
+            cutbacks: u64::from(s == 1),
+        },
+    }
+}
+
+/// Writes the synthetic result with `steps` steps to `<dir>/<name>.h5`, finished.
+fn write_synthetic(dir: &Path, name: &str, steps: usize) -> PathBuf {
+    let mesh = synthetic_mesh();
+    let mut w =
+        ResultWriter::create(&dir.join(format!("{name}.h5")), &synthetic_info(), &mesh).unwrap();
+    for s in 0..steps {
+        w.append_step(&synthetic_step(s, &mesh)).unwrap();
+    }
+    w.finish(12.5).unwrap()
+}
+
+#[test]
+fn round_trip_of_every_dataset_and_attribute() {
+    let dir = test_dir("round_trip");
+    let path = dir.join("result.h5");
+    let mesh = synthetic_mesh();
+    let info = synthetic_info();
+    let mut w = ResultWriter::create(&path, &info, &mesh).unwrap();
+    let tmp = dir.join("result.h5.tmp");
+    assert_eq!(w.tmp_path(), tmp);
+    assert!(tmp.exists(), "the .tmp file exists while writing");
+    assert!(!path.exists(), "no final file before finish");
+    let steps: Vec<StepOutput> = (0..3).map(|s| synthetic_step(s, &mesh)).collect();
+    for (i, s) in steps.iter().enumerate() {
+        w.append_step(s).unwrap();
+        assert_eq!(w.steps(), i + 1);
+        // Every finished step is readable from the .tmp file while the run goes on.
+        let partial = ResultFile::open(&tmp).unwrap();
+        assert_eq!(partial.num_steps(), i + 1);
+        assert_eq!(partial.displacement(i).unwrap(), s.displacement);
+    }
+    assert!(tmp.exists() && !path.exists());
+    let finished = w.finish(12.5).unwrap();
+    assert_eq!(finished, path);
+    assert!(!tmp.exists(), "the .tmp file is gone after finish");
+    assert!(path.exists());
+    assert!(dir.join("result.xmf").exists());
+
+    let f = ResultFile::open(&path).unwrap();
+    assert_eq!(f.num_steps(), 3);
+    assert_eq!(f.num_nodes(), 20);
+    assert_eq!(f.num_elements(), 3);
+    assert_eq!(f.mesh().unwrap(), mesh);
+    assert_eq!(f.element_rank().unwrap(), info.element_rank);
+    assert_eq!(
+        f.time().unwrap(),
+        steps.iter().map(|s| s.time).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        f.stats().unwrap(),
+        steps.iter().map(|s| s.stats).collect::<Vec<_>>()
+    );
+    for (i, s) in steps.iter().enumerate() {
+        assert_eq!(f.displacement(i).unwrap(), s.displacement);
+        assert_eq!(f.stress(i).unwrap(), s.stress);
+        assert_eq!(f.reaction(i).unwrap(), s.reaction);
+        assert_eq!(f.contact_force(i).unwrap(), s.contact_force);
+        assert_eq!(f.contact_status(i).unwrap(), s.contact_status);
+        assert_eq!(f.gap(i).unwrap(), s.contact_gap);
+    }
+    assert!(matches!(
+        f.displacement(3),
+        Err(OutputError::StepOutOfRange {
+            step: 3,
+            steps: 3,
+            ..
+        })
+    ));
+
+    let a = f.attributes().unwrap();
+    assert_eq!(a.format_version, layout::FORMAT_VERSION);
+    assert_eq!(a.solver_version, info.solver_version);
+    assert_eq!(a.ranks, 2);
+    assert_eq!(a.scene_text, info.scene_text);
+    assert_eq!(a.scene_name, "two blocks");
+    assert_eq!(a.units, "consistent units; the scene's");
+    assert_eq!(a.start_time, info.start_time);
+    assert_eq!(a.wall_time, Some(12.5));
+    assert_eq!(a.exit_status, "completed");
+    let attr_names: BTreeSet<String> = f.attribute_names().into_iter().collect();
+    let required: BTreeSet<String> = layout::REQUIRED_ATTRIBUTES
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    assert_eq!(attr_names, required);
+
+    // Exactly the documented datasets, with the documented shapes.
+    let (n, e, st) = (20, 3, 3);
+    let expected: Vec<(&str, Vec<usize>)> = vec![
+        ("/mesh/coordinates", vec![n, 3]),
+        ("/mesh/node_ids", vec![n]),
+        ("/mesh/all_connectivity", vec![e, 8]),
+        ("/mesh/base/connectivity", vec![1, 8]),
+        ("/mesh/base/element_ids", vec![1]),
+        ("/mesh/lid/connectivity", vec![2, 8]),
+        ("/mesh/lid/element_ids", vec![2]),
+        ("/mesh/node_sets/top", vec![6]),
+        ("/mesh/node_sets/bottom", vec![4]),
+        ("/mesh/side_sets/contact_slave", vec![2, 2]),
+        ("/mesh/side_sets/contact_master", vec![1, 2]),
+        ("/results/time", vec![st]),
+        ("/results/displacement", vec![st, n, 3]),
+        ("/results/stress", vec![st, e, 6]),
+        ("/results/reaction", vec![st, n, 3]),
+        ("/results/contact/force", vec![st, n, 3]),
+        ("/results/contact/status", vec![st, n]),
+        ("/results/contact/gap", vec![st, n]),
+        ("/stats/cg_iterations", vec![st]),
+        ("/stats/contact_updates", vec![st]),
+        ("/stats/residual", vec![st]),
+        ("/stats/wall_time", vec![st]),
+        ("/stats/cutbacks", vec![st]),
+        ("/partition/element_rank", vec![e]),
+    ];
+    let names: BTreeSet<String> = f.dataset_names().into_iter().collect();
+    let want: BTreeSet<String> = expected.iter().map(|(n, _)| n.to_string()).collect();
+    assert_eq!(names, want);
+    for (name, shape) in &expected {
+        assert_eq!(&f.shape(name).unwrap(), shape, "{name}");
+    }
+    let all: Vec<[u64; 8]> = mesh.all_connectivity();
+    assert_eq!(all.len(), 3);
+    assert_eq!(all[0], mesh.bodies[0].connectivity[0]);
+    assert_eq!(all[2], mesh.bodies[1].connectivity[1]);
+}
+
+#[test]
+fn a_run_that_dies_leaves_only_the_tmp_file_with_its_finished_steps() {
+    let dir = test_dir("crash");
+    let path = dir.join("run.h5");
+    let mesh = synthetic_mesh();
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    w.append_step(&synthetic_step(0, &mesh)).unwrap();
+    w.append_step(&synthetic_step(1, &mesh)).unwrap();
+    drop(w); // no finish: as if the process died
+    assert!(!path.exists());
+    let f = ResultFile::open(&dir.join("run.h5.tmp")).unwrap();
+    assert_eq!(f.num_steps(), 2);
+    assert_eq!(
+        f.displacement(1).unwrap(),
+        synthetic_step(1, &mesh).displacement
+    );
+    let a = f.attributes().unwrap();
+    assert_eq!(a.exit_status, "running");
+    assert_eq!(a.wall_time, None);
+}
+
+#[test]
+fn finish_failed_names_the_file_as_failed() {
+    let dir = test_dir("failed");
+    let path = dir.join("run.h5");
+    // A complete result of an earlier run under the same name must not survive.
+    std::fs::write(&path, b"stale").unwrap();
+    let mesh = synthetic_mesh();
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    assert!(!path.exists(), "stale result removed at create");
+    w.append_step(&synthetic_step(0, &mesh)).unwrap();
+    let failed = w
+        .finish_failed(3.0, "Newton iteration diverged at step 2")
+        .unwrap();
+    assert_eq!(failed, dir.join("run.failed.h5"));
+    assert!(failed.exists());
+    assert!(!path.exists(), "a failed run never leaves <path>");
+    assert!(!dir.join("run.h5.tmp").exists());
+    assert!(dir.join("run.failed.xmf").exists());
+    assert!(!dir.join("run.xmf").exists());
+    let f = ResultFile::open(&failed).unwrap();
+    assert_eq!(f.num_steps(), 1);
+    let a = f.attributes().unwrap();
+    assert_eq!(a.exit_status, "failed: Newton iteration diverged at step 2");
+    assert_eq!(a.wall_time, Some(3.0));
+    let info = post::info_text(&failed).unwrap();
+    assert!(info.contains("failed: Newton iteration diverged"), "{info}");
+}
+
+#[test]
+fn non_finite_values_and_bad_lengths_are_refused() {
+    let dir = test_dir("nan");
+    let mesh = synthetic_mesh();
+    let mut w = ResultWriter::create(&dir.join("r.h5"), &synthetic_info(), &mesh).unwrap();
+    w.append_step(&synthetic_step(0, &mesh)).unwrap();
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.displacement[5][1] = f64::NAN;
+    let err = w.append_step(&bad).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, OutputError::NonFinite { .. }), "{msg}");
+    assert!(msg.contains("/results/displacement"), "{msg}");
+    assert!(msg.contains("node 5 (id 11), component 1"), "{msg}");
+    assert!(msg.contains("r.h5.tmp"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.stress[2][4] = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/stress") && msg.contains("element 2"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.contact_gap[0] = f64::NEG_INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/gap"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.stats.residual = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/residual"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.reaction.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/reaction") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.contact_status[3] = 7;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/status"), "{msg}");
+
+    // Nothing of a refused step reached the file; the writer goes on.
+    assert_eq!(w.steps(), 1);
+    w.append_step(&synthetic_step(1, &mesh)).unwrap();
+    let path = w.finish(1.0).unwrap();
+    let f = ResultFile::open(&path).unwrap();
+    assert_eq!(f.num_steps(), 2);
+    assert_eq!(f.shape("/results/displacement").unwrap(), vec![2, 20, 3]);
+
+    // Bad meshes are refused at create.
+    let mut m = synthetic_mesh();
+    m.coordinates[3][0] = f64::NAN;
+    let msg = ResultWriter::create(&dir.join("m.h5"), &synthetic_info(), &m)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        msg.contains("/mesh/coordinates") && msg.contains("node 3"),
+        "{msg}"
+    );
+    let mut m = synthetic_mesh();
+    m.bodies[1].connectivity[0][2] = 99;
+    let msg = ResultWriter::create(&dir.join("m.h5"), &synthetic_info(), &m)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(msg.contains("/mesh/lid/connectivity"), "{msg}");
+    let mut info = synthetic_info();
+    info.element_rank.pop();
+    let msg = ResultWriter::create(&dir.join("m.h5"), &info, &synthetic_mesh())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(msg.contains("/partition/element_rank"), "{msg}");
+}
+
+/// The value of `name="..."` in an XML start tag.
+fn xml_attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let start = tag.find(&key)? + key.len();
+    let len = tag[start..].find('"')?;
+    Some(&tag[start..start + len])
+}
+
+fn numbers(text: &str) -> Vec<usize> {
+    text.split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn xdmf_references_resolve_in_the_hdf5_file() {
+    let dir = test_dir("xdmf");
+    let path = write_synthetic(&dir, "res", 3);
+    let xmf = std::fs::read_to_string(dir.join("res.xmf")).unwrap();
+    let f = ResultFile::open(&path).unwrap();
+    assert!(xmf.contains("<Xdmf Version=\"3.0\""));
+    assert!(xmf.contains("CollectionType=\"Temporal\""));
+    assert_eq!(xmf.matches("GridType=\"Uniform\"").count(), 3);
+    let times: Vec<f64> = xmf
+        .match_indices("<Time Value=\"")
+        .map(|(i, m)| {
+            let rest = &xmf[i + m.len()..];
+            rest[..rest.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    assert_eq!(times, f.time().unwrap());
+    assert_eq!(xmf.matches("TopologyType=\"Hexahedron\"").count(), 3);
+    assert_eq!(xmf.matches("AttributeType=\"Tensor6\"").count(), 3);
+
+    // Walk every <DataItem ...>; HDF items must resolve with their declared dimensions, the
+    // XML item of a hyperslab must select inside its HDF item and match the slab's size.
+    let mut hdf_items = 0;
+    let mut slabs = 0;
+    let mut pos = 0;
+    let mut slab_stack: Vec<Vec<usize>> = Vec::new();
+    let mut pending_select: Option<Vec<usize>> = None;
+    while let Some(i) = xmf[pos..].find("<DataItem") {
+        let start = pos + i;
+        let tag_end = start + xmf[start..].find('>').unwrap();
+        let tag = &xmf[start..=tag_end];
+        pos = tag_end + 1;
+        let dims = numbers(xml_attr(tag, "Dimensions").unwrap());
+        if xml_attr(tag, "ItemType") == Some("HyperSlab") {
+            slab_stack.push(dims);
+            slabs += 1;
+            continue;
+        }
+        let content_end = pos + xmf[pos..].find("</DataItem>").unwrap();
+        let content = xmf[pos..content_end].trim();
+        match xml_attr(tag, "Format") {
+            Some("XML") => {
+                assert_eq!(dims[0], 3, "a hyperslab selection is start, stride, count");
+                pending_select = Some(numbers(content));
+            }
+            Some("HDF") => {
+                hdf_items += 1;
+                let (file, dataset) = content.split_once(':').unwrap();
+                assert_eq!(file, "res.h5", "relative file name");
+                assert!(dir.join(file).exists());
+                assert_eq!(f.shape(dataset).unwrap(), dims, "{dataset}");
+                let declared: usize = dims.iter().product();
+                assert!(declared > 0);
+                if let Some(sel) = pending_select.take() {
+                    let slab = slab_stack.pop().expect("selection outside a hyperslab");
+                    let r = dims.len();
+                    assert_eq!(sel.len(), 3 * r);
+                    let (start, stride, count) = (&sel[..r], &sel[r..2 * r], &sel[2 * r..]);
+                    for k in 0..r {
+                        assert!(stride[k] >= 1);
+                        assert!(start[k] + (count[k] - 1) * stride[k] < dims[k], "{dataset}");
+                    }
+                    assert_eq!(
+                        count.iter().product::<usize>(),
+                        slab.iter().product::<usize>(),
+                        "{dataset}"
+                    );
+                }
+            }
+            other => panic!("unexpected DataItem format {other:?} in {tag}"),
+        }
+        pos = content_end;
+    }
+    assert!(slab_stack.is_empty() && pending_select.is_none());
+    // Per grid: topology, geometry, and six attributes each with one HDF item.
+    assert_eq!(hdf_items, 3 * 8);
+    assert_eq!(slabs, 3 * 6);
+}
+
+#[test]
+fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
+    let dir = test_dir("compare");
+    let a = write_synthetic(&dir, "a", 3);
+
+    // Same data; wall times and partition differ, which never counts.
+    let mesh = synthetic_mesh();
+    let mut info = synthetic_info();
+    info.element_rank = vec![0, 0, 0];
+    info.ranks = 1;
+    let mut w = ResultWriter::create(&dir.join("b.h5"), &info, &mesh).unwrap();
+    for s in 0..3 {
+        let mut step = synthetic_step(s, &mesh);
+        step.stats.wall_time *= 3.0;
+        w.append_step(&step).unwrap();
+    }
+    let b = w.finish(99.0).unwrap();
+    let report = post::compare_files(&a, &b, 0.0).unwrap();
+    let text = report.render();
+    assert_eq!(report.exit_code(), 0, "{text}");
+    assert!(report.bitwise_identical());
+    assert!(text.contains("bitwise identical"), "{text}");
+    assert!(text.contains("/stats/wall_time"), "{text}");
+    assert!(text.contains("not counted"), "{text}");
+    let cmd = PostCommand::Compare {
+        a: a.clone(),
+        b: b.clone(),
+        tol: 0.0,
+    };
+    assert_eq!(post::run_post(&cmd).unwrap(), 0);
+
+    // One displacement value off by a relative 1e-6 of the dataset's largest value.
+    let mut w = ResultWriter::create(&dir.join("c.h5"), &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let mut step = synthetic_step(s, &mesh);
+        if s == 2 {
+            step.displacement[7][2] += 3.0 * 1e-6;
+        }
+        w.append_step(&step).unwrap();
+    }
+    let c = w.finish(1.0).unwrap();
+    let report = post::compare_files(&a, &c, 0.0).unwrap();
+    let text = report.render();
+    assert_eq!(report.exit_code(), 1, "{text}");
+    assert!(text.contains("EXCEEDS"), "{text}");
+    assert!(
+        text.contains("DIFFERENT") && text.contains("/results/displacement"),
+        "{text}"
+    );
+    let d = report
+        .datasets
+        .iter()
+        .find(|d| d.name == "/results/displacement")
+        .unwrap();
+    assert_eq!(d.differing, 1);
+    assert!((d.max_rel_diff - 1e-6).abs() < 1e-9, "{}", d.max_rel_diff);
+    let cmd = PostCommand::Compare {
+        a: a.clone(),
+        b: c.clone(),
+        tol: 1e-8,
+    };
+    assert_eq!(post::run_post(&cmd).unwrap(), 1);
+    let report = post::compare_files(&a, &c, 1e-5).unwrap();
+    assert_eq!(report.exit_code(), 0, "{}", report.render());
+    assert!(!report.bitwise_identical());
+    assert!(report.render().contains("within tolerance"));
+
+    // A counted statistic differing fails too.
+    let mut w = ResultWriter::create(&dir.join("d.h5"), &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let mut step = synthetic_step(s, &mesh);
+        step.stats.cg_iterations += 1;
+        w.append_step(&step).unwrap();
+    }
+    let d = w.finish(1.0).unwrap();
+    let report = post::compare_files(&a, &d, 0.0).unwrap();
+    assert_eq!(report.exit_code(), 1);
+    assert!(report.render().contains("/stats/cg_iterations"));
+
+    // Different meshes or step counts cannot be compared.
+    let mut m = synthetic_mesh();
+    m.coordinates.pop();
+    m.node_ids.pop();
+    for set in &mut m.node_sets {
+        set.1.retain(|&id| id != 39);
+    }
+    m.bodies[1].connectivity[1][6] = 0;
+    let mut w = ResultWriter::create(&dir.join("e.h5"), &synthetic_info(), &m).unwrap();
+    for s in 0..3 {
+        w.append_step(&synthetic_step(s, &m)).unwrap();
+    }
+    let e = w.finish(1.0).unwrap();
+    let err = post::compare_files(&a, &e, 0.0).unwrap_err();
+    assert!(matches!(err, OutputError::Mismatch { .. }), "{err}");
+    assert!(err.to_string().contains("/mesh/coordinates"), "{err}");
+    assert!(post::run_post(&PostCommand::Compare {
+        a: a.clone(),
+        b: e,
+        tol: 0.0
+    })
+    .is_err());
+
+    let mut m = synthetic_mesh();
+    m.bodies[1].connectivity[1].swap(0, 1);
+    let mut w = ResultWriter::create(&dir.join("f.h5"), &synthetic_info(), &m).unwrap();
+    for s in 0..3 {
+        w.append_step(&synthetic_step(s, &m)).unwrap();
+    }
+    let f = w.finish(1.0).unwrap();
+    let err = post::compare_files(&a, &f, 0.0).unwrap_err().to_string();
+    assert!(
+        err.contains("meshes differ") && err.contains("connectivity"),
+        "{err}"
+    );
+
+    let short = write_synthetic(&dir, "short", 2);
+    let err = post::compare_files(&a, &short, 0.0)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("/results/displacement has shape [3, 20, 3] in a, [2, 20, 3] in b"),
+        "{err}"
+    );
+
+    assert!(post::compare_files(&a, &a, -1.0).is_err());
+}
+
+#[test]
+fn bad_files_give_clear_errors() {
+    let dir = test_dir("bad_files");
+    let missing = dir.join("missing.h5");
+    let err = ResultFile::open(&missing).err().unwrap();
+    assert!(matches!(err, OutputError::NotFound { .. }), "{err}");
+    assert!(
+        err.to_string().contains("missing.h5: no such file"),
+        "{err}"
+    );
+
+    let text = dir.join("text.h5");
+    std::fs::write(&text, "this is not an HDF5 file\n".repeat(40)).unwrap();
+    let err = ResultFile::open(&text).err().unwrap();
+    assert!(matches!(err, OutputError::NotHdf5 { .. }), "{err}");
+    assert!(err.to_string().contains("not an HDF5 file"), "{err}");
+
+    let empty = dir.join("empty.h5");
+    std::fs::write(&empty, "").unwrap();
+    let err = ResultFile::open(&empty).err().unwrap();
+    assert!(err.to_string().contains("empty"), "{err}");
+
+    let good = write_synthetic(&dir, "good", 3);
+    let bytes = std::fs::read(&good).unwrap();
+    for keep in [bytes.len() / 2, bytes.len() - 100, 600, 40] {
+        let truncated = dir.join(format!("truncated_{keep}.h5"));
+        std::fs::write(&truncated, &bytes[..keep]).unwrap();
+        let err = ResultFile::open(&truncated).err().unwrap();
+        assert!(
+            matches!(err, OutputError::Corrupt { .. }),
+            "truncated to {keep} bytes: {err}"
+        );
+        assert!(err.to_string().contains("truncated"), "{err}");
+        assert!(post::info_text(&truncated).is_err());
+    }
+
+    // An HDF5 file that is not a result file.
+    let other = dir.join("other.h5");
+    {
+        let f = hdf5::File::create(&other).unwrap();
+        f.new_dataset_builder()
+            .with_data(&[1.0f64, 2.0][..])
+            .create("x")
+            .unwrap();
+    }
+    let err = ResultFile::open(&other).err().unwrap();
+    assert!(matches!(err, OutputError::Missing { .. }), "{err}");
+    assert!(
+        err.to_string()
+            .contains("missing dataset /mesh/coordinates"),
+        "{err}"
+    );
+
+    // A result file with one dataset removed.
+    let holed = dir.join("holed.h5");
+    std::fs::copy(&good, &holed).unwrap();
+    {
+        let f = hdf5::File::open_rw(&holed).unwrap();
+        f.unlink("/results/contact/gap").unwrap();
+    }
+    let err = ResultFile::open(&holed).err().unwrap().to_string();
+    assert!(
+        err.contains("holed.h5: missing dataset /results/contact/gap"),
+        "{err}"
+    );
+
+    let err = post::run_post(&PostCommand::Info { file: missing }).unwrap_err();
+    assert!(matches!(err, OutputError::NotFound { .. }));
+}
+
+#[test]
+fn info_summarises_the_run() {
+    let dir = test_dir("info");
+    let path = write_synthetic(&dir, "r", 3);
+    let text = post::info_text(&path).unwrap();
+    for want in [
+        "scene:        two blocks",
+        "ranks:        2",
+        "steps:        3",
+        "wall time:    12.500 s",
+        "exit status:  completed",
+        "base (1 elements), lid (2 elements)",
+        "node sets:    top, bottom",
+        "CG its",
+    ] {
+        assert!(text.contains(want), "missing '{want}' in\n{text}");
+    }
+    // One table row per step plus the header and total.
+    assert_eq!(
+        text.lines().filter(|l| l.contains("e-1")).count(),
+        3,
+        "{text}"
+    );
+    assert_eq!(
+        post::run_post(&PostCommand::Info { file: path }).unwrap(),
+        0
+    );
+}
+
+/// `solver post ...` as the lead's main would parse it.
+#[derive(Parser, Debug)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: PostCommand,
+}
+
+fn parse(args: &[&str]) -> Result<PostCommand, clap::Error> {
+    Cli::try_parse_from(std::iter::once("post").chain(args.iter().copied())).map(|c| c.cmd)
+}
+
+#[test]
+fn plot_along_a_node_set_and_through_time() {
+    let dir = test_dir("plot");
+    let path = write_synthetic(&dir, "r", 3);
+    let file = path.to_str().unwrap();
+    let out = dir.join("along.png");
+    let cmd = parse(&[
+        "plot",
+        file,
+        "--quantity",
+        "displacement",
+        "--component",
+        "x",
+        "--node-set",
+        "top",
+        "--against",
+        "x",
+        "--steps",
+        "all",
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .unwrap();
+    let PostCommand::Plot(args) = &cmd else {
+        panic!("{cmd:?}")
+    };
+    let data = post::plot_data(args).unwrap();
+    assert_eq!(data.series.len(), 3);
+    let mesh = synthetic_mesh();
+    for (s, series) in data.series.iter().enumerate() {
+        assert_eq!(series.points.len(), 6);
+        let step = synthetic_step(s, &mesh);
+        // Sorted by x; values are the nodes' x displacement.
+        assert!(series.points.windows(2).all(|w| w[0].0 <= w[1].0));
+        for &(x, v) in &series.points {
+            // Both nodes at this x have the same x displacement.
+            let i = mesh
+                .coordinates
+                .iter()
+                .position(|c| c[2] == 2.25 && c[0] == x)
+                .unwrap();
+            assert_eq!(v, step.displacement[i][0]);
+        }
+    }
+    assert_eq!(post::run_post(&cmd).unwrap(), 0);
+    let png = std::fs::read(&out).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+
+    // Arc length along the set, last step, without fonts.
+    let out2 = dir.join("arc.png");
+    let cmd = parse(&[
+        "plot",
+        file,
+        "--quantity",
+        "gap",
+        "--node-set",
+        "bottom",
+        "--against",
+        "s",
+        "-o",
+        out2.to_str().unwrap(),
+    ])
+    .unwrap();
+    let PostCommand::Plot(args) = &cmd else {
+        panic!()
+    };
+    let data = post::plot_data(args).unwrap();
+    assert_eq!(data.series.len(), 1);
+    let xs: Vec<f64> = data.series[0].points.iter().map(|p| p.0).collect();
+    assert_eq!(xs.first(), Some(&0.0));
+    assert!(xs.windows(2).all(|w| w[0] <= w[1]));
+    post::render_plot(&data, &out2, false).unwrap();
+    assert_eq!(&std::fs::read(&out2).unwrap()[..4], b"\x89PNG");
+
+    // Summed contact force through time.
+    let out3 = dir.join("history.png");
+    let cmd = parse(&[
+        "plot",
+        file,
+        "--history",
+        "--quantity",
+        "contact_force",
+        "--component",
+        "y",
+        "--node-set",
+        "top",
+        "--sum",
+        "-o",
+        out3.to_str().unwrap(),
+    ])
+    .unwrap();
+    let PostCommand::Plot(args) = &cmd else {
+        panic!()
+    };
+    let data = post::plot_data(args).unwrap();
+    assert_eq!(data.series.len(), 1);
+    let top: Vec<usize> = (0..20)
+        .filter(|&i| mesh.coordinates[i][2] == 2.25)
+        .collect();
+    for (s, &(t, v)) in data.series[0].points.iter().enumerate() {
+        let step = synthetic_step(s, &mesh);
+        assert_eq!(t, step.time);
+        let want: f64 = top.iter().map(|&i| step.contact_force[i][1]).sum();
+        assert!((v - want).abs() < 1e-12, "{v} vs {want}");
+    }
+    assert_eq!(post::run_post(&cmd).unwrap(), 0);
+    assert!(out3.exists());
+
+    // Per node through time: one line per node of the set.
+    let cmd = parse(&[
+        "plot",
+        file,
+        "--history",
+        "--quantity",
+        "status",
+        "--node-set",
+        "bottom",
+        "-o",
+        out3.to_str().unwrap(),
+    ])
+    .unwrap();
+    let PostCommand::Plot(args) = &cmd else {
+        panic!()
+    };
+    assert_eq!(post::plot_data(args).unwrap().series.len(), 4);
+
+    // Argument errors.
+    let bad = |args: &[&str]| {
+        let cmd = parse(args).unwrap();
+        post::run_post(&cmd).unwrap_err().to_string()
+    };
+    let o = out.to_str().unwrap();
+    let e = bad(&[
+        "plot",
+        file,
+        "--quantity",
+        "displacement",
+        "--node-set",
+        "top",
+        "--against",
+        "x",
+        "-o",
+        o,
+    ]);
+    assert!(e.contains("--component"), "{e}");
+    let e = bad(&[
+        "plot",
+        file,
+        "--quantity",
+        "reaction",
+        "--component",
+        "z",
+        "--node-set",
+        "nope",
+        "--against",
+        "x",
+        "-o",
+        o,
+    ]);
+    assert!(
+        e.contains("no node set 'nope'") && e.contains("top, bottom"),
+        "{e}"
+    );
+    let e = bad(&[
+        "plot",
+        file,
+        "--quantity",
+        "reaction",
+        "--component",
+        "z",
+        "--node-set",
+        "top",
+        "--against",
+        "x",
+        "--steps",
+        "0,7",
+        "-o",
+        o,
+    ]);
+    assert!(e.contains("step 7 out of range"), "{e}");
+    assert!(parse(&[
+        "plot",
+        file,
+        "--quantity",
+        "reaction",
+        "--node-set",
+        "top",
+        "-o",
+        o
+    ])
+    .is_err());
+    assert!(parse(&[
+        "plot",
+        file,
+        "--quantity",
+        "strain",
+        "--node-set",
+        "top",
+        "--history",
+        "-o",
+        o
+    ])
+    .is_err());
+}
+
+#[test]
+fn python_check_accepts_a_result_and_rejects_a_broken_one() {
+    let python = Path::new("/usr/bin/python3");
+    let has_h5py = python.exists()
+        && std::process::Command::new(python)
+            .args(["-c", "import h5py"])
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
+    if !has_h5py {
+        println!("SKIPPED: /usr/bin/python3 lacks h5py (run/setup installs python3-h5py)");
+        return;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("run/check_h5.py");
+    let dir = test_dir("python");
+    let good = write_synthetic(&dir, "good", 3);
+    let out = std::process::Command::new(python)
+        .arg(&script)
+        .arg(&good)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("/results/displacement"), "{stdout}");
+    assert!(
+        stdout.contains("shape=(3, 20, 3) dtype=float64"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("check_h5: ok"), "{stdout}");
+
+    // Replace /mesh/node_ids by one of the wrong length: the check must fail.
+    let broken = dir.join("broken.h5");
+    std::fs::copy(&good, &broken).unwrap();
+    {
+        let f = hdf5::File::open_rw(&broken).unwrap();
+        f.unlink("/mesh/node_ids").unwrap();
+        f.new_dataset_builder()
+            .with_data(&[1u64, 2, 3][..])
+            .create("/mesh/node_ids")
+            .unwrap();
+    }
+    let out = std::process::Command::new(python)
+        .arg(&script)
+        .arg(&broken)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("MISMATCH: /mesh/node_ids"), "{stdout}");
+}
