@@ -2,7 +2,7 @@
 //! and a non-zero exit code (2 for bad input, 1 for a run that failed).
 
 use clap::{Parser, Subcommand};
-use solver::comm::{Comm, SerialComm};
+use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::post::{run_post, PostCommand};
 use solver::run::{run, RunOptions};
 use solver::scene::load_scene;
@@ -69,15 +69,15 @@ fn main() -> ExitCode {
             }
         },
         Command::Run { scene, output } => with_comm(|comm| {
-            let problem = match load_scene(&scene) {
-                Ok(p) => p,
-                Err(e) => {
-                    if comm.is_root() {
-                        eprintln!("error: {e}");
-                    }
-                    return 2;
+            let loaded = load_scene(&scene);
+            let err = loaded.as_ref().err().map(|e| e.to_string());
+            if let Some(e) = solver::comm::first_error(comm, err) {
+                if comm.is_root() {
+                    eprintln!("error: {e}");
                 }
-            };
+                return 2;
+            }
+            let problem = loaded.expect("every rank loaded the scene");
             let output =
                 output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
             match run(
@@ -128,5 +128,19 @@ fn main() -> ExitCode {
 
 /// Runs `f` with the MPI communicator when started under mpirun, else serially.
 fn with_comm(f: impl FnOnce(&dyn Comm) -> u8) -> ExitCode {
-    ExitCode::from(f(&SerialComm))
+    if solver::comm::mpi_comm::launched_by_mpirun() {
+        match MpiComm::init() {
+            Some(comm) => {
+                let code = f(&comm);
+                drop(comm);
+                ExitCode::from(code)
+            }
+            None => {
+                eprintln!("error: MPI could not be initialised");
+                ExitCode::from(1)
+            }
+        }
+    } else {
+        ExitCode::from(f(&SerialComm))
+    }
 }

@@ -2,9 +2,11 @@
 //! `cargo test` runs the same solver code serially that `mpirun` runs in parallel.
 
 pub mod exact_sum;
+pub mod mpi_comm;
 mod serial;
 
 pub use exact_sum::ExactSum;
+pub use mpi_comm::MpiComm;
 pub use serial::SerialComm;
 
 use crate::math::Vec3;

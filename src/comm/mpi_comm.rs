@@ -1,0 +1,153 @@
+//! The MPI implementation of `Comm` (rsmpi over OpenMPI). The only file that uses `mpi`.
+
+use super::Comm;
+use mpi::collective::SystemOperation;
+use mpi::datatype::PartitionMut;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use mpi::Count;
+
+const HALO_TAG: i32 = 17;
+
+pub struct MpiComm {
+    _universe: mpi::environment::Universe,
+    world: SimpleCommunicator,
+}
+
+impl MpiComm {
+    /// Initialises MPI (once per process). A panic on any rank aborts the whole job, so no
+    /// rank waits forever in a collective for a rank that died.
+    pub fn init() -> Option<Self> {
+        let universe = mpi::initialize()?;
+        let world = universe.world();
+        if world.size() > 1 {
+            let default = std::panic::take_hook();
+            std::panic::set_hook(Box::new(move |info| {
+                default(info);
+                let w = SimpleCommunicator::world();
+                w.abort(70);
+            }));
+        }
+        Some(MpiComm {
+            _universe: universe,
+            world,
+        })
+    }
+
+    /// Ends the job on every rank with `code` (for a failure seen by one rank only).
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+}
+
+/// True when this process was started by mpirun (OpenMPI or a PMI launcher).
+pub fn launched_by_mpirun() -> bool {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some())
+}
+
+fn varcount_gather<T: Equivalence + Default + Clone>(
+    world: &SimpleCommunicator,
+    local: &[T],
+) -> Vec<Vec<T>> {
+    let root = world.process_at_rank(0);
+    let n = local.len() as Count;
+    if world.rank() == 0 {
+        let mut counts = vec![0 as Count; world.size() as usize];
+        root.gather_into_root(&n, &mut counts[..]);
+        let displs: Vec<Count> = counts
+            .iter()
+            .scan(0, |acc, &c| {
+                let d = *acc;
+                *acc += c;
+                Some(d)
+            })
+            .collect();
+        let total: Count = counts.iter().sum();
+        let mut buf = vec![T::default(); total as usize];
+        {
+            let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
+            root.gather_varcount_into_root(local, &mut part);
+        }
+        counts
+            .iter()
+            .zip(&displs)
+            .map(|(&c, &d)| buf[d as usize..(d + c) as usize].to_vec())
+            .collect()
+    } else {
+        root.gather_into(&n);
+        root.gather_varcount_into(local);
+        Vec::new()
+    }
+}
+
+impl Comm for MpiComm {
+    fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+
+    fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+
+    fn sum_i64(&self, values: &mut [i64]) {
+        let local = values.to_vec();
+        self.world
+            .all_reduce_into(&local[..], values, SystemOperation::sum());
+    }
+
+    fn max_f64(&self, values: &mut [f64]) {
+        let local = values.to_vec();
+        self.world
+            .all_reduce_into(&local[..], values, SystemOperation::max());
+    }
+
+    fn min_i64(&self, values: &mut [i64]) {
+        let local = values.to_vec();
+        self.world
+            .all_reduce_into(&local[..], values, SystemOperation::min());
+    }
+
+    fn exchange(&self, send: &[(usize, Vec<f64>)], recv: &mut [(usize, Vec<f64>)]) {
+        let world = &self.world;
+        mpi::request::scope(|scope| {
+            let requests: Vec<_> = send
+                .iter()
+                .map(|(r, data)| {
+                    world.process_at_rank(*r as i32).immediate_send_with_tag(
+                        scope,
+                        &data[..],
+                        HALO_TAG,
+                    )
+                })
+                .collect();
+            for (r, buf) in recv.iter_mut() {
+                world
+                    .process_at_rank(*r as i32)
+                    .receive_into_with_tag(&mut buf[..], HALO_TAG);
+            }
+            for req in requests {
+                req.wait();
+            }
+        });
+    }
+
+    fn gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        varcount_gather(&self.world, local)
+    }
+
+    fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>> {
+        varcount_gather(&self.world, local)
+    }
+
+    fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>) {
+        let p = self.world.process_at_rank(root as i32);
+        let mut len = data.len() as u64;
+        p.broadcast_into(&mut len);
+        data.resize(len as usize, 0);
+        if len > 0 {
+            p.broadcast_into(&mut data[..]);
+        }
+    }
+}
