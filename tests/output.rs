@@ -432,63 +432,60 @@ fn xdmf_references_resolve_in_the_hdf5_file() {
     assert_eq!(xmf.matches("TopologyType=\"Hexahedron\"").count(), 3);
     assert_eq!(xmf.matches("AttributeType=\"Tensor6\"").count(), 3);
 
-    // Walk every <DataItem ...>; HDF items must resolve with their declared dimensions, the
-    // XML item of a hyperslab must select inside its HDF item and match the slab's size.
-    let mut hdf_items = 0;
+    // Walk every <DataItem ...>: each must be an HDF item naming the file beside the .xmf and
+    // a dataset of the declared shape, or, for a per-step attribute, a hyperslab of it in
+    // XDMF 3 notation "file:/dataset|start:stride:count:dataset dims" that lies inside the
+    // dataset and has as many values as the item declares.
+    let mut items = 0;
     let mut slabs = 0;
     let mut pos = 0;
-    let mut slab_stack: Vec<Vec<usize>> = Vec::new();
-    let mut pending_select: Option<Vec<usize>> = None;
     while let Some(i) = xmf[pos..].find("<DataItem") {
         let start = pos + i;
         let tag_end = start + xmf[start..].find('>').unwrap();
         let tag = &xmf[start..=tag_end];
-        pos = tag_end + 1;
-        let dims = numbers(xml_attr(tag, "Dimensions").unwrap());
-        if xml_attr(tag, "ItemType") == Some("HyperSlab") {
-            slab_stack.push(dims);
-            slabs += 1;
-            continue;
-        }
-        let content_end = pos + xmf[pos..].find("</DataItem>").unwrap();
-        let content = xmf[pos..content_end].trim();
-        match xml_attr(tag, "Format") {
-            Some("XML") => {
-                assert_eq!(dims[0], 3, "a hyperslab selection is start, stride, count");
-                pending_select = Some(numbers(content));
-            }
-            Some("HDF") => {
-                hdf_items += 1;
-                let (file, dataset) = content.split_once(':').unwrap();
-                assert_eq!(file, "res.h5", "relative file name");
-                assert!(dir.join(file).exists());
-                assert_eq!(f.shape(dataset).unwrap(), dims, "{dataset}");
-                let declared: usize = dims.iter().product();
-                assert!(declared > 0);
-                if let Some(sel) = pending_select.take() {
-                    let slab = slab_stack.pop().expect("selection outside a hyperslab");
-                    let r = dims.len();
-                    assert_eq!(sel.len(), 3 * r);
-                    let (start, stride, count) = (&sel[..r], &sel[r..2 * r], &sel[2 * r..]);
-                    for k in 0..r {
-                        assert!(stride[k] >= 1);
-                        assert!(start[k] + (count[k] - 1) * stride[k] < dims[k], "{dataset}");
-                    }
-                    assert_eq!(
-                        count.iter().product::<usize>(),
-                        slab.iter().product::<usize>(),
-                        "{dataset}"
-                    );
-                }
-            }
-            other => panic!("unexpected DataItem format {other:?} in {tag}"),
-        }
+        let content_end = tag_end + xmf[tag_end..].find("</DataItem>").unwrap();
+        let content = xmf[tag_end + 1..content_end].trim();
         pos = content_end;
+        items += 1;
+        assert_eq!(xml_attr(tag, "Format"), Some("HDF"), "{tag}");
+        assert!(xml_attr(tag, "NumberType").is_some() && xml_attr(tag, "Precision").is_some());
+        let declared = numbers(xml_attr(tag, "Dimensions").unwrap());
+        let (location, slab) = match content.split_once('|') {
+            Some((l, s)) => (l, Some(s)),
+            None => (content, None),
+        };
+        let (file, dataset) = location.split_once(':').unwrap();
+        assert_eq!(file, "res.h5", "relative file name");
+        assert!(dir.join(file).exists());
+        let shape = f.shape(dataset).unwrap();
+        match slab {
+            None => assert_eq!(shape, declared, "{dataset}"),
+            Some(slab) => {
+                slabs += 1;
+                let parts: Vec<Vec<usize>> = slab.split(':').map(numbers).collect();
+                assert_eq!(parts.len(), 4, "{slab}");
+                let (first, stride, count, dims) = (&parts[0], &parts[1], &parts[2], &parts[3]);
+                assert_eq!(dims, &shape, "{dataset}: the slab's dataset dimensions");
+                let r = shape.len();
+                assert!(first.len() == r && stride.len() == r && count.len() == r);
+                for k in 0..r {
+                    assert!(stride[k] >= 1 && count[k] >= 1);
+                    assert!(first[k] + (count[k] - 1) * stride[k] < shape[k], "{dataset}");
+                }
+                assert_eq!(
+                    count.iter().product::<usize>(),
+                    declared.iter().product::<usize>(),
+                    "{dataset}"
+                );
+            }
+        }
     }
-    assert!(slab_stack.is_empty() && pending_select.is_none());
-    // Per grid: topology, geometry, and six attributes each with one HDF item.
-    assert_eq!(hdf_items, 3 * 8);
+    // Per grid: topology, geometry, and six attributes, each a hyperslab.
+    assert_eq!(items, 3 * 8);
     assert_eq!(slabs, 3 * 6);
+    // Step 2's displacement is the slab starting at step 2.
+    assert!(xmf.contains("res.h5:/results/displacement|2 0 0:1 1 1:1 20 3:3 20 3"));
+    assert!(xmf.contains("res.h5:/results/contact/status|2 0:1 1:1 20:3 20"));
 }
 
 #[test]

@@ -13,7 +13,7 @@ pub enum Formulation {
     /// 2x2x2 Gauss.
     Full,
     /// 2x2x2 Gauss with the volumetric part taken from the element mean: B-bar (mean
-    /// dilatation) under small kinematics, F-bar (centroid dilatation) under large.
+    /// dilatation) under small kinematics, F-bar with the volume-averaged J under large.
     FullBar,
     /// One-point uniform-gradient integration with Flanagan-Belytschko hourglass stiffness
     /// of the given coefficient.
@@ -157,22 +157,35 @@ fn fbar_at(h: &Mat3, g: &[Vec3; 8], j0: f64) -> Result<FBar, ElementFailure> {
     })
 }
 
-/// Centroid data for F-bar: J0 and F0^-T g0_a.
+/// Mean-dilatation data for F-bar: the volume-averaged Jacobian J_bar = (1/V0) int J dV0 and
+/// its gradient with respect to each node's displacement divided by J_bar,
+/// hbar_a = (1/(V0 J_bar)) int J F^-T g_a dV0. Using the average (not the centroid value)
+/// keeps the element passing the patch test on distorted meshes.
 #[inline]
-fn centroid(x: &[Vec3; 8], u: &[Vec3; 8]) -> Result<(f64, [Vec3; 8]), ElementFailure> {
-    let (g0, _) = gradients(x, &[0.0; 3]).ok_or(ElementFailure::InvertedReference)?;
-    let f0 = add_identity(&displacement_gradient(u, &g0));
-    let (f0inv, j0) = inverse(&f0);
-    if !(j0 > 0.0) {
-        return Err(ElementFailure::InvertedCurrent);
-    }
-    let mut h0 = [[0.0; 3]; 8];
-    for a in 0..8 {
-        for i in 0..3 {
-            h0[a][i] = f0inv[0][i] * g0[a][0] + f0inv[1][i] * g0[a][1] + f0inv[2][i] * g0[a][2];
+fn mean_dilatation(u: &[Vec3; 8], geo: &Geometry) -> Result<(f64, [Vec3; 8]), ElementFailure> {
+    let mut jsum = 0.0;
+    let mut hbar = [[0.0; 3]; 8];
+    for q in 0..8 {
+        let f = add_identity(&displacement_gradient(u, &geo.g[q]));
+        let (finv, j) = inverse(&f);
+        if !(j > 0.0) {
+            return Err(ElementFailure::InvertedCurrent);
+        }
+        let w = geo.wdet[q] * j;
+        jsum += w;
+        for a in 0..8 {
+            let g = &geo.g[q][a];
+            for i in 0..3 {
+                hbar[a][i] += w * (finv[0][i] * g[0] + finv[1][i] * g[1] + finv[2][i] * g[2]);
+            }
         }
     }
-    Ok((j0, h0))
+    for h in hbar.iter_mut() {
+        for v in h.iter_mut() {
+            *v /= jsum;
+        }
+    }
+    Ok((jsum / geo.volume, hbar))
 }
 
 /// Hourglass base vectors orthogonalised against linear fields (Flanagan-Belytschko), and
@@ -251,7 +264,7 @@ pub fn internal_force(
             }
         }
         Formulation::FullBar => {
-            let (j0, h0) = centroid(x, u)?;
+            let (j0, h0) = mean_dilatation(u, &geo)?;
             for q in 0..8 {
                 let h = displacement_gradient(u, &geo.g[q]);
                 let fb = fbar_at(&h, &geo.g[q], j0)?;
@@ -338,7 +351,7 @@ pub fn diagonal_blocks(
         }
         Formulation::FullBar => {
             let large = mat.is_large();
-            let hbar = if large { centroid(x, u)?.1 } else { geo.bbar };
+            let hbar = if large { mean_dilatation(u, &geo)?.1 } else { geo.bbar };
             for q in 0..8 {
                 let hvec: [Vec3; 8] = if large {
                     let h = displacement_gradient(u, &geo.g[q]);
@@ -434,7 +447,7 @@ pub fn average_cauchy(
             }
         }
         Formulation::FullBar => {
-            let (j0, _) = centroid(x, u)?;
+            let (j0, _) = mean_dilatation(u, &geo)?;
             for q in 0..8 {
                 let h = displacement_gradient(u, &geo.g[q]);
                 let fb = fbar_at(&h, &geo.g[q], j0)?;

@@ -1,0 +1,1190 @@
+//! `bench`: the performance benchmark (reported, never asserted).
+//!
+//! Measures, on this machine:
+//! 1. STREAM-like memory bandwidth (copy and triad over arrays much larger than the caches),
+//! 2. the element kernels (`Assembly::internal_force` and `Assembly::diagonal`) on one
+//!    core for every integration / material combination on a structured cube mesh, with a
+//!    memory-traffic model and the fraction of the measured bandwidth it implies,
+//! 3. CG iterations and wall time of a cube compression solved through `run::run`.
+//!
+//! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
+//! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
+
+use partition::Decomposition;
+use serde::ser::{SerializeMap, SerializeSeq};
+use serde::{Serialize, Serializer};
+use solver::comm::SerialComm;
+use solver::math::{Mat3, Vec3, ZERO33};
+use solver::mesh::local::LocalMesh;
+use solver::problem::Problem;
+use solver::run::{run, RunOptions};
+use solver::scene::parse_scene;
+use solver::solver::assembly::Assembly;
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+// ---------------------------------------------------------------------------------------
+// Settings
+// ---------------------------------------------------------------------------------------
+
+/// Sizes and repeat counts of one benchmark run.
+struct Config {
+    quick: bool,
+    out: PathBuf,
+    /// f64 entries per STREAM array.
+    stream_len: usize,
+    stream_repeats: usize,
+    /// Elements per edge of the kernel mesh.
+    kernel_n: usize,
+    force_repeats: usize,
+    diagonal_repeats: usize,
+    /// (elements per edge, repeats) of the CG cube compressions.
+    cube: Vec<(usize, usize)>,
+}
+
+impl Config {
+    fn new(quick: bool, out: PathBuf) -> Self {
+        if quick {
+            Config {
+                quick,
+                out,
+                stream_len: 8 << 20, // 64 MiB per array
+                stream_repeats: 3,
+                kernel_n: 30,
+                force_repeats: 5,
+                diagonal_repeats: 3,
+                cube: vec![(10, 3), (20, 3)],
+            }
+        } else {
+            Config {
+                quick,
+                out,
+                stream_len: 25_000_000, // 200 MB per array
+                stream_repeats: 10,
+                kernel_n: 50,
+                force_repeats: 7,
+                diagonal_repeats: 5,
+                cube: vec![(10, 5), (20, 3), (40, 3)],
+            }
+        }
+    }
+}
+
+/// Bytes per element the memory-traffic model charges, with no reuse of shared nodes:
+/// coordinates 8 x 3 x 8 B, displacements 8 x 3 x 8 B read, result 8 x k x 8 B read and
+/// written (k = 3 for the force, 9 for the 3x3 diagonal blocks), connectivity 8 x 4 B.
+fn model_bytes(result_width: usize) -> f64 {
+    (8 * 3 * 8 + 8 * 3 * 8 + 2 * 8 * result_width * 8 + 8 * 4) as f64
+}
+
+// ---------------------------------------------------------------------------------------
+// Statistics and a small ordered JSON value
+// ---------------------------------------------------------------------------------------
+
+/// Median, minimum and maximum of repeated measurements.
+#[derive(Clone, Copy, Debug)]
+struct Stat {
+    median: f64,
+    min: f64,
+    max: f64,
+    repeats: usize,
+}
+
+impl Stat {
+    fn of(samples: &[f64]) -> Stat {
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let n = s.len();
+        let median = if n == 0 {
+            f64::NAN
+        } else if n % 2 == 1 {
+            s[n / 2]
+        } else {
+            0.5 * (s[n / 2 - 1] + s[n / 2])
+        };
+        Stat {
+            median,
+            min: s.first().copied().unwrap_or(f64::NAN),
+            max: s.last().copied().unwrap_or(f64::NAN),
+            repeats: n,
+        }
+    }
+
+    /// `k / t` of a time statistic (the minimum rate comes from the maximum time).
+    fn rate(&self, k: f64) -> Stat {
+        Stat {
+            median: k / self.median,
+            min: k / self.max,
+            max: k / self.min,
+            repeats: self.repeats,
+        }
+    }
+
+    /// `k * t`.
+    fn scaled(&self, k: f64) -> Stat {
+        Stat {
+            median: k * self.median,
+            min: k * self.min,
+            max: k * self.max,
+            repeats: self.repeats,
+        }
+    }
+}
+
+/// A JSON value whose objects keep their keys in insertion order.
+enum J {
+    Null,
+    Bool(bool),
+    Int(i64),
+    Num(f64),
+    Str(String),
+    Arr(Vec<J>),
+    Obj(Vec<(String, J)>),
+}
+
+impl Serialize for J {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            J::Null => s.serialize_unit(),
+            J::Bool(b) => s.serialize_bool(*b),
+            J::Int(i) => s.serialize_i64(*i),
+            J::Num(x) if x.is_finite() => s.serialize_f64(*x),
+            J::Num(_) => s.serialize_unit(),
+            J::Str(t) => s.serialize_str(t),
+            J::Arr(v) => {
+                let mut seq = s.serialize_seq(Some(v.len()))?;
+                for x in v {
+                    seq.serialize_element(x)?;
+                }
+                seq.end()
+            }
+            J::Obj(kv) => {
+                let mut map = s.serialize_map(Some(kv.len()))?;
+                for (k, v) in kv {
+                    map.serialize_entry(k, v)?;
+                }
+                map.end()
+            }
+        }
+    }
+}
+
+impl From<f64> for J {
+    fn from(x: f64) -> J {
+        J::Num(x)
+    }
+}
+impl From<usize> for J {
+    fn from(x: usize) -> J {
+        J::Int(x as i64)
+    }
+}
+impl From<u64> for J {
+    fn from(x: u64) -> J {
+        J::Int(x as i64)
+    }
+}
+impl From<bool> for J {
+    fn from(x: bool) -> J {
+        J::Bool(x)
+    }
+}
+impl From<&str> for J {
+    fn from(x: &str) -> J {
+        J::Str(x.to_string())
+    }
+}
+impl From<String> for J {
+    fn from(x: String) -> J {
+        J::Str(x)
+    }
+}
+impl<T: Into<J>> From<Option<T>> for J {
+    fn from(x: Option<T>) -> J {
+        x.map_or(J::Null, Into::into)
+    }
+}
+
+/// Builder of a flat JSON record.
+#[derive(Default)]
+struct Rec(Vec<(String, J)>);
+
+impl Rec {
+    fn put(mut self, key: &str, v: impl Into<J>) -> Self {
+        self.0.push((key.to_string(), v.into()));
+        self
+    }
+
+    /// `<prefix>_median`, `<prefix>_min`, `<prefix>_max`.
+    fn stat(mut self, prefix: &str, s: &Stat) -> Self {
+        self.0.push((format!("{prefix}_median"), J::Num(s.median)));
+        self.0.push((format!("{prefix}_min"), J::Num(s.min)));
+        self.0.push((format!("{prefix}_max"), J::Num(s.max)));
+        self
+    }
+
+    fn json(self) -> J {
+        J::Obj(self.0)
+    }
+}
+
+/// Times `f` `repeats` times after one untimed warm-up call; seconds per call.
+fn time_it(repeats: usize, mut f: impl FnMut()) -> Stat {
+    f();
+    let samples: Vec<f64> = (0..repeats)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    Stat::of(&samples)
+}
+
+// ---------------------------------------------------------------------------------------
+// Machine description
+// ---------------------------------------------------------------------------------------
+
+struct Machine {
+    cpu_model: String,
+    cache: String,
+    logical_cpus: usize,
+    physical_cores: Option<usize>,
+    date: String,
+    git_commit: Option<String>,
+    git_dirty: Option<bool>,
+}
+
+fn command_output(cmd: &str, args: &[&str]) -> Option<String> {
+    let out = std::process::Command::new(cmd).args(args).output().ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+fn machine() -> Machine {
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |name: &str| -> Option<String> {
+        info.lines()
+            .filter_map(|l| l.split_once(':'))
+            .find(|(k, _)| k.trim() == name)
+            .map(|(_, v)| v.trim().to_string())
+    };
+    let processors = info
+        .lines()
+        .filter(|l| l.split(':').next().map(str::trim) == Some("processor"))
+        .count();
+    let logical_cpus = if processors > 0 {
+        processors
+    } else {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    };
+    // Physical cores: distinct (physical id, core id) pairs, when the kernel reports them.
+    let mut cores = std::collections::BTreeSet::new();
+    let mut phys = String::new();
+    for l in info.lines() {
+        if let Some((k, v)) = l.split_once(':') {
+            match k.trim() {
+                "physical id" => phys = v.trim().to_string(),
+                "core id" => {
+                    cores.insert((phys.clone(), v.trim().to_string()));
+                }
+                _ => {}
+            }
+        }
+    }
+    let git_commit = command_output("git", &["rev-parse", "--short", "HEAD"]);
+    let git_dirty = git_commit
+        .as_ref()
+        .and_then(|_| command_output("git", &["status", "--porcelain", "--untracked-files=no"]))
+        .map(|s| !s.is_empty());
+    Machine {
+        cpu_model: field("model name").unwrap_or_else(|| "unknown".into()),
+        cache: field("cache size").unwrap_or_else(|| "unknown".into()),
+        logical_cpus,
+        physical_cores: (!cores.is_empty()).then_some(cores.len()),
+        date: solver::output::rfc3339_now(),
+        git_commit,
+        git_dirty,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// 1a. Memory bandwidth
+// ---------------------------------------------------------------------------------------
+
+struct Stream {
+    kernel: &'static str,
+    threads: usize,
+    array_bytes: usize,
+    /// Bytes counted per pass (STREAM convention: no write-allocate traffic).
+    bytes_per_pass: usize,
+    gbs: Stat,
+}
+
+fn copy(dst: &mut [f64], src: &[f64]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
+fn triad(a: &mut [f64], b: &[f64], c: &[f64], s: f64) {
+    for ((a, b), c) in a.iter_mut().zip(b).zip(c) {
+        *a = b + s * c;
+    }
+}
+
+fn triad_threads(a: &mut [f64], b: &[f64], c: &[f64], s: f64, threads: usize) {
+    let chunk = a.len().div_ceil(threads);
+    std::thread::scope(|scope| {
+        for ((a, b), c) in a
+            .chunks_mut(chunk)
+            .zip(b.chunks(chunk))
+            .zip(c.chunks(chunk))
+        {
+            scope.spawn(move || triad(a, b, c, s));
+        }
+    });
+}
+
+fn memory_bandwidth(cfg: &Config, threads: usize) -> Vec<Stream> {
+    let n = cfg.stream_len;
+    let mut a = vec![1.0f64; n];
+    let mut b = vec![2.0f64; n];
+    let c = vec![0.5f64; n];
+    let bytes = n * 8;
+    let mut out = Vec::new();
+    let mut record = |kernel, threads, arrays: usize, t: Stat| {
+        out.push(Stream {
+            kernel,
+            threads,
+            array_bytes: bytes,
+            bytes_per_pass: arrays * bytes,
+            gbs: t.rate(arrays as f64 * bytes as f64 / 1e9),
+        })
+    };
+    let t = time_it(cfg.stream_repeats, || {
+        copy(black_box(&mut b), black_box(&a));
+    });
+    record("copy", 1, 2, t);
+    let t = time_it(cfg.stream_repeats, || {
+        triad(black_box(&mut a), black_box(&b), black_box(&c), 3.0);
+    });
+    record("triad", 1, 3, t);
+    if threads > 1 {
+        let t = time_it(cfg.stream_repeats, || {
+            triad_threads(black_box(&mut a), black_box(&b), black_box(&c), 3.0, threads);
+        });
+        record("triad", threads, 3, t);
+    }
+    black_box((&a, &b));
+    out
+}
+
+// ---------------------------------------------------------------------------------------
+// 1b. Element kernels
+// ---------------------------------------------------------------------------------------
+
+#[derive(Clone, Copy)]
+struct Case {
+    label: &'static str,
+    integration: &'static str,
+    volumetric: &'static str,
+    large: bool,
+}
+
+const CASES: [Case; 6] = [
+    Case {
+        label: "full, linear elastic (small)",
+        integration: "full",
+        volumetric: "standard",
+        large: false,
+    },
+    Case {
+        label: "full + B-bar, linear elastic (small)",
+        integration: "full",
+        volumetric: "mean_dilatation",
+        large: false,
+    },
+    Case {
+        label: "mean + hourglass, linear elastic (small)",
+        integration: "mean",
+        volumetric: "standard",
+        large: false,
+    },
+    Case {
+        label: "full, neo-Hookean (large)",
+        integration: "full",
+        volumetric: "standard",
+        large: true,
+    },
+    Case {
+        label: "full + F-bar, neo-Hookean (large)",
+        integration: "full",
+        volumetric: "mean_dilatation",
+        large: true,
+    },
+    Case {
+        label: "mean + hourglass, neo-Hookean (large)",
+        integration: "mean",
+        volumetric: "standard",
+        large: true,
+    },
+];
+
+fn kernel_scene(n: usize, case: &Case) -> String {
+    let (kinematics, model) = if case.large {
+        ("large", "neo_hookean")
+    } else {
+        ("small", "linear_elastic")
+    };
+    format!(
+        r#"name = "bench_kernel"
+kinematics = "{kinematics}"
+
+[[body]]
+name = "cube"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
+divisions = [{n}, {n}, {n}]
+material = {{ model = "{model}", E = 1.0e6, nu = 0.3 }}
+integration = "{integration}"
+volumetric = "{volumetric}"
+
+[time]
+segments = [{{ end = 1.0, steps = 1 }}]
+"#,
+        integration = case.integration,
+        volumetric = case.volumetric,
+    )
+}
+
+fn parse(text: &str) -> Result<Problem, String> {
+    parse_scene(text, "bench", "bench").map_err(|e| format!("generated scene rejected: {e}"))
+}
+
+fn local_mesh(problem: &Problem) -> Result<LocalMesh, String> {
+    let mesh = &problem.mesh;
+    let d = Decomposition::partition(mesh.num_nodes(), &mesh.elements, 1)
+        .map_err(|e| format!("partition failed: {e}"))?;
+    Ok(LocalMesh::new(mesh, d.part(0)))
+}
+
+/// A smooth displacement field with strains of order 1e-3 in every component.
+fn smooth_field(coords: &[Vec3]) -> Vec<Vec3> {
+    let a = 1e-3;
+    coords
+        .iter()
+        .map(|x| {
+            let (s0, c0) = (2.0 * x[0] + 0.3).sin_cos();
+            let (s1, c1) = (1.5 * x[1] - 0.2).sin_cos();
+            let (s2, c2) = (2.5 * x[2] + 0.1).sin_cos();
+            [
+                a * (s0 * c1 + 0.5 * s2),
+                a * (c0 * s1 - 0.3 * c2 * s0),
+                a * (s2 * c1 + 0.4 * s1 * c0),
+            ]
+        })
+        .collect()
+}
+
+struct KernelResult {
+    case: Case,
+    operation: &'static str,
+    elements: usize,
+    nodes: usize,
+    seconds: Stat,
+    model_bytes: f64,
+    /// A checksum of the output, to show the result is not trivial.
+    checksum: f64,
+}
+
+fn kernels(cfg: &Config) -> Result<Vec<KernelResult>, String> {
+    let mut out = Vec::new();
+    let mut local: Option<LocalMesh> = None;
+    for case in CASES.iter() {
+        let t = Instant::now();
+        let problem = parse(&kernel_scene(cfg.kernel_n, case))?;
+        // Every case has the same mesh: decompose it once.
+        if local.is_none() {
+            local = Some(local_mesh(&problem)?);
+        }
+        let local = local.as_ref().expect("built above");
+        let setup = t.elapsed().as_secs_f64();
+        let asm = Assembly::new(local, &problem.body_models);
+        let u = smooth_field(&local.coords);
+        let nn = local.num_nodes();
+        let ne = local.elements.len();
+
+        let mut f = vec![[0.0; 3]; nn];
+        let mut failure = None;
+        let seconds = time_it(cfg.force_repeats, || {
+            if let Err(e) = asm.internal_force(black_box(&u), black_box(&mut f)) {
+                failure = Some(e.to_string());
+            }
+        });
+        if let Some(e) = failure.take() {
+            return Err(format!("{}: internal_force failed: {e}", case.label));
+        }
+        let checksum = f.iter().flatten().map(|v| v.abs()).sum::<f64>();
+        out.push(KernelResult {
+            case: *case,
+            operation: "internal_force",
+            elements: ne,
+            nodes: nn,
+            seconds,
+            model_bytes: model_bytes(3),
+            checksum,
+        });
+
+        let mut d: Vec<Mat3> = vec![ZERO33; nn];
+        let dseconds = time_it(cfg.diagonal_repeats, || {
+            if let Err(e) = asm.diagonal(black_box(&u), black_box(&mut d)) {
+                failure = Some(e.to_string());
+            }
+        });
+        if let Some(e) = failure {
+            return Err(format!("{}: diagonal failed: {e}", case.label));
+        }
+        let dsum = d.iter().flatten().flatten().map(|v| v.abs()).sum::<f64>();
+        out.push(KernelResult {
+            case: *case,
+            operation: "diagonal",
+            elements: ne,
+            nodes: nn,
+            seconds: dseconds,
+            model_bytes: model_bytes(9),
+            checksum: dsum,
+        });
+        eprintln!(
+            "bench: kernel {:<42} internal_force {:7.1} ns/el, diagonal {:7.1} ns/el (setup {:.1} s)",
+            case.label,
+            seconds.median / ne as f64 * 1e9,
+            dseconds.median / ne as f64 * 1e9,
+            setup
+        );
+    }
+    Ok(out)
+}
+
+// ---------------------------------------------------------------------------------------
+// 2. CG on a cube compression
+// ---------------------------------------------------------------------------------------
+
+const CUBE_E: f64 = 1.0e6;
+const CUBE_NU: f64 = 0.3;
+const CUBE_DISPLACEMENT: f64 = -0.01;
+const CUBE_TOLERANCE: f64 = 1e-8;
+
+fn cube_scene(n: usize) -> String {
+    format!(
+        r#"name = "bench_cube_{n}"
+kinematics = "small"
+
+[[body]]
+name = "cube"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
+divisions = [{n}, {n}, {n}]
+material = {{ model = "linear_elastic", E = {CUBE_E:e}, nu = {CUBE_NU} }}
+
+[[node_set]]
+name = "bottom"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+
+[[node_set]]
+name = "top"
+plane = {{ point = [0.0, 1.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+
+[[node_set]]
+name = "x0"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
+
+[[node_set]]
+name = "z0"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+
+[[displacement]]
+node_set = "bottom"
+components = ["y"]
+value = 0.0
+
+[[displacement]]
+node_set = "x0"
+components = ["x"]
+value = 0.0
+
+[[displacement]]
+node_set = "z0"
+components = ["z"]
+value = 0.0
+
+[[displacement]]
+node_set = "top"
+components = ["y"]
+value = {CUBE_DISPLACEMENT:e}
+
+[time]
+segments = [{{ end = 1.0, steps = 1 }}]
+
+[solver]
+tolerance = {CUBE_TOLERANCE:e}
+"#
+    )
+}
+
+/// Free degrees of freedom: 3 per node minus the rank of the prescribed directions there.
+fn unknowns(problem: &Problem) -> usize {
+    let mut dirs: Vec<Vec<Vec3>> = vec![Vec::new(); problem.mesh.num_nodes()];
+    for d in &problem.dirichlet {
+        for &n in &problem.node_sets[d.node_set].nodes {
+            dirs[n as usize].push(d.direction);
+        }
+    }
+    let rank = |v: &[Vec3]| -> usize {
+        // Gram-Schmidt with a relative tolerance.
+        let mut basis: Vec<Vec3> = Vec::new();
+        for d in v {
+            let mut w = *d;
+            for b in &basis {
+                let p = solver::math::dot(&w, b);
+                w = solver::math::sub(&w, &solver::math::scale(b, p));
+            }
+            let len = solver::math::norm(&w);
+            if len > 1e-10 * solver::math::norm(d).max(f64::MIN_POSITIVE) {
+                basis.push(solver::math::scale(&w, 1.0 / len));
+            }
+        }
+        basis.len()
+    };
+    dirs.iter().map(|v| 3 - rank(v).min(3)).sum()
+}
+
+struct CubeResult {
+    n: usize,
+    elements: usize,
+    nodes: usize,
+    unknowns: usize,
+    cg_iterations: u64,
+    iterations_consistent: bool,
+    run_wall: Stat,
+    solve_wall: Stat,
+    /// One `internal_force` call on the same mesh (for the kernel share of the solve).
+    force_call: Stat,
+    /// max |u - u_exact| over the nodes, relative to |top displacement|.
+    max_error: f64,
+}
+
+fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
+    let problem = parse(&cube_scene(n))?;
+    let opts = RunOptions {
+        output: None,
+        verbosity: 0,
+    };
+    let mut run_wall = Vec::new();
+    let mut solve_wall = Vec::new();
+    let mut iterations = Vec::new();
+    let mut max_error = 0.0f64;
+    for _ in 0..repeats.max(1) {
+        let (summary, state) = run(&SerialComm, &problem, &opts)?;
+        if let Some(f) = summary.failure {
+            return Err(format!("cube {n}^3 failed: {f}"));
+        }
+        run_wall.push(summary.wall_time);
+        solve_wall.push(summary.steps.iter().map(|s| s.wall_time).sum());
+        iterations.push(summary.steps.iter().map(|s| s.cg_iterations).sum::<u64>());
+        // Uniaxial stress: u_y = d y, u_x = -nu d x, u_z = -nu d z (exact for trilinear hexes).
+        let d = CUBE_DISPLACEMENT;
+        max_error = 0.0;
+        for (x, u) in problem.mesh.coords.iter().zip(&state.displacement) {
+            let exact = [-CUBE_NU * d * x[0], d * x[1], -CUBE_NU * d * x[2]];
+            for i in 0..3 {
+                max_error = max_error.max((u[i] - exact[i]).abs() / d.abs());
+            }
+        }
+    }
+    // The cost of one element loop on this mesh, for the kernel's share of a CG iteration.
+    let local = local_mesh(&problem)?;
+    let asm = Assembly::new(&local, &problem.body_models);
+    let u = smooth_field(&local.coords);
+    let mut f = vec![[0.0; 3]; local.num_nodes()];
+    let force_call = time_it(5, || {
+        let _ = asm.internal_force(black_box(&u), black_box(&mut f));
+    });
+    Ok(CubeResult {
+        n,
+        elements: problem.mesh.num_elements(),
+        nodes: problem.mesh.num_nodes(),
+        unknowns: unknowns(&problem),
+        cg_iterations: iterations[0],
+        iterations_consistent: iterations.iter().all(|&k| k == iterations[0]),
+        run_wall: Stat::of(&run_wall),
+        solve_wall: Stat::of(&solve_wall),
+        force_call,
+        max_error,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// Placeholders for later issues
+// ---------------------------------------------------------------------------------------
+
+const NOT_YET_MEASURED: [(&str, &str, &str); 3] = [
+    (
+        "contact_search",
+        "Contact search",
+        "Contact search time for 1e5 slave nodes against 1e5 master faces.",
+    ),
+    (
+        "two_rank_speedup",
+        "2-rank speed-up",
+        "Wall-time speed-up of the same problem on 2 MPI ranks over 1 rank.",
+    ),
+    (
+        "calculix_comparison",
+        "CalculiX comparison",
+        "Wall time and results against CalculiX (ccx) on the same model.",
+    ),
+];
+
+// ---------------------------------------------------------------------------------------
+// Output
+// ---------------------------------------------------------------------------------------
+
+const DOC: [(&str, &str); 12] = [
+    ("schema", "identifier and version of this file's layout"),
+    ("meta", "when and where it ran: date (RFC 3339, UTC), git commit (short) and whether tracked files had uncommitted changes, CPU model and cache from /proc/cpuinfo, logical CPUs and physical cores, quick mode, total wall time in s"),
+    ("statistics", "every measured figure is given as <name>_median, <name>_min and <name>_max over `repeats` timed runs (after one untimed warm-up for the kernels and the bandwidth); rates are derived from the times, so rate_min comes from the slowest run"),
+    ("memory_bandwidth", "STREAM-like loops over f64 arrays much larger than the caches: copy b = a (2 arrays counted), triad a = b + 3 c (3 arrays counted); bytes counted as in STREAM (write-allocate traffic not counted); gb_s in 1e9 B/s"),
+    ("element_kernels", "one record per (case, operation): Assembly::internal_force or Assembly::diagonal over the whole mesh on one core (one rank, one thread) with a smooth displacement field of strain ~1e-3; seconds is per call over all elements; elements_per_s and ns_per_element derived from it"),
+    ("element_kernels.model_bytes_per_element", "memory-traffic model with no reuse of shared nodes: 8 nodes x 3 coords x 8 B + 8 x 3 displacement x 8 B read + 8 x k result x 8 B read and written (k = 3 force, 9 diagonal block) + 8 x 4 B connectivity = 800 B (force), 1568 B (diagonal)"),
+    ("element_kernels.model_gb_s", "model_bytes_per_element x elements_per_s_median / 1e9"),
+    ("element_kernels.fraction_of_triad_1core", "model_gb_s / the one-core triad bandwidth median"),
+    ("element_kernels.checksum", "sum of |entries| of the result, to show it is not trivial"),
+    ("cg_cube", "unit cube, linear elastic E = 1e6, nu = 0.3, u_y = 0 at y = 0, u_x = 0 at x = 0, u_z = 0 at z = 0, u_y = -0.01 at y = 1, one load step, tolerance 1e-8, solved by solver::run::run on SerialComm; run_wall includes decomposition and set-up, solve_wall is the load step; unknowns = free degrees of freedom; iterations_per_cbrt_unknowns = cg_iterations / unknowns^(1/3); force_call is one internal_force call on the same mesh and kernel_share = cg_iterations x force_call_median / solve_wall_median (true-residual recomputations not counted); max_error_rel = max |u - u_exact| / 0.01 against the exact uniaxial-stress field"),
+    ("not_yet_measured", "measurements that come with later issues: names only, no numbers"),
+    ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s)"),
+];
+
+struct Results {
+    cfg_quick: bool,
+    machine: Machine,
+    cfg_kernel_n: usize,
+    stream: Vec<Stream>,
+    kernels: Vec<KernelResult>,
+    cubes: Vec<CubeResult>,
+    total_wall: f64,
+}
+
+impl Results {
+    fn triad_1core(&self) -> Option<f64> {
+        self.stream
+            .iter()
+            .find(|s| s.kernel == "triad" && s.threads == 1)
+            .map(|s| s.gbs.median)
+    }
+
+    fn json(&self) -> J {
+        let m = &self.machine;
+        let meta = Rec::default()
+            .put("date", m.date.as_str())
+            .put("git_commit", m.git_commit.clone())
+            .put("git_dirty", m.git_dirty)
+            .put("cpu_model", m.cpu_model.as_str())
+            .put("cpu_cache", m.cache.as_str())
+            .put("logical_cpus", m.logical_cpus)
+            .put("physical_cores", m.physical_cores)
+            .put("quick", self.cfg_quick)
+            .put("total_wall_s", self.total_wall)
+            .json();
+        let stream = self
+            .stream
+            .iter()
+            .map(|s| {
+                Rec::default()
+                    .put("kernel", s.kernel)
+                    .put("threads", s.threads)
+                    .put("array_bytes", s.array_bytes)
+                    .put("bytes_per_pass", s.bytes_per_pass)
+                    .put("repeats", s.gbs.repeats)
+                    .stat("gb_s", &s.gbs)
+                    .json()
+            })
+            .collect();
+        let triad = self.triad_1core();
+        let kernels = self
+            .kernels
+            .iter()
+            .map(|k| {
+                let ne = k.elements as f64;
+                let rate = k.seconds.rate(ne);
+                let model_gbs = k.model_bytes * rate.median / 1e9;
+                Rec::default()
+                    .put("case", k.case.label)
+                    .put("operation", k.operation)
+                    .put("integration", k.case.integration)
+                    .put("volumetric", k.case.volumetric)
+                    .put(
+                        "material",
+                        if k.case.large {
+                            "neo_hookean"
+                        } else {
+                            "linear_elastic"
+                        },
+                    )
+                    .put("kinematics", if k.case.large { "large" } else { "small" })
+                    .put("mesh", format!("{n}x{n}x{n}", n = self.cfg_kernel_n))
+                    .put("elements", k.elements)
+                    .put("nodes", k.nodes)
+                    .put("repeats", k.seconds.repeats)
+                    .stat("seconds", &k.seconds)
+                    .stat("elements_per_s", &rate)
+                    .stat("ns_per_element", &k.seconds.scaled(1e9 / ne))
+                    .put("model_bytes_per_element", k.model_bytes)
+                    .put("model_gb_s", model_gbs)
+                    .put("fraction_of_triad_1core", triad.map(|t| model_gbs / t))
+                    .put("checksum", k.checksum)
+                    .json()
+            })
+            .collect();
+        let cubes = self
+            .cubes
+            .iter()
+            .map(|c| {
+                Rec::default()
+                    .put("divisions", c.n)
+                    .put("elements", c.elements)
+                    .put("nodes", c.nodes)
+                    .put("unknowns", c.unknowns)
+                    .put("cg_iterations", c.cg_iterations)
+                    .put("cg_iterations_same_every_repeat", c.iterations_consistent)
+                    .put(
+                        "iterations_per_cbrt_unknowns",
+                        c.cg_iterations as f64 / (c.unknowns as f64).cbrt(),
+                    )
+                    .put("repeats", c.solve_wall.repeats)
+                    .stat("run_wall_s", &c.run_wall)
+                    .stat("solve_wall_s", &c.solve_wall)
+                    .put(
+                        "ms_per_iteration",
+                        1e3 * c.solve_wall.median / c.cg_iterations.max(1) as f64,
+                    )
+                    .stat("force_call_s", &c.force_call)
+                    .put("kernel_share", kernel_share(c))
+                    .put("max_error_rel", c.max_error)
+                    .json()
+            })
+            .collect();
+        let placeholders = NOT_YET_MEASURED
+            .iter()
+            .map(|(key, _, what)| {
+                Rec::default()
+                    .put("name", *key)
+                    .put("description", *what)
+                    .put("status", "not yet measured")
+                    .json()
+            })
+            .collect();
+        let doc = J::Obj(
+            DOC.iter()
+                .map(|(k, v)| (k.to_string(), J::Str(v.to_string())))
+                .collect(),
+        );
+        Rec::default()
+            .put("schema", "solver-bench/1")
+            .put("doc", doc)
+            .put("meta", meta)
+            .put("memory_bandwidth", J::Arr(stream))
+            .put("element_kernels", J::Arr(kernels))
+            .put("cg_cube", J::Arr(cubes))
+            .put("not_yet_measured", J::Arr(placeholders))
+            .json()
+    }
+
+    fn markdown(&self) -> String {
+        let m = &self.machine;
+        let mut s = String::new();
+        let w = &mut s;
+        let _ = writeln!(w, "# Solver performance benchmark\n");
+        let _ = writeln!(
+            w,
+            "{} on {} ({} logical CPUs{}, cache {}), commit {}{}{}.\n",
+            m.date,
+            m.cpu_model,
+            m.logical_cpus,
+            m.physical_cores
+                .map(|c| format!(", {c} physical cores"))
+                .unwrap_or_default(),
+            m.cache,
+            m.git_commit.as_deref().unwrap_or("unknown"),
+            if m.git_dirty == Some(true) {
+                " (with uncommitted changes)"
+            } else {
+                ""
+            },
+            if self.cfg_quick {
+                "; **quick mode** (smaller sizes, fewer repeats)"
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(
+            w,
+            "What is measured and how: every figure is the median of repeated timed runs, with \
+             [min, max] and the number of repeats (n). The element kernels run on one core \
+             (one rank, one thread) over a {k}x{k}x{k} structured hex mesh of the unit cube, with \
+             a smooth displacement field (strains ~1e-3), after one untimed warm-up call; \
+             the problem comes from a generated scene through `parse_scene`, a 1-part \
+             decomposition, `LocalMesh::new` and `Assembly::new`. Memory bandwidth is a \
+             STREAM-like copy and triad over {mb:.0} MB f64 arrays in the same run (bytes counted \
+             as STREAM does, without write-allocate). The CG figures come from \
+             `solver::run::run` on one rank (no output file). Total benchmark wall time: {tw:.1} s.\n",
+            k = self.cfg_kernel_n,
+            mb = self.stream.first().map_or(0.0, |x| x.array_bytes as f64 / 1e6),
+            tw = self.total_wall,
+        );
+
+        let _ = writeln!(w, "## Memory bandwidth\n");
+        let _ = writeln!(w, "| loop | threads | arrays x size | GB/s |");
+        let _ = writeln!(w, "|---|---:|---|---|");
+        for x in &self.stream {
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} x {:.0} MB | {} |",
+                x.kernel,
+                x.threads,
+                x.bytes_per_pass / x.array_bytes,
+                x.array_bytes as f64 / 1e6,
+                fmt_stat(&x.gbs, 2)
+            );
+        }
+
+        let triad = self.triad_1core();
+        let _ = writeln!(w, "\n## Element kernels (one core)\n");
+        let _ = writeln!(
+            w,
+            "Traffic model, no reuse of nodes shared between elements: coordinates 8 x 3 x 8 B \
+             + displacements 8 x 3 x 8 B read + result 8 x k x 8 B read and written (k = 3 \
+             force, 9 diagonal 3x3 block) + connectivity 8 x 4 B = {} B/element for \
+             `internal_force`, {} B/element for `diagonal`. \"% of triad\" is the model's \
+             bandwidth at the median rate over the one-core triad bandwidth{}. With perfect \
+             cache reuse on this structured mesh each element brings only about one new node \
+             (about 130 B), so the real DRAM traffic is lower still.\n",
+            model_bytes(3),
+            model_bytes(9),
+            triad.map_or(String::new(), |t| format!(" ({t:.2} GB/s)"))
+        );
+        let _ = writeln!(
+            w,
+            "| case | operation | n | elements/s | ns/element | model GB/s | % of triad |"
+        );
+        let _ = writeln!(w, "|---|---|---:|---|---|---:|---:|");
+        for k in &self.kernels {
+            let ne = k.elements as f64;
+            let rate = k.seconds.rate(ne);
+            let ns = k.seconds.scaled(1e9 / ne);
+            let gbs = k.model_bytes * rate.median / 1e9;
+            let _ = writeln!(
+                w,
+                "| {} | `{}` | {} | {} | {} | {:.2} | {} |",
+                k.case.label,
+                k.operation,
+                k.seconds.repeats,
+                fmt_rate(&rate),
+                fmt_stat(&ns, 0),
+                gbs,
+                triad.map_or("-".into(), |t| format!("{:.1} %", 100.0 * gbs / t))
+            );
+        }
+
+        let _ = writeln!(w, "\n## CG: cube compression\n");
+        let _ = writeln!(
+            w,
+            "Unit cube, linear elastic E = 1e6, nu = 0.3; u_y = 0 at y = 0, symmetry u_x = 0 at \
+             x = 0 and u_z = 0 at z = 0, u_y = -0.01 at y = 1; one load step, tolerance 1e-8, \
+             block-Jacobi PCG. \"solve\" is the load step's wall time, \"run\" adds \
+             decomposition and set-up. \"kernel share\" = iterations x one `internal_force` \
+             call on that mesh / solve time. \"error\" = max |u - u_exact| / 0.01 against the \
+             exact uniaxial-stress field.\n"
+        );
+        let _ = writeln!(
+            w,
+            "| mesh | unknowns | CG iterations | iterations / unknowns^(1/3) | n | solve s | run s | ms / iteration | kernel share | error |"
+        );
+        let _ = writeln!(w, "|---|---:|---:|---:|---:|---|---|---:|---:|---:|");
+        for c in &self.cubes {
+            let _ = writeln!(
+                w,
+                "| {n}^3 | {} | {}{} | {:.2} | {} | {} | {} | {:.2} | {:.0} % | {:.1e} |",
+                c.unknowns,
+                c.cg_iterations,
+                if c.iterations_consistent {
+                    ""
+                } else {
+                    " (varied)"
+                },
+                c.cg_iterations as f64 / (c.unknowns as f64).cbrt(),
+                c.solve_wall.repeats,
+                fmt_stat(&c.solve_wall, 3),
+                fmt_stat(&c.run_wall, 3),
+                1e3 * c.solve_wall.median / c.cg_iterations.max(1) as f64,
+                100.0 * kernel_share(c),
+                c.max_error,
+                n = c.n,
+            );
+        }
+        if self.cubes.len() >= 2 {
+            let a = &self.cubes[0];
+            let b = &self.cubes[self.cubes.len() - 1];
+            let slope = (b.cg_iterations as f64 / a.cg_iterations as f64).ln()
+                / (b.unknowns as f64 / a.unknowns as f64).ln();
+            let _ = writeln!(
+                w,
+                "\nTrend: iterations grow like unknowns^{slope:.2} from {}^3 to {}^3 \
+                 (unknowns^(1/3), i.e. 1/h, is what Jacobi-preconditioned CG is expected to show).",
+                a.n, b.n
+            );
+        }
+
+        for (_, title, what) in NOT_YET_MEASURED.iter() {
+            let _ = writeln!(w, "\n## {title}: not yet measured\n\n{what} Comes with a later issue.");
+        }
+        s
+    }
+}
+
+fn kernel_share(c: &CubeResult) -> f64 {
+    c.cg_iterations as f64 * c.force_call.median / c.solve_wall.median
+}
+
+fn fmt_stat(s: &Stat, digits: usize) -> String {
+    format!(
+        "{:.d$} [{:.d$}, {:.d$}]",
+        s.median,
+        s.min,
+        s.max,
+        d = digits
+    )
+}
+
+/// Rates in millions with three significant-ish digits.
+fn fmt_rate(s: &Stat) -> String {
+    format!(
+        "{:.3}e6 [{:.3}e6, {:.3}e6]",
+        s.median / 1e6,
+        s.min / 1e6,
+        s.max / 1e6
+    )
+}
+
+// ---------------------------------------------------------------------------------------
+// Main
+// ---------------------------------------------------------------------------------------
+
+const USAGE: &str = "usage: bench [--quick] [--out DIR]\n\
+  --quick    smaller sizes and fewer repeats (a smoke test, well under a minute)\n\
+  --out DIR  where results.json and report.md go (default out/bench)";
+
+fn main() -> ExitCode {
+    let mut quick = false;
+    let mut out = PathBuf::from("out/bench");
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--quick" => quick = true,
+            "--out" => match args.next() {
+                Some(d) => out = PathBuf::from(d),
+                None => {
+                    eprintln!("bench: --out needs a directory\n{USAGE}");
+                    return ExitCode::from(2);
+                }
+            },
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return ExitCode::SUCCESS;
+            }
+            other => {
+                eprintln!("bench: unknown argument '{other}'\n{USAGE}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    match bench(Config::new(quick, out)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bench: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench(cfg: Config) -> Result<(), String> {
+    let start = Instant::now();
+    std::fs::create_dir_all(&cfg.out)
+        .map_err(|e| format!("cannot create {}: {e}", cfg.out.display()))?;
+    let machine = machine();
+    eprintln!(
+        "bench: {} mode on {} ({} logical CPUs)",
+        if cfg.quick { "quick" } else { "full" },
+        machine.cpu_model,
+        machine.logical_cpus
+    );
+
+    eprintln!(
+        "bench: memory bandwidth ({:.0} MB arrays, {} repeats)",
+        cfg.stream_len as f64 * 8.0 / 1e6,
+        cfg.stream_repeats
+    );
+    let stream = memory_bandwidth(&cfg, machine.logical_cpus);
+    for s in &stream {
+        eprintln!(
+            "bench:   {} x{}: {:.2} GB/s",
+            s.kernel, s.threads, s.gbs.median
+        );
+    }
+
+    eprintln!(
+        "bench: element kernels on {n}x{n}x{n} ({} / {} repeats)",
+        cfg.force_repeats,
+        cfg.diagonal_repeats,
+        n = cfg.kernel_n
+    );
+    let kernels = kernels(&cfg)?;
+
+    let mut cubes = Vec::new();
+    for &(n, repeats) in &cfg.cube {
+        let t = Instant::now();
+        let c = cube(n, repeats)?;
+        eprintln!(
+            "bench: cube {n}^3: {} CG iterations, solve {:.3} s (median of {}), {:.1} s in all",
+            c.cg_iterations,
+            c.solve_wall.median,
+            c.solve_wall.repeats,
+            t.elapsed().as_secs_f64()
+        );
+        cubes.push(c);
+    }
+
+    let results = Results {
+        cfg_quick: cfg.quick,
+        machine,
+        cfg_kernel_n: cfg.kernel_n,
+        stream,
+        kernels,
+        cubes,
+        total_wall: start.elapsed().as_secs_f64(),
+    };
+    let json = serde_json::to_string_pretty(&results.json())
+        .map_err(|e| format!("cannot serialise the results: {e}"))?;
+    let report = results.markdown();
+    let jpath = cfg.out.join("results.json");
+    let rpath = cfg.out.join("report.md");
+    std::fs::write(&jpath, json + "\n")
+        .map_err(|e| format!("cannot write {}: {e}", jpath.display()))?;
+    std::fs::write(&rpath, &report)
+        .map_err(|e| format!("cannot write {}: {e}", rpath.display()))?;
+    println!("{report}");
+    eprintln!("bench: wrote {} and {}", jpath.display(), rpath.display());
+    Ok(())
+}
