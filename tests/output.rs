@@ -470,7 +470,10 @@ fn xdmf_references_resolve_in_the_hdf5_file() {
                 assert!(first.len() == r && stride.len() == r && count.len() == r);
                 for k in 0..r {
                     assert!(stride[k] >= 1 && count[k] >= 1);
-                    assert!(first[k] + (count[k] - 1) * stride[k] < shape[k], "{dataset}");
+                    assert!(
+                        first[k] + (count[k] - 1) * stride[k] < shape[k],
+                        "{dataset}"
+                    );
                 }
                 assert_eq!(
                     count.iter().product::<usize>(),
@@ -983,4 +986,104 @@ fn python_check_accepts_a_result_and_rejects_a_broken_one() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("MISMATCH: /mesh/node_ids"), "{stdout}");
+}
+
+/// Reads an .xmf with ParaView's Xdmf3 readers and prints every grid and the last tuple of
+/// every array, for `xdmf_opens_in_paraview`.
+const PARAVIEW_SCRIPT: &str = r#"
+import sys
+from paraview.simple import Xdmf3ReaderS, Xdmf3ReaderT
+from paraview import servermanager
+for Reader in (Xdmf3ReaderS, Xdmf3ReaderT):
+    r = Reader(FileName=[sys.argv[1]])
+    r.UpdatePipelineInformation()
+    times = list(r.TimestepValues)
+    print("times", " ".join(repr(t) for t in times))
+    for t in times:
+        r.UpdatePipeline(t)
+        d = servermanager.Fetch(r)
+        print("grid", repr(t), d.GetNumberOfPoints(), d.GetNumberOfCells(), d.GetCellType(0))
+        for data in (d.GetPointData(), d.GetCellData()):
+            for i in range(data.GetNumberOfArrays()):
+                a = data.GetArray(i)
+                n = a.GetNumberOfTuples()
+                print("array", repr(t), a.GetName(), a.GetNumberOfComponents(), n,
+                      " ".join(repr(float(v)) for v in a.GetTuple(n - 1)))
+"#;
+
+#[test]
+fn xdmf_opens_in_paraview() {
+    let pvbatch = Path::new("/usr/bin/pvbatch");
+    let dir = test_dir("paraview");
+    let script = dir.join("read_xdmf.py");
+    std::fs::write(&script, PARAVIEW_SCRIPT).unwrap();
+    let probe = dir.join("probe.py");
+    std::fs::write(&probe, "import paraview.simple\n").unwrap();
+    let pv = |args: &[&Path]| {
+        std::process::Command::new(pvbatch)
+            .args(args)
+            // pvbatch is an MPI program; Open MPI refuses to run as root without these.
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .output()
+    };
+    let available = pvbatch.exists() && pv(&[&probe]).map(|o| o.status.success()).unwrap_or(false);
+    if !available {
+        println!("SKIPPED: no ParaView (pvbatch with python3-paraview); run/setup --paraview installs it");
+        return;
+    }
+    let path = write_synthetic(&dir, "res", 3);
+    let xmf = std::fs::canonicalize(dir.join("res.xmf")).unwrap();
+    let out = pv(&[&script, &xmf]).unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        !stderr.contains("Skipping unrecognized array type"),
+        "{stderr}"
+    );
+    let f = ResultFile::open(&path).unwrap();
+    let times = f.time().unwrap();
+    let mesh = synthetic_mesh();
+    let lines: Vec<&str> = stdout.lines().collect();
+    // Both readers, each: the times, then per step one grid line and six arrays.
+    assert_eq!(
+        lines.iter().filter(|l| l.starts_with("times ")).count(),
+        2,
+        "{stdout}"
+    );
+    for line in lines.iter().filter(|l| l.starts_with("times ")) {
+        let t: Vec<f64> = line[6..].split(' ').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(t, times);
+    }
+    let grids: Vec<&&str> = lines.iter().filter(|l| l.starts_with("grid ")).collect();
+    assert_eq!(grids.len(), 6, "{stdout}");
+    for g in grids {
+        // 20 points, 3 cells, VTK_HEXAHEDRON (12).
+        assert!(g.ends_with(" 20 3 12"), "{g}");
+    }
+    let mut arrays = 0;
+    for line in lines.iter().filter(|l| l.starts_with("array ")) {
+        let w: Vec<&str> = line.split(' ').collect();
+        let t: f64 = w[1].parse().unwrap();
+        let step = times.iter().position(|&x| x == t).unwrap();
+        let s = synthetic_step(step, &mesh);
+        let (name, comps, tuples) = (w[2], w[3], w[4]);
+        let values: Vec<f64> = w[5..].iter().map(|v| v.parse().unwrap()).collect();
+        let (want, n): (Vec<f64>, usize) = match name {
+            "displacement" => (s.displacement[19].to_vec(), 20),
+            "reaction" => (s.reaction[19].to_vec(), 20),
+            "contact_force" => (s.contact_force[19].to_vec(), 20),
+            "contact_status" => (vec![f64::from(s.contact_status[19])], 20),
+            "contact_gap" => (vec![s.contact_gap[19]], 20),
+            // Six components in the stored order, which is VTK's XX YY ZZ XY YZ XZ.
+            "stress" => (s.stress[2].to_vec(), 3),
+            other => panic!("unexpected array {other}"),
+        };
+        assert_eq!(comps, want.len().to_string(), "{line}");
+        assert_eq!(tuples, n.to_string(), "{line}");
+        assert_eq!(values, want, "{line}");
+        arrays += 1;
+    }
+    assert_eq!(arrays, 2 * 3 * 6, "{stdout}");
 }
