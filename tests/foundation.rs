@@ -234,15 +234,18 @@ fn rigid_rotation_by_90_degrees_gives_zero_stress() {
     }
 }
 
-/// Plane-strain block, nu = 0.4999, bonded to rigid plates at top and bottom, compressed
-/// by 1%: returns the total vertical reaction on the top plate.
-fn bonded_block_reaction(n: usize, integ: &str, vol: &str) -> (f64, u64) {
+/// Plane-strain block of width 1 and height 2 (modelled as its half, x in [0, 0.5], with a
+/// symmetry plane at x = 0), nu = 0.4999, bonded to rigid plates at top and bottom and
+/// compressed by 0.01: returns the total vertical reaction on the top plate. A tall block
+/// keeps the bonded corners' singular stresses from dominating the coarse meshes.
+fn bonded_block_reaction(nx: usize, integ: &str, vol: &str) -> (f64, u64) {
+    let ny = 4 * nx;
     let text = format!(
         r#"
 [[body]]
 name = "block"
-box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.1] }}
-divisions = [{n}, {n}, 1]
+box = {{ min = [0.0, 0.0, 0.0], max = [0.5, 2.0, 0.1] }}
+divisions = [{nx}, {ny}, 1]
 material = {{ model = "linear_elastic", E = 1000.0, nu = 0.4999 }}
 integration = "{integ}"
 volumetric = "{vol}"
@@ -251,13 +254,20 @@ name = "bottom"
 plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
 [[node_set]]
 name = "top"
-plane = {{ point = [0.0, 1.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+plane = {{ point = [0.0, 2.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+[[node_set]]
+name = "symmetry"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
 [[node_set]]
 name = "all"
-box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.1] }}
+box = {{ min = [0.0, 0.0, 0.0], max = [0.5, 2.0, 0.1] }}
 [[displacement]]
 node_set = "all"
 components = ["z"]
+value = 0.0
+[[displacement]]
+node_set = "symmetry"
+components = ["x"]
 value = 0.0
 [[displacement]]
 node_set = "bottom"
@@ -274,7 +284,7 @@ function = [[0.0, 0.0], [1.0, -0.01]]
 [time]
 segments = [{{ end = 1.0, steps = 1 }}]
 [solver]
-tolerance = 1e-10
+tolerance = 1e-9
 max_iterations = 200000
 "#
     );
@@ -287,11 +297,11 @@ max_iterations = 200000
 
 #[test]
 fn near_incompressible_block_does_not_lock_with_bbar_or_mean() {
-    let h: usize = std::env::var("NH").ok().and_then(|v| v.parse().ok()).unwrap_or(4);
-    let (reference, it_ref) = bonded_block_reaction(4 * h, "full", "mean_dilatation");
-    let (bbar, it_b) = bonded_block_reaction(h, "full", "mean_dilatation");
-    let (mean, it_m) = bonded_block_reaction(h, "mean", "standard");
-    let (full, it_f) = bonded_block_reaction(h, "full", "standard");
+    // Mesh h: 2 x 8 elements; h/4: 8 x 32.
+    let (reference, it_ref) = bonded_block_reaction(8, "full", "mean_dilatation");
+    let (bbar, it_b) = bonded_block_reaction(2, "full", "mean_dilatation");
+    let (mean, it_m) = bonded_block_reaction(2, "mean", "standard");
+    let (full, it_f) = bonded_block_reaction(2, "full", "standard");
     let rel = |v: f64| (v - reference) / reference;
     println!("bonded block, nu = 0.4999, reaction on the top plate:");
     println!("  B-bar  h/4: {reference:.6e} (reference, {it_ref} CG iterations)");
@@ -301,6 +311,6 @@ fn near_incompressible_block_does_not_lock_with_bbar_or_mean() {
     // The issue's acceptance: within 2% of the locking-free value at h/4.
     assert!(rel(bbar).abs() <= 0.02, "B-bar at h is {:.2}% off", 100.0 * rel(bbar));
     assert!(rel(mean).abs() <= 0.02, "mean at h is {:.2}% off", 100.0 * rel(mean));
-    // Locking shows as a stiffer answer; not asserted beyond its sign.
-    assert!(full > bbar.min(reference) || full < 0.0);
+    // Plain full integration locks: far stiffer (reported above, checked only as stiffer).
+    assert!(rel(full) > 0.5, "plain full integration was expected to lock");
 }

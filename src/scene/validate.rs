@@ -33,7 +33,7 @@ impl std::fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 /// Default hourglass coefficient for `mean` integration.
-pub const DEFAULT_HOURGLASS: f64 = 0.5;
+pub const DEFAULT_HOURGLASS: f64 = 0.1;
 
 pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
     let file = path.display().to_string();
