@@ -65,7 +65,7 @@ fn patch_problem(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3
         }
     }
     for (n, x) in p.mesh.coords.clone().iter().enumerate() {
-        let boundary = x.iter().any(|&v| v < 1e-9 || v > 1.0 - 1e-9);
+        let boundary = x.iter().any(|&v| !(1e-9..=1.0 - 1e-9).contains(&v));
         if !boundary {
             continue;
         }

@@ -84,21 +84,22 @@ pub fn any<C: Comm + ?Sized>(comm: &C, b: bool) -> bool {
 /// Every rank learns the error of the lowest-numbered failing rank, if any, so all ranks
 /// take the same branch and stop with the same message.
 pub fn first_error<C: Comm + ?Sized>(comm: &C, local: Option<String>) -> Option<String> {
-    let mut who = [if local.is_some() {
-        comm.rank() as i64
-    } else {
-        i64::MAX
-    }];
-    comm.min_i64(&mut who);
-    if who[0] == i64::MAX {
+    let key = comm.rank() as i64;
+    lowest_error(comm, local.map(|m| (key, m)))
+}
+
+/// Every rank learns the error with the lowest key (a global element id, say), so the
+/// message does not depend on how the mesh is split among ranks. Ties go to the lower rank.
+pub fn lowest_error<C: Comm + ?Sized>(comm: &C, local: Option<(i64, String)>) -> Option<String> {
+    let mut key = [local.as_ref().map_or(i64::MAX, |(k, _)| *k)];
+    comm.min_i64(&mut key);
+    if key[0] == i64::MAX {
         return None;
     }
+    let mut who = [if local.as_ref().is_some_and(|(k, _)| *k == key[0]) { comm.rank() as i64 } else { i64::MAX }];
+    comm.min_i64(&mut who);
     let root = who[0] as usize;
-    let mut bytes = if comm.rank() == root {
-        local.unwrap_or_default().into_bytes()
-    } else {
-        Vec::new()
-    };
+    let mut bytes = if comm.rank() == root { local.map(|(_, m)| m).unwrap_or_default().into_bytes() } else { Vec::new() };
     comm.broadcast_bytes(root, &mut bytes);
     Some(String::from_utf8_lossy(&bytes).into_owned())
 }

@@ -332,8 +332,11 @@ impl Builder {
         let mut models = Vec::new();
         for (bi, b) in raw.body.iter().enumerate() {
             let key = format!("body[{bi}]");
-            if b.name.is_empty() {
-                return Err(self.err(format!("{key}.name"), "expected a non-empty name"));
+            if b.name.is_empty() || b.name.contains('/') {
+                return Err(self.err(format!("{key}.name"), "expected a non-empty name without '/'"));
+            }
+            if crate::output::layout::RESERVED_MESH_NAMES.contains(&b.name.as_str()) {
+                return Err(self.err(format!("{key}.name"), format!("'{}' is reserved in the result file; choose another body name", b.name)));
             }
             if raw.body[..bi].iter().any(|o| o.name == b.name) {
                 return Err(self.err(

@@ -106,7 +106,7 @@ impl Cg {
 }
 
 fn agree<C: Comm + ?Sized>(comm: &C, r: Result<(), ElementError>) -> Result<(), SolveFailure> {
-    match comm::first_error(comm, r.err().map(|e| e.to_string())) {
+    match comm::lowest_error(comm, r.err().map(|e| (e.element as i64, e.to_string()))) {
         None => Ok(()),
         Some(m) => Err(SolveFailure::Element(m)),
     }
