@@ -65,6 +65,8 @@ pub struct SolverSettings {
     pub predictor: bool,
     /// How many times a failing step may be halved.
     pub max_cutbacks: usize,
+    /// Contact updates allowed in one load step.
+    pub max_contact_updates: usize,
 }
 
 impl Default for SolverSettings {
@@ -74,6 +76,7 @@ impl Default for SolverSettings {
             max_iterations: 20_000,
             predictor: true,
             max_cutbacks: 6,
+            max_contact_updates: 200,
         }
     }
 }
@@ -93,6 +96,7 @@ pub struct Problem {
     pub pressures: Vec<Pressure>,
     pub tractions: Vec<Traction>,
     pub body_forces: Vec<BodyForce>,
+    pub contacts: Vec<crate::contact::ContactPair>,
     pub start_time: f64,
     /// End time of every load step, in order.
     pub step_times: Vec<f64>,
@@ -154,6 +158,20 @@ pub fn summary(p: &Problem) -> String {
         p.tractions.len(),
         p.body_forces.len()
     );
+    for c in &p.contacts {
+        let _ = writeln!(
+            s,
+            "  contact '{}': {} master faces, {} slave nodes, {}, tolerances normal {:e} tangential {:e} capture {:e}{}",
+            c.name,
+            c.master_faces.len(),
+            c.slave_nodes.len(),
+            if c.mu > 0.0 { format!("Coulomb mu = {}", c.mu) } else { "frictionless".into() },
+            c.normal_tolerance,
+            c.tangential_tolerance,
+            c.capture_tolerance,
+            c.smoothing_width.map(|w| format!(", normal smoothing width {w}")).unwrap_or_default()
+        );
+    }
     let _ = write!(
         s,
         "  {} steps from t = {} to t = {}; tolerance {:e}",

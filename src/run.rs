@@ -2,7 +2,10 @@
 //! local mesh, step through time, gather each step's results on rank 0 and write them.
 
 use crate::comm::{self, Comm};
-use crate::math::{matvec, sub, Vec3};
+use crate::contact::state::Mode;
+use crate::math::Vec3;
+use crate::output::contact_status;
+use crate::solver::constraints::RowKind;
 use crate::mesh::local::LocalMesh;
 use crate::output::{OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats};
 use crate::problem::Problem;
@@ -171,6 +174,12 @@ pub fn run<C: Comm + ?Sized>(
                 comm.size()
             )
         })?;
+    if !problem.contacts.is_empty() && comm.size() > 1 {
+        return Err(format!(
+            "{}: contact on more than one rank is not implemented yet (run this scene on 1 rank)",
+            problem.file
+        ));
+    }
     let local = LocalMesh::new(mesh, decomposition.part(comm.rank()));
     log(
         1,
@@ -240,10 +249,17 @@ pub fn run<C: Comm + ?Sized>(
         let step = k + 1;
         match stepper.advance(step, t) {
             Ok(rec) => {
-                let line = format!(
+                let mut line = format!(
                     "step {step}/{nsteps}  t = {t:<10.6}  CG {:>6}  residual {:.3e} (reference {:.3e})  cut-backs {}  {:.3} s",
                     rec.cg_iterations, rec.residual, rec.reference, rec.cutbacks, rec.wall_time
                 );
+                if !problem.contacts.is_empty() {
+                    let c = rec.contact;
+                    line += &format!(
+                        "  contact updates {}, in contact {} (stick {}, slip {}), released {}",
+                        rec.contact_updates, c.active, c.stick, c.slip, c.released
+                    );
+                }
                 match &progress {
                     Some(bar) => {
                         bar.set_message(format!("t = {t:.4}  CG {}", rec.cg_iterations));
@@ -258,7 +274,7 @@ pub fn run<C: Comm + ?Sized>(
                 let last = step == nsteps;
                 let write = opts.output.is_some() && (step % problem.output_every == 0 || last);
                 if write || last {
-                    let (s, err) = step_output(comm, &stepper, &gather, &local, rec);
+                    let (s, err) = step_output(comm, problem, &stepper, &gather, &local, rec);
                     if let Some(e) = comm::first_error(comm, err) {
                         failure = Some(e);
                         break;
@@ -318,6 +334,7 @@ pub fn run<C: Comm + ?Sized>(
 
 fn step_output<C: Comm + ?Sized>(
     comm: &C,
+    problem: &Problem,
     stepper: &Stepper<C>,
     gather: &Gather,
     local: &LocalMesh,
@@ -327,12 +344,48 @@ fn step_output<C: Comm + ?Sized>(
         Ok(s) => (s, None),
         Err(e) => (Vec::new(), Some(e.to_string())),
     };
-    let (fi, fe) = stepper.forces();
+    // Constraint forces from the row multipliers: Dirichlet rows give reactions, contact
+    // rows the contact force on the slave node.
+    let cons = stepper.constraints();
+    let mult = stepper.multipliers();
     let mut reaction = vec![[0.0; 3]; local.num_owned_nodes];
-    for (a, r) in reaction.iter_mut().enumerate() {
-        if let Some(p) = stepper.dirichlet().projector(a) {
-            let d = sub(&fi[a], &fe[a]);
-            *r = sub(&d, &matvec(p, &d));
+    let mut contact_force = vec![[0.0; 3]; local.num_owned_nodes];
+    for a in 0..local.num_owned_nodes {
+        for (i, row) in cons.rows(a) {
+            let target = match row.kind {
+                RowKind::Dirichlet(_) => &mut reaction[a],
+                RowKind::Contact { .. } => &mut contact_force[a],
+            };
+            for d in 0..3 {
+                target[d] += mult[i] * row.dir[d];
+            }
+        }
+    }
+    // Status and gap of slave nodes (owned nodes only; serial contact for now).
+    let mut status = vec![[0.0; 1]; local.num_owned_nodes];
+    let mut gap = vec![[0.0; 1]; local.num_owned_nodes];
+    if !stepper.contact.active.is_empty() || !stepper.contact.released().is_empty() || !problem.contacts.is_empty() {
+        for &(s, _) in stepper.contact.released() {
+            if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
+                status[l][0] = contact_status::RELEASED as f64;
+            }
+        }
+        for a in &stepper.contact.active {
+            if let Some(l) = local.local_node(a.slave).filter(|&l| l < local.num_owned_nodes) {
+                status[l][0] = match a.mode {
+                    Mode::Stick => contact_status::STICK,
+                    _ => contact_status::SLIP,
+                } as f64;
+            }
+        }
+        let position = |g: u32| {
+            let l = local.local_node(g).expect("contact nodes are local");
+            crate::math::add(&problem.mesh.coords[g as usize], &stepper.u[l])
+        };
+        for (s, g) in stepper.contact.gaps(problem, &position) {
+            if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
+                gap[l][0] = g;
+            }
         }
     }
     let n = gather.num_nodes;

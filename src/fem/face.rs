@@ -6,6 +6,12 @@ const G: f64 = 0.577_350_269_189_625_8;
 const GAUSS2: [[f64; 2]; 4] = [[-G, -G], [G, -G], [G, G], [-G, G]];
 const CORNERS: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
 
+/// Local coordinates of corner `a`.
+#[inline]
+pub fn corner(a: usize) -> [f64; 2] {
+    CORNERS[a]
+}
+
 #[inline]
 pub fn shape(s: f64, t: f64) -> [f64; 4] {
     let mut n = [0.0; 4];

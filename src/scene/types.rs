@@ -22,6 +22,8 @@ pub struct SceneFile {
     pub traction: Vec<TractionDef>,
     #[serde(default)]
     pub body_force: Vec<BodyForceDef>,
+    #[serde(default)]
+    pub contact: Vec<ContactDef>,
     pub time: TimeDef,
     #[serde(default)]
     pub solver: SolverDef,
@@ -161,6 +163,27 @@ pub struct BodyForceDef {
     pub function: Option<Vec<[f64; 2]>>,
 }
 
+/// A master/slave contact pair.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ContactDef {
+    pub name: Option<String>,
+    /// Side set of master faces.
+    pub master: String,
+    /// Side set whose nodes are the slave nodes.
+    pub slave: String,
+    /// "frictionless" (default) or "coulomb" (then `mu`).
+    pub friction: Option<String>,
+    pub mu: Option<f64>,
+    /// Search tolerances (absolute lengths); defaults scale with the master face size.
+    pub normal_tolerance: Option<f64>,
+    pub tangential_tolerance: Option<f64>,
+    /// A node within this distance outside the master surface is pulled onto it.
+    pub capture_tolerance: Option<f64>,
+    /// Normal smoothing width as a fraction of the face size; absent: no smoothing.
+    pub smoothing_width: Option<f64>,
+}
+
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct TimeDef {
@@ -183,6 +206,8 @@ pub struct SolverDef {
     pub max_iterations: Option<i64>,
     pub predictor: Option<bool>,
     pub max_cutbacks: Option<i64>,
+    /// Contact updates allowed in one load step.
+    pub max_contact_updates: Option<i64>,
 }
 
 #[derive(Deserialize, Debug, Clone, Default)]

@@ -7,7 +7,7 @@
 //! (Fletcher-Reeves beta); nonlinear ones use Polak-Ribiere+ with restarts.
 
 use super::assembly::{Assembly, ElementError};
-use super::constraints::Dirichlet;
+use super::constraints::Constraints;
 use super::loads::Loads;
 use crate::comm::{self, Comm};
 use crate::math::{inverse, matvec, Mat3, Vec3};
@@ -27,6 +27,7 @@ pub enum SolveFailure {
     NonFinite {
         iterations: usize,
     },
+    ContactNotSettled { updates: usize, detail: String },
 }
 
 impl std::fmt::Display for SolveFailure {
@@ -41,6 +42,9 @@ impl std::fmt::Display for SolveFailure {
                 write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
             }
             SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
+            SolveFailure::ContactNotSettled { updates, detail } => {
+                write!(f, "contact did not settle after {updates} contact updates: {detail}")
+            }
         }
     }
 }
@@ -62,6 +66,9 @@ pub struct CgSettings {
     pub reference_floor: f64,
     /// A length for the finite-difference probe.
     pub length_scale: f64,
+    /// Young's modulus times element size: E h |u|_max is the force scale below which a
+    /// residual is round-off when nothing is loaded (a body moving rigidly).
+    pub stiffness_scale: f64,
 }
 
 /// Buffers for the model solve, allocated once per run.
@@ -72,6 +79,7 @@ pub struct Cg {
     r_old: Vec<Vec3>,
     z: Vec<Vec3>,
     p: Vec<Vec3>,
+    pu: Vec<Vec3>,
     q: Vec<Vec3>,
     trial: Vec<Vec3>,
     fi_trial: Vec<Vec3>,
@@ -90,6 +98,7 @@ impl Cg {
             r_old: v(),
             z: v(),
             p: v(),
+            pu: v(),
             q: v(),
             trial: v(),
             fi_trial: v(),
@@ -116,7 +125,9 @@ pub struct Problem<'a, C: Comm + ?Sized> {
     pub comm: &'a C,
     pub asm: &'a Assembly<'a>,
     pub loads: &'a Loads,
-    pub bc: &'a Dirichlet,
+    pub cons: &'a Constraints,
+    /// Forces held fixed during the model problem (friction of slipping contact nodes).
+    pub extra: &'a [Vec3],
     pub time: f64,
 }
 
@@ -125,11 +136,17 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
         self.asm.mesh.num_owned_nodes
     }
 
-    /// fi = f_int(u), fe = f_ext(t, u).
+    /// fi = f_int(u), fe = f_ext(t, u) plus the fixed extra forces.
     fn forces(&self, u: &[Vec3], fi: &mut [Vec3], fe: &mut [Vec3]) -> Result<(), SolveFailure> {
         let r = self.asm.internal_force(u, fi);
         let r = r.and_then(|_| self.loads.external_force(self.asm, self.time, u, fe));
-        agree(self.comm, r)
+        agree(self.comm, r)?;
+        if !self.extra.is_empty() {
+            for (f, x) in fe.iter_mut().zip(self.extra) {
+                *f = crate::math::add(f, x);
+            }
+        }
+        Ok(())
     }
 
     /// |P r| and the reference force max(|f_ext|, |reaction|).
@@ -139,7 +156,7 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
         let fen = comm::norm(self.comm, fe, n);
         let mut acc = comm::ExactSum::new();
         for a in 0..n {
-            if let Some(p) = self.bc.projector(a) {
+            if let Some(p) = self.cons.projector(a) {
                 let d = crate::math::sub(&fi[a], &fe[a]);
                 let free = matvec(p, &d);
                 for i in 0..3 {
@@ -153,11 +170,12 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
     }
 }
 
-fn residual(bc: &Dirichlet, fi: &[Vec3], fe: &[Vec3], r: &mut [Vec3]) {
+/// r = T^T (f_ext - f_int): the residual in the constrained (free) variables.
+fn residual(cons: &Constraints, fi: &[Vec3], fe: &[Vec3], r: &mut [Vec3]) {
     for a in 0..r.len() {
         r[a] = crate::math::sub(&fe[a], &fi[a]);
     }
-    bc.project(r);
+    cons.reduce(r, None);
 }
 
 impl Cg {
@@ -173,9 +191,10 @@ impl Cg {
         let nl = u.len();
         let linear = pb.asm.linear && !pb.loads.is_follower();
         pb.forces(u, &mut self.fi, &mut self.fe)?;
-        residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+        residual(pb.cons, &self.fi, &self.fe, &mut self.r);
         let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-        let mut refv = reference.max(s.reference_floor);
+        let floor = |u: &[Vec3]| s.reference_floor.max(s.stiffness_scale * max_abs(comm, u, n));
+        let mut refv = reference.max(floor(u));
         if !rnorm.is_finite() {
             return Err(SolveFailure::NonFinite { iterations: 0 });
         }
@@ -226,21 +245,24 @@ impl Cg {
             restart = false;
             rz_old = rz;
             self.r_old.copy_from_slice(&self.r);
-            pb.asm.mesh.exchange(comm, &mut self.p);
+            // The search direction in the free variables, mapped to all displacements.
+            self.pu.copy_from_slice(&self.p);
+            pb.cons.expand(&mut self.pu);
+            pb.asm.mesh.exchange(comm, &mut self.pu);
 
             if linear {
-                agree(comm, pb.asm.internal_force(&self.p, &mut self.q))?;
-                let pkp = comm::dot(comm, &self.p, &self.q, n);
+                agree(comm, pb.asm.internal_force(&self.pu, &mut self.q))?;
+                let pkp = comm::dot(comm, &self.pu, &self.q, n);
                 if !(pkp > 0.0) {
                     return Err(SolveFailure::NonPositiveCurvature { iterations: it });
                 }
                 let alpha = rp / pkp;
                 for a in 0..nl {
                     for i in 0..3 {
-                        u[a][i] += alpha * self.p[a][i];
+                        u[a][i] += alpha * self.pu[a][i];
                     }
                 }
-                pb.bc.project(&mut self.q);
+                pb.cons.reduce(&mut self.q, None);
                 for a in 0..nl {
                     for i in 0..3 {
                         self.r[a][i] -= alpha * self.q[a][i];
@@ -252,19 +274,19 @@ impl Cg {
                 if maybe_done || since_true >= 50 {
                     // Replace the recurrence by the true residual.
                     pb.forces(u, &mut self.fi, &mut self.fe)?;
-                    residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+                    residual(pb.cons, &self.fi, &self.fe, &mut self.r);
                     let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
                     rnorm = rn;
-                    refv = reference.max(s.reference_floor);
+                    refv = reference.max(floor(u));
                     since_true = 0;
                     restart = !maybe_done;
                 }
             } else {
-                let pmax = max_abs(comm, &self.p, n);
+                let pmax = max_abs(comm, &self.pu, n).max(f64::MIN_POSITIVE);
                 let eps = 1e-7 * s.length_scale / pmax;
                 for a in 0..nl {
                     for i in 0..3 {
-                        self.trial[a][i] = u[a][i] + eps * self.p[a][i];
+                        self.trial[a][i] = u[a][i] + eps * self.pu[a][i];
                     }
                 }
                 pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
@@ -275,7 +297,7 @@ impl Cg {
                             / eps;
                     }
                 }
-                let pkp = comm::dot(comm, &self.p, &self.q, n);
+                let pkp = comm::dot(comm, &self.pu, &self.q, n);
                 if !(pkp > 0.0) {
                     return Err(SolveFailure::NonPositiveCurvature { iterations: it });
                 }
@@ -297,7 +319,7 @@ impl Cg {
                 }
                 let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
                 rnorm = rn;
-                refv = reference.max(s.reference_floor);
+                refv = reference.max(floor(u));
                 if it % 100 == 0 {
                     self.precondition(pb, u)?;
                     restart = true;
@@ -331,60 +353,48 @@ impl Cg {
     ) -> Result<(), SolveFailure> {
         for a in 0..u.len() {
             for i in 0..3 {
-                self.trial[a][i] = u[a][i] + alpha * self.p[a][i];
+                self.trial[a][i] = u[a][i] + alpha * self.pu[a][i];
             }
         }
         pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
         u.copy_from_slice(&self.trial);
         std::mem::swap(&mut self.fi, &mut self.fi_trial);
         std::mem::swap(&mut self.fe, &mut self.fe_trial);
-        residual(pb.bc, &self.fi, &self.fe, &mut self.r);
+        residual(pb.cons, &self.fi, &self.fe, &mut self.r);
         Ok(())
     }
 
     /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with
     /// d a positive scale so M is invertible, then z = P M^-1 P r.
-    fn precondition<C: Comm + ?Sized>(
-        &mut self,
-        pb: &Problem<C>,
-        u: &[Vec3],
-    ) -> Result<(), SolveFailure> {
+    fn precondition<C: Comm + ?Sized>(&mut self, pb: &Problem<C>, u: &[Vec3]) -> Result<(), SolveFailure> {
         agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
+        pb.cons.precondition_blocks(&mut self.diag);
         for a in 0..u.len() {
-            let d = &self.diag[a];
-            let m = match pb.bc.projector(a) {
-                None => *d,
-                Some(p) => {
-                    let pdp = crate::math::matmul(p, &crate::math::matmul(d, p));
-                    let s = (d[0][0] + d[1][1] + d[2][2]).abs() / 3.0;
-                    let mut m = pdp;
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            let ip = if i == j { 1.0 } else { 0.0 } - p[i][j];
-                            m[i][j] += s * ip;
-                        }
-                    }
-                    m
-                }
+            let m = &self.diag[a];
+            let (inv, det) = inverse(m);
+            self.minv[a] = if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
+                inv
+            } else {
+                let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
+                [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
             };
-            let (inv, det) = inverse(&m);
-            let mut minv =
-                if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
-                    inv
-                } else {
-                    let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
-                    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
-                };
-            if let Some(p) = pb.bc.projector(a) {
-                minv = crate::math::matmul(p, &crate::math::matmul(&minv, p));
-            }
-            self.minv[a] = minv;
         }
+        pb.cons.project_inverse_blocks(&mut self.minv);
         Ok(())
+    }
+
+    /// Row multipliers at the last accepted iterate: the force each constraint row exerts.
+    pub fn multipliers<C: Comm + ?Sized>(&mut self, pb: &Problem<C>, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(pb.cons.num_rows(), 0.0);
+        for a in 0..self.q.len() {
+            self.q[a] = crate::math::sub(&self.fe[a], &self.fi[a]);
+        }
+        pb.cons.reduce(&mut self.q, Some(out));
     }
 }
 
 fn max_abs<C: Comm + ?Sized>(comm: &C, v: &[Vec3], n: usize) -> f64 {
     let m = v[..n].iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-    comm::max_f64(comm, m).max(f64::MIN_POSITIVE)
+    comm::max_f64(comm, m)
 }

@@ -1,12 +1,13 @@
-//! Load stepping through the scene's time segments: predictor, model solve, and automatic
-//! cut-back of a step that fails.
+//! Load stepping through the scene's time segments: predictor, the control-contact loop
+//! around the model problem, and automatic cut-back of a step that fails.
 
 use super::assembly::Assembly;
 use super::cg::{Cg, CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
-use super::constraints::Dirichlet;
+use super::constraints::{Constraints, Row, RowKind, RowSpec};
 use super::loads::Loads;
 use crate::comm::Comm;
-use crate::math::Vec3;
+use crate::contact::state::{ContactCounts, ContactState};
+use crate::math::{add, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::time::Instant;
@@ -22,6 +23,7 @@ pub struct StepRecord {
     pub reference: f64,
     pub cutbacks: u64,
     pub wall_time: f64,
+    pub contact: ContactCounts,
 }
 
 /// A step that could not be completed even after cutting it back.
@@ -35,20 +37,18 @@ pub struct StepFailure {
 
 impl std::fmt::Display for StepFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "step {} (t = {}) failed after {} cut-backs: {}",
-            self.step, self.time, self.cutbacks, self.cause
-        )
+        write!(f, "step {} (t = {}) failed after {} cut-backs: {}", self.step, self.time, self.cutbacks, self.cause)
     }
 }
 
 pub struct Stepper<'a, C: Comm + ?Sized> {
     comm: &'a C,
     problem: &'a Problem,
+    mesh: &'a LocalMesh,
     asm: Assembly<'a>,
     loads: Loads,
-    bc: Dirichlet,
+    /// (local node, direction, Dirichlet entry) of every prescribed direction.
+    dirichlet: Vec<(usize, Vec3, usize)>,
     cg: Cg,
     pub u: Vec<Vec3>,
     u_prev: Vec<Vec3>,
@@ -56,17 +56,32 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
     dt_prev: f64,
     reference_floor: f64,
     length_scale: f64,
+    stiffness_scale: f64,
+    pub contact: ContactState,
+    /// The constraint set and row multipliers of the last converged state.
+    cons: Constraints,
+    multipliers: Vec<f64>,
+    extra: Vec<Vec3>,
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Self {
         let n = mesh.num_nodes();
+        let mut dirichlet = Vec::new();
+        for (k, bc) in problem.dirichlet.iter().enumerate() {
+            for &g in &problem.node_sets[bc.node_set].nodes {
+                if let Some(l) = mesh.local_node(g) {
+                    dirichlet.push((l, bc.direction, k));
+                }
+            }
+        }
         Stepper {
             comm,
             problem,
+            mesh,
             asm: Assembly::new(mesh, &problem.body_models),
             loads: Loads::new(problem, mesh),
-            bc: Dirichlet::new(problem, mesh),
+            dirichlet,
             cg: Cg::new(n),
             u: vec![[0.0; 3]; n],
             u_prev: vec![[0.0; 3]; n],
@@ -74,6 +89,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             dt_prev: 0.0,
             reference_floor: 0.0,
             length_scale: problem.mesh.bounding_diagonal(),
+            stiffness_scale: stiffness_scale(problem),
+            contact: ContactState::default(),
+            cons: Constraints::new(n, Vec::new()).expect("no rows, no cycles"),
+            multipliers: Vec::new(),
+            extra: Vec::new(),
         }
     }
 
@@ -81,8 +101,14 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         &self.asm
     }
 
-    pub fn dirichlet(&self) -> &Dirichlet {
-        &self.bc
+    /// The constraint set of the last converged state.
+    pub fn constraints(&self) -> &Constraints {
+        &self.cons
+    }
+
+    /// Row multipliers (constraint forces) of the last converged state.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.multipliers
     }
 
     /// Internal and external force at the last converged state.
@@ -90,23 +116,41 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         self.cg.forces()
     }
 
+    fn build_constraints(&self, t: f64, contact: &ContactState) -> Result<Constraints, SolveFailure> {
+        let mut specs: Vec<RowSpec> = self
+            .dirichlet
+            .iter()
+            .map(|&(node, dir, k)| RowSpec {
+                node,
+                row: Row { dir, value: self.problem.dirichlet[k].function.eval(t), masters: Vec::new(), kind: RowKind::Dirichlet(k) },
+            })
+            .collect();
+        specs.extend(contact.rows(self.problem, self.mesh));
+        Constraints::new(self.mesh.num_nodes(), specs).map_err(|c| {
+            SolveFailure::Element(format!(
+                "circular master/slave dependency at node {}: a slave node is (through other contact pairs) its own master",
+                self.mesh.node_global[c.0] + 1
+            ))
+        })
+    }
+
+    /// Current position of a node by global id (serial contact search).
+    fn position_fn<'b>(mesh: &'b LocalMesh, problem: &'b Problem, u: &'b [Vec3]) -> impl Fn(u32) -> Vec3 + 'b {
+        move |g: u32| {
+            let l = mesh.local_node(g).expect("contact nodes are local");
+            add(&problem.mesh.coords[g as usize], &u[l])
+        }
+    }
+
     /// Advances to `target` (the end of load step `step`, 1-based), cutting back as needed.
     pub fn advance(&mut self, step: usize, target: f64) -> Result<StepRecord, StepFailure> {
         let start = Instant::now();
-        let mut record = StepRecord {
-            step,
-            time: target,
-            ..Default::default()
-        };
+        let mut record = StepRecord { step, time: target, ..Default::default() };
         let mut dt = target - self.time;
         let mut cutbacks = 0usize;
         let mut use_predictor = self.problem.solver.predictor;
         while self.time < target {
-            let t_new = if self.time + dt >= target - 1e-12 * dt.abs() {
-                target
-            } else {
-                self.time + dt
-            };
+            let t_new = if self.time + dt >= target - 1e-12 * dt.abs() { target } else { self.time + dt };
             let h = t_new - self.time;
             let mut trial = self.u.clone();
             if use_predictor && self.dt_prev > 0.0 {
@@ -117,45 +161,21 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                     }
                 }
             }
-            let values = self.bc.constrained_values(t_new);
-            self.bc.impose(&mut trial, &values);
-            let settings = CgSettings {
-                tolerance: self.problem.solver.tolerance,
-                max_iterations: self.problem.solver.max_iterations,
-                reference_floor: self.reference_floor,
-                length_scale: self.length_scale,
-            };
-            let pb = ModelProblem {
-                comm: self.comm,
-                asm: &self.asm,
-                loads: &self.loads,
-                bc: &self.bc,
-                time: t_new,
-            };
-            let result = self.cg.solve(&pb, &mut trial, &settings);
-            match result {
-                Ok(ModelOutcome {
-                    iterations,
-                    residual,
-                    reference,
-                }) => {
-                    record.cg_iterations += iterations as u64;
-                    record.residual = residual;
-                    record.reference = reference;
+            let mut contact = self.contact.clone();
+            contact.begin_step();
+            match self.solve_step(t_new, &mut trial, &mut contact, &mut record) {
+                Ok(outcome) => {
+                    record.residual = outcome.residual;
+                    record.reference = outcome.reference;
                     self.u_prev = std::mem::replace(&mut self.u, trial);
                     self.dt_prev = h;
                     self.time = t_new;
-                    // Later steps are judged against at least a fraction of the largest force
-                    // seen so far, so a step that unloads to zero does not chase round-off.
-                    self.reference_floor = self.reference_floor.max(reference);
+                    self.contact = contact;
+                    // Later steps are judged against at least the largest force seen so
+                    // far, so a step that unloads to zero does not chase round-off.
+                    self.reference_floor = self.reference_floor.max(outcome.reference);
                 }
                 Err(cause) => {
-                    if let SolveFailure::NotConverged { iterations, .. }
-                    | SolveFailure::NonPositiveCurvature { iterations }
-                    | SolveFailure::NonFinite { iterations } = cause
-                    {
-                        record.cg_iterations += iterations as u64;
-                    }
                     if use_predictor && self.dt_prev > 0.0 {
                         // First retry the same step from the last converged state.
                         use_predictor = false;
@@ -163,18 +183,131 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {
-                        return Err(StepFailure {
-                            step,
-                            time: t_new,
-                            cause,
-                            cutbacks,
-                        });
+                        return Err(StepFailure { step, time: t_new, cause, cutbacks });
                     }
                 }
             }
         }
         record.cutbacks = cutbacks as u64;
+        record.contact = self.contact.counts();
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
     }
+
+    /// The control-contact loop at one time: model problem, contact update, until the set
+    /// is unchanged and equilibrium holds.
+    fn solve_step(
+        &mut self,
+        t: f64,
+        u: &mut [Vec3],
+        contact: &mut ContactState,
+        record: &mut StepRecord,
+    ) -> Result<ModelOutcome, SolveFailure> {
+        let settings = CgSettings {
+            tolerance: self.problem.solver.tolerance,
+            max_iterations: self.problem.solver.max_iterations,
+            reference_floor: self.reference_floor,
+            length_scale: self.length_scale,
+            stiffness_scale: self.stiffness_scale,
+        };
+        let mut changed = true;
+        let mut updates = 0usize;
+        let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
+        loop {
+            let cons = self.build_constraints(t, contact)?;
+            let mut extra = vec![[0.0; 3]; if has_slip(contact) { self.mesh.num_nodes() } else { 0 }];
+            contact.friction_forces(self.problem, self.mesh, &mut extra);
+            cons.impose(u);
+            let pb = ModelProblem { comm: self.comm, asm: &self.asm, loads: &self.loads, cons: &cons, extra: &extra, time: t };
+            let outcome = self.cg.solve(&pb, u, &settings);
+            let outcome = match outcome {
+                Ok(o) => o,
+                Err(e) => {
+                    if let SolveFailure::NotConverged { iterations, .. }
+                    | SolveFailure::NonPositiveCurvature { iterations }
+                    | SolveFailure::NonFinite { iterations } = e
+                    {
+                        record.cg_iterations += iterations as u64;
+                    }
+                    return Err(e);
+                }
+            };
+            record.cg_iterations += outcome.iterations as u64;
+            let mut multipliers = Vec::new();
+            self.cg.multipliers(&pb, &mut multipliers);
+            let done = !self.problem.contacts.is_empty() && !changed && outcome.iterations == 0;
+            if self.problem.contacts.is_empty() || done {
+                if !self.problem.contacts.is_empty() {
+                    contact.read_forces(self.mesh, &cons, &multipliers);
+                }
+                self.cons = cons;
+                self.multipliers = multipliers;
+                self.extra = extra;
+                record.contact_updates = updates as u64;
+                return Ok(outcome);
+            }
+            if updates >= self.problem.solver.max_contact_updates {
+                return Err(SolveFailure::ContactNotSettled { updates, detail: "the update limit was reached".into() });
+            }
+            contact.read_forces(self.mesh, &cons, &multipliers);
+            let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
+            let position = Self::position_fn(self.mesh, self.problem, u);
+            changed = contact.update(self.problem, &position, force_tol);
+            updates += 1;
+            if std::env::var_os("SOLVER_DEBUG_CONTACT").is_some() {
+                eprintln!("t = {t}: update {updates}: changed {changed}, CG {} iterations", outcome.iterations);
+                for a in &contact.active {
+                    eprintln!("  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}", a.slave + 1, a.pair, a.face, a.s, a.normal, a.mode, a.normal_force, a.tangential_force);
+                }
+                eprintln!("  released {:?}", contact.released());
+            }
+            let signature: Vec<(u32, usize, u32, u8)> = contact
+                .active
+                .iter()
+                .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, crate::contact::state::Mode::Stick) as u8))
+                .collect();
+            if changed && history.len() >= 2 && history[history.len() - 2] == signature && history[history.len() - 1] != signature {
+                return Err(SolveFailure::ContactNotSettled {
+                    updates,
+                    detail: cycling_detail(&history[history.len() - 1], &signature),
+                });
+            }
+            history.push(signature);
+        }
+    }
+}
+
+/// Largest Young's modulus times the smallest element size.
+fn stiffness_scale(problem: &Problem) -> f64 {
+    let e_max = problem
+        .body_models
+        .iter()
+        .map(|m| {
+            let (l, mu) = m.material.lambda_mu();
+            mu * (3.0 * l + 2.0 * mu) / (l + mu)
+        })
+        .fold(0.0, f64::max);
+    let mesh = &problem.mesh;
+    let h_min = (0..mesh.num_elements())
+        .filter_map(|e| crate::fem::element::volume(&mesh.element_coords(e)).ok())
+        .fold(f64::INFINITY, f64::min)
+        .cbrt();
+    e_max * if h_min.is_finite() { h_min } else { 0.0 }
+}
+
+fn has_slip(contact: &ContactState) -> bool {
+    contact.active.iter().any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
+}
+
+/// Names the nodes whose constraints flip between two states.
+fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
+    let mut nodes: Vec<u32> = a.iter().filter(|x| !b.contains(x)).chain(b.iter().filter(|x| !a.contains(x))).map(|x| x.0 + 1).collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let shown: Vec<String> = nodes.iter().take(8).map(|n| n.to_string()).collect();
+    format!(
+        "the constraint set cycles between two states (slave node{} {} flip between faces or stick/slip); normal smoothing may help",
+        if nodes.len() == 1 { "" } else { "s" },
+        shown.join(", ")
+    )
 }

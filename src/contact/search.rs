@@ -1,0 +1,142 @@
+//! The contact search: a bounding-volume hierarchy of master faces (parry3d), inflated by
+//! the search tolerances and rebuilt from current coordinates at each contact update, and
+//! the closest-point projection of each slave node. Ties between faces go to the lowest
+//! face index, so the result does not depend on traversal order.
+
+use super::project::{closest_point, interpolate, normal};
+use super::ContactPair;
+use crate::fem::face;
+use crate::math::{add, dot, norm, scale, sub, Vec3};
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Point;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+
+/// A slave node's interaction with a master face (the paper's section 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interaction {
+    /// Index of the master face in the pair.
+    pub face: u32,
+    /// Local coordinates of the contact point on the face (clamped to the face).
+    pub s: [f64; 2],
+    /// Unit normal used for the constraint (smoothed near edges when smoothing is on),
+    /// pointing out of the master body.
+    pub normal: Vec3,
+    /// Signed normal distance of the slave node from the contact point: negative is
+    /// penetration. The push-back vector is -sign(gap) * normal.
+    pub gap: f64,
+}
+
+/// The master surface of one pair at the current configuration.
+pub struct MasterSurface<'a> {
+    pair: &'a ContactPair,
+    corners: Vec<[Vec3; 4]>,
+    bvh: Bvh,
+}
+
+impl<'a> MasterSurface<'a> {
+    /// `position(global node)` gives the current position of any node of the pair.
+    pub fn new(pair: &'a ContactPair, position: impl Fn(u32) -> Vec3) -> Self {
+        let corners: Vec<[Vec3; 4]> = pair.face_nodes.iter().map(|f| std::array::from_fn(|a| position(f[a]))).collect();
+        let pad = pair.normal_tolerance.max(pair.tangential_tolerance);
+        let aabbs: Vec<Aabb> = corners
+            .iter()
+            .map(|x| {
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for p in x {
+                    for i in 0..3 {
+                        lo[i] = lo[i].min(p[i]);
+                        hi[i] = hi[i].max(p[i]);
+                    }
+                }
+                Aabb::new(Point::new(lo[0] - pad, lo[1] - pad, lo[2] - pad), Point::new(hi[0] + pad, hi[1] + pad, hi[2] + pad))
+            })
+            .collect();
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
+        MasterSurface { pair, corners, bvh }
+    }
+
+    /// The interaction of a slave node at `x`, if it is within the search tolerances.
+    pub fn search(&self, x: &Vec3) -> Option<Interaction> {
+        let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
+        let mut best: Option<(f64, Interaction)> = None;
+        for f in self.bvh.intersect_aabb(&probe) {
+            let Some((dist, it)) = self.project_on(f, x) else { continue };
+            let better = match &best {
+                None => true,
+                Some((d, b)) => dist < *d - 1e-12 * self.pair.face_size || (dist <= *d + 1e-12 * self.pair.face_size && f < b.face),
+            };
+            if better {
+                best = Some((dist, it));
+            }
+        }
+        best.map(|(_, it)| it)
+    }
+
+    /// Projection onto one face: (distance to the face, interaction), or None outside the
+    /// tolerances.
+    fn project_on(&self, f: u32, x: &Vec3) -> Option<(f64, Interaction)> {
+        let c = &self.corners[f as usize];
+        let (s, ok) = closest_point(c, x);
+        if !ok {
+            return None;
+        }
+        let clamped = [s[0].clamp(-1.0, 1.0), s[1].clamp(-1.0, 1.0)];
+        let xc = interpolate(c, &face::shape(clamped[0], clamped[1]));
+        let n_face = normal(c, &clamped);
+        let d = sub(x, &xc);
+        let gap = dot(&d, &n_face);
+        let tangential = norm(&sub(&d, &scale(&n_face, gap)));
+        if gap.abs() > self.pair.normal_tolerance || tangential > self.pair.tangential_tolerance {
+            return None;
+        }
+        let n = match self.pair.smoothing_width {
+            Some(w) => self.smoothed_normal(f, &clamped, &n_face, w),
+            None => n_face,
+        };
+        let gap = dot(&d, &n);
+        Some((norm(&d), Interaction { face: f, s: clamped, normal: n, gap }))
+    }
+
+    /// Within `w` (fraction of the face size) of an edge shared with another master face,
+    /// the normal blends continuously from this face's to the average of the two at the
+    /// edge; near a corner the two edges are blended in turn.
+    fn smoothed_normal(&self, f: u32, s: &[f64; 2], n_face: &Vec3, w: f64) -> Vec3 {
+        let mut n = *n_face;
+        // (local coordinate index, sign) -> edge index: t=-1: 0, s=+1: 1, t=+1: 2, s=-1: 3.
+        for (i, edge_pos, edge_neg) in [(0usize, 1usize, 3usize), (1, 2, 0)] {
+            let v = s[i];
+            let edge = if v >= 0.0 { edge_pos } else { edge_neg };
+            let dist = (1.0 - v.abs()) / 2.0;
+            if dist >= w {
+                continue;
+            }
+            let Some((g, _)) = self.pair.neighbours[f as usize][edge] else { continue };
+            let cg = &self.corners[g as usize];
+            let xe = interpolate(&self.corners[f as usize], &face::shape(s[0], s[1]));
+            let (sg, _) = closest_point(cg, &xe);
+            let sg = [sg[0].clamp(-1.0, 1.0), sg[1].clamp(-1.0, 1.0)];
+            let ng = normal(cg, &sg);
+            let avg = add(n_face, &ng);
+            let la = norm(&avg);
+            if !(la > 1e-12) {
+                continue;
+            }
+            let avg = scale(&avg, 1.0 / la);
+            let beta = 1.0 - dist / w;
+            let blended = add(&scale(&n, 1.0 - beta), &scale(&avg, beta));
+            n = scale(&blended, 1.0 / norm(&blended));
+        }
+        n
+    }
+
+    /// Weights (face shape functions) of the contact point and the face's nodes.
+    pub fn weights(&self, it: &Interaction) -> ([u32; 4], [f64; 4]) {
+        (self.pair.face_nodes[it.face as usize], face::shape(it.s[0], it.s[1]))
+    }
+
+    /// Current position of a contact point.
+    pub fn point(&self, face: u32, s: &[f64; 2]) -> Vec3 {
+        interpolate(&self.corners[face as usize], &face::shape(s[0], s[1]))
+    }
+}

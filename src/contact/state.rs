@@ -1,0 +1,311 @@
+//! The contact constraint set and its update: the outer level of the paper's control
+//! contact. With the set frozen, CG solves a model problem; then `update` releases nodes
+//! whose contact force turned tensile, decides stick or slip for Coulomb friction, searches
+//! again, and captures penetrating nodes (push) or nodes within the capture tolerance
+//! (pull). Gap removal happens when the new constraint rows are imposed.
+
+use super::search::{Interaction, MasterSurface};
+use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use crate::solver::constraints::{Constraints, Row, RowKind, RowSpec};
+
+/// A gap more negative than this fraction of the face size is a penetration; closer to
+/// zero it is round-off of a node that sits on the surface.
+const PENETRATION_NOISE: f64 = 1e-10;
+
+/// Tangential behaviour of an active constraint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mode {
+    /// Frictionless: only the normal is tied.
+    Free,
+    /// Tied to its master point in every direction.
+    Stick,
+    /// Slipping: normal tied, a friction force of the last computed magnitude along `dir`
+    /// (unit, acting on the slave) opposes the slip.
+    Slip { dir: Vec3, magnitude: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Active {
+    pub pair: usize,
+    /// Global node id of the slave node.
+    pub slave: u32,
+    pub face: u32,
+    pub s: [f64; 2],
+    pub normal: Vec3,
+    pub mode: Mode,
+    /// Normal contact force on the slave from the last model problem (compressive > 0).
+    pub normal_force: f64,
+    /// Tangential contact force on the slave from the last model problem.
+    pub tangential_force: Vec3,
+}
+
+/// Counts reported per step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactCounts {
+    pub active: u64,
+    pub stick: u64,
+    pub slip: u64,
+    pub released: u64,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct ContactState {
+    /// Active constraints, ordered by (slave node, pair).
+    pub active: Vec<Active>,
+    /// (slave node, pair) released during the current step: not pulled back in by the
+    /// capture tolerance until the next step (a penetrating node is still pushed out).
+    released: Vec<(u32, usize)>,
+}
+
+/// A tangent basis of the plane normal to n, chosen deterministically.
+pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
+    let a = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
+        [1.0, 0.0, 0.0]
+    } else if n[1].abs() <= n[2].abs() {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    let t1 = cross(&a, n);
+    let t1 = scale(&t1, 1.0 / norm(&t1));
+    let t2 = cross(n, &t1);
+    (t1, t2)
+}
+
+impl ContactState {
+    pub fn begin_step(&mut self) {
+        self.released.clear();
+    }
+
+    pub fn counts(&self) -> ContactCounts {
+        let mut c = ContactCounts { active: self.active.len() as u64, released: self.released.len() as u64, ..Default::default() };
+        for a in &self.active {
+            match a.mode {
+                Mode::Stick => c.stick += 1,
+                Mode::Slip { .. } | Mode::Free => c.slip += 1,
+            }
+        }
+        c
+    }
+
+    pub fn released(&self) -> &[(u32, usize)] {
+        &self.released
+    }
+
+    /// Constraint rows of every active constraint (normal first, then the tangents of a
+    /// sticking node), in the order of `active`.
+    pub fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
+        let mut out = Vec::new();
+        for (k, a) in self.active.iter().enumerate() {
+            let pair = &problem.contacts[a.pair];
+            let Some(slave) = mesh.local_node(a.slave) else { continue };
+            let nodes = pair.face_nodes[a.face as usize];
+            let w = crate::fem::face::shape(a.s[0], a.s[1]);
+            let masters: Vec<(usize, f64)> =
+                nodes.iter().zip(w.iter()).map(|(&m, &wj)| (mesh.local_node(m).expect("master nodes are local"), wj)).collect();
+            // Reference offset of the slave from its master point; the rows make the
+            // current offset zero along each direction.
+            let mut xm = [0.0; 3];
+            for (j, &m) in nodes.iter().enumerate() {
+                for i in 0..3 {
+                    xm[i] += w[j] * problem.mesh.coords[m as usize][i];
+                }
+            }
+            let offset = sub(&problem.mesh.coords[a.slave as usize], &xm);
+            let mut dirs = vec![a.normal];
+            if a.mode == Mode::Stick {
+                let (t1, t2) = tangents(&a.normal);
+                dirs.push(t1);
+                dirs.push(t2);
+            }
+            for (c, dir) in dirs.into_iter().enumerate() {
+                out.push(RowSpec {
+                    node: slave,
+                    row: Row {
+                        dir,
+                        value: -dot(&dir, &offset),
+                        masters: masters.clone(),
+                        kind: RowKind::Contact { constraint: k, component: c as u8 },
+                    },
+                });
+            }
+        }
+        out
+    }
+
+    /// Friction forces of slipping nodes on slave and master nodes, added to `extra`.
+    pub fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, extra: &mut [Vec3]) {
+        for a in &self.active {
+            let Mode::Slip { dir, magnitude } = a.mode else { continue };
+            let f = scale(&dir, magnitude);
+            if let Some(s) = mesh.local_node(a.slave) {
+                extra[s] = add(&extra[s], &f);
+            }
+            let pair = &problem.contacts[a.pair];
+            let w = crate::fem::face::shape(a.s[0], a.s[1]);
+            for (j, &m) in pair.face_nodes[a.face as usize].iter().enumerate() {
+                if let Some(l) = mesh.local_node(m) {
+                    extra[l] = sub(&extra[l], &scale(&f, w[j]));
+                }
+            }
+        }
+    }
+
+    /// Reads each active constraint's forces from the row multipliers of the last model
+    /// problem (force on the slave = sum of multiplier times row direction).
+    pub fn read_forces(&mut self, mesh: &LocalMesh, cons: &Constraints, multipliers: &[f64]) {
+        for a in self.active.iter_mut() {
+            a.normal_force = 0.0;
+            a.tangential_force = [0.0; 3];
+        }
+        let mut seen = vec![false; self.active.len()];
+        for a in 0..self.active.len() {
+            let Some(s) = mesh.local_node(self.active[a].slave) else { continue };
+            if seen[a] {
+                continue;
+            }
+            for (i, row) in cons.rows(s) {
+                if let RowKind::Contact { constraint, component } = row.kind {
+                    seen[constraint] = true;
+                    let m = multipliers[i];
+                    let act = &mut self.active[constraint];
+                    if component == 0 {
+                        act.normal_force = m;
+                    } else {
+                        act.tangential_force = add(&act.tangential_force, &scale(&row.dir, m));
+                    }
+                }
+            }
+        }
+    }
+
+    /// One contact update at the current displacement. Returns whether the constraint set
+    /// changed (a node added, released, switched between stick and slip, or moved to another
+    /// face). `force_tol` is the force below which a tensile or tangential force is noise.
+    pub fn update(&mut self, problem: &Problem, position: &dyn Fn(u32) -> Vec3, force_tol: f64) -> bool {
+        let mut changed = false;
+        // Release: a tensile contact force.
+        let mut kept = Vec::with_capacity(self.active.len());
+        for a in self.active.drain(..) {
+            if a.normal_force < -force_tol {
+                if !self.released.contains(&(a.slave, a.pair)) {
+                    self.released.push((a.slave, a.pair));
+                }
+                changed = true;
+            } else {
+                kept.push(a);
+            }
+        }
+        self.active = kept;
+        // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
+        // node that moved against its friction force sticks again.
+        for a in self.active.iter_mut() {
+            let pair = &problem.contacts[a.pair];
+            let mu = pair.mu;
+            let capacity = mu * a.normal_force.max(0.0);
+            match a.mode {
+                Mode::Free => {}
+                Mode::Stick => {
+                    let ft = norm(&a.tangential_force);
+                    if ft > capacity * (1.0 + 1e-9) && ft > force_tol {
+                        a.mode = Mode::Slip { dir: scale(&a.tangential_force, 1.0 / ft), magnitude: capacity };
+                        changed = true;
+                    }
+                }
+                Mode::Slip { dir, .. } => {
+                    let xs = position(a.slave);
+                    let nodes = pair.face_nodes[a.face as usize];
+                    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+                    let mut xm = [0.0; 3];
+                    for (j, &m) in nodes.iter().enumerate() {
+                        xm = add(&xm, &scale(&position(m), w[j]));
+                    }
+                    let d = sub(&xs, &xm);
+                    let slip = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
+                    if dot(&slip, &dir) > 1e-12 * pair.face_size {
+                        a.mode = Mode::Stick;
+                        changed = true;
+                    } else {
+                        a.mode = Mode::Slip { dir, magnitude: capacity };
+                    }
+                }
+            }
+        }
+        // Search from the current configuration.
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            let surface = MasterSurface::new(pair, position);
+            for &s in &pair.slave_nodes {
+                let found = surface.search(&position(s));
+                let existing = self.active.iter().position(|a| a.slave == s && a.pair == p);
+                match (existing, found) {
+                    (Some(k), found) => {
+                        let a = &mut self.active[k];
+                        if a.mode == Mode::Stick {
+                            continue;
+                        }
+                        match found {
+                            Some(it) => {
+                                if it.face != a.face {
+                                    changed = true;
+                                }
+                                a.face = it.face;
+                                a.s = it.s;
+                                a.normal = it.normal;
+                            }
+                            None => {
+                                // Slid out of the search tolerances: no longer in contact.
+                                if !self.released.contains(&(s, p)) {
+                                    self.released.push((s, p));
+                                }
+                                self.active.remove(k);
+                                changed = true;
+                            }
+                        }
+                    }
+                    (None, Some(it)) => {
+                        // A node released in this step is only pushed back if it clearly
+                        // penetrates; at zero gap it is just leaving.
+                        let released = self.released.contains(&(s, p));
+                        let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
+                        if penetrates || (it.gap <= pair.capture_tolerance && !released) {
+                            self.active.push(new_active(p, s, &it, pair.mu));
+                            changed = true;
+                        }
+                    }
+                    (None, None) => {}
+                }
+            }
+        }
+        self.active.sort_by_key(|a| (a.slave, a.pair));
+        changed
+    }
+
+    /// Signed gap of every slave node (None where the search finds no master face).
+    pub fn gaps(&self, problem: &Problem, position: &dyn Fn(u32) -> Vec3) -> Vec<(u32, f64)> {
+        let mut out = Vec::new();
+        for pair in &problem.contacts {
+            let surface = MasterSurface::new(pair, position);
+            for &s in &pair.slave_nodes {
+                if let Some(it) = surface.search(&position(s)) {
+                    out.push((s, it.gap));
+                }
+            }
+        }
+        out
+    }
+}
+
+fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
+    Active {
+        pair,
+        slave,
+        face: it.face,
+        s: it.s,
+        normal: it.normal,
+        mode: if mu > 0.0 { Mode::Stick } else { Mode::Free },
+        normal_force: 0.0,
+        tangential_force: [0.0; 3],
+    }
+}
