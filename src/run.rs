@@ -4,11 +4,11 @@
 use crate::comm::{self, Comm};
 use crate::contact::state::Mode;
 use crate::math::Vec3;
-use crate::output::contact_status;
-use crate::solver::constraints::RowKind;
 use crate::mesh::local::LocalMesh;
+use crate::output::contact_status;
 use crate::output::{OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats};
 use crate::problem::Problem;
+use crate::solver::constraints::RowKind;
 use crate::solver::{StepRecord, Stepper};
 use partition::Decomposition;
 use std::io::IsTerminal;
@@ -364,14 +364,26 @@ fn step_output<C: Comm + ?Sized>(
     // Status and gap of slave nodes (owned nodes only; serial contact for now).
     let mut status = vec![[0.0; 1]; local.num_owned_nodes];
     let mut gap = vec![[0.0; 1]; local.num_owned_nodes];
-    if !stepper.contact.active.is_empty() || !stepper.contact.released().is_empty() || !problem.contacts.is_empty() {
+    if !stepper.contact.active.is_empty()
+        || !stepper.contact.released().is_empty()
+        || !problem.contacts.is_empty()
+    {
         for &(s, _) in stepper.contact.released() {
             if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
                 status[l][0] = contact_status::RELEASED as f64;
             }
         }
         for a in &stepper.contact.active {
-            if let Some(l) = local.local_node(a.slave).filter(|&l| l < local.num_owned_nodes) {
+            if let Some(l) = local
+                .local_node(a.slave)
+                .filter(|&l| l < local.num_owned_nodes)
+            {
+                // A slipping node's friction force is applied as a load, not by a row.
+                if let Mode::Slip { dir, magnitude } = a.mode {
+                    for d in 0..3 {
+                        contact_force[l][d] += magnitude * dir[d];
+                    }
+                }
                 status[l][0] = match a.mode {
                     Mode::Stick => contact_status::STICK,
                     _ => contact_status::SLIP,
@@ -394,21 +406,17 @@ fn step_output<C: Comm + ?Sized>(
         displacement: gather.nodes(comm, local, &stepper.u),
         stress: gather.elements(comm, &stress),
         reaction: gather.nodes(comm, local, &reaction),
-        contact_force: if comm.is_root() {
-            vec![[0.0; 3]; n]
-        } else {
-            Vec::new()
-        },
-        contact_status: if comm.is_root() {
-            vec![0; n]
-        } else {
-            Vec::new()
-        },
-        contact_gap: if comm.is_root() {
-            vec![0.0; n]
-        } else {
-            Vec::new()
-        },
+        contact_force: gather.nodes(comm, local, &contact_force),
+        contact_status: gather
+            .place(comm, &status, &gather.node_ids, n)
+            .iter()
+            .map(|v| v[0] as u8)
+            .collect(),
+        contact_gap: gather
+            .place(comm, &gap, &gather.node_ids, n)
+            .iter()
+            .map(|v| v[0])
+            .collect(),
         stats: StepStats {
             cg_iterations: rec.cg_iterations,
             contact_updates: rec.contact_updates,

@@ -32,18 +32,34 @@ fn run_bad(name: &str, text: &str) -> (i32, String) {
         .expect("solver runs");
     let check_err = String::from_utf8_lossy(&out.stderr).to_string();
     let run = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args(["-q", "run", path.to_str().unwrap(), "-o", dir.join(format!("{name}.h5")).to_str().unwrap()])
+        .args([
+            "-q",
+            "run",
+            path.to_str().unwrap(),
+            "-o",
+            dir.join(format!("{name}.h5")).to_str().unwrap(),
+        ])
         .output()
         .expect("solver runs");
     let run_err = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(out.status.code(), run.status.code(), "check and run disagree on {name}");
+    assert_eq!(
+        out.status.code(),
+        run.status.code(),
+        "check and run disagree on {name}"
+    );
     if !out.status.success() {
-        assert_eq!(check_err, run_err, "check and run report {name} differently");
+        assert_eq!(
+            check_err, run_err,
+            "check and run report {name} differently"
+        );
     }
     assert!(!run_err.contains("panicked"), "{name}: panic: {run_err}");
     let code = run.status.code().unwrap_or(-1);
     if code != 0 {
-        assert!(!dir.join(format!("{name}.h5")).exists(), "{name}: a result file was written for a bad scene");
+        assert!(
+            !dir.join(format!("{name}.h5")).exists(),
+            "{name}: a result file was written for a bad scene"
+        );
     }
     (code, run_err)
 }
@@ -52,7 +68,10 @@ fn expect_error(name: &str, text: &str, needles: &[&str]) {
     let (code, err) = run_bad(name, text);
     println!("{name}: exit {code}: {}", err.trim());
     assert_eq!(code, 2, "{name}: exit code");
-    assert!(err.contains(&format!("{name}.toml")), "{name}: message does not name the file: {err}");
+    assert!(
+        err.contains(&format!("{name}.toml")),
+        "{name}: message does not name the file: {err}"
+    );
     for n in needles {
         assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
     }
@@ -66,45 +85,81 @@ fn good_scene_passes_check() {
 
 #[test]
 fn unknown_key() {
-    expect_error("unknown_key", &GOOD.replace("divisions =", "divisons = [1, 1, 1]\ndivisions ="), &["unknown field `divisons`", "line"]);
+    expect_error(
+        "unknown_key",
+        &GOOD.replace("divisions =", "divisons = [1, 1, 1]\ndivisions ="),
+        &["unknown field `divisons`", "line"],
+    );
 }
 
 #[test]
 fn missing_set_name() {
-    expect_error("missing_set", &GOOD.replace("node_set = \"bottom\"", "node_set = \"botom\""), &["displacement[0].node_set", "'botom'", "bottom"]);
+    expect_error(
+        "missing_set",
+        &GOOD.replace("node_set = \"bottom\"", "node_set = \"botom\""),
+        &["displacement[0].node_set", "'botom'", "bottom"],
+    );
 }
 
 #[test]
 fn non_positive_young_modulus() {
-    expect_error("bad_e", &GOOD.replace("E = 1000.0", "E = -5.0"), &["body[0].material.E", "> 0", "-5"]);
-    expect_error("zero_e", &GOOD.replace("E = 1000.0", "E = 0.0"), &["body[0].material.E"]);
+    expect_error(
+        "bad_e",
+        &GOOD.replace("E = 1000.0", "E = -5.0"),
+        &["body[0].material.E", "> 0", "-5"],
+    );
+    expect_error(
+        "zero_e",
+        &GOOD.replace("E = 1000.0", "E = 0.0"),
+        &["body[0].material.E"],
+    );
 }
 
 #[test]
 fn poisson_ratio_at_half() {
-    expect_error("bad_nu", &GOOD.replace("nu = 0.3", "nu = 0.5"), &["body[0].material.nu", "(-1, 0.5)"]);
+    expect_error(
+        "bad_nu",
+        &GOOD.replace("nu = 0.3", "nu = 0.5"),
+        &["body[0].material.nu", "(-1, 0.5)"],
+    );
 }
 
 #[test]
 fn inverted_element() {
     // Top and bottom corners swapped: every Jacobian is negative.
     let corners = "corners = [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]]";
-    let text = GOOD.replace("box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }", corners);
+    let text = GOOD.replace(
+        "box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }",
+        corners,
+    );
     expect_error("inverted", &text, &["body[0]", "element 1", "inverted"]);
 }
 
 #[test]
 fn non_numeric_value() {
-    expect_error("non_numeric", &GOOD.replace("E = 1000.0", "E = \"stiff\""), &["invalid type: string \"stiff\"", "line"]);
+    expect_error(
+        "non_numeric",
+        &GOOD.replace("E = 1000.0", "E = \"stiff\""),
+        &["invalid type: string \"stiff\"", "line"],
+    );
 }
 
 #[test]
 fn missing_file_and_bad_command_line() {
-    let out = Command::new(env!("CARGO_BIN_EXE_solver")).args(["run", "/nonexistent/scene.toml"]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["run", "/nonexistent/scene.toml"])
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2));
-    assert!(err.contains("/nonexistent/scene.toml") && err.contains("cannot read"), "{err}");
-    let out = Command::new(env!("CARGO_BIN_EXE_solver")).args(["frobnicate"]).output().unwrap();
+    assert!(
+        err.contains("/nonexistent/scene.toml") && err.contains("cannot read"),
+        "{err}"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["frobnicate"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unrecognized subcommand"));
 }

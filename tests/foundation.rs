@@ -24,7 +24,10 @@ fn bar_under_end_displacement_is_exact() {
     let mut worst: f64 = 0.0;
     for (n, x) in p.mesh.coords.iter().enumerate() {
         let u = state.displacement[n];
-        worst = worst.max((u[0] - d * x[0]).abs() / d).max(u[1].abs() / d).max(u[2].abs() / d);
+        worst = worst
+            .max((u[0] - d * x[0]).abs() / d)
+            .max(u[1].abs() / d)
+            .max(u[2].abs() / d);
     }
     println!("bar: max |u - exact| / d = {worst:.3e}");
     assert!(worst <= 1e-10, "bar displacement error {worst:e}");
@@ -51,8 +54,19 @@ tolerance = 1e-13
 
 /// A 3x3x3 mesh with its interior nodes moved off the grid, every boundary node
 /// prescribed to the linear field u = A X + c.
-fn patch_problem(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3], c: Vec3) -> solver::problem::Problem {
-    let text = CUBE3.replace("KIN", kin).replace("MODEL", model).replace("INTEG", integ).replace("VOL", vol);
+fn patch_problem(
+    kin: &str,
+    model: &str,
+    integ: &str,
+    vol: &str,
+    a: [[f64; 3]; 3],
+    c: Vec3,
+) -> solver::problem::Problem {
+    let text = CUBE3
+        .replace("KIN", kin)
+        .replace("MODEL", model)
+        .replace("INTEG", integ)
+        .replace("VOL", vol);
     let mut p = problem(&text);
     let mut rng = Rng::new(7);
     let h = 1.0 / 3.0;
@@ -69,7 +83,10 @@ fn patch_problem(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3
         if !boundary {
             continue;
         }
-        p.node_sets.push(NodeSet { name: format!("n{n}"), nodes: vec![n as u32] });
+        p.node_sets.push(NodeSet {
+            name: format!("n{n}"),
+            nodes: vec![n as u32],
+        });
         let set = p.node_sets.len() - 1;
         for i in 0..3 {
             let mut dir = [0.0; 3];
@@ -93,7 +110,10 @@ fn check_patch(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3])
     for (n, x) in p.mesh.coords.iter().enumerate() {
         for i in 0..3 {
             let exact = c[i] + a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2];
-            assert!((state.displacement[n][i] - exact).abs() <= 1e-9 * 0.01, "{integ}/{vol}: node {n} u{i}");
+            assert!(
+                (state.displacement[n][i] - exact).abs() <= 1e-9 * 0.01,
+                "{integ}/{vol}: node {n} u{i}"
+            );
         }
     }
     let s0 = state.stress[0];
@@ -107,7 +127,10 @@ fn check_patch(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3])
     println!("patch {kin} {model} {integ} {vol}: stress non-uniformity {worst:.3e}");
     // A linear field is in the element space, so any non-uniformity is solver round-off
     // (tolerance 1e-13) amplified by the distorted mesh: 1e-9 relative is the acceptance.
-    assert!(worst <= 1e-9, "{integ}/{vol}: stress not uniform: {worst:e}");
+    assert!(
+        worst <= 1e-9,
+        "{integ}/{vol}: stress not uniform: {worst:e}"
+    );
     if kin == "small" {
         // sigma = lambda tr(eps) I + 2 mu eps, with E = 1000, nu = 0.3.
         let (lambda, mu) = solver::material::lame(1000.0, 0.3);
@@ -122,12 +145,21 @@ fn check_patch(kin: &str, model: &str, integ: &str, vol: &str, a: [[f64; 3]; 3])
             2.0 * mu * eps(2, 0),
         ];
         for k in 0..6 {
-            assert!((s0[k] - exact[k]).abs() <= 1e-9 * scale, "{integ}/{vol}: sigma[{k}] {} vs {}", s0[k], exact[k]);
+            assert!(
+                (s0[k] - exact[k]).abs() <= 1e-9 * scale,
+                "{integ}/{vol}: sigma[{k}] {} vs {}",
+                s0[k],
+                exact[k]
+            );
         }
     }
 }
 
-const A: [[f64; 3]; 3] = [[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [-1e-4, 3e-4, 7e-4]];
+const A: [[f64; 3]; 3] = [
+    [1e-3, 2e-4, -3e-4],
+    [5e-4, -2e-3, 1e-4],
+    [-1e-4, 3e-4, 7e-4],
+];
 
 #[test]
 fn patch_test_full_integration() {
@@ -168,7 +200,8 @@ fn distorted_element() -> [Vec3; 8] {
 fn neo_hookean_tangent_diagonal_matches_finite_differences() {
     let x = distorted_element();
     let mut rng = Rng::new(11);
-    let u: [Vec3; 8] = std::array::from_fn(|_| [0.05 * rng.next(), 0.05 * rng.next(), 0.05 * rng.next()]);
+    let u: [Vec3; 8] =
+        std::array::from_fn(|_| [0.05 * rng.next(), 0.05 * rng.next(), 0.05 * rng.next()]);
     let mat = Material::NeoHookean(NeoHookean::new(1000.0, 0.3));
     let small = Material::LinearElastic(LinearElastic::new(1000.0, 0.3));
     // Exact diagonals: full and mean for neo-Hookean, and B-bar for linear elasticity.
@@ -199,8 +232,18 @@ fn neo_hookean_tangent_diagonal_matches_finite_differences() {
                 }
             }
         }
-        println!("{form:?} {}: max |K_aa - FD| / max K = {worst:.2e}", if m.is_large() { "neo-Hookean" } else { "linear" });
-        assert!(worst <= 1e-6, "{form:?}: tangent diagonal differs from finite differences by {worst:e}");
+        println!(
+            "{form:?} {}: max |K_aa - FD| / max K = {worst:.2e}",
+            if m.is_large() {
+                "neo-Hookean"
+            } else {
+                "linear"
+            }
+        );
+        assert!(
+            worst <= 1e-6,
+            "{form:?}: tangent diagonal differs from finite differences by {worst:e}"
+        );
     }
 }
 
@@ -218,19 +261,37 @@ fn rigid_rotation_by_90_degrees_gives_zero_stress() {
     };
     let u: [Vec3; 8] = std::array::from_fn(|a| {
         let rx = r(&x[a]);
-        [rx[0] - x[a][0] + 0.3, rx[1] - x[a][1] - 0.1, rx[2] - x[a][2] + 0.2]
+        [
+            rx[0] - x[a][0] + 0.3,
+            rx[1] - x[a][1] - 0.1,
+            rx[2] - x[a][2] + 0.2,
+        ]
     });
-    for form in [Formulation::Full, Formulation::FullBar, Formulation::Mean { hourglass: 0.5 }] {
+    for form in [
+        Formulation::Full,
+        Formulation::FullBar,
+        Formulation::Mean { hourglass: 0.5 },
+    ] {
         let s = average_cauchy(&x, &u, &mat, form).unwrap();
         let mut f = [[0.0; 3]; 8];
         internal_force(&x, &u, &mat, form, &mut f).unwrap();
         let smax = s.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let fmax = f.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-        println!("{form:?}: max |sigma| / E = {:.2e}, max |f| / E = {:.2e}", smax / 1000.0, fmax / 1000.0);
+        println!(
+            "{form:?}: max |sigma| / E = {:.2e}, max |f| / E = {:.2e}",
+            smax / 1000.0,
+            fmax / 1000.0
+        );
         // Round-off of F^T F - I with |F| ~ 1: about 1e-16 times a few; 1e-10 of E is the
         // acceptance and leaves room for the trigonometric constants.
-        assert!(smax <= 1e-10 * 1000.0, "{form:?}: stress under rigid rotation {s:?}");
-        assert!(fmax <= 1e-10 * 1000.0, "{form:?}: force under rigid rotation {f:?}");
+        assert!(
+            smax <= 1e-10 * 1000.0,
+            "{form:?}: stress under rigid rotation {s:?}"
+        );
+        assert!(
+            fmax <= 1e-10 * 1000.0,
+            "{form:?}: force under rigid rotation {f:?}"
+        );
     }
 }
 
@@ -305,12 +366,32 @@ fn near_incompressible_block_does_not_lock_with_bbar_or_mean() {
     let rel = |v: f64| (v - reference) / reference;
     println!("bonded block, nu = 0.4999, reaction on the top plate:");
     println!("  B-bar  h/4: {reference:.6e} (reference, {it_ref} CG iterations)");
-    println!("  B-bar  h  : {bbar:.6e} ({:+.2}%, {it_b} CG)", 100.0 * rel(bbar));
-    println!("  mean   h  : {mean:.6e} ({:+.2}%, {it_m} CG)", 100.0 * rel(mean));
-    println!("  full   h  : {full:.6e} ({:+.2}%, {it_f} CG)  <- plain full integration locks", 100.0 * rel(full));
+    println!(
+        "  B-bar  h  : {bbar:.6e} ({:+.2}%, {it_b} CG)",
+        100.0 * rel(bbar)
+    );
+    println!(
+        "  mean   h  : {mean:.6e} ({:+.2}%, {it_m} CG)",
+        100.0 * rel(mean)
+    );
+    println!(
+        "  full   h  : {full:.6e} ({:+.2}%, {it_f} CG)  <- plain full integration locks",
+        100.0 * rel(full)
+    );
     // The acceptance: within 2% of the locking-free value at h/4.
-    assert!(rel(bbar).abs() <= 0.02, "B-bar at h is {:.2}% off", 100.0 * rel(bbar));
-    assert!(rel(mean).abs() <= 0.02, "mean at h is {:.2}% off", 100.0 * rel(mean));
+    assert!(
+        rel(bbar).abs() <= 0.02,
+        "B-bar at h is {:.2}% off",
+        100.0 * rel(bbar)
+    );
+    assert!(
+        rel(mean).abs() <= 0.02,
+        "mean at h is {:.2}% off",
+        100.0 * rel(mean)
+    );
     // Plain full integration locks: far stiffer (reported above, checked only as stiffer).
-    assert!(rel(full) > 0.5, "plain full integration was expected to lock");
+    assert!(
+        rel(full) > 0.5,
+        "plain full integration was expected to lock"
+    );
 }

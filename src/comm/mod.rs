@@ -96,10 +96,18 @@ pub fn lowest_error<C: Comm + ?Sized>(comm: &C, local: Option<(i64, String)>) ->
     if key[0] == i64::MAX {
         return None;
     }
-    let mut who = [if local.as_ref().is_some_and(|(k, _)| *k == key[0]) { comm.rank() as i64 } else { i64::MAX }];
+    let mut who = [if local.as_ref().is_some_and(|(k, _)| *k == key[0]) {
+        comm.rank() as i64
+    } else {
+        i64::MAX
+    }];
     comm.min_i64(&mut who);
     let root = who[0] as usize;
-    let mut bytes = if comm.rank() == root { local.map(|(_, m)| m).unwrap_or_default().into_bytes() } else { Vec::new() };
+    let mut bytes = if comm.rank() == root {
+        local.map(|(_, m)| m).unwrap_or_default().into_bytes()
+    } else {
+        Vec::new()
+    };
     comm.broadcast_bytes(root, &mut bytes);
     Some(String::from_utf8_lossy(&bytes).into_owned())
 }

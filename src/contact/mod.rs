@@ -47,12 +47,19 @@ impl ContactPair {
         smoothing_width: Option<f64>,
         face_size: f64,
     ) -> Self {
-        let face_nodes: Vec<[u32; 4]> = master_faces.iter().map(|&(e, f)| mesh.face_nodes(e, f)).collect();
-        let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> = std::collections::HashMap::new();
+        let face_nodes: Vec<[u32; 4]> = master_faces
+            .iter()
+            .map(|&(e, f)| mesh.face_nodes(e, f))
+            .collect();
+        let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> =
+            std::collections::HashMap::new();
         for (fi, nodes) in face_nodes.iter().enumerate() {
             for k in 0..4 {
                 let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
-                edges.entry((a.min(b), a.max(b))).or_default().push((fi as u32, k as u8));
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((fi as u32, k as u8));
             }
         }
         let neighbours = face_nodes
@@ -61,7 +68,10 @@ impl ContactPair {
             .map(|(fi, nodes)| {
                 std::array::from_fn(|k| {
                     let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
-                    edges[&(a.min(b), a.max(b))].iter().copied().find(|&(g, _)| g != fi as u32)
+                    edges[&(a.min(b), a.max(b))]
+                        .iter()
+                        .copied()
+                        .find(|&(g, _)| g != fi as u32)
                 })
             })
             .collect();

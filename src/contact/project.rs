@@ -22,12 +22,18 @@ pub fn closest_point(x: &[Vec3; 4], p: &Vec3) -> ([f64; 2], bool) {
                 twist[i] += 0.25 * c[0] * c[1] * x[a][i];
             }
         }
-        let h = [[dot(&ts, &ts), dot(&ts, &tt) + dot(&d, &twist)], [dot(&ts, &tt) + dot(&d, &twist), dot(&tt, &tt)]];
+        let h = [
+            [dot(&ts, &ts), dot(&ts, &tt) + dot(&d, &twist)],
+            [dot(&ts, &tt) + dot(&d, &twist), dot(&tt, &tt)],
+        ];
         let det = h[0][0] * h[1][1] - h[0][1] * h[1][0];
         if !(det.abs() > 0.0) {
             return (s, false);
         }
-        let ds = [(h[1][1] * g[0] - h[0][1] * g[1]) / det, (h[0][0] * g[1] - h[1][0] * g[0]) / det];
+        let ds = [
+            (h[1][1] * g[0] - h[0][1] * g[1]) / det,
+            (h[0][0] * g[1] - h[1][0] * g[0]) / det,
+        ];
         s[0] -= ds[0];
         s[1] -= ds[1];
         // Keep far-away points from sending Newton to infinity.
@@ -65,7 +71,12 @@ mod tests {
 
     #[test]
     fn projects_onto_a_warped_face() {
-        let x = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.1], [2.0, 1.0, -0.1], [0.0, 1.0, 0.05]];
+        let x = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.1],
+            [2.0, 1.0, -0.1],
+            [0.0, 1.0, 0.05],
+        ];
         let p = [1.3, 0.4, 0.7];
         let (s, ok) = closest_point(&x, &p);
         assert!(ok);

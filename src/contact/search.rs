@@ -36,7 +36,11 @@ pub struct MasterSurface<'a> {
 impl<'a> MasterSurface<'a> {
     /// `position(global node)` gives the current position of any node of the pair.
     pub fn new(pair: &'a ContactPair, position: impl Fn(u32) -> Vec3) -> Self {
-        let corners: Vec<[Vec3; 4]> = pair.face_nodes.iter().map(|f| std::array::from_fn(|a| position(f[a]))).collect();
+        let corners: Vec<[Vec3; 4]> = pair
+            .face_nodes
+            .iter()
+            .map(|f| std::array::from_fn(|a| position(f[a])))
+            .collect();
         let pad = pair.normal_tolerance.max(pair.tangential_tolerance);
         let aabbs: Vec<Aabb> = corners
             .iter()
@@ -49,7 +53,10 @@ impl<'a> MasterSurface<'a> {
                         hi[i] = hi[i].max(p[i]);
                     }
                 }
-                Aabb::new(Point::new(lo[0] - pad, lo[1] - pad, lo[2] - pad), Point::new(hi[0] + pad, hi[1] + pad, hi[2] + pad))
+                Aabb::new(
+                    Point::new(lo[0] - pad, lo[1] - pad, lo[2] - pad),
+                    Point::new(hi[0] + pad, hi[1] + pad, hi[2] + pad),
+                )
             })
             .collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
@@ -61,10 +68,15 @@ impl<'a> MasterSurface<'a> {
         let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
         let mut best: Option<(f64, Interaction)> = None;
         for f in self.bvh.intersect_aabb(&probe) {
-            let Some((dist, it)) = self.project_on(f, x) else { continue };
+            let Some((dist, it)) = self.project_on(f, x) else {
+                continue;
+            };
             let better = match &best {
                 None => true,
-                Some((d, b)) => dist < *d - 1e-12 * self.pair.face_size || (dist <= *d + 1e-12 * self.pair.face_size && f < b.face),
+                Some((d, b)) => {
+                    dist < *d - 1e-12 * self.pair.face_size
+                        || (dist <= *d + 1e-12 * self.pair.face_size && f < b.face)
+                }
             };
             if better {
                 best = Some((dist, it));
@@ -95,7 +107,15 @@ impl<'a> MasterSurface<'a> {
             None => n_face,
         };
         let gap = dot(&d, &n);
-        Some((norm(&d), Interaction { face: f, s: clamped, normal: n, gap }))
+        Some((
+            norm(&d),
+            Interaction {
+                face: f,
+                s: clamped,
+                normal: n,
+                gap,
+            },
+        ))
     }
 
     /// Within `w` (fraction of the face size) of an edge shared with another master face,
@@ -111,7 +131,9 @@ impl<'a> MasterSurface<'a> {
             if dist >= w {
                 continue;
             }
-            let Some((g, _)) = self.pair.neighbours[f as usize][edge] else { continue };
+            let Some((g, _)) = self.pair.neighbours[f as usize][edge] else {
+                continue;
+            };
             let cg = &self.corners[g as usize];
             let xe = interpolate(&self.corners[f as usize], &face::shape(s[0], s[1]));
             let (sg, _) = closest_point(cg, &xe);
@@ -132,7 +154,10 @@ impl<'a> MasterSurface<'a> {
 
     /// Weights (face shape functions) of the contact point and the face's nodes.
     pub fn weights(&self, it: &Interaction) -> ([u32; 4], [f64; 4]) {
-        (self.pair.face_nodes[it.face as usize], face::shape(it.s[0], it.s[1]))
+        (
+            self.pair.face_nodes[it.face as usize],
+            face::shape(it.s[0], it.s[1]),
+        )
     }
 
     /// Current position of a contact point.

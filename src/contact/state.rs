@@ -80,7 +80,11 @@ impl ContactState {
     }
 
     pub fn counts(&self) -> ContactCounts {
-        let mut c = ContactCounts { active: self.active.len() as u64, released: self.released.len() as u64, ..Default::default() };
+        let mut c = ContactCounts {
+            active: self.active.len() as u64,
+            released: self.released.len() as u64,
+            ..Default::default()
+        };
         for a in &self.active {
             match a.mode {
                 Mode::Stick => c.stick += 1,
@@ -100,11 +104,16 @@ impl ContactState {
         let mut out = Vec::new();
         for (k, a) in self.active.iter().enumerate() {
             let pair = &problem.contacts[a.pair];
-            let Some(slave) = mesh.local_node(a.slave) else { continue };
+            let Some(slave) = mesh.local_node(a.slave) else {
+                continue;
+            };
             let nodes = pair.face_nodes[a.face as usize];
             let w = crate::fem::face::shape(a.s[0], a.s[1]);
-            let masters: Vec<(usize, f64)> =
-                nodes.iter().zip(w.iter()).map(|(&m, &wj)| (mesh.local_node(m).expect("master nodes are local"), wj)).collect();
+            let masters: Vec<(usize, f64)> = nodes
+                .iter()
+                .zip(w.iter())
+                .map(|(&m, &wj)| (mesh.local_node(m).expect("master nodes are local"), wj))
+                .collect();
             // Reference offset of the slave from its master point; the rows make the
             // current offset zero along each direction.
             let mut xm = [0.0; 3];
@@ -127,7 +136,10 @@ impl ContactState {
                         dir,
                         value: -dot(&dir, &offset),
                         masters: masters.clone(),
-                        kind: RowKind::Contact { constraint: k, component: c as u8 },
+                        kind: RowKind::Contact {
+                            constraint: k,
+                            component: c as u8,
+                        },
                     },
                 });
             }
@@ -138,7 +150,9 @@ impl ContactState {
     /// Friction forces of slipping nodes on slave and master nodes, added to `extra`.
     pub fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, extra: &mut [Vec3]) {
         for a in &self.active {
-            let Mode::Slip { dir, magnitude } = a.mode else { continue };
+            let Mode::Slip { dir, magnitude } = a.mode else {
+                continue;
+            };
             let f = scale(&dir, magnitude);
             if let Some(s) = mesh.local_node(a.slave) {
                 extra[s] = add(&extra[s], &f);
@@ -162,12 +176,18 @@ impl ContactState {
         }
         let mut seen = vec![false; self.active.len()];
         for a in 0..self.active.len() {
-            let Some(s) = mesh.local_node(self.active[a].slave) else { continue };
+            let Some(s) = mesh.local_node(self.active[a].slave) else {
+                continue;
+            };
             if seen[a] {
                 continue;
             }
             for (i, row) in cons.rows(s) {
-                if let RowKind::Contact { constraint, component } = row.kind {
+                if let RowKind::Contact {
+                    constraint,
+                    component,
+                } = row.kind
+                {
                     seen[constraint] = true;
                     let m = multipliers[i];
                     let act = &mut self.active[constraint];
@@ -181,10 +201,41 @@ impl ContactState {
         }
     }
 
+    /// Captures, before a model problem, nodes that penetrate or touch (within the capture
+    /// tolerance) at the predicted configuration, so a body held only by contact is not
+    /// left unconstrained. Returns whether any node was added.
+    pub fn capture(&mut self, problem: &Problem, position: &dyn Fn(u32) -> Vec3) -> bool {
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            let surface = MasterSurface::new(pair, position);
+            for &s in &pair.slave_nodes {
+                if self.active.iter().any(|a| a.slave == s && a.pair == p) {
+                    continue;
+                }
+                if let Some(it) = surface.search(&position(s)) {
+                    let released = self.released.contains(&(s, p));
+                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
+                    if penetrates || (it.gap <= pair.capture_tolerance && !released) {
+                        self.active.push(new_active(p, s, &it, pair.mu));
+                        changed = true;
+                    }
+                }
+            }
+        }
+        self.active.sort_by_key(|a| (a.slave, a.pair));
+        changed
+    }
+
     /// One contact update at the current displacement. Returns whether the constraint set
     /// changed (a node added, released, switched between stick and slip, or moved to another
     /// face). `force_tol` is the force below which a tensile or tangential force is noise.
-    pub fn update(&mut self, problem: &Problem, position: &dyn Fn(u32) -> Vec3, force_tol: f64) -> bool {
+    pub fn update(
+        &mut self,
+        problem: &Problem,
+        position: &dyn Fn(u32) -> Vec3,
+        step_start: &dyn Fn(u32) -> Vec3,
+        force_tol: f64,
+    ) -> bool {
         let mut changed = false;
         // Release: a tensile contact force.
         let mut kept = Vec::with_capacity(self.active.len());
@@ -210,25 +261,31 @@ impl ContactState {
                 Mode::Stick => {
                     let ft = norm(&a.tangential_force);
                     if ft > capacity * (1.0 + 1e-9) && ft > force_tol {
-                        a.mode = Mode::Slip { dir: scale(&a.tangential_force, 1.0 / ft), magnitude: capacity };
+                        a.mode = Mode::Slip {
+                            dir: scale(&a.tangential_force, 1.0 / ft),
+                            magnitude: capacity,
+                        };
                         changed = true;
                     }
                 }
                 Mode::Slip { dir, .. } => {
-                    let xs = position(a.slave);
+                    // The slip since the start of the step, relative to the master point: a
+                    // node that moved along its friction force has reversed and sticks.
                     let nodes = pair.face_nodes[a.face as usize];
                     let w = crate::fem::face::shape(a.s[0], a.s[1]);
-                    let mut xm = [0.0; 3];
+                    let mut d = sub(&position(a.slave), &step_start(a.slave));
                     for (j, &m) in nodes.iter().enumerate() {
-                        xm = add(&xm, &scale(&position(m), w[j]));
+                        d = sub(&d, &scale(&sub(&position(m), &step_start(m)), w[j]));
                     }
-                    let d = sub(&xs, &xm);
                     let slip = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
                     if dot(&slip, &dir) > 1e-12 * pair.face_size {
                         a.mode = Mode::Stick;
                         changed = true;
                     } else {
-                        a.mode = Mode::Slip { dir, magnitude: capacity };
+                        a.mode = Mode::Slip {
+                            dir,
+                            magnitude: capacity,
+                        };
                     }
                 }
             }
@@ -247,12 +304,18 @@ impl ContactState {
                         }
                         match found {
                             Some(it) => {
-                                if it.face != a.face {
-                                    changed = true;
+                                // Moving the contact point (also onto a neighbouring face) is
+                                // not a change of the set: the equilibrium query after the
+                                // next model problem judges it. Round-off-sized moves are
+                                // ignored so the loop can settle.
+                                let moved = it.face != a.face
+                                    || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
+                                    || norm(&sub(&it.normal, &a.normal)) > 1e-12;
+                                if moved {
+                                    a.face = it.face;
+                                    a.s = it.s;
+                                    a.normal = it.normal;
                                 }
-                                a.face = it.face;
-                                a.s = it.s;
-                                a.normal = it.normal;
                             }
                             None => {
                                 // Slid out of the search tolerances: no longer in contact.

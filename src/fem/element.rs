@@ -351,7 +351,11 @@ pub fn diagonal_blocks(
         }
         Formulation::FullBar => {
             let large = mat.is_large();
-            let hbar = if large { mean_dilatation(u, &geo)?.1 } else { geo.bbar };
+            let hbar = if large {
+                mean_dilatation(u, &geo)?.1
+            } else {
+                geo.bbar
+            };
             for q in 0..8 {
                 let hvec: [Vec3; 8] = if large {
                     let h = displacement_gradient(u, &geo.g[q]);

@@ -335,10 +335,19 @@ impl Builder {
         for (bi, b) in raw.body.iter().enumerate() {
             let key = format!("body[{bi}]");
             if b.name.is_empty() || b.name.contains('/') {
-                return Err(self.err(format!("{key}.name"), "expected a non-empty name without '/'"));
+                return Err(self.err(
+                    format!("{key}.name"),
+                    "expected a non-empty name without '/'",
+                ));
             }
             if crate::output::layout::RESERVED_MESH_NAMES.contains(&b.name.as_str()) {
-                return Err(self.err(format!("{key}.name"), format!("'{}' is reserved in the result file; choose another body name", b.name)));
+                return Err(self.err(
+                    format!("{key}.name"),
+                    format!(
+                        "'{}' is reserved in the result file; choose another body name",
+                        b.name
+                    ),
+                ));
             }
             if raw.body[..bi].iter().any(|o| o.name == b.name) {
                 return Err(self.err(
@@ -769,7 +778,10 @@ impl Builder {
         }
         if let Some(n) = s.max_contact_updates {
             if !(1..=100_000).contains(&n) {
-                return Err(self.err("solver.max_contact_updates", format!("expected an integer from 1 to 100000, got {n}")));
+                return Err(self.err(
+                    "solver.max_contact_updates",
+                    format!("expected an integer from 1 to 100000, got {n}"),
+                ));
             }
             out.max_contact_updates = n as usize;
         }
@@ -807,16 +819,28 @@ impl Builder {
         }
         for (i, c) in raw.contact.iter().enumerate() {
             let key = format!("contact[{i}]");
-            let name = c.name.clone().unwrap_or_else(|| format!("{}/{}", c.master, c.slave));
+            let name = c
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("{}/{}", c.master, c.slave));
             let find = |k: &str, n: &str| -> Result<usize, SceneError> {
                 side_sets.iter().position(|s| s.name == n).ok_or_else(|| {
-                    self.err(format!("{key}.{k}"), format!("no side set named '{n}' (defined: {})", list(side_sets.iter().map(|s| &s.name))))
+                    self.err(
+                        format!("{key}.{k}"),
+                        format!(
+                            "no side set named '{n}' (defined: {})",
+                            list(side_sets.iter().map(|s| &s.name))
+                        ),
+                    )
                 })
             };
             let master = find("master", &c.master)?;
             let slave = find("slave", &c.slave)?;
             if master == slave {
-                return Err(self.err(&key, format!("master and slave are the same side set '{}'", c.master)));
+                return Err(self.err(
+                    &key,
+                    format!("master and slave are the same side set '{}'", c.master),
+                ));
             }
             let mu = match (c.friction.as_deref(), c.mu) {
                 (None | Some("frictionless"), None) => 0.0,
@@ -824,27 +848,54 @@ impl Builder {
                     return Err(self.err(format!("{key}.mu"), "mu needs friction = \"coulomb\""))
                 }
                 (Some("coulomb"), Some(mu)) if mu.is_finite() && mu >= 0.0 => mu,
-                (Some("coulomb"), Some(mu)) => return Err(self.err(format!("{key}.mu"), format!("expected a friction coefficient >= 0, got {mu}"))),
-                (Some("coulomb"), None) => return Err(self.err(format!("{key}.mu"), "friction = \"coulomb\" needs mu = <coefficient >= 0>")),
+                (Some("coulomb"), Some(mu)) => {
+                    return Err(self.err(
+                        format!("{key}.mu"),
+                        format!("expected a friction coefficient >= 0, got {mu}"),
+                    ))
+                }
+                (Some("coulomb"), None) => {
+                    return Err(self.err(
+                        format!("{key}.mu"),
+                        "friction = \"coulomb\" needs mu = <coefficient >= 0>",
+                    ))
+                }
                 (Some(other), _) => {
-                    return Err(self.err(format!("{key}.friction"), format!("expected \"frictionless\" or \"coulomb\", got \"{other}\"")))
+                    return Err(self.err(
+                        format!("{key}.friction"),
+                        format!("expected \"frictionless\" or \"coulomb\", got \"{other}\""),
+                    ))
                 }
             };
             let master_faces: Vec<(u32, u8)> = side_sets[master].faces.clone();
-            let mut slave_nodes: Vec<u32> = side_sets[slave].faces.iter().flat_map(|&(e, f)| mesh.face_nodes(e, f)).collect();
+            let mut slave_nodes: Vec<u32> = side_sets[slave]
+                .faces
+                .iter()
+                .flat_map(|&(e, f)| mesh.face_nodes(e, f))
+                .collect();
             slave_nodes.sort_unstable();
             slave_nodes.dedup();
-            let mut master_nodes: Vec<u32> = master_faces.iter().flat_map(|&(e, f)| mesh.face_nodes(e, f)).collect();
+            let mut master_nodes: Vec<u32> = master_faces
+                .iter()
+                .flat_map(|&(e, f)| mesh.face_nodes(e, f))
+                .collect();
             master_nodes.sort_unstable();
             master_nodes.dedup();
-            if let Some(n) = slave_nodes.iter().find(|n| master_nodes.binary_search(n).is_ok()) {
+            if let Some(n) = slave_nodes
+                .iter()
+                .find(|n| master_nodes.binary_search(n).is_ok())
+            {
                 return Err(self.err(
                     &key,
                     format!("master '{}' and slave '{}' overlap (node {} is in both); they must be faces of different surfaces", c.master, c.slave, n + 1),
                 ));
             }
             let slave_bodies: Vec<u32> = {
-                let mut b: Vec<u32> = side_sets[slave].faces.iter().map(|&(e, _)| mesh.element_body[e as usize]).collect();
+                let mut b: Vec<u32> = side_sets[slave]
+                    .faces
+                    .iter()
+                    .map(|&(e, _)| mesh.element_body[e as usize])
+                    .collect();
                 b.sort_unstable();
                 b.dedup();
                 b
@@ -873,12 +924,20 @@ impl Builder {
                 match v {
                     None => Ok(default),
                     Some(t) if t.is_finite() && t >= 0.0 => Ok(t),
-                    Some(t) => Err(self.err(format!("{key}.{k}"), format!("expected a length >= 0, got {t}"))),
+                    Some(t) => Err(self.err(
+                        format!("{key}.{k}"),
+                        format!("expected a length >= 0, got {t}"),
+                    )),
                 }
             };
             let normal_tolerance = tol("normal_tolerance", c.normal_tolerance, 0.5 * face_size)?;
-            let tangential_tolerance = tol("tangential_tolerance", c.tangential_tolerance, 0.1 * face_size)?;
-            let capture_tolerance = tol("capture_tolerance", c.capture_tolerance, 1e-6 * face_size)?;
+            let tangential_tolerance = tol(
+                "tangential_tolerance",
+                c.tangential_tolerance,
+                0.1 * face_size,
+            )?;
+            let capture_tolerance =
+                tol("capture_tolerance", c.capture_tolerance, 1e-6 * face_size)?;
             if capture_tolerance > normal_tolerance {
                 return Err(self.err(
                     format!("{key}.capture_tolerance"),
@@ -888,7 +947,12 @@ impl Builder {
             let smoothing_width = match c.smoothing_width {
                 None => None,
                 Some(w) if w.is_finite() && w > 0.0 && w <= 0.5 => Some(w),
-                Some(w) => return Err(self.err(format!("{key}.smoothing_width"), format!("expected a fraction of the face size in (0, 0.5], got {w}"))),
+                Some(w) => {
+                    return Err(self.err(
+                        format!("{key}.smoothing_width"),
+                        format!("expected a fraction of the face size in (0, 0.5], got {w}"),
+                    ))
+                }
             };
             out.push(ContactPair::new(
                 name,

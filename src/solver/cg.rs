@@ -27,7 +27,10 @@ pub enum SolveFailure {
     NonFinite {
         iterations: usize,
     },
-    ContactNotSettled { updates: usize, detail: String },
+    ContactNotSettled {
+        updates: usize,
+        detail: String,
+    },
 }
 
 impl std::fmt::Display for SolveFailure {
@@ -193,7 +196,10 @@ impl Cg {
         pb.forces(u, &mut self.fi, &mut self.fe)?;
         residual(pb.cons, &self.fi, &self.fe, &mut self.r);
         let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-        let floor = |u: &[Vec3]| s.reference_floor.max(s.stiffness_scale * max_abs(comm, u, n));
+        let floor = |u: &[Vec3]| {
+            s.reference_floor
+                .max(s.stiffness_scale * max_abs(comm, u, n))
+        };
         let mut refv = reference.max(floor(u));
         if !rnorm.is_finite() {
             return Err(SolveFailure::NonFinite { iterations: 0 });
@@ -366,18 +372,23 @@ impl Cg {
 
     /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with
     /// d a positive scale so M is invertible, then z = P M^-1 P r.
-    fn precondition<C: Comm + ?Sized>(&mut self, pb: &Problem<C>, u: &[Vec3]) -> Result<(), SolveFailure> {
+    fn precondition<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+    ) -> Result<(), SolveFailure> {
         agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
         pb.cons.precondition_blocks(&mut self.diag);
         for a in 0..u.len() {
             let m = &self.diag[a];
             let (inv, det) = inverse(m);
-            self.minv[a] = if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
-                inv
-            } else {
-                let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
-                [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
-            };
+            self.minv[a] =
+                if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
+                    inv
+                } else {
+                    let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
+                    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
+                };
         }
         pb.cons.project_inverse_blocks(&mut self.minv);
         Ok(())

@@ -79,7 +79,13 @@ impl Constraints {
             let l = spec.node;
             if slot[l] == usize::MAX {
                 slot[l] = nodes.len();
-                nodes.push(NodeRows { node: l, rows: Vec::new(), ginv: [[0.0; 3]; 3], proj: IDENTITY, first: 0 });
+                nodes.push(NodeRows {
+                    node: l,
+                    rows: Vec::new(),
+                    ginv: [[0.0; 3]; 3],
+                    proj: IDENTITY,
+                    first: 0,
+                });
                 bases.push(Vec::new());
             }
             let s = slot[l];
@@ -129,7 +135,8 @@ impl Constraints {
                 for row in &nodes[s].rows {
                     for &(m, _) in &row.masters {
                         let ms = slot[m];
-                        if ms != usize::MAX && nodes[ms].rows.iter().any(|r| !r.masters.is_empty()) {
+                        if ms != usize::MAX && nodes[ms].rows.iter().any(|r| !r.masters.is_empty())
+                        {
                             d = d.max(depth[ms] + 1);
                         }
                     }
@@ -162,7 +169,12 @@ impl Constraints {
             slot[nr.node] = sorted.len();
             sorted.push(nr);
         }
-        Ok(Constraints { nodes: sorted, slot, num_rows: first, dropped })
+        Ok(Constraints {
+            nodes: sorted,
+            slot,
+            num_rows: first,
+            dropped,
+        })
     }
 
     pub fn num_rows(&self) -> usize {
@@ -183,7 +195,12 @@ impl Constraints {
     pub fn rows(&self, local: usize) -> impl Iterator<Item = (usize, &Row)> {
         let s = self.slot[local];
         let nr = (s != usize::MAX).then(|| &self.nodes[s]);
-        nr.into_iter().flat_map(|nr| nr.rows.iter().enumerate().map(move |(i, r)| (nr.first + i, r)))
+        nr.into_iter().flat_map(|nr| {
+            nr.rows
+                .iter()
+                .enumerate()
+                .map(move |(i, r)| (nr.first + i, r))
+        })
     }
 
     /// u <- T u + g: every constrained node put on all of its rows (gap removal included).
@@ -312,7 +329,15 @@ mod tests {
     use super::*;
 
     fn dirichlet(node: usize, dir: Vec3, value: f64, k: usize) -> RowSpec {
-        RowSpec { node, row: Row { dir, value, masters: vec![], kind: RowKind::Dirichlet(k) } }
+        RowSpec {
+            node,
+            row: Row {
+                dir,
+                value,
+                masters: vec![],
+                kind: RowKind::Dirichlet(k),
+            },
+        }
     }
 
     #[test]
@@ -320,7 +345,14 @@ mod tests {
         // u_x = 0 and u . n = -0.1 with n at 20 degrees from y: the node must satisfy both.
         let phi = 20f64.to_radians();
         let n = [-phi.sin(), phi.cos(), 0.0];
-        let c = Constraints::new(1, vec![dirichlet(0, [1.0, 0.0, 0.0], 0.0, 0), dirichlet(0, n, -0.1, 1)]).unwrap();
+        let c = Constraints::new(
+            1,
+            vec![
+                dirichlet(0, [1.0, 0.0, 0.0], 0.0, 0),
+                dirichlet(0, n, -0.1, 1),
+            ],
+        )
+        .unwrap();
         let mut u = vec![[0.3, 0.2, 0.1]];
         c.impose(&mut u);
         assert!(u[0][0].abs() < 1e-15);
@@ -334,13 +366,45 @@ mod tests {
         // (a chain), node 2 also has a skew Dirichlet row.
         let n = [0.6, 0.8, 0.0];
         let specs = vec![
-            RowSpec { node: 3, row: Row { dir: [0.0, 0.0, 1.0], value: 0.0, masters: vec![(2, 1.0)], kind: RowKind::Contact { constraint: 1, component: 0 } } },
+            RowSpec {
+                node: 3,
+                row: Row {
+                    dir: [0.0, 0.0, 1.0],
+                    value: 0.0,
+                    masters: vec![(2, 1.0)],
+                    kind: RowKind::Contact {
+                        constraint: 1,
+                        component: 0,
+                    },
+                },
+            },
             dirichlet(2, [1.0, 1.0, 0.0], 0.0, 0),
-            RowSpec { node: 2, row: Row { dir: n, value: 0.0, masters: vec![(0, 0.25), (1, 0.75)], kind: RowKind::Contact { constraint: 0, component: 0 } } },
+            RowSpec {
+                node: 2,
+                row: Row {
+                    dir: n,
+                    value: 0.0,
+                    masters: vec![(0, 0.25), (1, 0.75)],
+                    kind: RowKind::Contact {
+                        constraint: 0,
+                        component: 0,
+                    },
+                },
+            },
         ];
         let c = Constraints::new(4, specs).unwrap();
-        let v: Vec<Vec3> = vec![[0.1, -0.2, 0.3], [0.5, 0.4, -0.6], [0.7, 0.1, 0.2], [-0.3, 0.9, 0.8]];
-        let w: Vec<Vec3> = vec![[0.2, 0.3, -0.1], [-0.4, 0.6, 0.5], [0.9, -0.8, 0.7], [0.1, 0.2, -0.3]];
+        let v: Vec<Vec3> = vec![
+            [0.1, -0.2, 0.3],
+            [0.5, 0.4, -0.6],
+            [0.7, 0.1, 0.2],
+            [-0.3, 0.9, 0.8],
+        ];
+        let w: Vec<Vec3> = vec![
+            [0.2, 0.3, -0.1],
+            [-0.4, 0.6, 0.5],
+            [0.9, -0.8, 0.7],
+            [0.1, 0.2, -0.3],
+        ];
         let mut tv = v.clone();
         c.expand(&mut tv);
         let mut ttw = w.clone();
@@ -350,7 +414,9 @@ mod tests {
         assert!((lhs - rhs).abs() < 1e-14, "{lhs} vs {rhs}");
         // The chain is resolved: node 3's z follows node 2's, which follows the masters.
         assert!((tv[3][2] - tv[2][2]).abs() < 1e-15);
-        assert!((dot(&tv[2], &n) - (0.25 * dot(&tv[0], &n) + 0.75 * dot(&tv[1], &n))).abs() < 1e-15);
+        assert!(
+            (dot(&tv[2], &n) - (0.25 * dot(&tv[0], &n) + 0.75 * dot(&tv[1], &n))).abs() < 1e-15
+        );
         assert!((tv[2][0] + tv[2][1]).abs() < 1e-15);
     }
 }

@@ -37,7 +37,11 @@ pub struct StepFailure {
 
 impl std::fmt::Display for StepFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "step {} (t = {}) failed after {} cut-backs: {}", self.step, self.time, self.cutbacks, self.cause)
+        write!(
+            f,
+            "step {} (t = {}) failed after {} cut-backs: {}",
+            self.step, self.time, self.cutbacks, self.cause
+        )
     }
 }
 
@@ -116,13 +120,22 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         self.cg.forces()
     }
 
-    fn build_constraints(&self, t: f64, contact: &ContactState) -> Result<Constraints, SolveFailure> {
+    fn build_constraints(
+        &self,
+        t: f64,
+        contact: &ContactState,
+    ) -> Result<Constraints, SolveFailure> {
         let mut specs: Vec<RowSpec> = self
             .dirichlet
             .iter()
             .map(|&(node, dir, k)| RowSpec {
                 node,
-                row: Row { dir, value: self.problem.dirichlet[k].function.eval(t), masters: Vec::new(), kind: RowKind::Dirichlet(k) },
+                row: Row {
+                    dir,
+                    value: self.problem.dirichlet[k].function.eval(t),
+                    masters: Vec::new(),
+                    kind: RowKind::Dirichlet(k),
+                },
             })
             .collect();
         specs.extend(contact.rows(self.problem, self.mesh));
@@ -135,7 +148,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     }
 
     /// Current position of a node by global id (serial contact search).
-    fn position_fn<'b>(mesh: &'b LocalMesh, problem: &'b Problem, u: &'b [Vec3]) -> impl Fn(u32) -> Vec3 + 'b {
+    fn position_fn<'b>(
+        mesh: &'b LocalMesh,
+        problem: &'b Problem,
+        u: &'b [Vec3],
+    ) -> impl Fn(u32) -> Vec3 + 'b {
         move |g: u32| {
             let l = mesh.local_node(g).expect("contact nodes are local");
             add(&problem.mesh.coords[g as usize], &u[l])
@@ -145,12 +162,20 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     /// Advances to `target` (the end of load step `step`, 1-based), cutting back as needed.
     pub fn advance(&mut self, step: usize, target: f64) -> Result<StepRecord, StepFailure> {
         let start = Instant::now();
-        let mut record = StepRecord { step, time: target, ..Default::default() };
+        let mut record = StepRecord {
+            step,
+            time: target,
+            ..Default::default()
+        };
         let mut dt = target - self.time;
         let mut cutbacks = 0usize;
         let mut use_predictor = self.problem.solver.predictor;
         while self.time < target {
-            let t_new = if self.time + dt >= target - 1e-12 * dt.abs() { target } else { self.time + dt };
+            let t_new = if self.time + dt >= target - 1e-12 * dt.abs() {
+                target
+            } else {
+                self.time + dt
+            };
             let h = t_new - self.time;
             let mut trial = self.u.clone();
             if use_predictor && self.dt_prev > 0.0 {
@@ -183,7 +208,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {
-                        return Err(StepFailure { step, time: t_new, cause, cutbacks });
+                        return Err(StepFailure {
+                            step,
+                            time: t_new,
+                            cause,
+                            cutbacks,
+                        });
                     }
                 }
             }
@@ -212,13 +242,34 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         };
         let mut changed = true;
         let mut updates = 0usize;
+        if !self.problem.contacts.is_empty() {
+            // Gap removal at the predicted configuration, before the first model problem.
+            let cons = self.build_constraints(t, contact)?;
+            cons.impose(u);
+            let position = Self::position_fn(self.mesh, self.problem, u);
+            contact.capture(self.problem, &position);
+        }
         let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
         loop {
             let cons = self.build_constraints(t, contact)?;
-            let mut extra = vec![[0.0; 3]; if has_slip(contact) { self.mesh.num_nodes() } else { 0 }];
+            let mut extra = vec![
+                [0.0; 3];
+                if has_slip(contact) {
+                    self.mesh.num_nodes()
+                } else {
+                    0
+                }
+            ];
             contact.friction_forces(self.problem, self.mesh, &mut extra);
             cons.impose(u);
-            let pb = ModelProblem { comm: self.comm, asm: &self.asm, loads: &self.loads, cons: &cons, extra: &extra, time: t };
+            let pb = ModelProblem {
+                comm: self.comm,
+                asm: &self.asm,
+                loads: &self.loads,
+                cons: &cons,
+                extra: &extra,
+                time: t,
+            };
             let outcome = self.cg.solve(&pb, u, &settings);
             let outcome = match outcome {
                 Ok(o) => o,
@@ -247,26 +298,54 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 return Ok(outcome);
             }
             if updates >= self.problem.solver.max_contact_updates {
-                return Err(SolveFailure::ContactNotSettled { updates, detail: "the update limit was reached".into() });
+                return Err(SolveFailure::ContactNotSettled {
+                    updates,
+                    detail: "the update limit was reached".into(),
+                });
             }
             contact.read_forces(self.mesh, &cons, &multipliers);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
             let position = Self::position_fn(self.mesh, self.problem, u);
-            changed = contact.update(self.problem, &position, force_tol);
+            let start = Self::position_fn(self.mesh, self.problem, &self.u);
+            changed = contact.update(self.problem, &position, &start, force_tol);
             updates += 1;
             if std::env::var_os("SOLVER_DEBUG_CONTACT").is_some() {
-                eprintln!("t = {t}: update {updates}: changed {changed}, CG {} iterations", outcome.iterations);
+                eprintln!(
+                    "t = {t}: update {updates}: changed {changed}, CG {} iterations",
+                    outcome.iterations
+                );
                 for a in &contact.active {
-                    eprintln!("  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}", a.slave + 1, a.pair, a.face, a.s, a.normal, a.mode, a.normal_force, a.tangential_force);
+                    eprintln!(
+                        "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}",
+                        a.slave + 1,
+                        a.pair,
+                        a.face,
+                        a.s,
+                        a.normal,
+                        a.mode,
+                        a.normal_force,
+                        a.tangential_force
+                    );
                 }
                 eprintln!("  released {:?}", contact.released());
             }
             let signature: Vec<(u32, usize, u32, u8)> = contact
                 .active
                 .iter()
-                .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, crate::contact::state::Mode::Stick) as u8))
+                .map(|a| {
+                    (
+                        a.slave,
+                        a.pair,
+                        a.face,
+                        matches!(a.mode, crate::contact::state::Mode::Stick) as u8,
+                    )
+                })
                 .collect();
-            if changed && history.len() >= 2 && history[history.len() - 2] == signature && history[history.len() - 1] != signature {
+            if changed
+                && history.len() >= 2
+                && history[history.len() - 2] == signature
+                && history[history.len() - 1] != signature
+            {
                 return Err(SolveFailure::ContactNotSettled {
                     updates,
                     detail: cycling_detail(&history[history.len() - 1], &signature),
@@ -296,12 +375,20 @@ fn stiffness_scale(problem: &Problem) -> f64 {
 }
 
 fn has_slip(contact: &ContactState) -> bool {
-    contact.active.iter().any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
+    contact
+        .active
+        .iter()
+        .any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
 }
 
 /// Names the nodes whose constraints flip between two states.
 fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
-    let mut nodes: Vec<u32> = a.iter().filter(|x| !b.contains(x)).chain(b.iter().filter(|x| !a.contains(x))).map(|x| x.0 + 1).collect();
+    let mut nodes: Vec<u32> = a
+        .iter()
+        .filter(|x| !b.contains(x))
+        .chain(b.iter().filter(|x| !a.contains(x)))
+        .map(|x| x.0 + 1)
+        .collect();
     nodes.sort_unstable();
     nodes.dedup();
     let shown: Vec<String> = nodes.iter().take(8).map(|n| n.to_string()).collect();

@@ -11,7 +11,15 @@ pub fn problem(text: &str) -> Problem {
 }
 
 pub fn solve(p: &Problem) -> (RunSummary, GlobalState) {
-    let (summary, state) = run(&SerialComm, p, &RunOptions { output: None, verbosity: 0 }).expect("run starts");
+    let (summary, state) = run(
+        &SerialComm,
+        p,
+        &RunOptions {
+            output: None,
+            verbosity: 0,
+        },
+    )
+    .expect("run starts");
     if let Some(f) = &summary.failure {
         panic!("run failed: {f}");
     }
