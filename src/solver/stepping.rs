@@ -298,10 +298,17 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 return Ok(outcome);
             }
             if updates >= self.problem.solver.max_contact_updates {
-                return Err(SolveFailure::ContactNotSettled {
-                    updates,
-                    detail: "the update limit was reached".into(),
-                });
+                let detail = match history.len() {
+                    n if n >= 2 && history[n - 1] != history[n - 2] => format!(
+                        "the update limit was reached; still changing: {}",
+                        cycling_nodes(&history[n - 2], &history[n - 1])
+                    ),
+                    _ => {
+                        "the update limit was reached while the contact forces were still changing"
+                            .to_string()
+                    }
+                };
+                return Err(SolveFailure::ContactNotSettled { updates, detail });
             }
             contact.read_forces(self.mesh, &cons, &multipliers);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
@@ -341,8 +348,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                     )
                 })
                 .collect();
-            if changed
-                && history.len() >= 2
+            if history.len() >= 2
                 && history[history.len() - 2] == signature
                 && history[history.len() - 1] != signature
             {
@@ -381,8 +387,8 @@ fn has_slip(contact: &ContactState) -> bool {
         .any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
 }
 
-/// Names the nodes whose constraints flip between two states.
-fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
+/// Names the nodes whose constraints differ between two states.
+fn cycling_nodes(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
     let mut nodes: Vec<u32> = a
         .iter()
         .filter(|x| !b.contains(x))
@@ -393,8 +399,16 @@ fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> S
     nodes.dedup();
     let shown: Vec<String> = nodes.iter().take(8).map(|n| n.to_string()).collect();
     format!(
-        "the constraint set cycles between two states (slave node{} {} flip between faces or stick/slip); normal smoothing may help",
+        "slave node{} {}{} (between master faces, in and out of contact, or stick and slip)",
         if nodes.len() == 1 { "" } else { "s" },
-        shown.join(", ")
+        shown.join(", "),
+        if nodes.len() > 8 { ", ..." } else { "" }
+    )
+}
+
+fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
+    format!(
+        "the constraint set cycles between two states: {}; normal smoothing may help",
+        cycling_nodes(a, b)
     )
 }
