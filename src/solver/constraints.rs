@@ -135,8 +135,10 @@ impl Constraints {
                 for row in &nodes[s].rows {
                     for &(m, _) in &row.masters {
                         let ms = slot[m];
-                        if ms != usize::MAX && nodes[ms].rows.iter().any(|r| !r.masters.is_empty())
-                        {
+                        // Any constrained master is resolved first: its value is imposed
+                        // before the slave reads it, and its residual projected after the
+                        // slave has passed its force on.
+                        if ms != usize::MAX && ms != s {
                             d = d.max(depth[ms] + 1);
                         }
                     }
