@@ -39,6 +39,23 @@ pub struct GlobalState {
     pub displacement: Vec<Vec3>,
     pub stress: Vec<[f64; 6]>,
     pub reaction: Vec<Vec3>,
+    pub contact_force: Vec<Vec3>,
+    pub contact_status: Vec<u8>,
+    /// Active contact constraints at the end (one-rank runs): (slave node, pair, master
+    /// body, stick).
+    pub constraints: Vec<ActiveConstraint>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ActiveConstraint {
+    /// 0-based global node id of the slave node.
+    pub slave: u32,
+    pub pair: usize,
+    /// Index of the body the master face belongs to.
+    pub master_body: usize,
+    pub stick: bool,
+    pub normal: Vec3,
+    pub normal_force: f64,
 }
 
 /// The whole mesh as the result file records it.
@@ -293,6 +310,25 @@ pub fn run<C: Comm + ?Sized>(
                             displacement: s.displacement,
                             stress: s.stress,
                             reaction: s.reaction,
+                            contact_force: s.contact_force,
+                            contact_status: s.contact_status,
+                            constraints: stepper
+                                .contact
+                                .active
+                                .iter()
+                                .map(|a| {
+                                    let pair = &problem.contacts[a.pair];
+                                    let (e, _) = pair.master_faces[a.face as usize];
+                                    ActiveConstraint {
+                                        slave: a.slave,
+                                        pair: a.pair,
+                                        master_body: problem.mesh.element_body[e as usize] as usize,
+                                        stick: a.mode == Mode::Stick,
+                                        normal: a.normal,
+                                        normal_force: a.normal_force,
+                                    }
+                                })
+                                .collect(),
                         };
                     }
                 }
