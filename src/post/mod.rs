@@ -8,6 +8,7 @@
 mod compare;
 mod info;
 mod plot;
+pub mod verify;
 
 use std::path::PathBuf;
 
@@ -44,6 +45,15 @@ pub enum PostCommand {
     /// Plot a nodal quantity along a node set (one line per step), or with --history
     /// through time.
     Plot(PlotArgs),
+    /// Check a paper scene's result against the exact answers of the verification tests
+    /// (exit code 1 when a check fails).
+    Verify {
+        /// The result file (.h5) of a paper scene.
+        file: PathBuf,
+        /// Print the checks as JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// Runs a `post` subcommand, printing its report to standard output; returns the exit code.
@@ -57,6 +67,18 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
             let report = compare_files(a, b, *tol)?;
             print!("{}", report.render());
             Ok(report.exit_code())
+        }
+        PostCommand::Verify { file, json } => {
+            let v = verify::verify_file(file)?;
+            if *json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&v).expect("plain data serialises")
+                );
+            } else {
+                print!("{}", v.render());
+            }
+            Ok(if v.pass() { 0 } else { 1 })
         }
         PostCommand::Plot(args) => {
             let data = plot_data(args)?;
