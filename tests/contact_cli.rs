@@ -101,7 +101,10 @@ fn run_scene(name: &str, text: &str) -> (i32, String) {
             "check and run report {name} differently"
         );
     }
-    assert!(!check_err.contains("panicked"), "{name}: panic: {check_err}");
+    assert!(
+        !check_err.contains("panicked"),
+        "{name}: panic: {check_err}"
+    );
     assert!(!run_err.contains("panicked"), "{name}: panic: {run_err}");
     let code = run.status.code().unwrap_or(-1);
     if code != 0 {
@@ -267,7 +270,12 @@ fn unknown_friction_name() {
     expect_error(
         "contact_unknown_friction",
         &with_keys("friction = \"sticky\""),
-        &["contact[0].friction", "\"sticky\"", "coulomb", "frictionless"],
+        &[
+            "contact[0].friction",
+            "\"sticky\"",
+            "coulomb",
+            "frictionless",
+        ],
     );
 }
 

@@ -6,6 +6,7 @@
 //! printed and end the process with exit code 2.
 
 mod compare;
+pub mod figures;
 mod info;
 mod plot;
 pub mod verify;
@@ -54,6 +55,9 @@ pub enum PostCommand {
         #[arg(long)]
         json: bool,
     },
+    /// Draw one of the paper's figures (fig2, fig5, fig6, fig_smoothing) from the result
+    /// file of its scene.
+    Figure(figures::FigureArgs),
 }
 
 /// Runs a `post` subcommand, printing its report to standard output; returns the exit code.
@@ -79,6 +83,10 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
                 print!("{}", v.render());
             }
             Ok(if v.pass() { 0 } else { 1 })
+        }
+        PostCommand::Figure(args) => {
+            println!("{}", figures::figure_command(args)?);
+            Ok(0)
         }
         PostCommand::Plot(args) => {
             let data = plot_data(args)?;

@@ -2,6 +2,7 @@
 //! names; it gets indices and resolved numbers.
 
 mod function;
+pub mod refine;
 mod types;
 mod validate;
 
