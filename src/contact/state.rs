@@ -278,6 +278,8 @@ impl ContactState {
                         d = sub(&d, &scale(&sub(&position(m), &step_start(m)), w[j]));
                     }
                     let slip = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
+                    // The friction direction stays the one chosen at the onset of slip (see
+                    // the notes: a slip whose direction turns is not followed yet).
                     if dot(&slip, &dir) > 1e-12 * pair.face_size {
                         a.mode = Mode::Stick;
                         changed = true;

@@ -8,8 +8,15 @@ pub fn refine_scene_text(text: &str, factor: u32, default_name: &str) -> Result<
         return Err("the refinement factor must be at least 1".into());
     }
     let mut doc: toml::Table = text.parse().map_err(|e: toml::de::Error| e.to_string())?;
-    let name = doc.get("name").and_then(|v| v.as_str()).unwrap_or(default_name).to_string();
-    doc.insert("name".into(), toml::Value::String(format!("{name}_r{factor}")));
+    let name = doc
+        .get("name")
+        .and_then(|v| v.as_str())
+        .unwrap_or(default_name)
+        .to_string();
+    doc.insert(
+        "name".into(),
+        toml::Value::String(format!("{name}_r{factor}")),
+    );
     if let Some(toml::Value::Array(bodies)) = doc.get_mut("body") {
         for body in bodies.iter_mut() {
             if let Some(toml::Value::Array(div)) = body.get_mut("divisions") {
@@ -30,11 +37,17 @@ mod tests {
 
     #[test]
     fn multiplies_divisions_and_renames() {
-        let text = "name = \"a\"\n[[body]]\nname = \"b\"\ndivisions = [2, 3, 1]\n[time]\nsegments = []\n";
+        let text =
+            "name = \"a\"\n[[body]]\nname = \"b\"\ndivisions = [2, 3, 1]\n[time]\nsegments = []\n";
         let out = refine_scene_text(text, 4, "x").unwrap();
         let doc: toml::Table = out.parse().unwrap();
         assert_eq!(doc["name"].as_str(), Some("a_r4"));
-        let div: Vec<i64> = doc["body"][0]["divisions"].as_array().unwrap().iter().map(|v| v.as_integer().unwrap()).collect();
+        let div: Vec<i64> = doc["body"][0]["divisions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_integer().unwrap())
+            .collect();
         assert_eq!(div, vec![8, 12, 4]);
     }
 }

@@ -811,12 +811,27 @@ impl Builder {
         let mut out: Vec<ContactPair> = Vec::new();
         // Directions fixed by Dirichlet conditions, per node, to find slave bodies that
         // cannot move.
-        let mut fixed_dirs = vec![0u8; mesh.num_nodes()];
+        // Independent directions fixed by Dirichlet conditions, per node (a node in two
+        // sets fixing the same component counts it once), to find slave bodies that cannot
+        // move.
+        let mut dirs: Vec<Vec<Vec3>> = vec![Vec::new(); mesh.num_nodes()];
         for d in dirichlet {
             for &n in &node_sets[d.node_set].nodes {
-                fixed_dirs[n as usize] = fixed_dirs[n as usize].saturating_add(1);
+                let basis = &mut dirs[n as usize];
+                let mut r = d.direction;
+                for q in basis.iter() {
+                    let c = crate::math::dot(&r, q);
+                    for k in 0..3 {
+                        r[k] -= c * q[k];
+                    }
+                }
+                let l = norm(&r);
+                if l > 1e-8 && basis.len() < 3 {
+                    basis.push(scale(&r, 1.0 / l));
+                }
             }
         }
+        let fixed_dirs: Vec<usize> = dirs.iter().map(|b| b.len()).collect();
         for (i, c) in raw.contact.iter().enumerate() {
             let key = format!("contact[{i}]");
             let name = c

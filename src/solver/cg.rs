@@ -27,6 +27,10 @@ pub enum SolveFailure {
     NonFinite {
         iterations: usize,
     },
+    Unbounded {
+        iterations: usize,
+        max_displacement: f64,
+    },
     ContactNotSettled {
         updates: usize,
         detail: String,
@@ -45,6 +49,10 @@ impl std::fmt::Display for SolveFailure {
                 write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
             }
             SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
+            SolveFailure::Unbounded { max_displacement, .. } => write!(
+                f,
+                "the displacement grew without bound (max |u| = {max_displacement:.3e}): a body is not held (a rigid-body motion, or friction that cannot carry the load)"
+            ),
             SolveFailure::ContactNotSettled { updates, detail } => {
                 write!(f, "contact did not settle after {updates} contact updates: {detail}")
             }
@@ -69,9 +77,10 @@ pub struct CgSettings {
     pub reference_floor: f64,
     /// A length for the finite-difference probe.
     pub length_scale: f64,
-    /// Young's modulus times element size: E h |u|_max is the force scale below which a
-    /// residual is round-off when nothing is loaded (a body moving rigidly).
-    pub stiffness_scale: f64,
+    /// Young's modulus times element size times the largest prescribed displacement: the
+    /// force scale below which a residual is round-off when the prescribed motion loads
+    /// nothing (a body moving rigidly with its supports).
+    pub stiffness_floor: f64,
 }
 
 /// Buffers for the model solve, allocated once per run.
@@ -196,10 +205,7 @@ impl Cg {
         pb.forces(u, &mut self.fi, &mut self.fe)?;
         residual(pb.cons, &self.fi, &self.fe, &mut self.r);
         let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-        let floor = |u: &[Vec3]| {
-            s.reference_floor
-                .max(s.stiffness_scale * max_abs(comm, u, n))
-        };
+        let floor = |_: &[Vec3]| s.reference_floor.max(s.stiffness_floor);
         let mut refv = reference.max(floor(u));
         if !rnorm.is_finite() {
             return Err(SolveFailure::NonFinite { iterations: 0 });

@@ -238,7 +238,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             max_iterations: self.problem.solver.max_iterations,
             reference_floor: self.reference_floor,
             length_scale: self.length_scale,
-            stiffness_scale: self.stiffness_scale,
+            stiffness_floor: self.stiffness_scale
+                * self
+                    .dirichlet
+                    .iter()
+                    .map(|&(_, _, k)| self.problem.dirichlet[k].function.eval(t).abs())
+                    .fold(0.0, f64::max),
         };
         let mut changed = true;
         let mut updates = 0usize;
@@ -276,6 +281,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 Err(e) => {
                     if let SolveFailure::NotConverged { iterations, .. }
                     | SolveFailure::NonPositiveCurvature { iterations }
+                    | SolveFailure::Unbounded { iterations, .. }
                     | SolveFailure::NonFinite { iterations } = e
                     {
                         record.cg_iterations += iterations as u64;
