@@ -273,8 +273,8 @@ pub fn run<C: Comm + ?Sized>(
                 if !problem.contacts.is_empty() {
                     let c = rec.contact;
                     line += &format!(
-                        "  contact updates {}, in contact {} (stick {}, slip {}), released {}",
-                        rec.contact_updates, c.active, c.stick, c.slip, c.released
+                        "  contact updates {}, in contact {} (stick {}, slip {}), released {}, max penetration {:.2e}",
+                        rec.contact_updates, c.active, c.stick, c.slip, c.released, c.max_penetration
                     );
                 }
                 match &progress {

@@ -5,7 +5,10 @@
 //! 2. the element kernels (`Assembly::internal_force` and `Assembly::diagonal`) on one
 //!    core for every integration / material combination on a structured cube mesh, with a
 //!    memory-traffic model and the fraction of the measured bandwidth it implies,
-//! 3. CG iterations and wall time of a cube compression solved through `run::run`.
+//! 3. CG iterations and wall time of a cube compression solved through `run::run`,
+//! 4. the contact search (`MasterSurface::new`, the BVH of master faces, and
+//!    `MasterSurface::search` of every slave node) on two stacked blocks with non-matching
+//!    meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode).
 //!
 //! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
 //! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
@@ -43,6 +46,9 @@ struct Config {
     diagonal_repeats: usize,
     /// (elements per edge, repeats) of the CG cube compressions.
     cube: Vec<(usize, usize)>,
+    /// (master faces per edge, repeats) of the contact search: m^2 master faces, m^2
+    /// slave nodes.
+    contact: (usize, usize),
 }
 
 impl Config {
@@ -57,6 +63,7 @@ impl Config {
                 force_repeats: 5,
                 diagonal_repeats: 3,
                 cube: vec![(10, 3), (20, 3)],
+                contact: (100, 5),
             }
         } else {
             Config {
@@ -68,6 +75,7 @@ impl Config {
                 force_repeats: 7,
                 diagonal_repeats: 5,
                 cube: vec![(10, 5), (20, 3), (40, 3)],
+                contact: (316, 7),
             }
         }
     }
@@ -828,15 +836,227 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
 }
 
 // ---------------------------------------------------------------------------------------
+// 3. Contact search
+// ---------------------------------------------------------------------------------------
+
+/// Height of each block of the contact-search scene; the interface is at y = CONTACT_H.
+const CONTACT_H: f64 = 0.1;
+/// Amplitude of the pseudo-random normal offset of the slave nodes, as a fraction of the
+/// pair's normal search tolerance (offsets are uniform in [-a, a] times the tolerance).
+const CONTACT_GAP_FRACTION: f64 = 0.5;
+
+/// Two blocks stacked at y = CONTACT_H: the lower block's top (m x m faces) is the master
+/// surface, the upper block's bottom ((m - 1) x (m - 1) elements, m^2 nodes, so the meshes
+/// do not match) gives the slave nodes.
+fn contact_scene(m: usize) -> String {
+    let k = m - 1;
+    let h = CONTACT_H;
+    let h2 = 2.0 * CONTACT_H;
+    format!(
+        r#"name = "bench_contact_{m}"
+kinematics = "small"
+
+[[body]]
+name = "lower"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, {h:?}, 1.0] }}
+divisions = [{m}, 1, {m}]
+material = {{ model = "linear_elastic", E = 1.0e6, nu = 0.3 }}
+
+[[body]]
+name = "upper"
+box = {{ min = [0.0, {h:?}, 0.0], max = [1.0, {h2:?}, 1.0] }}
+divisions = [{k}, 1, {k}]
+material = {{ model = "linear_elastic", E = 1.0e6, nu = 0.3 }}
+
+[[side_set]]
+name = "lower_top"
+body = "lower"
+plane = {{ point = [0.0, {h:?}, 0.0], normal = [0.0, 1.0, 0.0] }}
+
+[[side_set]]
+name = "upper_bottom"
+body = "upper"
+plane = {{ point = [0.0, {h:?}, 0.0], normal = [0.0, 1.0, 0.0] }}
+
+[[contact]]
+master = "lower_top"
+slave = "upper_bottom"
+
+[time]
+segments = [{{ end = 1.0, steps = 1 }}]
+"#
+    )
+}
+
+/// A uniform pseudo-random number in [0, 1) from an integer (splitmix64), so the slave
+/// offsets are the same on every run and machine.
+fn unit_hash(i: u64) -> f64 {
+    let mut z = i.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+struct ContactResult {
+    /// Master faces per edge (the slave block has one division fewer).
+    m: usize,
+    master_faces: usize,
+    slave_nodes: usize,
+    face_size: f64,
+    normal_tolerance: f64,
+    tangential_tolerance: f64,
+    /// Largest |normal offset| given to a slave node.
+    max_offset: f64,
+    /// Scene generation + parse_scene (mesh, side sets, pair), once.
+    parse_s: f64,
+    /// Current slave positions (the offsets), once.
+    perturb_s: f64,
+    build: Stat,
+    search: Stat,
+    total: Stat,
+    cpu_share: f64,
+    /// Interactions found (the same in every repeat, else `consistent` is false).
+    found: usize,
+    /// Slave nodes inside the master surface's extent and within the normal tolerance.
+    expected: usize,
+    /// Of the expected nodes, how many found a face.
+    expected_found: usize,
+    consistent: bool,
+    /// max |gap - offset| over the interactions found.
+    max_gap_error: f64,
+    /// max distance of the contact point from the slave node's foot on the plane.
+    max_point_error: f64,
+}
+
+fn contact_search(m: usize, repeats: usize) -> Result<ContactResult, String> {
+    use solver::contact::search::{Interaction, MasterSurface};
+    let t = Instant::now();
+    let problem = parse(&contact_scene(m))?;
+    let parse_s = t.elapsed().as_secs_f64();
+    let pair = problem
+        .contacts
+        .first()
+        .ok_or("the contact scene has no contact pair")?;
+
+    // Current positions: master nodes where the mesh has them, slave nodes offset along y
+    // by a pseudo-random gap (both penetration and separation) within the normal tolerance.
+    let t = Instant::now();
+    let mut position = problem.mesh.coords.clone();
+    let amplitude = CONTACT_GAP_FRACTION * pair.normal_tolerance;
+    let mut offsets = Vec::with_capacity(pair.slave_nodes.len());
+    for &n in &pair.slave_nodes {
+        let d = amplitude * (2.0 * unit_hash(n as u64) - 1.0);
+        position[n as usize][1] += d;
+        offsets.push(d);
+    }
+    let slave_x: Vec<Vec3> = pair
+        .slave_nodes
+        .iter()
+        .map(|&n| position[n as usize])
+        .collect();
+    let perturb_s = t.elapsed().as_secs_f64();
+
+    // Which slave nodes must find a face: those over the master surface's extent in x and
+    // z (all of them here) with an offset within the normal tolerance.
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for f in &pair.face_nodes {
+        for &n in f {
+            let x = position[n as usize];
+            for (k, i) in [0usize, 2].into_iter().enumerate() {
+                lo[k] = lo[k].min(x[i]);
+                hi[k] = hi[k].max(x[i]);
+            }
+        }
+    }
+    let inside: Vec<bool> = slave_x
+        .iter()
+        .zip(&offsets)
+        .map(|(x, d)| {
+            (lo[0]..=hi[0]).contains(&x[0])
+                && (lo[1]..=hi[1]).contains(&x[2])
+                && d.abs() <= pair.normal_tolerance
+        })
+        .collect();
+
+    let mut build = Vec::new();
+    let mut search = Vec::new();
+    let mut total = Vec::new();
+    let mut shares = Vec::new();
+    let mut result: Vec<Option<Interaction>> = Vec::new();
+    let mut counts = Vec::new();
+    // One untimed warm-up round, then the timed repeats.
+    for r in 0..=repeats.max(1) {
+        let c0 = thread_cpu_time();
+        let t0 = Instant::now();
+        let surface = MasterSurface::new(pair, |n| position[n as usize]);
+        let t1 = Instant::now();
+        let found: Vec<Option<Interaction>> = slave_x
+            .iter()
+            .map(|x| surface.search(black_box(x)))
+            .collect();
+        let t2 = Instant::now();
+        let cpu = thread_cpu_time() - c0;
+        counts.push(found.iter().flatten().count());
+        if r == 0 {
+            result = found;
+            continue;
+        }
+        build.push((t1 - t0).as_secs_f64());
+        search.push((t2 - t1).as_secs_f64());
+        total.push((t2 - t0).as_secs_f64());
+        shares.push(cpu / (t2 - t0).as_secs_f64());
+        drop(black_box(found));
+    }
+
+    // Check the warm-up round's answers: the contact point is the slave node's foot on the
+    // plane y = CONTACT_H and the gap is its offset.
+    let surface = MasterSurface::new(pair, |n| position[n as usize]);
+    let mut max_gap_error = 0.0f64;
+    let mut max_point_error = 0.0f64;
+    for ((it, x), d) in result.iter().zip(&slave_x).zip(&offsets) {
+        if let Some(it) = it {
+            max_gap_error = max_gap_error.max((it.gap - d).abs());
+            let p = surface.point(it.face, &it.s);
+            let foot = [x[0], CONTACT_H, x[2]];
+            max_point_error =
+                max_point_error.max(solver::math::norm(&solver::math::sub(&p, &foot)));
+        }
+    }
+    let expected = inside.iter().filter(|&&b| b).count();
+    let expected_found = result
+        .iter()
+        .zip(&inside)
+        .filter(|(it, &b)| b && it.is_some())
+        .count();
+    Ok(ContactResult {
+        m,
+        master_faces: pair.face_nodes.len(),
+        slave_nodes: pair.slave_nodes.len(),
+        face_size: pair.face_size,
+        normal_tolerance: pair.normal_tolerance,
+        tangential_tolerance: pair.tangential_tolerance,
+        max_offset: offsets.iter().fold(0.0f64, |a, d| a.max(d.abs())),
+        parse_s,
+        perturb_s,
+        build: Stat::of(&build),
+        search: Stat::of(&search),
+        total: Stat::of(&total),
+        cpu_share: Stat::of(&shares).median,
+        found: counts[0],
+        expected,
+        expected_found,
+        consistent: counts.iter().all(|&c| c == counts[0]),
+        max_gap_error,
+        max_point_error,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
 // Placeholders for later issues
 // ---------------------------------------------------------------------------------------
 
-const NOT_YET_MEASURED: [(&str, &str, &str); 3] = [
-    (
-        "contact_search",
-        "Contact search",
-        "Contact search time for 1e5 slave nodes against 1e5 master faces.",
-    ),
+const NOT_YET_MEASURED: [(&str, &str, &str); 2] = [
     (
         "two_rank_speedup",
         "2-rank speed-up",
@@ -853,7 +1073,7 @@ const NOT_YET_MEASURED: [(&str, &str, &str); 3] = [
 // Output
 // ---------------------------------------------------------------------------------------
 
-const DOC: [(&str, &str); 13] = [
+const DOC: [(&str, &str); 14] = [
     ("schema", "identifier and version of this file's layout"),
     ("meta", "when and where it ran: date (RFC 3339, UTC), git commit (short) and whether tracked files had uncommitted changes, CPU model and cache size from /proc/cpuinfo (under a hypervisor the cache size may be a nominal figure), logical CPUs and physical cores, quick mode, total wall time in s, /proc/loadavg (1, 5, 15 min) at the start and the end (other processes on the machine inflate wall times), cpu_steal_fraction = share of all CPUs' time the hypervisor gave to other guests during the run (from /proc/stat)"),
     ("statistics", "every measured figure is given as <name>_median, <name>_min and <name>_max over `repeats` timed runs (after one untimed warm-up for the kernels and the bandwidth); rates are derived from the times, so rate_min comes from the slowest run"),
@@ -865,8 +1085,9 @@ const DOC: [(&str, &str); 13] = [
     ("element_kernels.fraction_of_triad_1core", "model_gb_s / the one-core triad bandwidth median"),
     ("element_kernels.checksum", "sum of |entries| of the result, to show it is not trivial"),
     ("cg_cube", "unit cube, linear elastic E = 1e6, nu = 0.3, u_y = 0 at y = 0, u_x = 0 at x = 0, u_z = 0 at z = 0, u_y = -0.01 at y = 1, one load step, tolerance 1e-8, solved by solver::run::run on SerialComm; run_wall includes decomposition and set-up, solve_wall is the load step; unknowns = free degrees of freedom; iterations_per_cbrt_unknowns = cg_iterations / unknowns^(1/3); force_call is one internal_force call on the same mesh and kernel_share = cg_iterations x force_call_min / solve_wall_min (true-residual recomputations not counted; minima are the least disturbed by other load); max_error_rel = max |u - u_exact| / 0.01 against the exact uniaxial-stress field"),
+    ("contact_search", "two blocks stacked at y = 0.1 (lower [0,1]x[0,0.1]x[0,1] divided m x 1 x m, upper [0,1]x[0.1,0.2]x[0,1] divided (m-1) x 1 x (m-1), so the meshes do not match), generated as a scene and read by parse_scene (parse_s, not part of the timings); master = the lower block's top (m^2 faces), slave = the upper block's bottom nodes (m^2), each offset along y by a pseudo-random gap uniform in [-0.5, 0.5] x normal_tolerance (perturb_s, not timed either); default tolerances (normal 0.5 x face_size, tangential 0.1 x face_size). Per repeat, on one thread: build_s = MasterSurface::new (face corners and the BVH of their inflated boxes), search_s = MasterSurface::search of every slave node (collecting the results), total_s = both; after one untimed warm-up round; slave_nodes_per_s and us_per_query derived from search_s, total_slave_nodes_per_s from total_s. interactions_found = slave nodes with an interaction; expected = slave nodes over the master surface's x-z extent with |offset| <= normal_tolerance, expected_found = how many of those found a face; max_gap_error = max |gap - offset| and max_point_error = max distance of the contact point from the node's foot on y = 0.1, over the interactions"),
     ("not_yet_measured", "measurements that come with later issues: names only, no numbers"),
-    ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s)"),
+    ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s), slave nodes per second, microseconds per query (us)"),
 ];
 
 struct Results {
@@ -876,6 +1097,7 @@ struct Results {
     stream: Vec<Stream>,
     kernels: Vec<KernelResult>,
     cubes: Vec<CubeResult>,
+    contact: ContactResult,
     total_wall: f64,
     load_end: Option<String>,
     /// Fraction of the machine's CPU time stolen by the hypervisor during the run.
@@ -986,6 +1208,36 @@ impl Results {
                     .json()
             })
             .collect();
+        let c = &self.contact;
+        let ns = c.slave_nodes as f64;
+        let contact = Rec::default()
+            .put("master_divisions", format!("{m}x1x{m}", m = c.m))
+            .put("slave_divisions", format!("{k}x1x{k}", k = c.m - 1))
+            .put("master_faces", c.master_faces)
+            .put("slave_nodes", c.slave_nodes)
+            .put("face_size", c.face_size)
+            .put("normal_tolerance", c.normal_tolerance)
+            .put("tangential_tolerance", c.tangential_tolerance)
+            .put("max_abs_offset", c.max_offset)
+            .put("threads", 1usize)
+            .put("parse_s", c.parse_s)
+            .put("perturb_s", c.perturb_s)
+            .put("repeats", c.total.repeats)
+            .stat("build_s", &c.build)
+            .stat("search_s", &c.search)
+            .stat("total_s", &c.total)
+            .put("cpu_share", c.cpu_share)
+            .stat("slave_nodes_per_s", &c.search.rate(ns))
+            .stat("us_per_query", &c.search.scaled(1e6 / ns))
+            .stat("total_slave_nodes_per_s", &c.total.rate(ns))
+            .put("interactions_found", c.found)
+            .put("interactions_same_every_repeat", c.consistent)
+            .put("expected", c.expected)
+            .put("expected_found", c.expected_found)
+            .put("all_expected_found", c.expected_found == c.expected)
+            .put("max_gap_error", c.max_gap_error)
+            .put("max_point_error", c.max_point_error)
+            .json();
         let placeholders = NOT_YET_MEASURED
             .iter()
             .map(|(key, _, what)| {
@@ -1008,6 +1260,7 @@ impl Results {
             .put("memory_bandwidth", J::Arr(stream))
             .put("element_kernels", J::Arr(kernels))
             .put("cg_cube", J::Arr(cubes))
+            .put("contact_search", contact)
             .put("not_yet_measured", J::Arr(placeholders))
             .json()
     }
@@ -1169,6 +1422,65 @@ impl Results {
             );
         }
 
+        let c = &self.contact;
+        let ns = c.slave_nodes as f64;
+        let _ = writeln!(w, "\n## Contact search\n");
+        let _ = writeln!(
+            w,
+            "Two blocks stacked at y = 0.1 with non-matching meshes: the master surface is the \
+             top of the lower block ({m}x1x{m} elements, {mf} faces of size {fs:.3e}), the \
+             slave nodes the bottom of the upper block ({k}x1x{k} elements, {sn} nodes), each \
+             offset along y by a pseudo-random gap within ±{a:.3e} (half the normal tolerance \
+             {nt:.3e}; tangential tolerance {tt:.3e}). One thread. \"build\" is \
+             `MasterSurface::new` (face corners and the BVH of the inflated face boxes), \
+             \"search\" is `MasterSurface::search` of every slave node, \"total\" both; \
+             after one untimed warm-up round. Not timed: scene generation and `parse_scene` \
+             {ps:.2} s, slave offsets {pt:.3} s. \"found / expected\": slave nodes with an \
+             interaction / slave nodes over the master surface within the normal tolerance \
+             ({ef} of the {ex} expected found{cons}); over the interactions, max |gap - offset| \
+             = {ge:.1e} and max distance of the contact point from the node's foot on the \
+             plane = {pe:.1e}.\n",
+            m = c.m,
+            k = c.m - 1,
+            mf = c.master_faces,
+            fs = c.face_size,
+            sn = c.slave_nodes,
+            a = c.max_offset,
+            nt = c.normal_tolerance,
+            tt = c.tangential_tolerance,
+            ps = c.parse_s,
+            pt = c.perturb_s,
+            ef = c.expected_found,
+            ex = c.expected,
+            cons = if c.consistent {
+                ", the same count every repeat"
+            } else {
+                "; **the count varied between repeats**"
+            },
+            ge = c.max_gap_error,
+            pe = c.max_point_error,
+        );
+        let _ = writeln!(
+            w,
+            "| master faces | slave nodes | n | build ms | search ms | total ms | slave nodes/s (search) | µs / query | CPU/wall | found / expected |"
+        );
+        let _ = writeln!(w, "|---:|---:|---:|---|---|---|---|---|---:|---:|");
+        let _ = writeln!(
+            w,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} / {} |",
+            c.master_faces,
+            c.slave_nodes,
+            c.total.repeats,
+            fmt_stat(&c.build.scaled(1e3), 2),
+            fmt_stat(&c.search.scaled(1e3), 2),
+            fmt_stat(&c.total.scaled(1e3), 2),
+            fmt_rate(&c.search.rate(ns)),
+            fmt_stat(&c.search.scaled(1e6 / ns), 3),
+            c.cpu_share,
+            c.found,
+            c.expected,
+        );
+
         for (_, title, what) in NOT_YET_MEASURED.iter() {
             let _ = writeln!(
                 w,
@@ -1291,6 +1603,22 @@ fn bench(cfg: Config) -> Result<(), String> {
         cubes.push(c);
     }
 
+    let (m, repeats) = cfg.contact;
+    let t = Instant::now();
+    let contact = contact_search(m, repeats)?;
+    eprintln!(
+        "bench: contact search {} slave nodes vs {} master faces: build {:.2} ms, search {:.2} ms \
+         ({:.3} us/query), {} / {} found, {:.1} s in all",
+        contact.slave_nodes,
+        contact.master_faces,
+        1e3 * contact.build.median,
+        1e3 * contact.search.median,
+        1e6 * contact.search.median / contact.slave_nodes as f64,
+        contact.found,
+        contact.expected,
+        t.elapsed().as_secs_f64()
+    );
+
     let steal = match (machine.jiffies_start, cpu_jiffies()) {
         (Some((a0, s0)), Some((a1, s1))) if a1 > a0 => {
             Some(s1.saturating_sub(s0) as f64 / (a1 - a0) as f64)
@@ -1304,6 +1632,7 @@ fn bench(cfg: Config) -> Result<(), String> {
         stream,
         kernels,
         cubes,
+        contact,
         total_wall: start.elapsed().as_secs_f64(),
         load_end: load_average(),
         steal,

@@ -48,6 +48,9 @@ pub struct ContactCounts {
     pub stick: u64,
     pub slip: u64,
     pub released: u64,
+    /// Largest penetration (minus the most negative gap) of any slave node after
+    /// enforcement; 0 when none penetrates.
+    pub max_penetration: f64,
 }
 
 #[derive(Clone, Debug, Default)]

@@ -220,6 +220,15 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         }
         record.cutbacks = cutbacks as u64;
         record.contact = self.contact.counts();
+        if !self.problem.contacts.is_empty() {
+            let position = Self::position_fn(self.mesh, self.problem, &self.u);
+            record.contact.max_penetration = self
+                .contact
+                .gaps(self.problem, &position)
+                .iter()
+                .map(|&(_, g)| -g)
+                .fold(0.0, f64::max);
+        }
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
     }
