@@ -118,6 +118,11 @@ def main(argv):
             ("/stats/residual", "f8", (steps,)),
             ("/stats/wall_time", "f8", (steps,)),
             ("/stats/cutbacks", "u8", (steps,)),
+            ("/stats/contact_active", "u8", (steps,)),
+            ("/stats/contact_stick", "u8", (steps,)),
+            ("/stats/contact_slip", "u8", (steps,)),
+            ("/stats/contact_released", "u8", (steps,)),
+            ("/stats/max_penetration", "f8", (steps,)),
         ]
         for name, kind, shape in per_step:
             if get(name, kind, len(shape)) is not None:
@@ -185,6 +190,14 @@ def main(argv):
         status_ds = datasets.get("/results/contact/status")
         if status_ds is not None and status_ds.size and int(status_ds[...].max()) > 3:
             problem("/results/contact/status holds a value above 3")
+        pen = datasets.get("/stats/max_penetration")
+        if pen is not None and pen.size and float(np.min(pen[...])) < 0.0:
+            problem("/stats/max_penetration holds a negative value")
+        counts = [datasets.get(f"/stats/contact_{k}") for k in ("active", "stick", "slip")]
+        if all(d is not None and d.shape == (steps,) for d in counts):
+            active, stick, slip = (d[...] for d in counts)
+            if not np.array_equal(active, stick + slip):
+                problem("/stats/contact_active is not /stats/contact_stick + /stats/contact_slip")
 
     return report(problems)
 

@@ -459,6 +459,11 @@ fn step_output<C: Comm + ?Sized>(
             residual: rec.residual,
             wall_time: rec.wall_time,
             cutbacks: rec.cutbacks,
+            contact_active: rec.contact.active,
+            contact_stick: rec.contact.stick,
+            contact_slip: rec.contact.slip,
+            contact_released: rec.contact.released,
+            max_penetration: rec.contact.max_penetration,
         },
     };
     (out, err)

@@ -137,6 +137,13 @@ fn synthetic_step(s: usize, mesh: &OutputMesh) -> StepOutput {
             residual: 1e-9 / sf,
             wall_time: 0.5 + 0.1 * sf,
             cutbacks: u64::from(s == 1),
+            // Distinct per step and field; active = stick + slip as the solver reports.
+            contact_active: 5 + 2 * s as u64,
+            contact_stick: 3 + s as u64,
+            contact_slip: 2 + s as u64,
+            contact_released: s as u64 % 2,
+            // Step 0 has no penetration (the value is 0 then, never negative).
+            max_penetration: 2.5e-4 * s as f64,
         },
     }
 }
@@ -192,6 +199,28 @@ fn round_trip_of_every_dataset_and_attribute() {
     assert_eq!(
         f.stats().unwrap(),
         steps.iter().map(|s| s.stats).collect::<Vec<_>>()
+    );
+    // The contact statistics, field by field (the comparison above covers them too).
+    let stats = f.stats().unwrap();
+    assert_eq!(
+        stats.iter().map(|s| s.contact_active).collect::<Vec<_>>(),
+        [5, 7, 9]
+    );
+    assert_eq!(
+        stats.iter().map(|s| s.contact_stick).collect::<Vec<_>>(),
+        [3, 4, 5]
+    );
+    assert_eq!(
+        stats.iter().map(|s| s.contact_slip).collect::<Vec<_>>(),
+        [2, 3, 4]
+    );
+    assert_eq!(
+        stats.iter().map(|s| s.contact_released).collect::<Vec<_>>(),
+        [0, 1, 0]
+    );
+    assert_eq!(
+        stats.iter().map(|s| s.max_penetration).collect::<Vec<_>>(),
+        [0.0, 2.5e-4, 5e-4]
     );
     for (i, s) in steps.iter().enumerate() {
         assert_eq!(f.displacement(i).unwrap(), s.displacement);
@@ -253,6 +282,11 @@ fn round_trip_of_every_dataset_and_attribute() {
         ("/stats/residual", vec![st]),
         ("/stats/wall_time", vec![st]),
         ("/stats/cutbacks", vec![st]),
+        ("/stats/contact_active", vec![st]),
+        ("/stats/contact_stick", vec![st]),
+        ("/stats/contact_slip", vec![st]),
+        ("/stats/contact_released", vec![st]),
+        ("/stats/max_penetration", vec![st]),
         ("/partition/element_rank", vec![e]),
     ];
     let names: BTreeSet<String> = f.dataset_names().into_iter().collect();
@@ -349,6 +383,19 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     bad.stats.residual = f64::NAN;
     let msg = w.append_step(&bad).unwrap_err().to_string();
     assert!(msg.contains("/stats/residual"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.stats.max_penetration = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/max_penetration"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.stats.max_penetration = -1e-6;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/stats/max_penetration") && msg.contains(">= 0"),
+        "{msg}"
+    );
 
     let mut bad = synthetic_step(1, &mesh);
     bad.reaction.pop();
@@ -570,6 +617,36 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
     assert_eq!(report.exit_code(), 1);
     assert!(report.render().contains("/stats/cg_iterations"));
 
+    // So do the contact statistics: a released count and a penetration, each off in one step.
+    for (name, change) in [
+        (
+            "/stats/contact_released",
+            (|st: &mut StepStats| st.contact_released += 1) as fn(&mut StepStats),
+        ),
+        ("/stats/max_penetration", |st| st.max_penetration += 1e-9),
+    ] {
+        let file = dir.join(format!("d{}.h5", name.len()));
+        let mut w = ResultWriter::create(&file, &synthetic_info(), &mesh).unwrap();
+        for s in 0..3 {
+            let mut step = synthetic_step(s, &mesh);
+            if s == 1 {
+                change(&mut step.stats);
+            }
+            w.append_step(&step).unwrap();
+        }
+        let d = w.finish(1.0).unwrap();
+        let report = post::compare_files(&a, &d, 0.0).unwrap();
+        let text = report.render();
+        assert_eq!(report.exit_code(), 1, "{text}");
+        let failing: Vec<&str> = report
+            .datasets
+            .iter()
+            .filter(|d| d.counted && !d.within_tol)
+            .map(|d| d.name.as_str())
+            .collect();
+        assert_eq!(failing, [name], "{text}");
+    }
+
     // Different meshes or step counts cannot be compared.
     let mut m = synthetic_mesh();
     m.coordinates.pop();
@@ -702,6 +779,7 @@ fn info_summarises_the_run() {
         "base (1 elements), lid (2 elements)",
         "node sets:    top, bottom",
         "CG its",
+        "max penetration",
     ] {
         assert!(text.contains(want), "missing '{want}' in\n{text}");
     }

@@ -57,6 +57,17 @@ pub struct StepStats {
     /// Wall-clock seconds the step took.
     pub wall_time: f64,
     pub cutbacks: u64,
+    /// Slave constraints in contact at the end of the step.
+    pub contact_active: u64,
+    /// Of those, sticking.
+    pub contact_stick: u64,
+    /// Of those, slipping.
+    pub contact_slip: u64,
+    /// Slave constraints released during the step.
+    pub contact_released: u64,
+    /// Largest penetration of any slave node after enforcement (>= 0; 0 when none
+    /// penetrates).
+    pub max_penetration: f64,
 }
 
 /// Contact status codes of `/results/contact/status`.
@@ -290,6 +301,22 @@ impl StepOutput {
             &[self.stats.wall_time],
             |_| "the step's wall time".into(),
         )?;
+        check_finite(
+            file,
+            layout::STATS_MAX_PENETRATION,
+            &[self.stats.max_penetration],
+            |_| "the step's largest penetration".into(),
+        )?;
+        if self.stats.max_penetration < 0.0 {
+            return Err(OutputError::Invalid {
+                file: file.to_path_buf(),
+                dataset: layout::STATS_MAX_PENETRATION.into(),
+                message: format!(
+                    "the step's largest penetration is {}, expected >= 0",
+                    self.stats.max_penetration
+                ),
+            });
+        }
         Ok(())
     }
 }

@@ -34,6 +34,11 @@ pub const STATS_CONTACT_UPDATES: &str = "/stats/contact_updates";
 pub const STATS_RESIDUAL: &str = "/stats/residual";
 pub const STATS_WALL_TIME: &str = "/stats/wall_time";
 pub const STATS_CUTBACKS: &str = "/stats/cutbacks";
+pub const STATS_CONTACT_ACTIVE: &str = "/stats/contact_active";
+pub const STATS_CONTACT_STICK: &str = "/stats/contact_stick";
+pub const STATS_CONTACT_SLIP: &str = "/stats/contact_slip";
+pub const STATS_CONTACT_RELEASED: &str = "/stats/contact_released";
+pub const STATS_MAX_PENETRATION: &str = "/stats/max_penetration";
 
 pub const ELEMENT_RANK: &str = "/partition/element_rank";
 
@@ -67,7 +72,7 @@ pub const STATUS_FAILED_PREFIX: &str = "failed: ";
 pub const NODE_VECTOR_DATASETS: [&str; 3] = [DISPLACEMENT, REACTION, CONTACT_FORCE];
 
 /// Every dataset a result file has whatever its mesh (body and set datasets come on top).
-pub const REQUIRED_DATASETS: [&str; 16] = [
+pub const REQUIRED_DATASETS: [&str; 21] = [
     COORDINATES,
     NODE_IDS,
     ALL_CONNECTIVITY,
@@ -83,6 +88,11 @@ pub const REQUIRED_DATASETS: [&str; 16] = [
     STATS_RESIDUAL,
     STATS_WALL_TIME,
     STATS_CUTBACKS,
+    STATS_CONTACT_ACTIVE,
+    STATS_CONTACT_STICK,
+    STATS_CONTACT_SLIP,
+    STATS_CONTACT_RELEASED,
+    STATS_MAX_PENETRATION,
     ELEMENT_RANK,
 ];
 

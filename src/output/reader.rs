@@ -200,7 +200,15 @@ impl ResultFile {
                 return Err(r.shape_error(name, &shape, &format!("{text} with {} steps", r.steps)));
             }
         }
-        for name in [layout::STATS_CONTACT_UPDATES, layout::STATS_CUTBACKS] {
+        for name in [
+            layout::STATS_CONTACT_UPDATES,
+            layout::STATS_CUTBACKS,
+            layout::STATS_CONTACT_ACTIVE,
+            layout::STATS_CONTACT_STICK,
+            layout::STATS_CONTACT_SLIP,
+            layout::STATS_CONTACT_RELEASED,
+            layout::STATS_MAX_PENETRATION,
+        ] {
             let shape = r.shape(name)?;
             if shape.len() != 1 || shape[0] < r.steps {
                 return Err(r.shape_error(
@@ -377,6 +385,11 @@ impl ResultFile {
         let res = self.read_steps::<f64>(layout::STATS_RESIDUAL)?;
         let wall = self.read_steps::<f64>(layout::STATS_WALL_TIME)?;
         let cut = self.read_steps::<u64>(layout::STATS_CUTBACKS)?;
+        let active = self.read_steps::<u64>(layout::STATS_CONTACT_ACTIVE)?;
+        let stick = self.read_steps::<u64>(layout::STATS_CONTACT_STICK)?;
+        let slip = self.read_steps::<u64>(layout::STATS_CONTACT_SLIP)?;
+        let released = self.read_steps::<u64>(layout::STATS_CONTACT_RELEASED)?;
+        let pen = self.read_steps::<f64>(layout::STATS_MAX_PENETRATION)?;
         Ok((0..self.steps)
             .map(|i| StepStats {
                 cg_iterations: cg[i],
@@ -384,6 +397,11 @@ impl ResultFile {
                 residual: res[i],
                 wall_time: wall[i],
                 cutbacks: cut[i],
+                contact_active: active[i],
+                contact_stick: stick[i],
+                contact_slip: slip[i],
+                contact_released: released[i],
+                max_penetration: pen[i],
             })
             .collect())
     }

@@ -27,6 +27,11 @@ struct StepDatasets {
     residual: hdf5::Dataset,
     wall_time: hdf5::Dataset,
     cutbacks: hdf5::Dataset,
+    contact_active: hdf5::Dataset,
+    contact_stick: hdf5::Dataset,
+    contact_slip: hdf5::Dataset,
+    contact_released: hdf5::Dataset,
+    max_penetration: hdf5::Dataset,
 }
 
 /// Writes a result file: created with the mesh and run metadata, one [`StepOutput`] appended
@@ -169,6 +174,11 @@ impl StepDatasets {
             residual: step_dataset::<f64>(file, path, layout::STATS_RESIDUAL, &[])?,
             wall_time: step_dataset::<f64>(file, path, layout::STATS_WALL_TIME, &[])?,
             cutbacks: step_dataset::<u64>(file, path, layout::STATS_CUTBACKS, &[])?,
+            contact_active: step_dataset::<u64>(file, path, layout::STATS_CONTACT_ACTIVE, &[])?,
+            contact_stick: step_dataset::<u64>(file, path, layout::STATS_CONTACT_STICK, &[])?,
+            contact_slip: step_dataset::<u64>(file, path, layout::STATS_CONTACT_SLIP, &[])?,
+            contact_released: step_dataset::<u64>(file, path, layout::STATS_CONTACT_RELEASED, &[])?,
+            max_penetration: step_dataset::<f64>(file, path, layout::STATS_MAX_PENETRATION, &[])?,
         })
     }
 }
@@ -395,6 +405,34 @@ impl ResultWriter {
         append_scalar(&d.residual, p, layout::STATS_RESIDUAL, i, s.residual)?;
         append_scalar(&d.wall_time, p, layout::STATS_WALL_TIME, i, s.wall_time)?;
         append_scalar(&d.cutbacks, p, layout::STATS_CUTBACKS, i, s.cutbacks)?;
+        let contact_counts = [
+            (
+                &d.contact_active,
+                layout::STATS_CONTACT_ACTIVE,
+                s.contact_active,
+            ),
+            (
+                &d.contact_stick,
+                layout::STATS_CONTACT_STICK,
+                s.contact_stick,
+            ),
+            (&d.contact_slip, layout::STATS_CONTACT_SLIP, s.contact_slip),
+            (
+                &d.contact_released,
+                layout::STATS_CONTACT_RELEASED,
+                s.contact_released,
+            ),
+        ];
+        for (ds, name, value) in contact_counts {
+            append_scalar(ds, p, name, i, value)?;
+        }
+        append_scalar(
+            &d.max_penetration,
+            p,
+            layout::STATS_MAX_PENETRATION,
+            i,
+            s.max_penetration,
+        )?;
         // The time goes last: its length is the number of complete steps.
         append_scalar(&d.time, p, layout::TIME, i, step.time)?;
         self.file.flush().at(p, "/ (flush)")?;

@@ -83,6 +83,41 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
             "",
             wall
         );
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15}",
+            "step", "active", "stick", "slip", "released", "max penetration"
+        );
+        for (i, st) in stats.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
+                i,
+                st.contact_active,
+                st.contact_stick,
+                st.contact_slip,
+                st.contact_released,
+                st.max_penetration
+            );
+        }
+        let _ = writeln!(
+            s,
+            "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
+            "max",
+            stats.iter().map(|st| st.contact_active).max().unwrap_or(0),
+            stats.iter().map(|st| st.contact_stick).max().unwrap_or(0),
+            stats.iter().map(|st| st.contact_slip).max().unwrap_or(0),
+            stats
+                .iter()
+                .map(|st| st.contact_released)
+                .max()
+                .unwrap_or(0),
+            stats
+                .iter()
+                .map(|st| st.max_penetration)
+                .fold(0.0, f64::max)
+        );
     }
     Ok(s)
 }
