@@ -1430,12 +1430,12 @@ impl Results {
             "Two blocks stacked at y = 0.1 with non-matching meshes: the master surface is the \
              top of the lower block ({m}x1x{m} elements, {mf} faces of size {fs:.3e}), the \
              slave nodes the bottom of the upper block ({k}x1x{k} elements, {sn} nodes), each \
-             offset along y by a pseudo-random gap within ±{a:.3e} (half the normal tolerance \
-             {nt:.3e}; tangential tolerance {tt:.3e}). One thread. \"build\" is \
+             offset along y by a pseudo-random gap uniform in ±{a:.3e} ({fr} x the normal \
+             tolerance {nt:.3e}; largest |offset| {mo:.3e}; tangential tolerance {tt:.3e}). One thread. \"build\" is \
              `MasterSurface::new` (face corners and the BVH of the inflated face boxes), \
              \"search\" is `MasterSurface::search` of every slave node, \"total\" both; \
              after one untimed warm-up round. Not timed: scene generation and `parse_scene` \
-             {ps:.2} s, slave offsets {pt:.3} s. \"found / expected\": slave nodes with an \
+             {ps:.2} s, slave offsets {pt:.2} ms. \"found / expected\": slave nodes with an \
              interaction / slave nodes over the master surface within the normal tolerance \
              ({ef} of the {ex} expected found{cons}); over the interactions, max |gap - offset| \
              = {ge:.1e} and max distance of the contact point from the node's foot on the \
@@ -1445,11 +1445,13 @@ impl Results {
             mf = c.master_faces,
             fs = c.face_size,
             sn = c.slave_nodes,
-            a = c.max_offset,
+            a = CONTACT_GAP_FRACTION * c.normal_tolerance,
+            fr = CONTACT_GAP_FRACTION,
+            mo = c.max_offset,
             nt = c.normal_tolerance,
             tt = c.tangential_tolerance,
             ps = c.parse_s,
-            pt = c.perturb_s,
+            pt = 1e3 * c.perturb_s,
             ef = c.expected_found,
             ex = c.expected,
             cons = if c.consistent {
