@@ -188,25 +188,68 @@ fn capture_and_release() {
     assert_passes(&v);
 }
 
+/// The bar at mesh `factor` (1 = the paper's 40 x 2). `loading_only` stops at t = 2 (where
+/// the difference from the 1-D formula is measured) and uses a residual tolerance of 1e-8
+/// instead of 1e-10, which leaves that difference unchanged to 5 digits at h/2 (3.6714e-2
+/// both ways, checked when this was written) and makes the h/4 run affordable.
+fn stick_slip_difference(factor: u32, loading_only: bool) -> f64 {
+    let mut text = text_for(&scene_text("stick_slip"), factor);
+    if loading_only {
+        let mut doc: toml::Table = text.parse().unwrap();
+        let time = doc.get_mut("time").unwrap().as_table_mut().unwrap();
+        time.get_mut("segments")
+            .unwrap()
+            .as_array_mut()
+            .unwrap()
+            .truncate(2);
+        doc.get_mut("solver")
+            .unwrap()
+            .as_table_mut()
+            .unwrap()
+            .insert("tolerance".into(), toml::Value::Float(1e-8));
+        text = toml::to_string(&doc).unwrap();
+    }
+    let (v, _, f) = run_text(&text, "run/scenes/paper/stick_slip.toml");
+    assert!(f.is_none(), "{f:?}");
+    assert_passes(&v);
+    reported(&v, "difference from the 1-D formula at t = 2")
+}
+
 #[test]
 fn stick_slip_bar_against_the_one_dimensional_theory() {
-    let base = scene_text("stick_slip");
-    // Meshes h and h/2 here; h/4 (about 2-7 minutes on this machine, too long for every CI
-    // run) is part of the refinement study, run/study.
-    let mut diffs = vec![];
-    for factor in [1u32, 2] {
-        let text = text_for(&base, factor);
-        let (v, _, f) = run_text(&text, "run/scenes/paper/stick_slip.toml");
-        assert!(f.is_none(), "{f:?}");
-        assert_passes(&v);
-        diffs.push(reported(&v, "difference from the 1-D formula at t = 2"));
-    }
+    let diffs = [
+        stick_slip_difference(1, false),
+        stick_slip_difference(2, false),
+    ];
     println!(
         "stick/slip: cross-section average vs the 1-D formula at t = 2, / u_max: h {:.4}, h/2 {:.4}",
         diffs[0], diffs[1]
     );
     // The difference approaches where a converged 3-D solution sits (3-4% of u_max, up to
-    // 4.7% at mid-height; scenes.md) and stays under the 5% bar on both meshes.
+    // 4.7% at mid-height; scenes.md) and stays under the 5% bar.
+    assert!(diffs.iter().all(|&d| d < 0.05), "{diffs:?}");
+}
+
+/// The h, h/2, h/4 study: about 5 minutes on this 2-core machine (the h/4 bar needs some
+/// 50,000 CG iterations with the nodal block-Jacobi preconditioner), too long for every CI
+/// run. Run it with `cargo test --release --test paper -- --ignored --nocapture`.
+#[test]
+#[ignore = "slow (about 5 minutes): run with -- --ignored"]
+fn stick_slip_difference_settles_under_refinement() {
+    let diffs = [
+        stick_slip_difference(1, false),
+        stick_slip_difference(2, false),
+        stick_slip_difference(4, true),
+    ];
+    println!(
+        "stick/slip: cross-section average vs the 1-D formula at t = 2, / u_max: h {:.4}, h/2 {:.4}, h/4 {:.4}",
+        diffs[0], diffs[1], diffs[2]
+    );
+    // Settles, does not grow: successive changes shrink, and the limit stays under 5%.
+    assert!(
+        (diffs[2] - diffs[1]).abs() < (diffs[1] - diffs[0]).abs(),
+        "{diffs:?}"
+    );
     assert!(diffs.iter().all(|&d| d < 0.05), "{diffs:?}");
 }
 

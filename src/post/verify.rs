@@ -551,7 +551,7 @@ fn stick_slip(
         0.05,
     );
     v.check(
-        "loading: slip front distance from L(t), in elements",
+        "loading: slip front distance from L(t), in elements of the paper mesh",
         front_err,
         2.0,
     );
