@@ -45,8 +45,10 @@ impl std::fmt::Display for ElementFailure {
     }
 }
 
-/// Reference-configuration data of one element at its Gauss points.
-struct Geometry {
+/// Reference-configuration data of one element at its Gauss points: computed once per
+/// element and reused for every evaluation (see `Assembly`).
+#[derive(Clone, Debug)]
+pub struct Geometry {
     g: [[Vec3; 8]; 8],
     wdet: [f64; 8],
     volume: f64,
@@ -55,7 +57,7 @@ struct Geometry {
 }
 
 #[inline]
-fn geometry(x: &[Vec3; 8]) -> Result<Geometry, ElementFailure> {
+pub fn geometry(x: &[Vec3; 8]) -> Result<Geometry, ElementFailure> {
     let mut g = [[[0.0; 3]; 8]; 8];
     let mut wdet = [0.0; 8];
     let mut volume = 0.0;
@@ -234,8 +236,19 @@ pub fn internal_force(
     form: Formulation,
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
+    internal_force_with(&geometry(x)?, x, u, mat, form, f)
+}
+
+/// `internal_force` with the element's reference geometry already computed.
+pub fn internal_force_with(
+    geo: &Geometry,
+    x: &[Vec3; 8],
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
     *f = [[0.0; 3]; 8];
-    let geo = geometry(x)?;
     let large = mat.is_large();
     match form {
         Formulation::Full => {
@@ -264,7 +277,7 @@ pub fn internal_force(
             }
         }
         Formulation::FullBar => {
-            let (j0, h0) = mean_dilatation(u, &geo)?;
+            let (j0, h0) = mean_dilatation(u, geo)?;
             for q in 0..8 {
                 let h = displacement_gradient(u, &geo.g[q]);
                 let fb = fbar_at(&h, &geo.g[q], j0)?;
@@ -293,7 +306,7 @@ pub fn internal_force(
             let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
             accumulate(f, &s, &geo.bbar, geo.volume);
             let (_, mu) = mat.lambda_mu();
-            let (gamma, k) = hourglass(x, &geo, coefficient, mu);
+            let (gamma, k) = hourglass(x, geo, coefficient, mu);
             for ga in gamma.iter() {
                 let mut qv = [0.0; 3];
                 for a in 0..8 {
@@ -337,8 +350,19 @@ pub fn diagonal_blocks(
     form: Formulation,
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
+    diagonal_blocks_with(&geometry(x)?, x, u, mat, form, d)
+}
+
+/// `diagonal_blocks` with the element's reference geometry already computed.
+pub fn diagonal_blocks_with(
+    geo: &Geometry,
+    x: &[Vec3; 8],
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    d: &mut [Mat3; 8],
+) -> Result<(), ElementFailure> {
     *d = [ZERO33; 8];
-    let geo = geometry(x)?;
     let (lambda, mu) = mat.lambda_mu();
     match form {
         Formulation::Full => {
@@ -352,7 +376,7 @@ pub fn diagonal_blocks(
         Formulation::FullBar => {
             let large = mat.is_large();
             let hbar = if large {
-                mean_dilatation(u, &geo)?.1
+                mean_dilatation(u, geo)?.1
             } else {
                 geo.bbar
             };
@@ -391,7 +415,7 @@ pub fn diagonal_blocks(
             for a in 0..8 {
                 add_scaled(&mut d[a], &mat.tangent_gg(&h, &geo.bbar[a]), geo.volume);
             }
-            let (gamma, k) = hourglass(x, &geo, coefficient, mu);
+            let (gamma, k) = hourglass(x, geo, coefficient, mu);
             for a in 0..8 {
                 let s: f64 = gamma.iter().map(|ga| ga[a] * ga[a]).sum();
                 for i in 0..3 {
@@ -420,6 +444,16 @@ pub fn average_cauchy(
     form: Formulation,
 ) -> Result<[f64; 6], ElementFailure> {
     let geo = geometry(x)?;
+    average_cauchy_with(&geo, u, mat, form)
+}
+
+/// `average_cauchy` with the element's reference geometry already computed.
+pub fn average_cauchy_with(
+    geo: &Geometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+) -> Result<[f64; 6], ElementFailure> {
     let mut sum = ZERO33;
     let mut vol = 0.0;
     let mut add = |h: &Mat3, w: f64| -> Result<(), ElementFailure> {
@@ -451,7 +485,7 @@ pub fn average_cauchy(
             }
         }
         Formulation::FullBar => {
-            let (j0, _) = mean_dilatation(u, &geo)?;
+            let (j0, _) = mean_dilatation(u, geo)?;
             for q in 0..8 {
                 let h = displacement_gradient(u, &geo.g[q]);
                 let fb = fbar_at(&h, &geo.g[q], j0)?;

@@ -25,15 +25,22 @@ pub struct Assembly<'a> {
     pub models: &'a [BodyModel],
     /// True when every body is linear (small kinematics): then f_int(u) = K u.
     pub linear: bool,
+    /// Reference geometry of every local element (gradients at the Gauss points), computed
+    /// once: the kernels would otherwise spend a third of a run recomputing it.
+    geometry: Vec<Result<element::Geometry, ElementFailure>>,
 }
 
 impl<'a> Assembly<'a> {
     pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Self {
         let linear = models.iter().all(|m| !m.material.is_large());
+        let geometry = (0..mesh.elements.len())
+            .map(|e| element::geometry(&mesh.element_coords(e)))
+            .collect();
         Assembly {
             mesh,
             models,
             linear,
+            geometry,
         }
     }
 
@@ -58,7 +65,8 @@ impl<'a> Assembly<'a> {
             let m = &self.models[self.mesh.element_body[e] as usize];
             let x = self.mesh.element_coords(e);
             let ue = self.gather(e, u);
-            element::internal_force(&x, &ue, &m.material, m.formulation, &mut fe)
+            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            element::internal_force_with(geo, &x, &ue, &m.material, m.formulation, &mut fe)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
@@ -78,7 +86,8 @@ impl<'a> Assembly<'a> {
             let m = &self.models[self.mesh.element_body[e] as usize];
             let x = self.mesh.element_coords(e);
             let ue = self.gather(e, u);
-            element::diagonal_blocks(&x, &ue, &m.material, m.formulation, &mut de)
+            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            element::diagonal_blocks_with(geo, &x, &ue, &m.material, m.formulation, &mut de)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 for i in 0..3 {
@@ -127,10 +136,10 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.mesh.element_coords(e);
             let ue = self.gather(e, u);
+            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             out.push(
-                element::average_cauchy(&x, &ue, &m.material, m.formulation)
+                element::average_cauchy_with(geo, &ue, &m.material, m.formulation)
                     .map_err(|k| self.fail(e, k))?,
             );
         }
