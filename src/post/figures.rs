@@ -187,7 +187,7 @@ fn set_nodes(f: &ResultFile, mesh: &OutputMesh, name: &str) -> Result<Vec<usize>
 }
 
 /// 0-based node indices of a body, sorted.
-fn body_nodes(mesh: &OutputMesh, body: &str) -> Vec<usize> {
+pub(crate) fn body_nodes(mesh: &OutputMesh, body: &str) -> Vec<usize> {
     let mut nodes: Vec<usize> = mesh
         .bodies
         .iter()
@@ -238,7 +238,11 @@ fn mean_by_x(mesh: &OutputMesh, nodes: &[usize], value: impl Fn(usize) -> f64) -
 }
 
 /// (x, cross-section average of u_x at x): mean over z at each y, trapezoidal in y.
-fn section_average(mesh: &OutputMesh, nodes: &[usize], u: &[[f64; 3]]) -> Vec<(f64, f64)> {
+pub(crate) fn section_average(
+    mesh: &OutputMesh,
+    nodes: &[usize],
+    u: &[[f64; 3]],
+) -> Vec<(f64, f64)> {
     let c = &mesh.coordinates;
     let tol = tolerance(mesh);
     groups(c, nodes, 0, tol)
@@ -363,7 +367,7 @@ fn fig5(f: &ResultFile) -> Result<Figure, OutputError> {
 }
 
 /// The 1-D theory of the stick/slip bar at time t (scenes.md, paper 4.4).
-fn stick_slip_exact(t: f64, x: f64) -> f64 {
+pub(crate) fn stick_slip_exact(t: f64, x: f64) -> f64 {
     let (mu, delta, h, e, pmax) = (0.5, 1.0e-4, 0.1, 10.0e6, 5.0e4);
     let sq = |a: f64| if a > 0.0 { a * a } else { 0.0 };
     if t <= 1.0 {

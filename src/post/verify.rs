@@ -7,6 +7,7 @@
 //! copies (`<scene>_r2`, ...) are checked the same way; node sets stored in the file select
 //! the nodes a check needs.
 
+use super::figures::{body_nodes, section_average, stick_slip_exact};
 use crate::output::{OutputError, OutputMesh, ResultFile};
 use std::path::Path;
 
@@ -218,18 +219,6 @@ fn node_set(file: &ResultFile, name: &str) -> Result<Vec<usize>, OutputError> {
     Ok(ids.iter().map(|&i| i as usize - 1).collect())
 }
 
-fn body_nodes(mesh: &OutputMesh, body: &str) -> Vec<usize> {
-    let mut nodes: Vec<usize> = mesh
-        .bodies
-        .iter()
-        .filter(|b| b.name == body)
-        .flat_map(|b| b.connectivity.iter().flatten().map(|&n| n as usize))
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    nodes
-}
-
 fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
     v.fold(0.0, |m, x| m.max(x.abs()))
 }
@@ -434,41 +423,15 @@ fn stick_slip(
         .copied()
         .filter(|&n| (c[n][1] - h).abs() < 1e-12)
         .collect();
-    let mut xs: Vec<f64> = bar.iter().map(|&n| c[n][0]).collect();
-    xs.sort_by(f64::total_cmp);
-    xs.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
-    let dx = xs
+    // Cross-section averages and the 1-D theory come from the code that draws Figure 6.
+    let stations: Vec<f64> = section_average(mesh, &bar, &vec![[0.0; 3]; c.len()])
+        .iter()
+        .map(|p| p.0)
+        .collect();
+    let dx = stations
         .windows(2)
         .map(|w| w[1] - w[0])
         .fold(f64::INFINITY, f64::min);
-    let mut ys: Vec<f64> = bar.iter().map(|&n| c[n][1]).collect();
-    ys.sort_by(f64::total_cmp);
-    ys.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
-    // Cross-section average of u_x at each x: trapezoidal in y, mean over z.
-    let average = |u: &[[f64; 3]]| -> Vec<f64> {
-        xs.iter()
-            .map(|&x| {
-                let vals: Vec<f64> = ys
-                    .iter()
-                    .map(|&y| {
-                        let sel: Vec<f64> = bar
-                            .iter()
-                            .filter(|&&n| {
-                                (c[n][0] - x).abs() < 1e-12 && (c[n][1] - y).abs() < 1e-12
-                            })
-                            .map(|&n| u[n][0])
-                            .collect();
-                        sel.iter().sum::<f64>() / sel.len() as f64
-                    })
-                    .collect();
-                let mut integral = 0.0;
-                for i in 1..ys.len() {
-                    integral += 0.5 * (vals[i] + vals[i - 1]) * (ys[i] - ys[i - 1]);
-                }
-                integral / (ys[ys.len() - 1] - ys[0])
-            })
-            .collect()
-    };
     let l_of = |p: f64| p * h * h / (2.0 * mu * delta * e);
     let umax = mu * delta * l_of(pmax).powi(2) / (h * h);
     if let Some(k) = times.iter().position(|&t| (t - 1.0).abs() < 1e-9) {
@@ -490,40 +453,16 @@ fn stick_slip(
             continue;
         }
         let u = file.displacement(k)?;
-        let avg = average(&u);
+        let avg = section_average(mesh, &bar, &u);
         let st = file.contact_status(k)?;
-        let (exact, front): (Vec<f64>, f64) = if t <= 2.0 + 1e-9 {
-            let l = l_of(pmax * (t - 1.0));
-            (
-                xs.iter()
-                    .map(|&x| {
-                        if x < l {
-                            mu * delta * (l - x).powi(2) / (h * h)
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect(),
-                l,
-            )
+        let front = if t <= 2.0 + 1e-9 {
+            l_of(pmax * (t - 1.0))
         } else {
-            let l = l_of(pmax);
-            let lp = pmax * (t - 2.0) * h * h / (4.0 * mu * delta * e);
-            (
-                xs.iter()
-                    .map(|&x| {
-                        let a = if x < l { (l - x).powi(2) } else { 0.0 };
-                        let b = if x < lp { 2.0 * (lp - x).powi(2) } else { 0.0 };
-                        mu * delta * (a - b) / (h * h)
-                    })
-                    .collect(),
-                lp,
-            )
+            pmax * (t - 2.0) * h * h / (4.0 * mu * delta * e)
         };
         let err = avg
             .iter()
-            .zip(&exact)
-            .map(|(a, b)| (a - b).abs())
+            .map(|&(x, a)| (a - stick_slip_exact(t, x)).abs())
             .fold(0.0, f64::max)
             / umax;
         // The slip front: the farthest slipping slave node from the loaded end.
