@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-use super::plot::fonts_available;
+use super::plot::{fonts_available, number, padded_range};
 use crate::output::{OutputError, OutputMesh, ResultFile};
 
 /// The figures `solver post figure` draws.
@@ -556,40 +556,6 @@ fn fig_smoothing(f: &ResultFile) -> Result<Figure, OutputError> {
 fn color(i: usize) -> RGBAColor {
     const ORDER: [usize; 8] = [0, 3, 1, 4, 5, 6, 7, 9];
     Palette99::pick(ORDER[i % ORDER.len()]).to_rgba()
-}
-
-/// A short label for a number: plain for moderate magnitudes, scientific otherwise.
-fn number(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        let s = format!("{v:.6}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        if s == "-0" {
-            "0".into()
-        } else {
-            s.into()
-        }
-    } else {
-        format!("{v:.3e}")
-    }
-}
-
-/// A range covering `values` with `pad` of the span either side, never empty.
-fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> std::ops::Range<f64> {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
-    if !lo.is_finite() || !hi.is_finite() {
-        return 0.0..1.0;
-    }
-    let span = hi - lo;
-    if span <= f64::EPSILON * hi.abs().max(lo.abs()) {
-        let d = if hi == 0.0 { 1.0 } else { 0.05 * hi.abs() };
-        return lo - d..hi + d;
-    }
-    lo - pad * span..hi + pad * span
 }
 
 /// Draws a figure into a bitmap file (format from the extension, e.g. `.png`). With

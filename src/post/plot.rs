@@ -381,7 +381,7 @@ pub fn plot_data(args: &PlotArgs) -> Result<PlotData, OutputError> {
 }
 
 /// A short label for a number: plain for moderate magnitudes, scientific otherwise.
-fn number(v: f64) -> String {
+pub(crate) fn number(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()
@@ -404,7 +404,7 @@ pub fn fonts_available() -> bool {
 }
 
 /// A range covering `values` with a little room, never empty.
-fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> std::ops::Range<f64> {
+pub(crate) fn padded_range(values: impl Iterator<Item = f64>, pad: f64) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
