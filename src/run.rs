@@ -191,13 +191,7 @@ pub fn run<C: Comm + ?Sized>(
                 comm.size()
             )
         })?;
-    if !problem.contacts.is_empty() && comm.size() > 1 {
-        return Err(format!(
-            "{}: contact on more than one rank is not implemented yet (run this scene on 1 rank)",
-            problem.file
-        ));
-    }
-    let local = LocalMesh::new(mesh, decomposition.part(comm.rank()));
+    let local = LocalMesh::new(mesh, &decomposition, comm.rank());
     log(
         1,
         &format!(
@@ -397,7 +391,7 @@ fn step_output<C: Comm + ?Sized>(
             }
         }
     }
-    // Status and gap of slave nodes (owned nodes only; serial contact for now).
+    // Status and gap of the slave nodes this rank owns.
     let mut status = vec![[0.0; 1]; local.num_owned_nodes];
     let mut gap = vec![[0.0; 1]; local.num_owned_nodes];
     if !stepper.contact.active.is_empty()
@@ -426,11 +420,7 @@ fn step_output<C: Comm + ?Sized>(
                 } as f64;
             }
         }
-        let position = |g: u32| {
-            let l = local.local_node(g).expect("contact nodes are local");
-            crate::math::add(&problem.mesh.coords[g as usize], &stepper.u[l])
-        };
-        for (s, g) in stepper.contact.gaps(problem, &position) {
+        for (s, g) in stepper.contact.gaps(comm, problem, local, &stepper.u) {
             if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
                 gap[l][0] = g;
             }

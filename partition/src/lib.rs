@@ -48,8 +48,6 @@ use metis::Idx;
 pub enum PartitionError {
     /// `nparts` was zero.
     NoParts,
-    /// More parts were requested than there are elements.
-    TooManyParts { nparts: usize, num_elements: usize },
     /// An element references a node id `>= num_nodes`.
     NodeOutOfRange {
         element: usize,
@@ -79,14 +77,6 @@ impl fmt::Display for PartitionError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::NoParts => write!(f, "number of parts must be at least 1"),
-            Self::TooManyParts {
-                nparts,
-                num_elements,
-            } => write!(
-                f,
-                "cannot split {num_elements} element(s) into {nparts} parts \
-                 (more ranks than elements)"
-            ),
             Self::NodeOutOfRange {
                 element,
                 node,
@@ -270,8 +260,10 @@ const ACCEPTABLE_IMBALANCE: f64 = 1.05;
 /// concurrent calls from several threads are not reproducible). Should METIS still leave a part empty, elements
 /// are moved deterministically (highest id of the largest part) into it.
 ///
-/// Errors: `nparts == 0`, `nparts > elements.len()`, node ids out of range,
-/// METIS failures.
+/// With at least as many parts as elements, element e goes to part e and the
+/// remaining parts are empty (a rank with nothing to do still takes part).
+///
+/// Errors: `nparts == 0`, node ids out of range, METIS failures.
 pub fn partition_elements(
     num_nodes: usize,
     elements: &[[u32; 8]],
@@ -285,11 +277,8 @@ pub fn partition_elements(
     if nparts == 1 {
         return Ok(vec![0; ne]);
     }
-    if nparts > ne {
-        return Err(PartitionError::TooManyParts {
-            nparts,
-            num_elements: ne,
-        });
+    if nparts >= ne {
+        return Ok((0..ne as u32).collect());
     }
     let nparts_idx = Idx::try_from(nparts).map_err(|_| PartitionError::TooLarge)?;
 

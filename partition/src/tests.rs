@@ -332,30 +332,22 @@ fn single_element() {
     let d = full_check(nn, &el, 1);
     assert_eq!(d.part(0).owned_elements, vec![0]);
     assert_eq!(d.part(0).owned_nodes, (0..8).collect::<Vec<u32>>());
-    assert_eq!(
-        partition_elements(nn, &el, 2),
-        Err(PartitionError::TooManyParts {
-            nparts: 2,
-            num_elements: 1
-        })
-    );
-    assert!(matches!(
-        Decomposition::partition(nn, &el, 3),
-        Err(PartitionError::TooManyParts { .. })
-    ));
+    // More parts than elements: the extra parts are empty ranks.
+    assert_eq!(partition_elements(nn, &el, 2), Ok(vec![0]));
+    let d = Decomposition::partition(nn, &el, 3).unwrap();
+    assert_eq!(d.part(0).owned_elements, vec![0]);
+    assert_eq!(d.part(0).owned_nodes.len(), 8);
+    for p in 1..3 {
+        assert!(d.part(p).owned_elements.is_empty() && d.part(p).owned_nodes.is_empty());
+        assert!(d.part(p).ghost_elements.is_empty() && d.part(p).ghost_nodes.is_empty());
+    }
 }
 
 #[test]
 fn errors_are_returned_not_panics() {
     let (nn, el) = block(2, 2, 2, 0);
     assert_eq!(partition_elements(nn, &el, 0), Err(PartitionError::NoParts));
-    assert_eq!(
-        partition_elements(nn, &el, 9),
-        Err(PartitionError::TooManyParts {
-            nparts: 9,
-            num_elements: 8
-        })
-    );
+    assert_eq!(partition_elements(nn, &el, 9), Ok((0..8).collect()));
     assert!(matches!(
         partition_elements(nn - 1, &el, 2),
         Err(PartitionError::NodeOutOfRange { node, .. }) if node as usize == nn - 1
@@ -386,10 +378,6 @@ fn errors_are_returned_not_panics() {
     // Messages are human readable.
     for e in [
         PartitionError::NoParts,
-        PartitionError::TooManyParts {
-            nparts: 9,
-            num_elements: 8,
-        },
         PartitionError::EmptyPart { part: 1 },
         PartitionError::Metis("x".into()),
     ] {

@@ -566,7 +566,7 @@ fn local_mesh(problem: &Problem) -> Result<LocalMesh, String> {
     let mesh = &problem.mesh;
     let d = Decomposition::partition(mesh.num_nodes(), &mesh.elements, 1)
         .map_err(|e| format!("partition failed: {e}"))?;
-    Ok(LocalMesh::new(mesh, d.part(0)))
+    Ok(LocalMesh::new(mesh, &d, 0))
 }
 
 /// A smooth displacement field with strains of order 1e-3 in every component.
@@ -1017,7 +1017,9 @@ fn contact_search(m: usize, repeats: usize) -> Result<ContactResult, String> {
     for ((it, x), d) in result.iter().zip(&slave_x).zip(&offsets) {
         if let Some(it) = it {
             max_gap_error = max_gap_error.max((it.gap - d).abs());
-            let p = surface.point(it.face, &it.s);
+            let p = surface
+                .point(it.face, &it.s)
+                .expect("the surface holds every face");
             let foot = [x[0], CONTACT_H, x[2]];
             max_point_error =
                 max_point_error.max(solver::math::norm(&solver::math::sub(&p, &foot)));

@@ -34,6 +34,11 @@ pub trait Comm {
     fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>>;
     /// Broadcasts bytes from `root` to every rank.
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>);
+    /// Every rank sends `send[r]` (possibly empty) to rank r and receives one buffer from
+    /// every rank, in rank order.
+    fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
+    /// Every rank receives every rank's `local`, in rank order.
+    fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
 }
 
 /// Reproducible global dot product of the first `n` nodes (the owned ones) of two nodal

@@ -2,7 +2,7 @@
 
 use super::Comm;
 use mpi::collective::SystemOperation;
-use mpi::datatype::PartitionMut;
+use mpi::datatype::{Partition, PartitionMut};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
@@ -141,6 +141,41 @@ impl Comm for MpiComm {
         varcount_gather(&self.world, local)
     }
 
+    fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let size = self.size();
+        assert_eq!(send.len(), size, "one send buffer per rank");
+        let send_counts: Vec<Count> = send.iter().map(|b| b.len() as Count).collect();
+        let mut recv_counts = vec![0 as Count; size];
+        self.world
+            .all_to_all_into(&send_counts[..], &mut recv_counts[..]);
+        let flat: Vec<f64> = send.iter().flatten().copied().collect();
+        let send_displs = displacements(&send_counts);
+        let recv_displs = displacements(&recv_counts);
+        let total: Count = recv_counts.iter().sum();
+        let mut buf = vec![0.0f64; total as usize];
+        {
+            let sp = Partition::new(&flat[..], &send_counts[..], &send_displs[..]);
+            let mut rp = PartitionMut::new(&mut buf[..], &recv_counts[..], &recv_displs[..]);
+            self.world.all_to_all_varcount_into(&sp, &mut rp);
+        }
+        split(&buf, &recv_counts, &recv_displs)
+    }
+
+    fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        let size = self.size();
+        let n = local.len() as Count;
+        let mut counts = vec![0 as Count; size];
+        self.world.all_gather_into(&n, &mut counts[..]);
+        let displs = displacements(&counts);
+        let total: Count = counts.iter().sum();
+        let mut buf = vec![0.0f64; total as usize];
+        {
+            let mut rp = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
+            self.world.all_gather_varcount_into(local, &mut rp);
+        }
+        split(&buf, &counts, &displs)
+    }
+
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>) {
         let p = self.world.process_at_rank(root as i32);
         let mut len = data.len() as u64;
@@ -150,4 +185,23 @@ impl Comm for MpiComm {
             p.broadcast_into(&mut data[..]);
         }
     }
+}
+
+fn displacements(counts: &[Count]) -> Vec<Count> {
+    counts
+        .iter()
+        .scan(0, |acc, &c| {
+            let d = *acc;
+            *acc += c;
+            Some(d)
+        })
+        .collect()
+}
+
+fn split(buf: &[f64], counts: &[Count], displs: &[Count]) -> Vec<Vec<f64>> {
+    counts
+        .iter()
+        .zip(displs)
+        .map(|(&c, &d)| buf[d as usize..(d + c) as usize].to_vec())
+        .collect()
 }

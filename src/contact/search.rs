@@ -10,6 +10,7 @@ use crate::math::{add, dot, norm, scale, sub, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Point;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use std::collections::HashMap;
 
 /// A slave node's interaction with a master face (the paper's section 3).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,20 +27,45 @@ pub struct Interaction {
     pub gap: f64,
 }
 
-/// The master surface of one pair at the current configuration.
+/// The master surface of one pair at the current configuration: all of its faces, or on
+/// one rank of many, the faces near the rank's slave nodes.
 pub struct MasterSurface<'a> {
     pair: &'a ContactPair,
+    /// Indices (in the pair) of the faces held, ascending.
+    faces: Vec<u32>,
+    /// Position in `faces` of a face index of the pair.
+    index: HashMap<u32, u32>,
     corners: Vec<[Vec3; 4]>,
+    /// Corner positions at the start of the step.
+    start: Vec<[Vec3; 4]>,
     bvh: Bvh,
 }
 
 impl<'a> MasterSurface<'a> {
-    /// `position(global node)` gives the current position of any node of the pair.
+    /// Every face of the pair; `position(global node)` gives the current position of any
+    /// node of the pair.
     pub fn new(pair: &'a ContactPair, position: impl Fn(u32) -> Vec3) -> Self {
         let corners: Vec<[Vec3; 4]> = pair
             .face_nodes
             .iter()
             .map(|f| std::array::from_fn(|a| position(f[a])))
+            .collect();
+        let faces = (0..corners.len() as u32).collect();
+        Self::from_faces(pair, faces, corners.clone(), corners)
+    }
+
+    /// The given faces (ascending indices in the pair) with their current corner positions
+    /// and those at the start of the step.
+    pub fn from_faces(
+        pair: &'a ContactPair,
+        faces: Vec<u32>,
+        corners: Vec<[Vec3; 4]>,
+        start: Vec<[Vec3; 4]>,
+    ) -> Self {
+        let index = faces
+            .iter()
+            .enumerate()
+            .map(|(k, &f)| (f, k as u32))
             .collect();
         let pad = pair.normal_tolerance.max(pair.tangential_tolerance);
         let aabbs: Vec<Aabb> = corners
@@ -60,35 +86,51 @@ impl<'a> MasterSurface<'a> {
             })
             .collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
-        MasterSurface { pair, corners, bvh }
+        MasterSurface {
+            pair,
+            faces,
+            index,
+            corners,
+            start,
+            bvh,
+        }
+    }
+
+    /// Number of faces held.
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Current and step-start corner positions of a face (index in the pair), if held.
+    pub fn face_corners(&self, face: u32) -> Option<(&[Vec3; 4], &[Vec3; 4])> {
+        self.index
+            .get(&face)
+            .map(|&k| (&self.corners[k as usize], &self.start[k as usize]))
     }
 
     /// The interaction of a slave node at `x`, if it is within the search tolerances.
     pub fn search(&self, x: &Vec3) -> Option<Interaction> {
         let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
-        let mut best: Option<(f64, Interaction)> = None;
-        for f in self.bvh.intersect_aabb(&probe) {
-            let Some((dist, it)) = self.project_on(f, x) else {
-                continue;
-            };
-            let better = match &best {
-                None => true,
-                Some((d, b)) => {
-                    dist < *d - 1e-12 * self.pair.face_size
-                        || (dist <= *d + 1e-12 * self.pair.face_size && f < b.face)
-                }
-            };
-            if better {
-                best = Some((dist, it));
-            }
-        }
-        best.map(|(_, it)| it)
+        let candidates: Vec<(f64, Interaction)> = self
+            .bvh
+            .intersect_aabb(&probe)
+            .filter_map(|k| self.project_on(k, x))
+            .collect();
+        // The nearest face; faces within round-off of it go to the lowest index, so the
+        // choice depends neither on traversal order nor on which other faces are held.
+        let nearest = candidates.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+        candidates
+            .into_iter()
+            .filter(|c| c.0 <= nearest + 1e-12 * self.pair.face_size)
+            .min_by_key(|c| c.1.face)
+            .map(|(_, it)| it)
     }
 
     /// Projection onto one face: (distance to the face, interaction), or None outside the
     /// tolerances.
-    fn project_on(&self, f: u32, x: &Vec3) -> Option<(f64, Interaction)> {
-        let c = &self.corners[f as usize];
+    fn project_on(&self, k: u32, x: &Vec3) -> Option<(f64, Interaction)> {
+        let f = self.faces[k as usize];
+        let c = &self.corners[k as usize];
         let (s, ok) = closest_point(c, x);
         if !ok {
             return None;
@@ -103,7 +145,7 @@ impl<'a> MasterSurface<'a> {
             return None;
         }
         let n = match self.pair.smoothing_width {
-            Some(w) => self.smoothed_normal(f, &clamped, &n_face, w),
+            Some(w) => self.smoothed_normal(k, &clamped, &n_face, w),
             None => n_face,
         };
         let gap = dot(&d, &n);
@@ -121,7 +163,8 @@ impl<'a> MasterSurface<'a> {
     /// Within `w` (fraction of the face size) of an edge shared with another master face,
     /// the normal blends continuously from this face's to the average of the two at the
     /// edge; near a corner the two edges are blended in turn.
-    fn smoothed_normal(&self, f: u32, s: &[f64; 2], n_face: &Vec3, w: f64) -> Vec3 {
+    fn smoothed_normal(&self, k: u32, s: &[f64; 2], n_face: &Vec3, w: f64) -> Vec3 {
+        let f = self.faces[k as usize];
         let mut n = *n_face;
         // (local coordinate index, sign) -> edge index: t=-1: 0, s=+1: 1, t=+1: 2, s=-1: 3.
         for (i, edge_pos, edge_neg) in [(0usize, 1usize, 3usize), (1, 2, 0)] {
@@ -134,8 +177,14 @@ impl<'a> MasterSurface<'a> {
             let Some((g, _)) = self.pair.neighbours[f as usize][edge] else {
                 continue;
             };
-            let cg = &self.corners[g as usize];
-            let xe = interpolate(&self.corners[f as usize], &face::shape(s[0], s[1]));
+            // A rank holds the faces around its slave nodes' region with a margin of a
+            // face size, so the neighbour of a face in reach is held.
+            let Some(&kg) = self.index.get(&g) else {
+                debug_assert!(false, "neighbour face {g} of face {f} not held");
+                continue;
+            };
+            let cg = &self.corners[kg as usize];
+            let xe = interpolate(&self.corners[k as usize], &face::shape(s[0], s[1]));
             let (sg, _) = closest_point(cg, &xe);
             let sg = [sg[0].clamp(-1.0, 1.0), sg[1].clamp(-1.0, 1.0)];
             let ng = normal(cg, &sg);
@@ -161,7 +210,8 @@ impl<'a> MasterSurface<'a> {
     }
 
     /// Current position of a contact point.
-    pub fn point(&self, face: u32, s: &[f64; 2]) -> Vec3 {
-        interpolate(&self.corners[face as usize], &face::shape(s[0], s[1]))
+    pub fn point(&self, face: u32, s: &[f64; 2]) -> Option<Vec3> {
+        self.face_corners(face)
+            .map(|(c, _)| interpolate(c, &face::shape(s[0], s[1])))
     }
 }

@@ -4,11 +4,14 @@
 //! again, and captures penetrating nodes (push) or nodes within the capture tolerance
 //! (pull). Gap removal happens when the new constraint rows are imposed.
 
-use super::search::{Interaction, MasterSurface};
+use super::ghost;
+use super::search::Interaction;
+use crate::comm::{self, Comm};
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use crate::solver::constraints::{Constraints, Row, RowKind, RowSpec};
+use std::collections::{HashMap, HashSet};
 
 /// A gap more negative than this fraction of the face size is a penetration; closer to
 /// zero it is round-off of a node that sits on the surface.
@@ -101,22 +104,18 @@ impl ContactState {
         &self.released
     }
 
-    /// Constraint rows of every active constraint (normal first, then the tangents of a
-    /// sticking node), in the order of `active`.
+    /// Constraint rows of the active constraints whose slave node this rank owns (normal
+    /// first, then the tangents of a sticking node), in the order of `active`.
     pub fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
         let mut out = Vec::new();
         for (k, a) in self.active.iter().enumerate() {
             let pair = &problem.contacts[a.pair];
-            let Some(slave) = mesh.local_node(a.slave) else {
+            let Some(slave) = mesh.owned_node(a.slave) else {
                 continue;
             };
             let nodes = pair.face_nodes[a.face as usize];
             let w = crate::fem::face::shape(a.s[0], a.s[1]);
-            let masters: Vec<(usize, f64)> = nodes
-                .iter()
-                .zip(w.iter())
-                .map(|(&m, &wj)| (mesh.local_node(m).expect("master nodes are local"), wj))
-                .collect();
+            let masters: Vec<(u32, f64)> = nodes.iter().copied().zip(w).collect();
             // Reference offset of the slave from its master point; the rows make the
             // current offset zero along each direction.
             let mut xm = [0.0; 3];
@@ -150,7 +149,8 @@ impl ContactState {
         out
     }
 
-    /// Friction forces of slipping nodes on slave and master nodes, added to `extra`.
+    /// Friction forces of slipping nodes on slave and master nodes, added to `extra` (on
+    /// every local node, each summed in the order of `active`).
     pub fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, extra: &mut [Vec3]) {
         for a in &self.active {
             let Mode::Slip { dir, magnitude } = a.mode else {
@@ -171,15 +171,23 @@ impl ContactState {
     }
 
     /// Reads each active constraint's forces from the row multipliers of the last model
-    /// problem (force on the slave = sum of multiplier times row direction).
-    pub fn read_forces(&mut self, mesh: &LocalMesh, cons: &Constraints, multipliers: &[f64]) {
+    /// problem (force on the slave = sum of multiplier times row direction) on the slave's
+    /// rank, and shares them with every rank. Collective.
+    pub fn read_forces<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        mesh: &LocalMesh,
+        cons: &Constraints,
+        multipliers: &[f64],
+    ) {
         for a in self.active.iter_mut() {
             a.normal_force = 0.0;
             a.tangential_force = [0.0; 3];
         }
         let mut seen = vec![false; self.active.len()];
+        let mut mine = Vec::new();
         for a in 0..self.active.len() {
-            let Some(s) = mesh.local_node(self.active[a].slave) else {
+            let Some(s) = mesh.owned_node(self.active[a].slave) else {
                 continue;
             };
             if seen[a] {
@@ -191,7 +199,10 @@ impl ContactState {
                     component,
                 } = row.kind
                 {
-                    seen[constraint] = true;
+                    if !seen[constraint] {
+                        seen[constraint] = true;
+                        mine.push(constraint);
+                    }
                     let m = multipliers[i];
                     let act = &mut self.active[constraint];
                     if component == 0 {
@@ -202,41 +213,76 @@ impl ContactState {
                 }
             }
         }
+        if comm.size() == 1 {
+            return;
+        }
+        let mut words = Vec::with_capacity(5 * mine.len());
+        for &k in &mine {
+            let a = &self.active[k];
+            words.extend([k as f64, a.normal_force]);
+            words.extend(a.tangential_force);
+        }
+        for part in comm.all_gather_f64(&words) {
+            for w in part.chunks_exact(5) {
+                let a = &mut self.active[w[0] as usize];
+                a.normal_force = w[1];
+                a.tangential_force = [w[2], w[3], w[4]];
+            }
+        }
     }
 
     /// Captures, before a model problem, nodes that penetrate or touch (within the capture
     /// tolerance) at the predicted configuration, so a body held only by contact is not
-    /// left unconstrained. Returns whether any node was added.
-    pub fn capture(&mut self, problem: &Problem, position: &dyn Fn(u32) -> Vec3) -> bool {
+    /// left unconstrained. Returns whether any node was added. Collective.
+    pub fn capture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> bool {
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
+        let released = self.released_set();
+        let existing: HashSet<(u32, usize)> =
+            self.active.iter().map(|a| (a.slave, a.pair)).collect();
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
-            let surface = MasterSurface::new(pair, position);
             for &s in &pair.slave_nodes {
-                if self.active.iter().any(|a| a.slave == s && a.pair == p) {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                if existing.contains(&(s, p)) {
                     continue;
                 }
-                if let Some(it) = surface.search(&position(s)) {
-                    let released = self.released.contains(&(s, p));
+                if let Some(it) = surfaces[p].search(&ghost::position(problem, mesh, u, l)) {
                     let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                    if penetrates || (it.gap <= pair.capture_tolerance && !released) {
+                    if penetrates
+                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
+                    {
                         self.active.push(new_active(p, s, &it, pair.mu));
                         changed = true;
                     }
                 }
             }
         }
-        self.active.sort_by_key(|a| (a.slave, a.pair));
-        changed
+        self.share(comm, mesh);
+        comm::any(comm, changed)
     }
 
-    /// One contact update at the current displacement. Returns whether the constraint set
-    /// changed (a node added, released, switched between stick and slip, or moved to another
-    /// face). `force_tol` is the force below which a tensile or tangential force is noise.
-    pub fn update(
+    /// One contact update at the current displacement `u` (`start`: at the start of the
+    /// step). Returns whether the constraint set changed (a node added, released, switched
+    /// between stick and slip, or moved to another face). `force_tol` is the force below
+    /// which a tensile or tangential force is noise. Release and the switch to slip follow
+    /// from the shared forces on every rank; the reversal of slip and the search are done
+    /// for the slave nodes a rank owns, and the results are shared. Collective.
+    #[allow(clippy::too_many_arguments)]
+    pub fn update<C: Comm + ?Sized>(
         &mut self,
+        comm: &C,
         problem: &Problem,
-        position: &dyn Fn(u32) -> Vec3,
-        step_start: &dyn Fn(u32) -> Vec3,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        start: &[Vec3],
         force_tol: f64,
     ) -> bool {
         let mut changed = false;
@@ -253,6 +299,7 @@ impl ContactState {
             }
         }
         self.active = kept;
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
         // node that moved against its friction force sticks again.
         for a in self.active.iter_mut() {
@@ -272,13 +319,18 @@ impl ContactState {
                     }
                 }
                 Mode::Slip { dir, .. } => {
+                    let Some(l) = mesh.owned_node(a.slave) else {
+                        continue;
+                    };
                     // The slip since the start of the step, relative to the master point: a
                     // node that moved along its friction force has reversed and sticks.
-                    let nodes = pair.face_nodes[a.face as usize];
+                    let (now, then) = surfaces[a.pair]
+                        .face_corners(a.face)
+                        .expect("the face a slave node touches is held by its rank");
                     let w = crate::fem::face::shape(a.s[0], a.s[1]);
-                    let mut d = sub(&position(a.slave), &step_start(a.slave));
-                    for (j, &m) in nodes.iter().enumerate() {
-                        d = sub(&d, &scale(&sub(&position(m), &step_start(m)), w[j]));
+                    let mut d = sub(&u[l], &start[l]);
+                    for j in 0..4 {
+                        d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
                     }
                     let slip = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
                     // The friction direction stays the one chosen at the onset of slip (see
@@ -295,14 +347,24 @@ impl ContactState {
                 }
             }
         }
-        // Search from the current configuration.
+        // Search from the current configuration, for the owned slave nodes.
+        let mut index: HashMap<(u32, usize), usize> = HashMap::new();
+        for (k, a) in self.active.iter().enumerate() {
+            if mesh.owned_node(a.slave).is_some() {
+                index.insert((a.slave, a.pair), k);
+            }
+        }
+        let released = self.released_set();
+        let mut gone = vec![false; self.active.len()];
+        let mut added = Vec::new();
         for (p, pair) in problem.contacts.iter().enumerate() {
-            let surface = MasterSurface::new(pair, position);
             for &s in &pair.slave_nodes {
-                let found = surface.search(&position(s));
-                let existing = self.active.iter().position(|a| a.slave == s && a.pair == p);
-                match (existing, found) {
-                    (Some(k), found) => {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                let found = surfaces[p].search(&ghost::position(problem, mesh, u, l));
+                match (index.get(&(s, p)), found) {
+                    (Some(&k), found) => {
                         let a = &mut self.active[k];
                         if a.mode == Mode::Stick {
                             continue;
@@ -324,10 +386,10 @@ impl ContactState {
                             }
                             None => {
                                 // Slid out of the search tolerances: no longer in contact.
-                                if !self.released.contains(&(s, p)) {
+                                if !released.contains(&(s, p)) {
                                     self.released.push((s, p));
                                 }
-                                self.active.remove(k);
+                                gone[k] = true;
                                 changed = true;
                             }
                         }
@@ -335,10 +397,11 @@ impl ContactState {
                     (None, Some(it)) => {
                         // A node released in this step is only pushed back if it clearly
                         // penetrates; at zero gap it is just leaving.
-                        let released = self.released.contains(&(s, p));
                         let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                        if penetrates || (it.gap <= pair.capture_tolerance && !released) {
-                            self.active.push(new_active(p, s, &it, pair.mu));
+                        if penetrates
+                            || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
+                        {
+                            added.push(new_active(p, s, &it, pair.mu));
                             changed = true;
                         }
                     }
@@ -346,22 +409,121 @@ impl ContactState {
                 }
             }
         }
-        self.active.sort_by_key(|a| (a.slave, a.pair));
-        changed
+        let mut k = 0;
+        self.active.retain(|_| {
+            k += 1;
+            !gone[k - 1]
+        });
+        self.active.extend(added);
+        self.share(comm, mesh);
+        comm::any(comm, changed)
     }
 
-    /// Signed gap of every slave node (None where the search finds no master face).
-    pub fn gaps(&self, problem: &Problem, position: &dyn Fn(u32) -> Vec3) -> Vec<(u32, f64)> {
+    /// Signed gap of every slave node this rank owns (None where the search finds no master
+    /// face). Collective.
+    pub fn gaps<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<(u32, f64)> {
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
         let mut out = Vec::new();
-        for pair in &problem.contacts {
-            let surface = MasterSurface::new(pair, position);
+        for (p, pair) in problem.contacts.iter().enumerate() {
             for &s in &pair.slave_nodes {
-                if let Some(it) = surface.search(&position(s)) {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                if let Some(it) = surfaces[p].search(&ghost::position(problem, mesh, u, l)) {
                     out.push((s, it.gap));
                 }
             }
         }
         out
+    }
+
+    fn released_set(&self) -> HashSet<(u32, usize)> {
+        self.released.iter().copied().collect()
+    }
+
+    /// Makes the state whole on every rank from each rank's entries for the slave nodes it
+    /// owns, ordered by (slave node, pair). Collective.
+    fn share<C: Comm + ?Sized>(&mut self, comm: &C, mesh: &LocalMesh) {
+        if comm.size() > 1 {
+            let mut words = Vec::new();
+            let mine = self
+                .active
+                .iter()
+                .filter(|a| mesh.owned_node(a.slave).is_some());
+            for a in mine.clone() {
+                encode(a, &mut words);
+            }
+            let released: Vec<f64> = self
+                .released
+                .iter()
+                .filter(|(s, _)| mesh.owned_node(*s).is_some())
+                .flat_map(|&(s, p)| [s as f64, p as f64])
+                .collect();
+            self.active = comm
+                .all_gather_f64(&words)
+                .iter()
+                .flat_map(|part| {
+                    part.chunks_exact(ACTIVE_WORDS)
+                        .map(decode)
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            self.released = comm
+                .all_gather_f64(&released)
+                .iter()
+                .flat_map(|part| {
+                    part.chunks_exact(2)
+                        .map(|w| (w[0] as u32, w[1] as usize))
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+        }
+        self.active.sort_by_key(|a| (a.slave, a.pair));
+        self.released.sort_unstable();
+        self.released.dedup();
+    }
+}
+
+/// Values per active constraint in a message.
+const ACTIVE_WORDS: usize = 17;
+
+fn encode(a: &Active, out: &mut Vec<f64>) {
+    let (tag, dir, magnitude) = match a.mode {
+        Mode::Free => (0.0, [0.0; 3], 0.0),
+        Mode::Stick => (1.0, [0.0; 3], 0.0),
+        Mode::Slip { dir, magnitude } => (2.0, dir, magnitude),
+    };
+    out.extend([a.pair as f64, a.slave as f64, a.face as f64, a.s[0], a.s[1]]);
+    out.extend(a.normal);
+    out.push(tag);
+    out.extend(dir);
+    out.extend([magnitude, a.normal_force]);
+    out.extend(a.tangential_force);
+}
+
+fn decode(w: &[f64]) -> Active {
+    Active {
+        pair: w[0] as usize,
+        slave: w[1] as u32,
+        face: w[2] as u32,
+        s: [w[3], w[4]],
+        normal: [w[5], w[6], w[7]],
+        mode: match w[8] as u8 {
+            0 => Mode::Free,
+            1 => Mode::Stick,
+            _ => Mode::Slip {
+                dir: [w[9], w[10], w[11]],
+                magnitude: w[12],
+            },
+        },
+        normal_force: w[13],
+        tangential_force: [w[14], w[15], w[16]],
     }
 }
 

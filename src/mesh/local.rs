@@ -7,7 +7,7 @@
 use super::GlobalMesh;
 use crate::comm::Comm;
 use crate::math::Vec3;
-use partition::RankPart;
+use partition::Decomposition;
 
 #[derive(Clone, Debug)]
 pub struct HaloPlan {
@@ -27,11 +27,14 @@ pub struct LocalMesh {
     pub element_owned: Vec<bool>,
     pub element_body: Vec<u32>,
     pub halo: HaloPlan,
+    /// Owning rank of every global node (contact constraints reach nodes of any rank).
+    node_owner: Vec<u32>,
     global_to_local: std::collections::HashMap<u32, u32>,
 }
 
 impl LocalMesh {
-    pub fn new(global: &GlobalMesh, part: &RankPart) -> Self {
+    pub fn new(global: &GlobalMesh, decomposition: &Decomposition, rank: usize) -> Self {
+        let part = decomposition.part(rank);
         let node_global = part.local_nodes();
         let global_to_local = part.global_to_local();
         let coords = node_global
@@ -69,8 +72,28 @@ impl LocalMesh {
                 send: map(&part.send),
                 recv: map(&part.recv),
             },
+            node_owner: decomposition.node_owner().to_vec(),
             global_to_local,
         }
+    }
+
+    /// The rank that owns a global node.
+    pub fn owner(&self, global: u32) -> usize {
+        self.node_owner[global as usize] as usize
+    }
+
+    /// Local index of a global node owned by this rank.
+    pub fn owned_node(&self, global: u32) -> Option<usize> {
+        self.local_node(global)
+            .filter(|&l| l < self.num_owned_nodes)
+    }
+
+    /// Local index of a global element owned by this rank.
+    pub fn owned_element(&self, global: u32) -> Option<usize> {
+        self.element_global
+            .binary_search(&global)
+            .ok()
+            .filter(|&e| self.element_owned[e])
     }
 
     pub fn num_nodes(&self) -> usize {

@@ -183,11 +183,17 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
 }
 
 /// r = T^T (f_ext - f_int): the residual in the constrained (free) variables.
-fn residual(cons: &Constraints, fi: &[Vec3], fe: &[Vec3], r: &mut [Vec3]) {
+fn residual<C: Comm + ?Sized>(
+    comm: &C,
+    cons: &Constraints,
+    fi: &[Vec3],
+    fe: &[Vec3],
+    r: &mut [Vec3],
+) {
     for a in 0..r.len() {
         r[a] = crate::math::sub(&fe[a], &fi[a]);
     }
-    cons.reduce(r, None);
+    cons.reduce(comm, r, None);
 }
 
 impl Cg {
@@ -203,7 +209,7 @@ impl Cg {
         let nl = u.len();
         let linear = pb.asm.linear && !pb.loads.is_follower();
         pb.forces(u, &mut self.fi, &mut self.fe)?;
-        residual(pb.cons, &self.fi, &self.fe, &mut self.r);
+        residual(comm, pb.cons, &self.fi, &self.fe, &mut self.r);
         let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
         let floor = |_: &[Vec3]| s.reference_floor.max(s.stiffness_floor);
         let mut refv = reference.max(floor(u));
@@ -259,7 +265,7 @@ impl Cg {
             self.r_old.copy_from_slice(&self.r);
             // The search direction in the free variables, mapped to all displacements.
             self.pu.copy_from_slice(&self.p);
-            pb.cons.expand(&mut self.pu);
+            pb.cons.expand(comm, &mut self.pu);
             pb.asm.mesh.exchange(comm, &mut self.pu);
 
             if linear {
@@ -274,7 +280,7 @@ impl Cg {
                         u[a][i] += alpha * self.pu[a][i];
                     }
                 }
-                pb.cons.reduce(&mut self.q, None);
+                pb.cons.reduce(comm, &mut self.q, None);
                 for a in 0..nl {
                     for i in 0..3 {
                         self.r[a][i] -= alpha * self.q[a][i];
@@ -286,7 +292,7 @@ impl Cg {
                 if maybe_done || since_true >= 50 {
                     // Replace the recurrence by the true residual.
                     pb.forces(u, &mut self.fi, &mut self.fe)?;
-                    residual(pb.cons, &self.fi, &self.fe, &mut self.r);
+                    residual(comm, pb.cons, &self.fi, &self.fe, &mut self.r);
                     let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
                     rnorm = rn;
                     refv = reference.max(floor(u));
@@ -372,7 +378,7 @@ impl Cg {
         u.copy_from_slice(&self.trial);
         std::mem::swap(&mut self.fi, &mut self.fi_trial);
         std::mem::swap(&mut self.fe, &mut self.fe_trial);
-        residual(pb.cons, &self.fi, &self.fe, &mut self.r);
+        residual(pb.comm, pb.cons, &self.fi, &self.fe, &mut self.r);
         Ok(())
     }
 
@@ -384,7 +390,7 @@ impl Cg {
         u: &[Vec3],
     ) -> Result<(), SolveFailure> {
         agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
-        pb.cons.precondition_blocks(&mut self.diag);
+        pb.cons.precondition_blocks(pb.comm, &mut self.diag);
         for a in 0..u.len() {
             let m = &self.diag[a];
             let (inv, det) = inverse(m);
@@ -407,7 +413,7 @@ impl Cg {
         for a in 0..self.q.len() {
             self.q[a] = crate::math::sub(&self.fe[a], &self.fi[a]);
         }
-        pb.cons.reduce(&mut self.q, Some(out));
+        pb.cons.reduce(pb.comm, &mut self.q, Some(out));
     }
 }
 

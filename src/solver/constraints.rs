@@ -12,11 +12,24 @@
 //! first, so a node fixed in every direction by Dirichlet conditions carries no contact
 //! force and cannot slip).
 //!
-//! Nodes are processed in order of dependency depth (a master node that is itself a slave
-//! elsewhere is resolved first), so T is a product of node-local maps and T^T applies their
-//! transposes in reverse order.
+//! Every rank holds the rows of the constrained nodes it owns; a master node may be owned
+//! by another rank. Nodes are processed in levels of dependency depth (a master node that
+//! is itself constrained is resolved first), so T is a product of node-local maps and T^T
+//! applies their transposes in reverse order. Between levels, master values are fetched
+//! from their owners (T) and the force each tie passes to a master node is pushed to the
+//! master's owner (T^T). A node sums the forces it receives in the order of (slave node,
+//! row, master) global keys, whichever rank they come from: the result is bitwise the same
+//! on any number of ranks.
 
+use crate::comm::{self, Comm};
 use crate::math::{dot, matvec, Mat3, Vec3, IDENTITY};
+use crate::mesh::local::LocalMesh;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::ops::Range;
+
+/// Chains of constrained nodes deeper than this are circular dependencies.
+const MAX_DEPTH: usize = 64;
 
 /// What a row stands for, so forces can be reported per constraint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,20 +46,35 @@ pub struct Row {
     pub dir: Vec3,
     /// Fixed part of the right-hand side.
     pub value: f64,
-    /// Master nodes (local indices) and weights.
-    pub masters: Vec<(usize, f64)>,
+    /// Master nodes (global ids, on any rank) and weights.
+    pub masters: Vec<(u32, f64)>,
     pub kind: RowKind,
 }
 
 /// A row as given, before the independent subset is chosen.
 pub struct RowSpec {
+    /// Local index of the constrained node; it must be owned by this rank.
     pub node: usize,
     pub row: Row,
 }
 
+/// Where a master value lives: an owned local node or a slot of the fetched values.
+#[derive(Clone, Copy, Debug)]
+enum Src {
+    Local(u32),
+    Remote(u32),
+}
+
 struct NodeRows {
     node: usize,
+    global: u32,
     rows: Vec<Row>,
+    /// Per row, per master: where its value is.
+    refs: Vec<Vec<Src>>,
+    /// Per row, per master: the slot of the force this tie passes to the master.
+    out: Vec<Vec<u32>>,
+    /// Slots of the forces this node receives, in key order (a range of `incoming`).
+    incoming: Range<usize>,
     /// Inverse of the Gram matrix of the kept rows (leading k x k block).
     ginv: Mat3,
     proj: Mat3,
@@ -54,34 +82,180 @@ struct NodeRows {
     first: usize,
 }
 
+/// A point-to-point exchange: entries `send[r]` of a source array go to rank r, which
+/// writes them to the entries `recv[r]` of its destination array.
+#[derive(Default)]
+struct Plan {
+    send: Vec<(usize, Vec<u32>)>,
+    recv: Vec<(usize, Vec<u32>)>,
+}
+
+impl Plan {
+    fn is_empty(&self) -> bool {
+        self.send.is_empty() && self.recv.is_empty()
+    }
+
+    fn messages<const K: usize>(&self, src: &[[f64; K]]) -> Vec<(usize, Vec<f64>)> {
+        self.send
+            .iter()
+            .map(|(r, idx)| (*r, idx.iter().flat_map(|&i| src[i as usize]).collect()))
+            .collect()
+    }
+
+    fn deliver<const K: usize, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        send: Vec<(usize, Vec<f64>)>,
+        dst: &mut [[f64; K]],
+    ) {
+        let mut recv: Vec<(usize, Vec<f64>)> = self
+            .recv
+            .iter()
+            .map(|(r, idx)| (*r, vec![0.0; K * idx.len()]))
+            .collect();
+        comm.exchange(&send, &mut recv);
+        for ((_, idx), (_, buf)) in self.recv.iter().zip(&recv) {
+            for (k, &i) in idx.iter().enumerate() {
+                dst[i as usize].copy_from_slice(&buf[K * k..K * (k + 1)]);
+            }
+        }
+    }
+
+    fn run<const K: usize, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        src: &[[f64; K]],
+        dst: &mut [[f64; K]],
+    ) {
+        if !self.is_empty() {
+            let send = self.messages(src);
+            self.deliver(comm, send, dst);
+        }
+    }
+
+    fn run_in_place<const K: usize, C: Comm + ?Sized>(&self, comm: &C, buf: &mut [[f64; K]]) {
+        if !self.is_empty() {
+            let send = self.messages(buf);
+            self.deliver(comm, send, buf);
+        }
+    }
+}
+
+struct Level {
+    /// Range of `Constraints::nodes`.
+    nodes: Range<usize>,
+    /// Master values this level reads from other ranks.
+    fetch: Plan,
+    /// Forces this level's ties pass to masters on other ranks.
+    push: Plan,
+}
+
+#[derive(Default)]
+struct Scratch {
+    remote: Vec<Vec3>,
+    force: Vec<Vec3>,
+    block: Vec<[f64; 9]>,
+}
+
 pub struct Constraints {
-    /// In dependency order (depth, then local node index).
+    /// Owned constrained nodes in dependency order (level, then global id).
     nodes: Vec<NodeRows>,
-    /// Position in `nodes` by local node, usize::MAX when free.
+    /// Position in `nodes` by local node, usize::MAX when free or not owned.
     slot: Vec<usize>,
     num_rows: usize,
+    levels: Vec<Level>,
+    /// Force slots received by each node, grouped by node in key order.
+    incoming: Vec<u32>,
+    /// Owned unconstrained nodes that receive forces, with their range of `incoming`.
+    free_incoming: Vec<(usize, Range<usize>)>,
+    num_remote: usize,
+    num_slots: usize,
+    scratch: RefCell<Scratch>,
     /// Rows dropped as redundant with earlier rows on their node.
     pub dropped: Vec<(usize, RowKind)>,
 }
 
-/// A circular master/slave dependency between constrained nodes.
+/// A circular master/slave dependency between constrained nodes (a global node id).
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CircularDependency(pub usize);
+pub struct CircularDependency(pub u32);
+
+/// Asks the owners of the given remote nodes for their values: returns the plan that
+/// fetches them into `slots`. Collective.
+fn fetch_plan<C: Comm + ?Sized>(comm: &C, mesh: &LocalMesh, wanted: &[(u32, u32)]) -> Plan {
+    let size = comm.size();
+    let mut by_rank: Vec<Vec<u32>> = vec![Vec::new(); size];
+    let mut request: Vec<Vec<f64>> = vec![Vec::new(); size];
+    for &(global, slot) in wanted {
+        let r = mesh.owner(global);
+        by_rank[r].push(slot);
+        request[r].push(global as f64);
+    }
+    let asked = comm.all_to_all_f64(&request);
+    let mut plan = Plan::default();
+    for (r, ids) in asked.into_iter().enumerate() {
+        if !ids.is_empty() {
+            let local = ids
+                .iter()
+                .map(|&g| {
+                    mesh.owned_node(g as u32)
+                        .expect("a node is requested from its owner") as u32
+                })
+                .collect();
+            plan.send.push((r, local));
+        }
+    }
+    for (r, slots) in by_rank.into_iter().enumerate() {
+        if !slots.is_empty() {
+            plan.recv.push((r, slots));
+        }
+    }
+    plan
+}
 
 impl Constraints {
-    /// Builds the constraint set; rows are taken per node in the order given.
-    pub fn new(num_nodes: usize, specs: Vec<RowSpec>) -> Result<Self, CircularDependency> {
+    /// No constraints on this mesh. Collective only in name: no communication.
+    pub fn none(mesh: &LocalMesh) -> Self {
+        Constraints {
+            nodes: Vec::new(),
+            slot: vec![usize::MAX; mesh.num_nodes()],
+            num_rows: 0,
+            levels: Vec::new(),
+            incoming: Vec::new(),
+            free_incoming: Vec::new(),
+            num_remote: 0,
+            num_slots: 0,
+            scratch: RefCell::new(Scratch::default()),
+            dropped: Vec::new(),
+        }
+    }
+
+    /// Builds the constraint set from the rows of this rank's owned nodes; rows are taken
+    /// per node in the order given. Collective: every rank calls it together.
+    pub fn new<C: Comm + ?Sized>(
+        comm: &C,
+        mesh: &LocalMesh,
+        specs: Vec<RowSpec>,
+    ) -> Result<Self, CircularDependency> {
+        let num_nodes = mesh.num_nodes();
         let mut slot = vec![usize::MAX; num_nodes];
         let mut nodes: Vec<NodeRows> = Vec::new();
         let mut bases: Vec<Vec<Vec3>> = Vec::new();
         let mut dropped = Vec::new();
         for spec in specs {
             let l = spec.node;
+            assert!(
+                l < mesh.num_owned_nodes,
+                "constraint rows are given on owned nodes"
+            );
             if slot[l] == usize::MAX {
                 slot[l] = nodes.len();
                 nodes.push(NodeRows {
                     node: l,
+                    global: mesh.node_global[l],
                     rows: Vec::new(),
+                    refs: Vec::new(),
+                    out: Vec::new(),
+                    incoming: 0..0,
                     ginv: [[0.0; 3]; 3],
                     proj: IDENTITY,
                     first: 0,
@@ -105,6 +279,9 @@ impl Constraints {
                 dropped.push((l, spec.row.kind));
             }
         }
+        // Where each master's value lives.
+        let mut remote: HashMap<u32, u32> = HashMap::new();
+        let mut remote_global: Vec<u32> = Vec::new();
         for (s, nr) in nodes.iter_mut().enumerate() {
             let mut p = IDENTITY;
             for q in &bases[s] {
@@ -123,58 +300,197 @@ impl Constraints {
                 }
             }
             nr.ginv = invert_small(&g, k);
+            nr.refs = nr
+                .rows
+                .iter()
+                .map(|row| {
+                    row.masters
+                        .iter()
+                        .map(|&(m, _)| match mesh.owned_node(m) {
+                            Some(l) => Src::Local(l as u32),
+                            None => Src::Remote(*remote.entry(m).or_insert_with(|| {
+                                remote_global.push(m);
+                                remote_global.len() as u32 - 1
+                            })),
+                        })
+                        .collect()
+                })
+                .collect();
         }
-        // Dependency depth: a node tied to masters that are themselves constrained by
-        // contact comes after them.
+        let num_remote = remote_global.len();
+
+        // Dependency depth: a node tied to masters that are themselves constrained comes
+        // after them. Each owner publishes its nodes' depths (-1 when free) and the slaves
+        // read their masters' until nothing changes anywhere.
+        let everything: Vec<(u32, u32)> = remote_global
+            .iter()
+            .enumerate()
+            .map(|(k, &g)| (g, k as u32))
+            .collect();
+        let all = fetch_plan(comm, mesh, &everything);
         let mut depth = vec![0usize; nodes.len()];
-        let limit = nodes.len() + 1;
-        for _ in 0..limit {
+        let mut own = vec![[-1.0f64]; mesh.num_owned_nodes];
+        let mut far = vec![[-1.0f64]; num_remote];
+        for iteration in 0.. {
+            for (s, nr) in nodes.iter().enumerate() {
+                own[nr.node] = [depth[s] as f64];
+            }
+            all.run(comm, &own, &mut far);
             let mut changed = false;
-            for s in 0..nodes.len() {
-                let mut d = 0;
-                for row in &nodes[s].rows {
-                    for &(m, _) in &row.masters {
-                        let ms = slot[m];
-                        // Any constrained master is resolved first: its value is imposed
-                        // before the slave reads it, and its residual projected after the
-                        // slave has passed its force on.
-                        if ms != usize::MAX && ms != s {
-                            d = d.max(depth[ms] + 1);
+            for (s, nr) in nodes.iter().enumerate() {
+                let mut d = 0usize;
+                for refs in &nr.refs {
+                    for src in refs {
+                        let v = match *src {
+                            Src::Local(l) if l as usize == nr.node => -1.0,
+                            Src::Local(l) => own[l as usize][0],
+                            Src::Remote(k) => far[k as usize][0],
+                        };
+                        if v >= 0.0 {
+                            d = d.max(v as usize + 1);
                         }
                     }
                 }
                 if d != depth[s] {
-                    if d > limit {
-                        return Err(CircularDependency(nodes[s].node));
-                    }
                     depth[s] = d;
                     changed = true;
                 }
             }
-            if !changed {
+            if !comm::any(comm, changed) {
                 break;
             }
+            if iteration >= MAX_DEPTH {
+                // Nodes on a cycle keep deepening; name the lowest such node everywhere.
+                let deep = nodes
+                    .iter()
+                    .zip(&depth)
+                    .filter(|(_, &d)| d > MAX_DEPTH / 2)
+                    .map(|(nr, _)| nr.global as i64)
+                    .min()
+                    .unwrap_or(i64::MAX);
+                let mut key = [deep];
+                comm.min_i64(&mut key);
+                return Err(CircularDependency(key[0] as u32));
+            }
         }
-        if depth.iter().any(|&d| d >= limit) {
-            let s = depth.iter().position(|&d| d >= limit).unwrap_or(0);
-            return Err(CircularDependency(nodes[s].node));
-        }
+        let local_levels = depth.iter().map(|&d| d + 1).max().unwrap_or(0);
+        let num_levels = comm::max_f64(comm, local_levels as f64) as usize;
+
+        // Order: level, then global id; the flat row numbering follows.
         let mut order: Vec<usize> = (0..nodes.len()).collect();
-        order.sort_by_key(|&s| (depth[s], nodes[s].node));
+        order.sort_by_key(|&s| (depth[s], nodes[s].global));
         let mut taken: Vec<Option<NodeRows>> = nodes.into_iter().map(Some).collect();
         let mut sorted = Vec::with_capacity(order.len());
         let mut first = 0;
+        let mut level_of = Vec::with_capacity(order.len());
         for &s in &order {
             let mut nr = taken[s].take().expect("each node once");
             nr.first = first;
             first += nr.rows.len();
             slot[nr.node] = sorted.len();
+            level_of.push(depth[s]);
             sorted.push(nr);
         }
+        let mut nodes = sorted;
+
+        // Per level: the remote masters it reads, and the forces its ties pass on. A force
+        // slot per (node, row, master); a received force gets a slot of its own.
+        let mut levels = Vec::with_capacity(num_levels);
+        let mut num_slots = 0usize;
+        // (target local node, key, slot)
+        let mut arrivals: Vec<(usize, (u32, u32, u32), u32)> = Vec::new();
+        for level in 0..num_levels {
+            let start = level_of.partition_point(|&d| d < level);
+            let end = level_of.partition_point(|&d| d <= level);
+            let mut wanted: Vec<(u32, u32)> = Vec::new();
+            let mut push: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
+            let mut push_slots: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
+            for nr in &mut nodes[start..end] {
+                let mut out = Vec::with_capacity(nr.rows.len());
+                for (i, (row, refs)) in nr.rows.iter().zip(&nr.refs).enumerate() {
+                    let mut row_out = Vec::with_capacity(refs.len());
+                    for (j, (&(m, _), src)) in row.masters.iter().zip(refs).enumerate() {
+                        let k = num_slots as u32;
+                        num_slots += 1;
+                        row_out.push(k);
+                        let key = (nr.global, i as u32, j as u32);
+                        match *src {
+                            Src::Local(l) => arrivals.push((l as usize, key, k)),
+                            Src::Remote(q) => {
+                                wanted.push((m, q));
+                                let r = mesh.owner(m);
+                                push[r].extend([
+                                    m as f64,
+                                    key.0 as f64,
+                                    key.1 as f64,
+                                    key.2 as f64,
+                                ]);
+                                push_slots[r].push(k);
+                            }
+                        }
+                    }
+                    out.push(row_out);
+                }
+                nr.out = out;
+            }
+            wanted.sort_unstable_by_key(|&(_, q)| q);
+            wanted.dedup();
+            let fetch = fetch_plan(comm, mesh, &wanted);
+            let received = comm.all_to_all_f64(&push);
+            let mut plan = Plan::default();
+            for (r, slots) in push_slots.into_iter().enumerate() {
+                if !slots.is_empty() {
+                    plan.send.push((r, slots));
+                }
+            }
+            for (r, msg) in received.into_iter().enumerate() {
+                if msg.is_empty() {
+                    continue;
+                }
+                let mut slots = Vec::with_capacity(msg.len() / 4);
+                for e in msg.chunks_exact(4) {
+                    let target = mesh
+                        .owned_node(e[0] as u32)
+                        .expect("a force is pushed to the master's owner");
+                    let k = num_slots as u32;
+                    num_slots += 1;
+                    slots.push(k);
+                    arrivals.push((target, (e[1] as u32, e[2] as u32, e[3] as u32), k));
+                }
+                plan.recv.push((r, slots));
+            }
+            levels.push(Level {
+                nodes: start..end,
+                fetch,
+                push: plan,
+            });
+        }
+        arrivals.sort_unstable_by_key(|&(t, key, _)| (t, key));
+        let incoming: Vec<u32> = arrivals.iter().map(|&(_, _, k)| k).collect();
+        let mut free_incoming = Vec::new();
+        let mut a = 0;
+        while a < arrivals.len() {
+            let t = arrivals[a].0;
+            let mut b = a;
+            while b < arrivals.len() && arrivals[b].0 == t {
+                b += 1;
+            }
+            match slot[t] {
+                usize::MAX => free_incoming.push((t, a..b)),
+                s => nodes[s].incoming = a..b,
+            }
+            a = b;
+        }
         Ok(Constraints {
-            nodes: sorted,
+            nodes,
             slot,
             num_rows: first,
+            levels,
+            incoming,
+            free_incoming,
+            num_remote,
+            num_slots,
+            scratch: RefCell::new(Scratch::default()),
             dropped,
         })
     }
@@ -187,13 +503,13 @@ impl Constraints {
         self.slot[local] != usize::MAX
     }
 
-    /// Projector onto the free directions of a constrained node.
+    /// Projector onto the free directions of an owned constrained node.
     pub fn projector(&self, local: usize) -> Option<&Mat3> {
         let s = self.slot[local];
         (s != usize::MAX).then(|| &self.nodes[s].proj)
     }
 
-    /// Rows of a node with their flat indices.
+    /// Rows of an owned node with their flat indices.
     pub fn rows(&self, local: usize) -> impl Iterator<Item = (usize, &Row)> {
         let s = self.slot[local];
         let nr = (s != usize::MAX).then(|| &self.nodes[s]);
@@ -205,83 +521,139 @@ impl Constraints {
         })
     }
 
-    /// u <- T u + g: every constrained node put on all of its rows (gap removal included).
-    pub fn impose(&self, u: &mut [Vec3]) {
-        self.apply(u, true);
+    /// u <- T u + g on the owned nodes (gap removal included), then the halo exchange:
+    /// every constrained node put on all of its rows. Collective.
+    pub fn impose<C: Comm + ?Sized>(&self, comm: &C, mesh: &LocalMesh, u: &mut [Vec3]) {
+        self.apply(comm, u, true);
+        mesh.exchange(comm, u);
     }
 
-    /// p <- T p: the homogeneous map, for search directions.
-    pub fn expand(&self, p: &mut [Vec3]) {
-        self.apply(p, false);
+    /// p <- T p on the owned nodes: the homogeneous map, for search directions. Ghost
+    /// values are left for the caller's halo exchange. Collective.
+    pub fn expand<C: Comm + ?Sized>(&self, comm: &C, p: &mut [Vec3]) {
+        self.apply(comm, p, false);
     }
 
-    fn apply(&self, u: &mut [Vec3], with_values: bool) {
-        for nr in &self.nodes {
-            let k = nr.rows.len();
-            let mut b = [0.0; 3];
-            for (i, row) in nr.rows.iter().enumerate() {
-                let mut v = if with_values { row.value } else { 0.0 };
-                for &(m, w) in &row.masters {
-                    v += w * dot(&row.dir, &u[m]);
-                }
-                b[i] = v;
-            }
-            let l = matvec(&nr.ginv, &b);
-            let mut x = matvec(&nr.proj, &u[nr.node]);
-            for i in 0..k {
-                for d in 0..3 {
-                    x[d] += l[i] * nr.rows[i].dir[d];
-                }
-            }
-            u[nr.node] = x;
-        }
-    }
-
-    /// r <- T^T r. When `multipliers` is given, row i's force coefficient is written to it:
-    /// the force the constraint exerts on its node is sum_i m_i c_i (positive along c_i).
-    pub fn reduce(&self, r: &mut [Vec3], mut multipliers: Option<&mut [f64]>) {
-        for nr in self.nodes.iter().rev() {
-            let k = nr.rows.len();
-            let rs = r[nr.node];
-            let mut c = [0.0; 3];
-            for i in 0..k {
-                c[i] = dot(&nr.rows[i].dir, &rs);
-            }
-            let mu = matvec(&nr.ginv, &c);
-            for (i, row) in nr.rows.iter().enumerate() {
-                for &(m, w) in &row.masters {
-                    for d in 0..3 {
-                        r[m][d] += w * mu[i] * row.dir[d];
+    fn apply<C: Comm + ?Sized>(&self, comm: &C, u: &mut [Vec3], with_values: bool) {
+        let mut scratch = self.scratch.borrow_mut();
+        scratch.remote.resize(self.num_remote, [0.0; 3]);
+        for level in &self.levels {
+            level.fetch.run(comm, u, &mut scratch.remote);
+            for nr in &self.nodes[level.nodes.clone()] {
+                let k = nr.rows.len();
+                let mut b = [0.0; 3];
+                for (i, (row, refs)) in nr.rows.iter().zip(&nr.refs).enumerate() {
+                    let mut v = if with_values { row.value } else { 0.0 };
+                    for (&(_, w), src) in row.masters.iter().zip(refs) {
+                        let um = match *src {
+                            Src::Local(l) => &u[l as usize],
+                            Src::Remote(q) => &scratch.remote[q as usize],
+                        };
+                        v += w * dot(&row.dir, um);
                     }
+                    b[i] = v;
                 }
-            }
-            if let Some(out) = multipliers.as_deref_mut() {
+                let l = matvec(&nr.ginv, &b);
+                let mut x = matvec(&nr.proj, &u[nr.node]);
                 for i in 0..k {
-                    out[nr.first + i] = -mu[i];
+                    for d in 0..3 {
+                        x[d] += l[i] * nr.rows[i].dir[d];
+                    }
                 }
+                u[nr.node] = x;
             }
-            r[nr.node] = matvec(&nr.proj, &rs);
         }
     }
 
-    /// Block-Jacobi preconditioner blocks in the constrained space, in place: a slave's
-    /// block becomes P D P + (I - P) d, and each tie adds the slave's stiffness along its
-    /// row to the master nodes (weighted by w^2), which the masters feel through T^T K T.
-    pub fn precondition_blocks(&self, d: &mut [Mat3]) {
-        for nr in self.nodes.iter() {
-            let ds = d[nr.node];
-            for row in &nr.rows {
-                if row.masters.is_empty() {
-                    continue;
-                }
-                let kc = dot(&row.dir, &matvec(&ds, &row.dir));
-                for &(m, w) in &row.masters {
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            d[m][i][j] += w * w * kc * row.dir[i] * row.dir[j];
-                        }
+    /// r <- T^T r on the owned nodes. When `multipliers` is given, row i's force
+    /// coefficient is written to it: the force the constraint exerts on its node is
+    /// sum_i m_i c_i (positive along c_i). Collective.
+    pub fn reduce<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        r: &mut [Vec3],
+        mut multipliers: Option<&mut [f64]>,
+    ) {
+        let mut scratch = self.scratch.borrow_mut();
+        scratch.force.resize(self.num_slots, [0.0; 3]);
+        let force = &mut scratch.force;
+        for level in self.levels.iter().rev() {
+            for nr in &self.nodes[level.nodes.clone()] {
+                for &k in &self.incoming[nr.incoming.clone()] {
+                    let f = force[k as usize];
+                    for d in 0..3 {
+                        r[nr.node][d] += f[d];
                     }
                 }
+                let k = nr.rows.len();
+                let rs = r[nr.node];
+                let mut c = [0.0; 3];
+                for i in 0..k {
+                    c[i] = dot(&nr.rows[i].dir, &rs);
+                }
+                let mu = matvec(&nr.ginv, &c);
+                for (i, row) in nr.rows.iter().enumerate() {
+                    for (&(_, w), &k) in row.masters.iter().zip(&nr.out[i]) {
+                        force[k as usize] = std::array::from_fn(|d| w * mu[i] * row.dir[d]);
+                    }
+                }
+                if let Some(out) = multipliers.as_deref_mut() {
+                    for i in 0..k {
+                        out[nr.first + i] = -mu[i];
+                    }
+                }
+                r[nr.node] = matvec(&nr.proj, &rs);
+            }
+            level.push.run_in_place(comm, force);
+        }
+        for (t, range) in &self.free_incoming {
+            for &k in &self.incoming[range.clone()] {
+                let f = force[k as usize];
+                for d in 0..3 {
+                    r[*t][d] += f[d];
+                }
+            }
+        }
+    }
+
+    /// Block-Jacobi preconditioner blocks in the constrained space, in place: each tie
+    /// adds the slave's stiffness along its row to the master nodes (weighted by w^2),
+    /// which the masters feel through T^T K T, and a constrained node's block becomes
+    /// P D P + (I - P) d. Collective.
+    pub fn precondition_blocks<C: Comm + ?Sized>(&self, comm: &C, d: &mut [Mat3]) {
+        let mut scratch = self.scratch.borrow_mut();
+        scratch.block.resize(self.num_slots, [0.0; 9]);
+        let block = &mut scratch.block;
+        let add = |m: &mut Mat3, b: &[f64; 9]| {
+            for i in 0..3 {
+                for j in 0..3 {
+                    m[i][j] += b[3 * i + j];
+                }
+            }
+        };
+        for level in self.levels.iter().rev() {
+            for nr in &self.nodes[level.nodes.clone()] {
+                for &k in &self.incoming[nr.incoming.clone()] {
+                    add(&mut d[nr.node], &block[k as usize]);
+                }
+                let ds = d[nr.node];
+                for (i, row) in nr.rows.iter().enumerate() {
+                    if row.masters.is_empty() {
+                        continue;
+                    }
+                    let kc = dot(&row.dir, &matvec(&ds, &row.dir));
+                    for (&(_, w), &k) in row.masters.iter().zip(&nr.out[i]) {
+                        block[k as usize] = std::array::from_fn(|ij| {
+                            w * w * kc * row.dir[ij / 3] * row.dir[ij % 3]
+                        });
+                    }
+                }
+            }
+            level.push.run_in_place(comm, block);
+        }
+        for (t, range) in &self.free_incoming {
+            for &k in &self.incoming[range.clone()] {
+                add(&mut d[*t], &block[k as usize]);
             }
         }
         for nr in &self.nodes {
@@ -329,6 +701,29 @@ fn invert_small(g: &Mat3, k: usize) -> Mat3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::comm::SerialComm;
+    use crate::mesh::GlobalMesh;
+    use partition::Decomposition;
+
+    /// One element's eight nodes on one rank (node i is global and local i).
+    fn mesh() -> LocalMesh {
+        let g = GlobalMesh {
+            coords: (0..8)
+                .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64])
+                .collect(),
+            elements: vec![[0, 1, 3, 2, 4, 5, 7, 6]],
+            element_body: vec![0],
+            bodies: Vec::new(),
+        };
+        let d = Decomposition::partition(8, &g.elements, 1).unwrap();
+        LocalMesh::new(&g, &d, 0)
+    }
+
+    fn pad(v: Vec<Vec3>) -> Vec<Vec3> {
+        let mut v = v;
+        v.resize(8, [0.0; 3]);
+        v
+    }
 
     fn dirichlet(node: usize, dir: Vec3, value: f64, k: usize) -> RowSpec {
         RowSpec {
@@ -347,16 +742,18 @@ mod tests {
         // u_x = 0 and u . n = -0.1 with n at 20 degrees from y: the node must satisfy both.
         let phi = 20f64.to_radians();
         let n = [-phi.sin(), phi.cos(), 0.0];
+        let m = mesh();
         let c = Constraints::new(
-            1,
+            &SerialComm,
+            &m,
             vec![
                 dirichlet(0, [1.0, 0.0, 0.0], 0.0, 0),
                 dirichlet(0, n, -0.1, 1),
             ],
         )
         .unwrap();
-        let mut u = vec![[0.3, 0.2, 0.1]];
-        c.impose(&mut u);
+        let mut u = pad(vec![[0.3, 0.2, 0.1]]);
+        c.impose(&SerialComm, &m, &mut u);
         assert!(u[0][0].abs() < 1e-15);
         assert!((dot(&u[0], &n) + 0.1).abs() < 1e-15);
         assert_eq!(u[0][2], 0.1);
@@ -394,23 +791,24 @@ mod tests {
                 },
             },
         ];
-        let c = Constraints::new(4, specs).unwrap();
-        let v: Vec<Vec3> = vec![
+        let m = mesh();
+        let c = Constraints::new(&SerialComm, &m, specs).unwrap();
+        let v: Vec<Vec3> = pad(vec![
             [0.1, -0.2, 0.3],
             [0.5, 0.4, -0.6],
             [0.7, 0.1, 0.2],
             [-0.3, 0.9, 0.8],
-        ];
-        let w: Vec<Vec3> = vec![
+        ]);
+        let w: Vec<Vec3> = pad(vec![
             [0.2, 0.3, -0.1],
             [-0.4, 0.6, 0.5],
             [0.9, -0.8, 0.7],
             [0.1, 0.2, -0.3],
-        ];
+        ]);
         let mut tv = v.clone();
-        c.expand(&mut tv);
+        c.expand(&SerialComm, &mut tv);
         let mut ttw = w.clone();
-        c.reduce(&mut ttw, None);
+        c.reduce(&SerialComm, &mut ttw, None);
         let lhs: f64 = tv.iter().zip(&w).map(|(a, b)| dot(a, b)).sum();
         let rhs: f64 = v.iter().zip(&ttw).map(|(a, b)| dot(a, b)).sum();
         assert!((lhs - rhs).abs() < 1e-14, "{lhs} vs {rhs}");

@@ -7,7 +7,7 @@ use super::constraints::{Constraints, Row, RowKind, RowSpec};
 use super::loads::Loads;
 use crate::comm::Comm;
 use crate::contact::state::{ContactCounts, ContactState};
-use crate::math::{add, Vec3};
+use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::time::Instant;
@@ -95,7 +95,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             length_scale: problem.mesh.bounding_diagonal(),
             stiffness_scale: stiffness_scale(problem),
             contact: ContactState::default(),
-            cons: Constraints::new(n, Vec::new()).expect("no rows, no cycles"),
+            cons: Constraints::none(mesh),
             multipliers: Vec::new(),
             extra: Vec::new(),
         }
@@ -125,9 +125,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         t: f64,
         contact: &ContactState,
     ) -> Result<Constraints, SolveFailure> {
+        let owned = self.mesh.num_owned_nodes;
         let mut specs: Vec<RowSpec> = self
             .dirichlet
             .iter()
+            .filter(|d| d.0 < owned)
             .map(|&(node, dir, k)| RowSpec {
                 node,
                 row: Row {
@@ -139,24 +141,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             })
             .collect();
         specs.extend(contact.rows(self.problem, self.mesh));
-        Constraints::new(self.mesh.num_nodes(), specs).map_err(|c| {
+        Constraints::new(self.comm, self.mesh, specs).map_err(|c| {
             SolveFailure::Element(format!(
                 "circular master/slave dependency at node {}: a slave node is (through other contact pairs) its own master",
-                self.mesh.node_global[c.0] + 1
+                c.0 as u64 + 1
             ))
         })
-    }
-
-    /// Current position of a node by global id (serial contact search).
-    fn position_fn<'b>(
-        mesh: &'b LocalMesh,
-        problem: &'b Problem,
-        u: &'b [Vec3],
-    ) -> impl Fn(u32) -> Vec3 + 'b {
-        move |g: u32| {
-            let l = mesh.local_node(g).expect("contact nodes are local");
-            add(&problem.mesh.coords[g as usize], &u[l])
-        }
     }
 
     /// Advances to `target` (the end of load step `step`, 1-based), cutting back as needed.
@@ -221,13 +211,13 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         record.cutbacks = cutbacks as u64;
         record.contact = self.contact.counts();
         if !self.problem.contacts.is_empty() {
-            let position = Self::position_fn(self.mesh, self.problem, &self.u);
-            record.contact.max_penetration = self
+            let local = self
                 .contact
-                .gaps(self.problem, &position)
+                .gaps(self.comm, self.problem, self.mesh, &self.u)
                 .iter()
                 .map(|&(_, g)| -g)
                 .fold(0.0, f64::max);
+            record.contact.max_penetration = crate::comm::max_f64(self.comm, local);
         }
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
@@ -247,11 +237,14 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             max_iterations: self.problem.solver.max_iterations,
             reference_floor: self.reference_floor,
             length_scale: self.length_scale,
+            // Over the whole scene, not this rank's nodes: every rank judges alike.
             stiffness_floor: self.stiffness_scale
                 * self
+                    .problem
                     .dirichlet
                     .iter()
-                    .map(|&(_, _, k)| self.problem.dirichlet[k].function.eval(t).abs())
+                    .filter(|bc| !self.problem.node_sets[bc.node_set].nodes.is_empty())
+                    .map(|bc| bc.function.eval(t).abs())
                     .fold(0.0, f64::max),
         };
         let mut changed = true;
@@ -259,9 +252,8 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         if !self.problem.contacts.is_empty() {
             // Gap removal at the predicted configuration, before the first model problem.
             let cons = self.build_constraints(t, contact)?;
-            cons.impose(u);
-            let position = Self::position_fn(self.mesh, self.problem, u);
-            contact.capture(self.problem, &position);
+            cons.impose(self.comm, self.mesh, u);
+            contact.capture(self.comm, self.problem, self.mesh, u);
         }
         let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
         loop {
@@ -275,7 +267,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 }
             ];
             contact.friction_forces(self.problem, self.mesh, &mut extra);
-            cons.impose(u);
+            cons.impose(self.comm, self.mesh, u);
             let pb = ModelProblem {
                 comm: self.comm,
                 asm: &self.asm,
@@ -304,7 +296,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             let done = !self.problem.contacts.is_empty() && !changed && outcome.iterations == 0;
             if self.problem.contacts.is_empty() || done {
                 if !self.problem.contacts.is_empty() {
-                    contact.read_forces(self.mesh, &cons, &multipliers);
+                    contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
                 }
                 self.cons = cons;
                 self.multipliers = multipliers;
@@ -325,13 +317,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 };
                 return Err(SolveFailure::ContactNotSettled { updates, detail });
             }
-            contact.read_forces(self.mesh, &cons, &multipliers);
+            contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
-            let position = Self::position_fn(self.mesh, self.problem, u);
-            let start = Self::position_fn(self.mesh, self.problem, &self.u);
-            changed = contact.update(self.problem, &position, &start, force_tol);
+            changed = contact.update(self.comm, self.problem, self.mesh, u, &self.u, force_tol);
             updates += 1;
-            if std::env::var_os("SOLVER_DEBUG_CONTACT").is_some() {
+            if std::env::var_os("SOLVER_DEBUG_CONTACT").is_some() && self.comm.is_root() {
                 eprintln!(
                     "t = {t}: update {updates}: changed {changed}, CG {} iterations",
                     outcome.iterations

@@ -1,0 +1,129 @@
+//! Ghosted master faces: each rank searches only for the slave nodes it owns, against the
+//! master faces near them. The ranks exchange the bounding boxes of their slave nodes;
+//! the owner of each master face (the owner of its element) sends the face, with its
+//! corners' current and step-start positions, to every rank whose box it reaches within
+//! the search tolerance plus a face size (so that the neighbours of a face in reach, which
+//! normal smoothing reads, come too). Nothing is gathered onto every rank.
+
+use super::search::MasterSurface;
+use crate::comm::Comm;
+use crate::math::{add, norm, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+
+/// A received face: index in the pair, current and step-start corners.
+type GhostFace = (u32, [Vec3; 4], [Vec3; 4]);
+
+/// Values per face in a message: pair, face, 4 current and 4 step-start corners.
+const FACE_WORDS: usize = 2 + 24;
+
+/// Current positions of a rank's local nodes from the displacement.
+pub fn position(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], local: usize) -> Vec3 {
+    add(
+        &problem.mesh.coords[mesh.node_global[local] as usize],
+        &u[local],
+    )
+}
+
+/// The master surface of every pair as this rank needs it for its owned slave nodes, at
+/// displacement `u` (and `start` at the start of the step). Collective.
+pub fn surfaces<'p, C: Comm + ?Sized>(
+    comm: &C,
+    problem: &'p Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    start: &[Vec3],
+) -> Vec<MasterSurface<'p>> {
+    let npairs = problem.contacts.len();
+    // Bounding box of this rank's slave nodes per pair, and the largest face diameter.
+    let mut boxes = vec![0.0; 6 * npairs];
+    let mut diameter = vec![0.0; npairs];
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for &s in &pair.slave_nodes {
+            if let Some(l) = mesh.owned_node(s) {
+                let x = position(problem, mesh, u, l);
+                for i in 0..3 {
+                    lo[i] = lo[i].min(x[i]);
+                    hi[i] = hi[i].max(x[i]);
+                }
+            }
+        }
+        boxes[6 * p..6 * p + 3].copy_from_slice(&lo);
+        boxes[6 * p + 3..6 * p + 6].copy_from_slice(&hi);
+        for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
+            if mesh.owned_element(e).is_some() {
+                let c = corners(problem, mesh, u, &pair.face_nodes[f]);
+                let d = norm(&sub(&c[0], &c[2])).max(norm(&sub(&c[1], &c[3])));
+                diameter[p] = f64::max(diameter[p], d);
+            }
+        }
+    }
+    comm.max_f64(&mut diameter);
+    let all_boxes = comm.all_gather_f64(&boxes);
+    let mut send: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let pad = pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter[p];
+        for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
+            if mesh.owned_element(e).is_none() {
+                continue;
+            }
+            let c = corners(problem, mesh, u, &pair.face_nodes[f]);
+            let mut lo = [f64::INFINITY; 3];
+            let mut hi = [f64::NEG_INFINITY; 3];
+            for x in &c {
+                for i in 0..3 {
+                    lo[i] = lo[i].min(x[i]);
+                    hi[i] = hi[i].max(x[i]);
+                }
+            }
+            let mut words: Option<Vec<f64>> = None;
+            for (r, b) in all_boxes.iter().enumerate() {
+                let b = &b[6 * p..6 * p + 6];
+                let reaches = (0..3).all(|i| lo[i] <= b[3 + i] + pad && hi[i] >= b[i] - pad);
+                if reaches {
+                    let w = words.get_or_insert_with(|| {
+                        let s = corners(problem, mesh, start, &pair.face_nodes[f]);
+                        let mut w = vec![p as f64, f as f64];
+                        w.extend(c.iter().flatten());
+                        w.extend(s.iter().flatten());
+                        w
+                    });
+                    send[r].extend_from_slice(w);
+                }
+            }
+        }
+    }
+    let received = comm.all_to_all_f64(&send);
+    let mut faces: Vec<Vec<GhostFace>> = vec![Vec::new(); npairs];
+    for msg in &received {
+        for w in msg.chunks_exact(FACE_WORDS) {
+            let x = |k: usize| -> [Vec3; 4] {
+                std::array::from_fn(|a| std::array::from_fn(|i| w[2 + 12 * k + 3 * a + i]))
+            };
+            faces[w[0] as usize].push((w[1] as u32, x(0), x(1)));
+        }
+    }
+    problem
+        .contacts
+        .iter()
+        .zip(faces)
+        .map(|(pair, mut list)| {
+            list.sort_unstable_by_key(|f| f.0);
+            let ids = list.iter().map(|f| f.0).collect();
+            let current = list.iter().map(|f| f.1).collect();
+            let start = list.iter().map(|f| f.2).collect();
+            MasterSurface::from_faces(pair, ids, current, start)
+        })
+        .collect()
+}
+
+fn corners(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], nodes: &[u32; 4]) -> [Vec3; 4] {
+    std::array::from_fn(|a| {
+        let l = mesh
+            .local_node(nodes[a])
+            .expect("the nodes of an owned element are local");
+        position(problem, mesh, u, l)
+    })
+}
