@@ -5,7 +5,7 @@ use clap::{Parser, Subcommand};
 use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::post::{run_post, PostCommand};
 use solver::run::{run, RunOptions};
-use solver::scene::load_scene;
+use solver::scene::load_scene_refined;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -36,11 +36,18 @@ enum Command {
         /// Result file; default out/<scene name>.h5.
         #[arg(short, long)]
         output: Option<PathBuf>,
+        /// Multiply every body's element divisions by this factor (the scene is renamed
+        /// <name>_r<factor>).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+        refine: u32,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Check the scene refined by this factor.
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+        refine: u32,
     },
     /// Work with result files.
     #[command(subcommand)]
@@ -58,7 +65,7 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
-        Command::Check { scene } => match load_scene(&scene) {
+        Command::Check { scene, refine } => match load_scene_refined(&scene, refine) {
             Ok(p) => {
                 println!("{}", solver::problem::summary(&p));
                 ExitCode::SUCCESS
@@ -68,8 +75,12 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
-        Command::Run { scene, output } => with_comm(|comm| {
-            let loaded = load_scene(&scene);
+        Command::Run {
+            scene,
+            output,
+            refine,
+        } => with_comm(|comm| {
+            let loaded = load_scene_refined(&scene, refine);
             let err = loaded.as_ref().err().map(|e| e.to_string());
             if let Some(e) = solver::comm::first_error(comm, err) {
                 if comm.is_root() {
@@ -101,10 +112,11 @@ fn main() -> ExitCode {
                         if comm.is_root() && verbosity > 0 {
                             let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
                             eprintln!(
-                                "done: {} steps, {} CG iterations, {:.3} s; results in {}",
+                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank; results in {}",
                                 summary.steps.len(),
                                 iters,
                                 summary.wall_time,
+                                summary.peak_memory / (1024.0 * 1024.0),
                                 summary
                                     .output
                                     .as_ref()

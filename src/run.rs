@@ -31,6 +31,16 @@ pub struct RunSummary {
     pub output: Option<PathBuf>,
     /// Set when a step failed: the diagnostic (the result file then holds the steps before).
     pub failure: Option<String>,
+    /// Largest peak resident memory of any rank, bytes (0 where the system does not say).
+    pub peak_memory: f64,
+}
+
+/// This process's peak resident memory in bytes (Linux: VmHWM), if known.
+pub fn peak_memory() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
 }
 
 /// The final state on rank 0 in global order (for tests and the verification checks).
@@ -337,6 +347,7 @@ pub fn run<C: Comm + ?Sized>(
         bar.finish_and_clear();
     }
     let wall_time = start.elapsed().as_secs_f64();
+    let peak_memory = comm::max_f64(comm, peak_memory().unwrap_or(0.0));
     let mut output = None;
     if let Some(w) = writer {
         let r = match &failure {
@@ -357,6 +368,7 @@ pub fn run<C: Comm + ?Sized>(
             wall_time,
             output,
             failure,
+            peak_memory,
         },
         state,
     ))

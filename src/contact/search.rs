@@ -126,6 +126,20 @@ impl<'a> MasterSurface<'a> {
             .map(|(_, it)| it)
     }
 
+    /// The interaction of a slave node at `x` with the face it touches now (index in the
+    /// pair), if the node's projection lies on that face or beyond an edge by at most
+    /// `margin` (in local coordinates, which span 2 across the face) and within the normal
+    /// tolerance. A node in contact keeps its face while it sits on the edge to a neighbour,
+    /// instead of flipping between the two with the solver's round-off.
+    pub fn stay_on(&self, face: u32, x: &Vec3, margin: f64) -> Option<Interaction> {
+        let &k = self.index.get(&face)?;
+        let (s, ok) = closest_point(&self.corners[k as usize], x);
+        if !ok || s.iter().any(|v| v.abs() > 1.0 + margin) {
+            return None;
+        }
+        self.project_on(k, x).map(|(_, it)| it)
+    }
+
     /// Projection onto one face: (distance to the face, interaction), or None outside the
     /// tolerances.
     fn project_on(&self, k: u32, x: &Vec3) -> Option<(f64, Interaction)> {

@@ -17,6 +17,11 @@ use std::collections::{HashMap, HashSet};
 /// zero it is round-off of a node that sits on the surface.
 const PENETRATION_NOISE: f64 = 1e-10;
 
+/// How far (in face coordinates, which span 2) a node in contact may pass a face's edge
+/// and keep the face: enough to absorb the solver's round-off of a node sliding along an
+/// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
+const EDGE_HYSTERESIS: f64 = 1e-4;
+
 /// Tangential behaviour of an active constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Mode {
@@ -362,7 +367,11 @@ impl ContactState {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
                 };
-                let found = surfaces[p].search(&ghost::position(problem, mesh, u, l));
+                let x = ghost::position(problem, mesh, u, l);
+                let current = index.get(&(s, p)).map(|&k| self.active[k].face);
+                let found = current
+                    .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
+                    .or_else(|| surfaces[p].search(&x));
                 match (index.get(&(s, p)), found) {
                     (Some(&k), found) => {
                         let a = &mut self.active[k];

@@ -36,6 +36,12 @@ impl std::error::Error for SceneError {}
 pub const DEFAULT_HOURGLASS: f64 = 0.1;
 
 pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
+    load_scene_refined(path, 1)
+}
+
+/// Loads a scene with every body's divisions multiplied by `factor` (renamed
+/// `<name>_r<factor>` when the factor is above 1).
+pub fn load_scene_refined(path: &Path, factor: u32) -> Result<Problem, SceneError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SceneError {
         file: file.clone(),
@@ -46,7 +52,18 @@ pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
         .file_stem()
         .map(|s| s.to_string_lossy().to_string())
         .unwrap_or_else(|| "scene".into());
-    parse_scene(&text, &file, &default_name)
+    if factor == 1 {
+        return parse_scene(&text, &file, &default_name);
+    }
+    let refined =
+        super::refine::refine_scene_text(&text, factor, &default_name).map_err(|message| {
+            SceneError {
+                file: file.clone(),
+                key: String::new(),
+                message,
+            }
+        })?;
+    parse_scene(&refined, &file, &default_name)
 }
 
 pub fn parse_scene(text: &str, file: &str, default_name: &str) -> Result<Problem, SceneError> {
