@@ -48,6 +48,10 @@ enum Command {
         /// Check the scene refined by this factor.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
         refine: u32,
+        /// Also show how the mesh splits over this many MPI ranks: elements and nodes
+        /// owned and ghosted per rank, and the master faces each rank would hold.
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        ranks: Option<u32>,
     },
     /// Work with result files.
     #[command(subcommand)]
@@ -65,9 +69,22 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
-        Command::Check { scene, refine } => match load_scene_refined(&scene, refine) {
+        Command::Check {
+            scene,
+            refine,
+            ranks,
+        } => match load_scene_refined(&scene, refine) {
             Ok(p) => {
                 println!("{}", solver::problem::summary(&p));
+                if let Some(n) = ranks {
+                    match solver::run::decomposition_report(&p, n as usize) {
+                        Ok(text) => print!("{text}"),
+                        Err(e) => {
+                            eprintln!("error: {e}");
+                            return ExitCode::from(2);
+                        }
+                    }
+                }
                 ExitCode::SUCCESS
             }
             Err(e) => {

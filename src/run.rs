@@ -68,6 +68,49 @@ pub struct ActiveConstraint {
     pub normal_force: f64,
 }
 
+/// How a scene splits over `ranks` ranks: the decomposition's balance, edge cut and per-rank
+/// element and node counts, and the master faces each rank holds for its slave nodes at the
+/// reference configuration (the ghosted faces of the contact search).
+pub fn decomposition_report(problem: &Problem, ranks: usize) -> Result<String, String> {
+    use std::fmt::Write;
+    let mesh = &problem.mesh;
+    let d = Decomposition::partition(mesh.num_nodes(), &mesh.elements, ranks).map_err(|e| {
+        format!(
+            "{}: cannot partition the mesh over {ranks} ranks: {e}",
+            problem.file
+        )
+    })?;
+    let mut s = d.stats().to_string();
+    if !problem.contacts.is_empty() {
+        let counts = crate::contact::ghost::face_counts(problem, &d);
+        let owned = |r: usize, p: usize| {
+            problem.contacts[p]
+                .master_faces
+                .iter()
+                .filter(|(e, _)| d.element_part()[*e as usize] as usize == r)
+                .count()
+        };
+        let _ = writeln!(
+            s,
+            "contact: master faces per rank (owned / held for the rank's slave nodes)"
+        );
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            let per: Vec<String> = (0..ranks)
+                .map(|r| format!("rank {r}: {} / {}", owned(r, p), counts[r][p]))
+                .collect();
+            let _ = writeln!(
+                s,
+                "  {} ({} faces, {} slave nodes): {}",
+                pair.name,
+                pair.master_faces.len(),
+                pair.slave_nodes.len(),
+                per.join(", ")
+            );
+        }
+    }
+    Ok(s)
+}
+
 /// The whole mesh as the result file records it.
 pub fn output_mesh(problem: &Problem) -> OutputMesh {
     let m = &problem.mesh;

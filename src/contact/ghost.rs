@@ -64,25 +64,15 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
     let all_boxes = comm.all_gather_f64(&boxes);
     let mut send: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
     for (p, pair) in problem.contacts.iter().enumerate() {
-        let pad = pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter[p];
+        let pad = margin(pair, diameter[p]);
         for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
             if mesh.owned_element(e).is_none() {
                 continue;
             }
             let c = corners(problem, mesh, u, &pair.face_nodes[f]);
-            let mut lo = [f64::INFINITY; 3];
-            let mut hi = [f64::NEG_INFINITY; 3];
-            for x in &c {
-                for i in 0..3 {
-                    lo[i] = lo[i].min(x[i]);
-                    hi[i] = hi[i].max(x[i]);
-                }
-            }
             let mut words: Option<Vec<f64>> = None;
             for (r, b) in all_boxes.iter().enumerate() {
-                let b = &b[6 * p..6 * p + 6];
-                let reaches = (0..3).all(|i| lo[i] <= b[3 + i] + pad && hi[i] >= b[i] - pad);
-                if reaches {
+                if reaches(&c, &b[6 * p..6 * p + 6], pad) {
                     let w = words.get_or_insert_with(|| {
                         let s = corners(problem, mesh, start, &pair.face_nodes[f]);
                         let mut w = vec![p as f64, f as f64];
@@ -117,6 +107,65 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
             MasterSurface::from_faces(pair, ids, current, start)
         })
         .collect()
+}
+
+/// How far beyond a rank's slave box a master face is still sent: the search tolerance,
+/// plus a face size and a half so the neighbours of every face in reach come too.
+fn margin(pair: &crate::contact::ContactPair, diameter: f64) -> f64 {
+    pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter
+}
+
+/// Whether a face with these corners reaches the box (lo[3], hi[3]) grown by `pad`.
+fn reaches(c: &[Vec3; 4], b: &[f64], pad: f64) -> bool {
+    (0..3).all(|i| {
+        let lo = c.iter().map(|x| x[i]).fold(f64::INFINITY, f64::min);
+        let hi = c.iter().map(|x| x[i]).fold(f64::NEG_INFINITY, f64::max);
+        lo <= b[3 + i] + pad && hi >= b[i] - pad
+    })
+}
+
+/// Master faces each rank would hold at the reference configuration, per pair
+/// (`[rank][pair]`), for a decomposition: what `surfaces` ghosts, computed on one process
+/// (for `solver check --ranks` and the benchmark).
+pub fn face_counts(problem: &Problem, decomposition: &partition::Decomposition) -> Vec<Vec<usize>> {
+    let x = &problem.mesh.coords;
+    let owner = decomposition.node_owner();
+    let nparts = decomposition.nparts();
+    let mut out = vec![vec![0usize; problem.contacts.len()]; nparts];
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let faces: Vec<[Vec3; 4]> = pair
+            .face_nodes
+            .iter()
+            .map(|f| std::array::from_fn(|a| x[f[a] as usize]))
+            .collect();
+        let diameter = faces
+            .iter()
+            .map(|c| norm(&sub(&c[0], &c[2])).max(norm(&sub(&c[1], &c[3]))))
+            .fold(0.0, f64::max);
+        let pad = margin(pair, diameter);
+        for (r, counts) in out.iter_mut().enumerate() {
+            let mut b = [
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for &s in pair
+                .slave_nodes
+                .iter()
+                .filter(|&&s| owner[s as usize] as usize == r)
+            {
+                for i in 0..3 {
+                    b[i] = b[i].min(x[s as usize][i]);
+                    b[3 + i] = b[3 + i].max(x[s as usize][i]);
+                }
+            }
+            counts[p] = faces.iter().filter(|c| reaches(c, &b, pad)).count();
+        }
+    }
+    out
 }
 
 fn corners(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], nodes: &[u32; 4]) -> [Vec3; 4] {
