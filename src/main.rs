@@ -4,7 +4,7 @@
 use clap::{Parser, Subcommand};
 use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::post::{run_post, PostCommand};
-use solver::run::{run, RunOptions};
+use solver::run::{run_from, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -40,6 +40,10 @@ enum Command {
         /// <name>_r<factor>).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
         refine: u32,
+        /// Continue from the last step recorded in this result file of an earlier run of
+        /// the same scene (also a `.tmp` file a killed run left, or a `.failed.h5`).
+        #[arg(long, value_name = "RESULT.h5")]
+        restart: Option<PathBuf>,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
@@ -96,6 +100,7 @@ fn main() -> ExitCode {
             scene,
             output,
             refine,
+            restart,
         } => with_comm(|comm| {
             let loaded = load_scene_refined(&scene, refine);
             let err = loaded.as_ref().err().map(|e| e.to_string());
@@ -106,15 +111,28 @@ fn main() -> ExitCode {
                 return 2;
             }
             let problem = loaded.expect("every rank loaded the scene");
+            if let Some(path) = &restart {
+                let err = comm
+                    .is_root()
+                    .then(|| solver::run::check_restart(path, &problem).err())
+                    .flatten();
+                if let Some(e) = solver::comm::first_error(comm, err) {
+                    if comm.is_root() {
+                        eprintln!("error: {e}");
+                    }
+                    return 2;
+                }
+            }
             let output =
                 output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
-            match run(
+            match run_from(
                 comm,
                 &problem,
                 &RunOptions {
                     output: Some(output),
                     verbosity,
                 },
+                restart.as_deref(),
             ) {
                 Ok((summary, _)) => {
                     if let Some(f) = &summary.failure {

@@ -2,17 +2,19 @@
 //! local mesh, step through time, gather each step's results on rank 0 and write them.
 
 use crate::comm::{self, Comm};
-use crate::contact::state::Mode;
+use crate::contact::state::{ContactState, Mode};
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::output::contact_status;
-use crate::output::{OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats};
+use crate::output::{
+    OutputBody, OutputMesh, RestartState, ResultFile, ResultWriter, RunInfo, StepOutput, StepStats,
+};
 use crate::problem::Problem;
 use crate::solver::constraints::RowKind;
 use crate::solver::{StepRecord, Stepper};
 use partition::Decomposition;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Clone, Debug)]
@@ -228,6 +230,176 @@ pub fn run<C: Comm + ?Sized>(
     problem: &Problem,
     opts: &RunOptions,
 ) -> Result<(RunSummary, GlobalState), String> {
+    run_from(comm, problem, opts, None)
+}
+
+/// The steps an earlier run finished, read from its result file on rank 0.
+struct Resumed {
+    state: RestartState,
+    /// The earlier file's step results (rank 0 only).
+    steps: Vec<StepOutput>,
+}
+
+/// Checks that a result file holds a restart state this scene can continue from.
+pub fn check_restart(path: &Path, problem: &Problem) -> Result<(), String> {
+    let file = ResultFile::open(path).map_err(|e| e.to_string())?;
+    restart_of(&file, path, problem).map(|_| ())
+}
+
+/// Reads the restart state and the finished steps of an earlier run of the same scene.
+fn read_restart(path: &Path, problem: &Problem) -> Result<Resumed, String> {
+    let file = ResultFile::open(path).map_err(|e| e.to_string())?;
+    let state = restart_of(&file, path, problem)?;
+    let stats = file.stats().map_err(|e| e.to_string())?;
+    let times = file.time().map_err(|e| e.to_string())?;
+    let mut steps = Vec::new();
+    for i in 0..state.rows as usize {
+        let e = |e: crate::output::OutputError| e.to_string();
+        steps.push(StepOutput {
+            time: times[i],
+            displacement: file.displacement(i).map_err(e)?,
+            stress: file.stress(i).map_err(e)?,
+            reaction: file.reaction(i).map_err(e)?,
+            contact_force: file.contact_force(i).map_err(e)?,
+            contact_status: file.contact_status(i).map_err(e)?,
+            contact_gap: file.gap(i).map_err(e)?,
+            stats: stats[i],
+        });
+    }
+    Ok(Resumed { state, steps })
+}
+
+fn restart_of(file: &ResultFile, path: &Path, problem: &Problem) -> Result<RestartState, String> {
+    let shown = path.display();
+    let attrs = file.attributes().map_err(|e| e.to_string())?;
+    if attrs.scene_text != problem.text {
+        return Err(format!(
+            "{shown}: written by a different scene (or refinement) than {}; a restart continues the same scene",
+            problem.file
+        ));
+    }
+    let state = file
+        .restart_state()
+        .map_err(|e| e.to_string())?
+        .ok_or_else(|| format!("{shown}: holds no restart state (no step was written)"))?;
+    let step = state.step as usize;
+    if step == 0
+        || step > problem.step_times.len()
+        || problem.step_times[step - 1] != state.time
+        || state.rows as usize > file.num_steps()
+    {
+        return Err(format!(
+            "{shown}: the restart state (step {step}, t = {}, {} rows) does not fit the scene's {} steps and the file's {} rows",
+            state.time,
+            state.rows,
+            problem.step_times.len(),
+            file.num_steps()
+        ));
+    }
+    if ContactState::decode(problem, &state.contact, &state.released).is_none() {
+        return Err(format!(
+            "{shown}: the restart state's contact constraints do not fit {}",
+            problem.file
+        ));
+    }
+    Ok(state)
+}
+
+fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
+    let mut v = vec![
+        r.step as f64,
+        r.time,
+        r.dt_prev,
+        r.reference_floor,
+        r.rows as f64,
+        r.contact.len() as f64,
+        r.released.len() as f64,
+    ];
+    v.extend(r.displacement.iter().flatten());
+    v.extend(r.previous_displacement.iter().flatten());
+    v.extend(&r.contact);
+    v.extend(&r.released);
+    for s in steps {
+        let t = &s.stats;
+        v.extend([
+            s.time,
+            t.cg_iterations as f64,
+            t.contact_updates as f64,
+            t.residual,
+            t.wall_time,
+            t.cutbacks as f64,
+            t.contact_active as f64,
+            t.contact_stick as f64,
+            t.contact_slip as f64,
+            t.contact_released as f64,
+            t.max_penetration,
+        ]);
+    }
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// The restart state and the earlier steps' records, as every rank receives them.
+fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepStats)>) {
+    let v: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
+    let (nc, nr) = (v[5] as usize, v[6] as usize);
+    let mut at = 7;
+    let mut take = |n: usize| {
+        let out = v[at..at + n].to_vec();
+        at += n;
+        out
+    };
+    let rows = |flat: Vec<f64>| -> Vec<Vec3> {
+        flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+    };
+    let displacement = rows(take(3 * nodes));
+    let previous_displacement = rows(take(3 * nodes));
+    let contact = take(nc);
+    let released = take(nr);
+    let state = RestartState {
+        step: v[0] as u64,
+        time: v[1],
+        dt_prev: v[2],
+        reference_floor: v[3],
+        rows: v[4] as u64,
+        displacement,
+        previous_displacement,
+        contact,
+        released,
+    };
+    let records = v[at..]
+        .chunks_exact(11)
+        .map(|w| {
+            (
+                w[0],
+                StepStats {
+                    cg_iterations: w[1] as u64,
+                    contact_updates: w[2] as u64,
+                    residual: w[3],
+                    wall_time: w[4],
+                    cutbacks: w[5] as u64,
+                    contact_active: w[6] as u64,
+                    contact_stick: w[7] as u64,
+                    contact_slip: w[8] as u64,
+                    contact_released: w[9] as u64,
+                    max_penetration: w[10],
+                },
+            )
+        })
+        .collect();
+    (state, records)
+}
+
+/// Runs the scene, continuing from the last step an earlier run of it recorded in
+/// `restart` when given: the result is then bitwise the one of an uninterrupted run.
+pub fn run_from<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    opts: &RunOptions,
+    restart: Option<&Path>,
+) -> Result<(RunSummary, GlobalState), String> {
     let start = Instant::now();
     let root = comm.is_root();
     let log = |level: u8, msg: &str| {
@@ -261,8 +433,38 @@ pub fn run<C: Comm + ?Sized>(
         log(2, &format!("{}", decomposition.stats()));
     }
 
-    let mut writer = None;
     let mut local_err = None;
+    // The earlier run to continue: read on rank 0 before this run's file replaces it.
+    let mut earlier_steps = Vec::new();
+    let mut resumed = None;
+    if let Some(path) = restart {
+        let mut bytes = Vec::new();
+        if root {
+            match read_restart(path, problem) {
+                Ok(r) => {
+                    bytes = encode_restart(&r.state, &r.steps);
+                    earlier_steps = r.steps;
+                }
+                Err(e) => local_err = Some(e),
+            }
+        }
+        if let Some(e) = comm::first_error(comm, local_err.take()) {
+            return Err(e);
+        }
+        comm.broadcast_bytes(0, &mut bytes);
+        let (state, records) = decode_restart(&bytes, mesh.num_nodes());
+        let contact =
+            ContactState::decode(problem, &state.contact, &state.released).ok_or_else(|| {
+                format!(
+                    "{}: the restart state's contact constraints do not fit {}",
+                    path.display(),
+                    problem.file
+                )
+            })?;
+        resumed = Some((state, records, contact));
+    }
+
+    let mut writer = None;
     if root {
         if let Some(path) = &opts.output {
             let info = RunInfo {
@@ -296,6 +498,53 @@ pub fn run<C: Comm + ?Sized>(
     let gather = Gather::new(comm, &local, mesh.num_nodes(), mesh.num_elements());
     let mut stepper = Stepper::new(comm, problem, &local);
     let mut records = Vec::new();
+    let mut first_step = 0;
+    if let Some((state, earlier, contact)) = resumed {
+        stepper.restore(
+            &state.displacement,
+            &state.previous_displacement,
+            (state.time, state.dt_prev, state.reference_floor),
+            contact,
+        );
+        first_step = state.step as usize;
+        for (time, s) in earlier {
+            let step = problem
+                .step_times
+                .iter()
+                .position(|&t| t == time)
+                .map_or(0, |k| k + 1);
+            records.push(StepRecord {
+                step,
+                time,
+                cg_iterations: s.cg_iterations,
+                contact_updates: s.contact_updates,
+                residual: s.residual,
+                cutbacks: s.cutbacks,
+                wall_time: s.wall_time,
+                ..Default::default()
+            });
+        }
+        if let Some(w) = writer.as_mut() {
+            for s in &earlier_steps {
+                local_err = w.append_step(s).err().map(|e| e.to_string());
+                if local_err.is_some() {
+                    break;
+                }
+            }
+        }
+        if let Some(e) = comm::first_error(comm, local_err.take()) {
+            return Err(e);
+        }
+        log(
+            1,
+            &format!(
+                "continuing from step {first_step} (t = {}) of {}",
+                state.time,
+                restart.map(|p| p.display().to_string()).unwrap_or_default()
+            ),
+        );
+    }
+    let mut rows_written = earlier_steps.len() as u64;
     let mut failure = None;
     let nsteps = problem.step_times.len();
     let progress = (root && opts.verbosity >= 1 && std::io::stderr().is_terminal()).then(|| {
@@ -309,7 +558,10 @@ pub fn run<C: Comm + ?Sized>(
         bar
     });
     let mut state = GlobalState::default();
-    for (k, &t) in problem.step_times.iter().enumerate() {
+    if let Some(bar) = &progress {
+        bar.set_position(first_step as u64);
+    }
+    for (k, &t) in problem.step_times.iter().enumerate().skip(first_step) {
         let step = k + 1;
         match stepper.advance(step, t) {
             Ok(rec) => {
@@ -348,9 +600,21 @@ pub fn run<C: Comm + ?Sized>(
                             local_err = w.append_step(&s).err().map(|e| e.to_string());
                         }
                     }
+                    if write {
+                        rows_written += 1;
+                        let r = restart_state(comm, &stepper, &gather, &local, step, rows_written);
+                        if let Some(w) = writer.as_mut().filter(|_| local_err.is_none()) {
+                            local_err = w.write_restart(&r).err().map(|e| e.to_string());
+                        }
+                    }
                     if let Some(e) = comm::first_error(comm, local_err.take()) {
                         failure = Some(e);
                         break;
+                    }
+                    // Test hook: die here as a killed run would (the restart test).
+                    if std::env::var("SOLVER_TEST_ABORT_AFTER_STEP").ok() == Some(step.to_string())
+                    {
+                        std::process::abort();
                     }
                     if last {
                         state = GlobalState {
@@ -415,6 +679,30 @@ pub fn run<C: Comm + ?Sized>(
         },
         state,
     ))
+}
+
+/// The state to resume from after `step` (complete on rank 0).
+fn restart_state<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    gather: &Gather,
+    local: &LocalMesh,
+    step: usize,
+    rows: u64,
+) -> RestartState {
+    let (time, dt_prev, reference_floor) = stepper.scalars();
+    let (contact, released) = stepper.contact.encode();
+    RestartState {
+        step: step as u64,
+        time,
+        dt_prev,
+        reference_floor,
+        rows,
+        displacement: gather.nodes(comm, local, &stepper.u),
+        previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
+        contact,
+        released,
+    }
 }
 
 fn step_output<C: Comm + ?Sized>(

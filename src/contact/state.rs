@@ -452,6 +452,56 @@ impl ContactState {
         out
     }
 
+    /// The whole state as numbers (active constraints, released entries), for a restart.
+    pub fn encode(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut words = Vec::with_capacity(ACTIVE_WORDS * self.active.len());
+        for a in &self.active {
+            encode(a, &mut words);
+        }
+        let released = self
+            .released
+            .iter()
+            .flat_map(|&(s, p)| [s as f64, p as f64])
+            .collect();
+        (words, released)
+    }
+
+    /// The state `encode` wrote; None when the numbers do not describe constraints of
+    /// this problem.
+    pub fn decode(problem: &Problem, active: &[f64], released: &[f64]) -> Option<Self> {
+        if active.len() % ACTIVE_WORDS != 0 || released.len() % 2 != 0 {
+            return None;
+        }
+        let nodes = problem.mesh.num_nodes() as f64;
+        let pairs = problem.contacts.len() as f64;
+        let ok = |w: &[f64]| {
+            w[0] >= 0.0
+                && w[0] < pairs
+                && w[1] >= 0.0
+                && w[1] < nodes
+                && (w[2] as usize) < problem.contacts[w[0] as usize].master_faces.len()
+                && w.iter().all(|x| x.is_finite())
+        };
+        let chunks: Vec<&[f64]> = active.chunks_exact(ACTIVE_WORDS).collect();
+        if !chunks.iter().all(|w| ok(w)) {
+            return None;
+        }
+        let released: Vec<(u32, usize)> = released
+            .chunks_exact(2)
+            .map(|w| (w[0] as u32, w[1] as usize))
+            .collect();
+        if released
+            .iter()
+            .any(|&(s, p)| s as f64 >= nodes || p as f64 >= pairs)
+        {
+            return None;
+        }
+        Some(ContactState {
+            active: chunks.into_iter().map(decode).collect(),
+            released,
+        })
+    }
+
     fn released_set(&self) -> HashSet<(u32, usize)> {
         self.released.iter().copied().collect()
     }

@@ -320,3 +320,23 @@ impl StepOutput {
         Ok(())
     }
 }
+
+/// Everything a run needs to continue after its last written step, in global node order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RestartState {
+    /// The load step (1-based) the state is the end of.
+    pub step: u64,
+    pub time: f64,
+    /// Length of that step (the predictor extrapolates with it).
+    pub dt_prev: f64,
+    /// The CG reference force floor carried from step to step.
+    pub reference_floor: f64,
+    /// Rows of the per-step result datasets written up to this step.
+    pub rows: u64,
+    pub displacement: Vec<[f64; 3]>,
+    pub previous_displacement: Vec<[f64; 3]>,
+    /// Active contact constraints, encoded by the contact module.
+    pub contact: Vec<f64>,
+    /// Released (slave, pair) entries, encoded by the contact module.
+    pub released: Vec<f64>,
+}

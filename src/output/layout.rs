@@ -59,6 +59,16 @@ pub const ATTR_START_TIME: &str = "start_time";
 pub const ATTR_WALL_TIME: &str = "wall_time";
 pub const ATTR_EXIT_STATUS: &str = "exit_status";
 
+/// The state a run resumes from (`solver run --restart`), rewritten at every step written:
+/// `[load step, time, previous step length, reference force floor, rows of /results]`.
+pub const RESTART_STATE: &str = "/restart/state";
+/// Displacement at the restart state and at the step before it, per node.
+pub const RESTART_DISPLACEMENT: &str = "/restart/displacement";
+pub const RESTART_PREVIOUS_DISPLACEMENT: &str = "/restart/previous_displacement";
+/// The active contact constraints and the released (slave, pair) entries, encoded.
+pub const RESTART_CONTACT: &str = "/restart/contact";
+pub const RESTART_RELEASED: &str = "/restart/released";
+
 /// The text of the `units` attribute.
 pub const UNITS_NOTE: &str = "consistent units; the scene's";
 /// `exit_status` while the run is under way (only ever seen in a `.tmp` file).

@@ -16,7 +16,9 @@ mod timestamp;
 mod writer;
 mod xdmf;
 
-pub use data::{contact_status, OutputBody, OutputMesh, RunInfo, StepOutput, StepStats};
+pub use data::{
+    contact_status, OutputBody, OutputMesh, RestartState, RunInfo, StepOutput, StepStats,
+};
 pub use error::OutputError;
 pub use layout::ResultPaths;
 pub use reader::{FileAttributes, NumericData, NumericKind, ResultFile};

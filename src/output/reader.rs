@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hdf5::types::{TypeDescriptor, VarLenUnicode};
 use hdf5::H5Type;
 
+use super::data::RestartState;
 use super::data::{OutputBody, OutputMesh, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::layout;
@@ -404,6 +405,48 @@ impl ResultFile {
                 max_penetration: pen[i],
             })
             .collect())
+    }
+
+    /// The state to resume the run from, if the file has one.
+    pub fn restart_state(&self) -> Result<Option<RestartState>, OutputError> {
+        if self.file.dataset(layout::RESTART_STATE).is_err() {
+            return Ok(None);
+        }
+        let p = &self.path;
+        let read = |name: &str| -> Result<Vec<f64>, OutputError> {
+            self.file
+                .dataset(name)
+                .at(p, name)?
+                .read_raw::<f64>()
+                .at(p, name)
+        };
+        let head = read(layout::RESTART_STATE)?;
+        let u = read(layout::RESTART_DISPLACEMENT)?;
+        let up = read(layout::RESTART_PREVIOUS_DISPLACEMENT)?;
+        if head.len() != 5 || u.len() != 3 * self.nodes || up.len() != 3 * self.nodes {
+            return Err(OutputError::Invalid {
+                file: p.clone(),
+                dataset: "/restart".into(),
+                message: format!(
+                    "the restart state has {} header values and {} / {} displacement values for {} nodes",
+                    head.len(),
+                    u.len(),
+                    up.len(),
+                    self.nodes
+                ),
+            });
+        }
+        Ok(Some(RestartState {
+            step: head[0] as u64,
+            time: head[1],
+            dt_prev: head[2],
+            reference_floor: head[3],
+            rows: head[4] as u64,
+            displacement: to_rows(&u),
+            previous_displacement: to_rows(&up),
+            contact: read(layout::RESTART_CONTACT)?,
+            released: read(layout::RESTART_RELEASED)?,
+        }))
     }
 
     /// The owning rank of each element.

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use hdf5::types::VarLenUnicode;
 use hdf5::H5Type;
 
-use super::data::{check_finite, OutputMesh, RunInfo, StepOutput};
+use super::data::{check_finite, OutputMesh, RestartState, RunInfo, StepOutput};
 use super::error::{Hdf5Context, OutputError};
 use super::layout::{self, ResultPaths};
 use super::xdmf::XdmfDescription;
@@ -48,6 +48,9 @@ pub struct ResultWriter {
     node_ids: Vec<u64>,
     elements: usize,
     times: Vec<f64>,
+    /// The restart datasets once written: displacement, previous displacement, contact,
+    /// released, state.
+    restart: Option<[hdf5::Dataset; 5]>,
 }
 
 fn str_value(file: &Path, name: &str, value: &str) -> Result<VarLenUnicode, OutputError> {
@@ -341,6 +344,7 @@ impl ResultWriter {
             node_ids: mesh.node_ids.clone(),
             elements,
             times: Vec::new(),
+            restart: None,
         })
     }
 
@@ -440,6 +444,69 @@ impl ResultWriter {
         Ok(())
     }
 
+    /// Records the state the run can resume from after the step just appended (flushed).
+    /// The small `state` dataset is written last, so it always describes complete arrays.
+    pub fn write_restart(&mut self, r: &RestartState) -> Result<(), OutputError> {
+        let p = self.paths.tmp.clone();
+        let p = &p;
+        let n = r.displacement.len();
+        if self.restart.is_none() {
+            let f = &self.file;
+            f.create_group("/restart").at(p, "/restart")?;
+            let fixed = |name: &str| {
+                f.new_dataset::<f64>()
+                    .shape((n, 3))
+                    .create(name)
+                    .at(p, name)
+            };
+            let grow = |name: &str| {
+                f.new_dataset::<f64>()
+                    .chunk((1024,))
+                    .shape((0..,))
+                    .create(name)
+                    .at(p, name)
+            };
+            self.restart = Some([
+                fixed(layout::RESTART_DISPLACEMENT)?,
+                fixed(layout::RESTART_PREVIOUS_DISPLACEMENT)?,
+                grow(layout::RESTART_CONTACT)?,
+                grow(layout::RESTART_RELEASED)?,
+                f.new_dataset::<f64>()
+                    .shape((5,))
+                    .create(layout::RESTART_STATE)
+                    .at(p, layout::RESTART_STATE)?,
+            ]);
+        }
+        let [u, up, contact, released, state] = self.restart.as_ref().expect("created above");
+        for (ds, name, v) in [
+            (contact, layout::RESTART_CONTACT, &r.contact),
+            (released, layout::RESTART_RELEASED, &r.released),
+        ] {
+            ds.resize((v.len(),)).at(p, name)?;
+            ds.write_raw(v).at(p, name)?;
+        }
+        for (ds, name, v) in [
+            (u, layout::RESTART_DISPLACEMENT, &r.displacement),
+            (
+                up,
+                layout::RESTART_PREVIOUS_DISPLACEMENT,
+                &r.previous_displacement,
+            ),
+        ] {
+            let flat: Vec<f64> = v.iter().flatten().copied().collect();
+            ds.write_raw(&flat).at(p, name)?;
+        }
+        let head = [
+            r.step as f64,
+            r.time,
+            r.dt_prev,
+            r.reference_floor,
+            r.rows as f64,
+        ];
+        state.write_raw(&head).at(p, layout::RESTART_STATE)?;
+        self.file.flush().at(p, "/ (flush)")
+    }
+
     /// Writes the closing attributes and closes the file.
     fn close(
         self,
@@ -464,9 +531,11 @@ impl ResultWriter {
             datasets,
             times,
             elements,
+            restart,
             ..
         } = self;
         drop(datasets);
+        drop(restart);
         file.close().at(&p, "/ (closing the file)")?;
         Ok((paths, times, nodes, elements))
     }

@@ -101,6 +101,36 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         }
     }
 
+    /// What a restart needs beyond the displacements: (time, last step length, reference
+    /// force floor).
+    pub fn scalars(&self) -> (f64, f64, f64) {
+        (self.time, self.dt_prev, self.reference_floor)
+    }
+
+    /// The displacement before the last step (the predictor's second point).
+    pub fn previous_displacement(&self) -> &[Vec3] {
+        &self.u_prev
+    }
+
+    /// Continues from a saved state: displacements in global node order, the scalars of
+    /// `scalars`, and the contact state.
+    pub fn restore(
+        &mut self,
+        u: &[Vec3],
+        u_prev: &[Vec3],
+        (time, dt_prev, reference_floor): (f64, f64, f64),
+        contact: ContactState,
+    ) {
+        for (l, &g) in self.mesh.node_global.iter().enumerate() {
+            self.u[l] = u[g as usize];
+            self.u_prev[l] = u_prev[g as usize];
+        }
+        self.time = time;
+        self.dt_prev = dt_prev;
+        self.reference_floor = reference_floor;
+        self.contact = contact;
+    }
+
     pub fn assembly(&self) -> &Assembly<'a> {
         &self.asm
     }

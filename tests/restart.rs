@@ -1,0 +1,113 @@
+//! Restart: a run killed after a step and continued with `solver run --restart` ends
+//! bitwise identical to an uninterrupted run; a restart file of another scene is refused.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn solver() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_solver"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("restart-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn scene(name: &str) -> String {
+    format!(
+        "{}/run/scenes/paper/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// Runs the scene uninterrupted, then killed after `kill_after` steps and restarted from
+/// the `.tmp` file the killed run left, and demands bitwise-identical results (`solver post
+/// compare` with its default tolerance 0: every dataset but wall times).
+fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
+    let d = dir(name);
+    let full = d.join("full.h5");
+    let cut = d.join("cut.h5");
+    let s = solver()
+        .args(["-q", "run", &scene(name), "-o"])
+        .arg(&full)
+        .status()
+        .unwrap();
+    assert!(s.success());
+    let s = solver()
+        .args(["-q", "run", &scene(name), "-o"])
+        .arg(&cut)
+        .env("SOLVER_TEST_ABORT_AFTER_STEP", kill_after.to_string())
+        .status()
+        .unwrap();
+    assert!(!s.success(), "the killed run must not exit 0");
+    let tmp = d.join("cut.h5.tmp");
+    assert!(
+        tmp.exists() && !cut.exists(),
+        "a killed run leaves only the .tmp file"
+    );
+    let out = solver()
+        .args(["run", &scene(name), "--restart"])
+        .arg(&tmp)
+        .arg("-o")
+        .arg(&cut)
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "restart failed: {log}");
+    assert!(
+        log.contains(&format!("continuing from step {kill_after} ")),
+        "{log}"
+    );
+    let cmp = solver()
+        .args(["post", "compare"])
+        .arg(&full)
+        .arg(&cut)
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&cmp.stdout);
+    assert!(cmp.status.success(), "results differ:\n{report}");
+    assert!(report.contains("bitwise identical"), "{report}");
+}
+
+#[test]
+fn stick_slip_killed_after_step_20_restarts_bitwise() {
+    // Friction: the restart state carries stick/slip modes, friction forces and the
+    // predictor's previous displacement.
+    killed_and_restarted_is_identical("stick_slip", 20);
+}
+
+#[test]
+fn capture_release_killed_after_step_23_restarts_bitwise() {
+    // Contact released and captured again after the restart.
+    killed_and_restarted_is_identical("capture_release", 23);
+}
+
+#[test]
+fn a_restart_file_of_another_scene_is_refused() {
+    let d = dir("other");
+    let bar = d.join("bar.h5");
+    let s = solver()
+        .args(["-q", "run"])
+        .arg(format!(
+            "{}/run/examples/bar.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .arg("-o")
+        .arg(&bar)
+        .status()
+        .unwrap();
+    assert!(s.success());
+    let out = solver()
+        .args(["run", &scene("capture_release"), "--restart"])
+        .arg(&bar)
+        .arg("-o")
+        .arg(d.join("x.h5"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("written by a different scene"), "{err}");
+    assert!(!d.join("x.h5").exists() && !d.join("x.h5.tmp").exists());
+}
