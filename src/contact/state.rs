@@ -469,7 +469,7 @@ impl ContactState {
     /// The state `encode` wrote; None when the numbers do not describe constraints of
     /// this problem.
     pub fn decode(problem: &Problem, active: &[f64], released: &[f64]) -> Option<Self> {
-        if active.len() % ACTIVE_WORDS != 0 || released.len() % 2 != 0 {
+        if !active.len().is_multiple_of(ACTIVE_WORDS) || !released.len().is_multiple_of(2) {
             return None;
         }
         let nodes = problem.mesh.num_nodes() as f64;
