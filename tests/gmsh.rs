@@ -8,6 +8,7 @@ use solver::comm::SerialComm;
 use solver::fem::hex8::min_jacobian_ratio;
 use solver::math::Vec3;
 use solver::mesh::gmsh::GmshMesh;
+use solver::output::ResultFile;
 use solver::problem::Problem;
 use solver::run::{run, RunOptions};
 use solver::scene::load_scene;
@@ -439,6 +440,10 @@ name = "base_bottom"
 plane = {{ point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0] }}
 
 [[node_set]]
+name = "corner"
+gmsh_group = "corner"
+
+[[node_set]]
 name = "cube_all"
 body = "cube"
 box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
@@ -476,6 +481,8 @@ segments = [{{ end = 1.0, steps = 1 }}]
     // (1, 4, 3, 2) is the cube's -z face, local face 4.
     assert_eq!(p.side_set("cube_bottom").unwrap().faces, vec![(1, 4)]);
     assert_eq!(p.mesh.elements[1], [8, 9, 10, 11, 12, 13, 14, 15]);
+    // A physical point: the node of tag 1.
+    assert_eq!(p.node_set("corner").unwrap().nodes, vec![8]);
     let (_, state) = common::solve(&p);
     let total: f64 = (8..12).map(|n| state.contact_force[n][2]).sum();
     // The cube is held in z by contact alone: the contact force balances the pressure
@@ -483,7 +490,8 @@ segments = [{{ end = 1.0, steps = 1 }}]
     assert!((total - 2.0).abs() < 1e-8, "total contact force {total}");
 }
 
-/// The example scene: the contact force under the cylinder carries the applied load.
+/// The example scene: the contact force under the cylinder carries the applied load; the
+/// Hertz comparison reads R, P and E* back from the result file.
 #[test]
 fn example_scene_carries_the_applied_load() {
     let p = load_scene(&repo(EXAMPLE_SCENE)).unwrap_or_else(|e| panic!("{e}"));
@@ -519,4 +527,38 @@ fn example_scene_carries_the_applied_load() {
         "contact force {} against load {load}",
         total[1]
     );
+
+    let f = ResultFile::open(&out).unwrap();
+    let c = solver::post::hertz::compare(&f).unwrap();
+    print!("{}", c.render());
+    assert!((c.radius - 10.0).abs() < 1e-9, "fitted radius {}", c.radius);
+    assert!(((c.load_per_length - load) / load).abs() < 1e-7);
+    let e_star = solver::post::hertz::contact_modulus(210000.0, 0.3, 70000.0, 0.33);
+    assert!((c.e_star - e_star).abs() < 1e-9 * e_star);
+    // The Hertz error itself is reported, not asserted: the mesh is coarse on purpose.
+    assert!(c.rms_error.is_finite());
+
+    let png = temp_dir().join("hertz.png");
+    let cli = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args([
+            "post",
+            "hertz",
+            out.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&cli.stdout);
+    assert_eq!(
+        cli.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&cli.stderr)
+    );
+    assert!(
+        text.contains("RMS error") && text.contains("peak pressure"),
+        "{text}"
+    );
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
 }
