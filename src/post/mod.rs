@@ -7,6 +7,7 @@
 
 mod compare;
 pub mod figures;
+pub mod hertz;
 mod info;
 mod plot;
 pub mod verify;
@@ -58,6 +59,10 @@ pub enum PostCommand {
     /// Draw one of the paper's figures (fig2, fig5, fig6, fig_smoothing) from the result
     /// file of its scene.
     Figure(figures::FigureArgs),
+    /// Compare the contact pressure under a cylinder (axis z) pressed onto a flat body with
+    /// the Hertz line-contact solution: prints the half-width, peak and RMS error, and
+    /// plots pressure against position (e.g. run/examples/cylinder_on_block.toml).
+    Hertz(hertz::HertzArgs),
 }
 
 /// Runs a `post` subcommand, printing its report to standard output; returns the exit code.
@@ -86,6 +91,10 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
         }
         PostCommand::Figure(args) => {
             println!("{}", figures::figure_command(args)?);
+            Ok(0)
+        }
+        PostCommand::Hertz(args) => {
+            println!("{}", hertz::hertz_command(args)?);
             Ok(0)
         }
         PostCommand::Plot(args) => {

@@ -8,6 +8,8 @@ pub struct SceneFile {
     pub name: Option<String>,
     #[serde(default)]
     pub kinematics: Kinematics,
+    /// The Gmsh mesh file that bodies with `gmsh_volume` come from.
+    pub gmsh: Option<GmshDef>,
     #[serde(default)]
     pub body: Vec<BodyDef>,
     #[serde(default)]
@@ -41,14 +43,25 @@ pub enum Kinematics {
 
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
+pub struct GmshDef {
+    /// Path of the `.msh` file (format 4.1, ASCII or binary), relative to the scene file.
+    pub file: String,
+}
+
+/// A body: a structured block (`box` or `corners`, with `divisions`) or the hexahedra of a
+/// physical volume of the scene's Gmsh mesh (`gmsh_volume`).
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
 pub struct BodyDef {
     pub name: String,
     /// Element divisions along the block's three parametric directions (x, y, z for a box).
-    pub divisions: [i64; 3],
+    pub divisions: Option<[i64; 3]>,
     #[serde(rename = "box")]
     pub box_: Option<BoxDef>,
     /// Eight corner points in the hexahedron node order (see the README).
     pub corners: Option<Vec<[f64; 3]>>,
+    /// Name of a physical volume of the `[gmsh]` mesh.
+    pub gmsh_volume: Option<String>,
     pub material: MaterialDef,
     #[serde(default)]
     pub integration: Integration,
@@ -100,7 +113,8 @@ pub enum Volumetric {
     MeanDilatation,
 }
 
-/// A node set or side set selection: exactly one of plane, box, ids, faces.
+/// A node set or side set selection: exactly one of plane, box, ids, faces (side sets),
+/// gmsh_group (node sets), gmsh_surface (side sets).
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SetDef {
@@ -113,6 +127,10 @@ pub struct SetDef {
     pub ids: Option<Vec<i64>>,
     /// [element id, local face 0..5] pairs (side sets only).
     pub faces: Option<Vec<[i64; 2]>>,
+    /// The nodes of the Gmsh physical groups of this name, any dimension (node sets only).
+    pub gmsh_group: Option<String>,
+    /// The hexahedron faces under the quadrangles of a Gmsh physical surface (side sets only).
+    pub gmsh_surface: Option<String>,
     /// Geometric tolerance, absolute; default 1e-6 times the mesh's bounding-box diagonal.
     pub tolerance: Option<f64>,
 }

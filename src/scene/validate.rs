@@ -12,6 +12,9 @@ use crate::mesh::{block, Body, GlobalMesh};
 use crate::problem::*;
 use std::path::Path;
 
+mod gmsh;
+use gmsh::{GmshImport, NEEDS_GMSH};
+
 /// A scene that cannot be run, with where and why.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
@@ -149,11 +152,11 @@ impl Builder {
         if raw.body.is_empty() {
             return Err(self.err("body", "expected at least one [[body]]"));
         }
-        let (mesh, body_models) = self.bodies(&raw)?;
+        let (mesh, body_models, gmsh) = self.bodies(&raw)?;
         let diag = mesh.bounding_diagonal();
         let boundary = mesh.boundary_faces();
-        let node_sets = self.node_sets(&raw, &mesh, diag)?;
-        let side_sets = self.side_sets(&raw, &mesh, &boundary, diag)?;
+        let node_sets = self.node_sets(&raw, &mesh, gmsh.as_ref(), diag)?;
+        let side_sets = self.side_sets(&raw, &mesh, gmsh.as_ref(), &boundary, diag)?;
 
         let node_set_index = |key: &str, name: &str| -> Result<usize, SceneError> {
             node_sets
@@ -346,9 +349,16 @@ impl Builder {
         })
     }
 
-    fn bodies(&self, raw: &SceneFile) -> Result<(GlobalMesh, Vec<BodyModel>), SceneError> {
+    fn bodies(
+        &self,
+        raw: &SceneFile,
+    ) -> Result<(GlobalMesh, Vec<BodyModel>, Option<GmshImport>), SceneError> {
         let mut mesh = GlobalMesh::default();
         let mut models = Vec::new();
+        let mut gmsh = match &raw.gmsh {
+            Some(g) => Some(self.gmsh_file(g)?),
+            None => None,
+        };
         for (bi, b) in raw.body.iter().enumerate() {
             let key = format!("body[{bi}]");
             if b.name.is_empty() || b.name.contains('/') {
@@ -372,37 +382,19 @@ impl Builder {
                     format!("body name '{}' used twice", b.name),
                 ));
             }
-            let mut div = [0usize; 3];
-            for i in 0..3 {
-                if b.divisions[i] < 1 || b.divisions[i] > 10_000 {
-                    return Err(self.err(
-                        format!("{key}.divisions"),
-                        format!("expected integers from 1 to 10000, got {:?}", b.divisions),
-                    ));
-                }
-                div[i] = b.divisions[i] as usize;
-            }
-            let corners: [Vec3; 8] = match (&b.box_, &b.corners) {
-                (Some(bx), None) => {
-                    let min = self.finite3(&format!("{key}.box.min"), &bx.min)?;
-                    let max = self.finite3(&format!("{key}.box.max"), &bx.max)?;
-                    if (0..3).any(|i| !(max[i] > min[i])) {
-                        return Err(self.err(format!("{key}.box"), format!("expected max > min in every direction, got min {min:?} max {max:?}")));
+            let first_node = mesh.coords.len();
+            let first_element = mesh.elements.len();
+            let (coords, elements) = match &b.gmsh_volume {
+                Some(volume) => {
+                    if b.box_.is_some() || b.corners.is_some() || b.divisions.is_some() {
+                        return Err(self.err(&key, "a body takes either `gmsh_volume` or `box`/`corners` with `divisions`, not both"));
                     }
-                    block::box_corners(&min, &max)
+                    let Some(g) = gmsh.as_mut() else {
+                        return Err(self.err(format!("{key}.gmsh_volume"), NEEDS_GMSH));
+                    };
+                    g.add_body(self, &key, volume, bi, first_node)?
                 }
-                (None, Some(c)) => {
-                    if c.len() != 8 {
-                        return Err(self.err(format!("{key}.corners"), format!("expected 8 corner points, got {}", c.len())));
-                    }
-                    let mut out = [[0.0; 3]; 8];
-                    for (i, p) in c.iter().enumerate() {
-                        out[i] = self.finite3(&format!("{key}.corners[{i}]"), p)?;
-                    }
-                    out
-                }
-                (Some(_), Some(_)) => return Err(self.err(&key, "give either `box` or `corners`, not both")),
-                (None, None) => return Err(self.err(&key, "expected `box = { min = [..], max = [..] }` or `corners = [[x, y, z], ... 8 points]`")),
+                None => self.block_geometry(&key, b, first_element)?,
             };
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
@@ -423,35 +415,18 @@ impl Builder {
                     Formulation::Mean { hourglass: h }
                 }
             };
-            let blk = block::generate(&corners, div[0], div[1], div[2]);
-            let first_node = mesh.coords.len();
-            let first_element = mesh.elements.len();
-            for (e, el) in blk.elements.iter().enumerate() {
-                let x: [Vec3; 8] = std::array::from_fn(|a| blk.coords[el[a] as usize]);
-                let r = min_jacobian_ratio(&x);
-                if !(r > 1e-8) {
-                    return Err(self.err(
-                        &key,
-                        format!(
-                            "element {} (global id {}) is inverted or degenerate (min Jacobian ratio {r:.3e}); check the corner order (see README: x-,y-,z- first, counter-clockwise seen from +z, bottom then top)",
-                            e + 1,
-                            first_element + e + 1
-                        ),
-                    ));
-                }
-            }
             let offset = first_node as u32;
-            mesh.coords.extend_from_slice(&blk.coords);
+            mesh.coords.extend_from_slice(&coords);
             mesh.elements
-                .extend(blk.elements.iter().map(|el| el.map(|n| n + offset)));
+                .extend(elements.iter().map(|el| el.map(|n| n + offset)));
             mesh.element_body
-                .extend(std::iter::repeat_n(bi as u32, blk.elements.len()));
+                .extend(std::iter::repeat_n(bi as u32, elements.len()));
             mesh.bodies.push(Body {
                 name: b.name.clone(),
                 first_node,
-                num_nodes: blk.coords.len(),
+                num_nodes: coords.len(),
                 first_element,
-                num_elements: blk.elements.len(),
+                num_elements: elements.len(),
             });
             models.push(BodyModel {
                 material,
@@ -462,7 +437,71 @@ impl Builder {
         if mesh.coords.len() > u32::MAX as usize / 2 {
             return Err(self.err("body", "mesh too large"));
         }
-        Ok((mesh, models))
+        Ok((mesh, models, gmsh))
+    }
+
+    /// A structured block's nodes and elements (0-based, local to the block), checked for
+    /// inverted elements.
+    fn block_geometry(
+        &self,
+        key: &str,
+        b: &BodyDef,
+        first_element: usize,
+    ) -> Result<(Vec<Vec3>, Vec<[u32; 8]>), SceneError> {
+        let Some(divisions) = b.divisions else {
+            return Err(self.err(
+                key,
+                "expected `divisions = [nx, ny, nz]` with `box` or `corners` (or a `gmsh_volume`)",
+            ));
+        };
+        let mut div = [0usize; 3];
+        for i in 0..3 {
+            if divisions[i] < 1 || divisions[i] > 10_000 {
+                return Err(self.err(
+                    format!("{key}.divisions"),
+                    format!("expected integers from 1 to 10000, got {:?}", divisions),
+                ));
+            }
+            div[i] = divisions[i] as usize;
+        }
+        let corners: [Vec3; 8] = match (&b.box_, &b.corners) {
+            (Some(bx), None) => {
+                let min = self.finite3(&format!("{key}.box.min"), &bx.min)?;
+                let max = self.finite3(&format!("{key}.box.max"), &bx.max)?;
+                if (0..3).any(|i| !(max[i] > min[i])) {
+                    return Err(self.err(format!("{key}.box"), format!("expected max > min in every direction, got min {min:?} max {max:?}")));
+                }
+                block::box_corners(&min, &max)
+            }
+            (None, Some(c)) => {
+                if c.len() != 8 {
+                    return Err(self.err(format!("{key}.corners"), format!("expected 8 corner points, got {}", c.len())));
+                }
+                let mut out = [[0.0; 3]; 8];
+                for (i, p) in c.iter().enumerate() {
+                    out[i] = self.finite3(&format!("{key}.corners[{i}]"), p)?;
+                }
+                out
+            }
+            (Some(_), Some(_)) => return Err(self.err(key, "give either `box` or `corners`, not both")),
+            (None, None) => return Err(self.err(key, "expected `box = { min = [..], max = [..] }`, `corners = [[x, y, z], ... 8 points]` or `gmsh_volume = \"<physical volume>\"`")),
+        };
+        let blk = block::generate(&corners, div[0], div[1], div[2]);
+        for (e, el) in blk.elements.iter().enumerate() {
+            let x: [Vec3; 8] = std::array::from_fn(|a| blk.coords[el[a] as usize]);
+            let r = min_jacobian_ratio(&x);
+            if !(r > 1e-8) {
+                return Err(self.err(
+                    key,
+                    format!(
+                        "element {} (global id {}) is inverted or degenerate (min Jacobian ratio {r:.3e}); check the corner order (see README: x-,y-,z- first, counter-clockwise seen from +z, bottom then top)",
+                        e + 1,
+                        first_element + e + 1
+                    ),
+                ));
+            }
+        }
+        Ok((blk.coords, blk.elements))
     }
 
     fn material(
@@ -525,6 +564,8 @@ impl Builder {
             s.box_.is_some(),
             s.ids.is_some(),
             s.faces.is_some(),
+            s.gmsh_group.is_some(),
+            s.gmsh_surface.is_some(),
         ]
         .iter()
         .filter(|&&b| b)
@@ -532,7 +573,7 @@ impl Builder {
         if given != 1 {
             return Err(self.err(
                 key,
-                "expected exactly one of `plane`, `box`, `ids` (node sets) or `faces` (side sets)",
+                "expected exactly one of `plane`, `box`, `ids` or `gmsh_group` (node sets), `faces` or `gmsh_surface` (side sets)",
             ));
         }
         if let Some(p) = &s.plane {
@@ -586,21 +627,29 @@ impl Builder {
         &self,
         raw: &SceneFile,
         mesh: &GlobalMesh,
+        gmsh: Option<&GmshImport>,
         diag: f64,
     ) -> Result<Vec<NodeSet>, SceneError> {
         let mut out: Vec<NodeSet> = Vec::new();
         for (i, s) in raw.node_set.iter().enumerate() {
             let key = format!("node_set[{i}]");
             self.set_name(&key, &s.name, out.iter().map(|x| &x.name))?;
-            if s.faces.is_some() {
-                return Err(self.err(
-                    format!("{key}.faces"),
-                    "`faces` selects side sets; a node set takes `plane`, `box` or `ids`",
-                ));
-            }
+            self.not_given(
+                &key,
+                &[
+                    (s.faces.is_some(), "faces"),
+                    (s.gmsh_surface.is_some(), "gmsh_surface"),
+                ],
+                "selects side sets; a node set takes `plane`, `box`, `ids` or `gmsh_group`",
+            )?;
             let body = self.set_body(&key, s, mesh)?;
             let nodes = match self.selector(&key, s, 1e-6 * diag)? {
                 Some(sel) => select_nodes(mesh, &sel, body),
+                None if s.gmsh_group.is_some() => {
+                    let group = s.gmsh_group.as_deref().expect("checked");
+                    self.needs_gmsh(&format!("{key}.gmsh_group"), gmsh)?
+                        .node_set(self, &key, group, body)?
+                }
                 None => {
                     let ids = s.ids.as_ref().expect("one selector is present");
                     let mut nodes = Vec::with_capacity(ids.len());
@@ -654,6 +703,7 @@ impl Builder {
         &self,
         raw: &SceneFile,
         mesh: &GlobalMesh,
+        gmsh: Option<&GmshImport>,
         boundary: &[(u32, u8)],
         diag: f64,
     ) -> Result<Vec<SideSet>, SceneError> {
@@ -661,15 +711,22 @@ impl Builder {
         for (i, s) in raw.side_set.iter().enumerate() {
             let key = format!("side_set[{i}]");
             self.set_name(&key, &s.name, out.iter().map(|x| &x.name))?;
-            if s.ids.is_some() {
-                return Err(self.err(
-                    format!("{key}.ids"),
-                    "`ids` selects nodes; a side set takes `plane`, `box` or `faces`",
-                ));
-            }
+            self.not_given(
+                &key,
+                &[
+                    (s.ids.is_some(), "ids"),
+                    (s.gmsh_group.is_some(), "gmsh_group"),
+                ],
+                "selects nodes; a side set takes `plane`, `box`, `faces` or `gmsh_surface`",
+            )?;
             let body = self.set_body(&key, s, mesh)?;
             let faces = match self.selector(&key, s, 1e-6 * diag)? {
                 Some(sel) => select_faces(mesh, boundary, &sel, body),
+                None if s.gmsh_surface.is_some() => {
+                    let surface = s.gmsh_surface.as_deref().expect("checked");
+                    self.needs_gmsh(&format!("{key}.gmsh_surface"), gmsh)?
+                        .side_set(self, &key, surface, mesh, boundary, body)?
+                }
                 None => {
                     let pairs = s.faces.as_ref().expect("one selector is present");
                     let mut faces = Vec::with_capacity(pairs.len());
@@ -709,6 +766,21 @@ impl Builder {
             });
         }
         Ok(out)
+    }
+
+    /// An error for the first of `given` that is present: `` `<key>` <message>``.
+    fn not_given(
+        &self,
+        key: &str,
+        given: &[(bool, &str)],
+        message: &str,
+    ) -> Result<(), SceneError> {
+        match given.iter().find(|g| g.0) {
+            Some((_, what)) => {
+                Err(self.err(format!("{key}.{what}"), format!("`{what}` {message}")))
+            }
+            None => Ok(()),
+        }
     }
 
     fn set_name<'a>(

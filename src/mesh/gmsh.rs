@@ -1,0 +1,577 @@
+//! Gmsh meshes (MSH format 4.1, ASCII or binary) read through `mshio`: nodes, and the
+//! elements of each physical group. Bodies take the 8-node hexahedra of a physical volume,
+//! side sets the 4-node quadrangles of a physical surface, node sets the nodes of any
+//! physical group. Errors are plain messages naming the file and the group or element; the
+//! scene layer adds its own file and key.
+//!
+//! Gmsh's 8-node hexahedron (type 5) has its nodes at (u, v, w) = (-1,-1,-1), (1,-1,-1),
+//! (1,1,-1), (-1,1,-1), then the same four at w = +1: the order of `fem::hex8::NODE_XI`, so
+//! the connectivity is taken as it is. An element whose Jacobian is not positive everywhere
+//! is rejected rather than reordered: Gmsh writes positively oriented elements, so one that
+//! is not points at a broken mesh.
+
+use crate::fem::hex8::min_jacobian_ratio;
+use crate::math::Vec3;
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+/// Gmsh's element type numbers used here.
+pub const GMSH_QUAD4: i32 = 3;
+pub const GMSH_HEX8: i32 = 5;
+
+/// A physical group: its dimension, tag and (possibly empty) name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysicalGroup {
+    pub dim: i32,
+    pub tag: i32,
+    pub name: String,
+}
+
+impl PhysicalGroup {
+    fn label(&self) -> String {
+        if self.name.is_empty() {
+            format!("(unnamed, tag {})", self.tag)
+        } else {
+            format!("'{}'", self.name)
+        }
+    }
+}
+
+/// One element as the file gives it: Gmsh tag, type number and node tags.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GmshElement {
+    pub tag: u64,
+    pub kind: i32,
+    pub nodes: Vec<u64>,
+}
+
+/// The parts of a Gmsh file the solver uses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GmshMesh {
+    /// The file, as it is named in messages.
+    pub file: String,
+    /// Node coordinates by node tag.
+    pub nodes: BTreeMap<u64, Vec3>,
+    pub groups: Vec<PhysicalGroup>,
+    /// Elements of each group (same order as `groups`), in element tag order.
+    pub group_elements: Vec<Vec<GmshElement>>,
+}
+
+/// The hexahedra of one physical volume, numbered locally: nodes in node tag order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GmshVolume {
+    pub node_tags: Vec<u64>,
+    pub coords: Vec<Vec3>,
+    pub element_tags: Vec<u64>,
+    /// Local (0-based) node indices in the solver's hexahedron order.
+    pub elements: Vec<[u32; 8]>,
+}
+
+impl GmshMesh {
+    /// Reads a `.msh` file (format 4.1, ASCII or binary).
+    pub fn read(path: &Path) -> Result<GmshMesh, String> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| format!("cannot read {file}: {e}"))?;
+        Self::from_bytes(&bytes, &file)
+    }
+
+    /// Parses the bytes of a `.msh` file; `file` names it in messages.
+    pub fn from_bytes(bytes: &[u8], file: &str) -> Result<GmshMesh, String> {
+        let version = format_version(bytes)
+            .ok_or_else(|| format!("{file} is not a Gmsh mesh file (no $MeshFormat header)"))?;
+        if version != "4.1" {
+            return Err(format!(
+                "{file} is in MSH format {version}; only format 4.1 (ASCII or binary) is read: \
+                 save it with `gmsh -save -format msh41` or Mesh.MshFileVersion = 4.1"
+            ));
+        }
+        let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
+            format!(
+                "{file} is not a readable MSH 4.1 file: {}",
+                parse_error_text(&e, bytes)
+            )
+        })?;
+        let names = physical_names(bytes).map_err(|m| format!("{file}: $PhysicalNames: {m}"))?;
+
+        let mut nodes = BTreeMap::new();
+        if let Some(section) = &msh.data.nodes {
+            // mshio keeps the tags of a block only when the file's tags have gaps; without
+            // gaps the tags run from min_node_tag in file order (how Gmsh writes them).
+            let mut next = section.min_node_tag;
+            for block in &section.node_blocks {
+                let mut tags = vec![0u64; block.nodes.len()];
+                match &block.node_tags {
+                    Some(map) => {
+                        for (&tag, &i) in map {
+                            tags[i] = tag;
+                        }
+                    }
+                    None => {
+                        for t in tags.iter_mut() {
+                            *t = next;
+                            next += 1;
+                        }
+                    }
+                }
+                for (tag, n) in tags.into_iter().zip(&block.nodes) {
+                    let x = [n.x, n.y, n.z];
+                    if x.iter().any(|v| !v.is_finite()) {
+                        return Err(format!(
+                            "{file}: node {tag} has a non-finite coordinate {x:?}"
+                        ));
+                    }
+                    if nodes.insert(tag, x).is_some() {
+                        return Err(format!("{file}: node tag {tag} appears twice"));
+                    }
+                }
+            }
+        }
+
+        // Physical tags of each entity, (dim, entity tag) -> physical tags.
+        let mut entity_groups: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
+        if let Some(e) = &msh.data.entities {
+            for p in &e.points {
+                entity_groups.insert((0, p.tag), p.physical_tags.clone());
+            }
+            for c in &e.curves {
+                entity_groups.insert((1, c.tag), c.physical_tags.clone());
+            }
+            for s in &e.surfaces {
+                entity_groups.insert((2, s.tag), s.physical_tags.clone());
+            }
+            for v in &e.volumes {
+                entity_groups.insert((3, v.tag), v.physical_tags.clone());
+            }
+        }
+        // Groups: every (dim, tag) an entity names, with its name if $PhysicalNames has one.
+        let mut keys: Vec<(i32, i32)> = entity_groups
+            .iter()
+            .flat_map(|(&(dim, _), tags)| tags.iter().map(move |&t| (dim, t.abs())))
+            .collect();
+        keys.extend(names.iter().map(|(d, t, _)| (*d, *t)));
+        keys.sort_unstable();
+        keys.dedup();
+        let groups: Vec<PhysicalGroup> = keys
+            .iter()
+            .map(|&(dim, tag)| PhysicalGroup {
+                dim,
+                tag,
+                name: names
+                    .iter()
+                    .find(|(d, t, _)| *d == dim && *t == tag)
+                    .map(|(_, _, n)| n.clone())
+                    .unwrap_or_default(),
+            })
+            .collect();
+        let mut group_elements: Vec<Vec<GmshElement>> = vec![Vec::new(); groups.len()];
+        if let Some(section) = &msh.data.elements {
+            for block in &section.element_blocks {
+                let Some(tags) = entity_groups.get(&(block.entity_dim, block.entity_tag)) else {
+                    continue;
+                };
+                for t in tags {
+                    let g = keys
+                        .binary_search(&(block.entity_dim, t.abs()))
+                        .expect("every entity's physical tag is a group");
+                    group_elements[g].extend(block.elements.iter().map(|el| GmshElement {
+                        tag: el.element_tag,
+                        kind: block.element_type as i32,
+                        nodes: el.nodes.clone(),
+                    }));
+                }
+            }
+        }
+        for elements in group_elements.iter_mut() {
+            elements.sort_by_key(|e| e.tag);
+        }
+        Ok(GmshMesh {
+            file: file.to_string(),
+            nodes,
+            groups,
+            group_elements,
+        })
+    }
+
+    /// The groups of one dimension named `name`; an error listing those there are when none is.
+    fn find(&self, name: &str, dims: &[i32]) -> Result<Vec<usize>, String> {
+        let found: Vec<usize> = (0..self.groups.len())
+            .filter(|&g| dims.contains(&self.groups[g].dim) && self.groups[g].name == name)
+            .collect();
+        if found.is_empty() {
+            let kind = match dims {
+                [3] => "physical volume",
+                [2] => "physical surface",
+                _ => "physical group",
+            };
+            let available: Vec<String> = self
+                .groups
+                .iter()
+                .filter(|g| dims.contains(&g.dim))
+                .map(|g| {
+                    if dims.len() > 1 {
+                        format!("{} ({})", g.label(), dim_word(g.dim))
+                    } else {
+                        g.label()
+                    }
+                })
+                .collect();
+            return Err(format!(
+                "{} has no {kind} named '{name}' ({}: {})",
+                self.file,
+                if dims.len() > 1 {
+                    "physical groups"
+                } else {
+                    "the ones it has"
+                },
+                if available.is_empty() {
+                    "none".to_string()
+                } else {
+                    available.join(", ")
+                }
+            ));
+        }
+        Ok(found)
+    }
+
+    /// The one group of dimension `dim` named `name`.
+    fn find_one(&self, name: &str, dim: i32, what: &str) -> Result<usize, String> {
+        match self.find(name, &[dim])?.as_slice() {
+            [g] => Ok(*g),
+            several => Err(format!(
+                "{} has {} {what}s named '{name}' (tags {}); give them different names",
+                self.file,
+                several.len(),
+                several
+                    .iter()
+                    .map(|&g| self.groups[g].tag.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
+    }
+
+    /// The 8-node hexahedra of the physical volume `name`, checked: no other element type,
+    /// every node present, a positive Jacobian everywhere.
+    pub fn volume(&self, name: &str) -> Result<GmshVolume, String> {
+        let g = self.find_one(name, 3, "physical volume")?;
+        let elements = &self.group_elements[g];
+        self.only_type(elements, GMSH_HEX8, "physical volume", name)?;
+        if elements.is_empty() {
+            return Err(format!(
+                "physical volume '{name}' of {} has no elements (was the mesh saved after meshing in 3-D?)",
+                self.file
+            ));
+        }
+        let mut node_tags: Vec<u64> = elements.iter().flat_map(|e| e.nodes.clone()).collect();
+        node_tags.sort_unstable();
+        node_tags.dedup();
+        let coords = node_tags
+            .iter()
+            .map(|t| self.node(*t, elements, name))
+            .collect::<Result<Vec<Vec3>, String>>()?;
+        let mut local = Vec::with_capacity(elements.len());
+        for e in elements {
+            let el: [u32; 8] = std::array::from_fn(|a| {
+                node_tags
+                    .binary_search(&e.nodes[a])
+                    .expect("every node tag is listed") as u32
+            });
+            let x: [Vec3; 8] = std::array::from_fn(|a| coords[el[a] as usize]);
+            let r = min_jacobian_ratio(&x);
+            if !(r > 1e-8) {
+                return Err(format!(
+                    "element {} (8-node hexahedron) of physical volume '{name}' in {} is inverted or degenerate (min Jacobian ratio {r:.3e})",
+                    e.tag, self.file
+                ));
+            }
+            local.push(el);
+        }
+        Ok(GmshVolume {
+            node_tags,
+            coords,
+            element_tags: elements.iter().map(|e| e.tag).collect(),
+            elements: local,
+        })
+    }
+
+    /// The 4-node quadrangles of the physical surface `name`, as (element tag, node tags).
+    pub fn surface_quads(&self, name: &str) -> Result<Vec<(u64, [u64; 4])>, String> {
+        let g = self.find_one(name, 2, "physical surface")?;
+        let elements = &self.group_elements[g];
+        self.only_type(elements, GMSH_QUAD4, "physical surface", name)?;
+        if elements.is_empty() {
+            return Err(format!(
+                "physical surface '{name}' of {} has no elements",
+                self.file
+            ));
+        }
+        Ok(elements
+            .iter()
+            .map(|e| (e.tag, [e.nodes[0], e.nodes[1], e.nodes[2], e.nodes[3]]))
+            .collect())
+    }
+
+    /// The node tags of every physical group named `name` (of any dimension), sorted.
+    pub fn group_nodes(&self, name: &str) -> Result<Vec<u64>, String> {
+        let mut tags: Vec<u64> = Vec::new();
+        for g in self.find(name, &[0, 1, 2, 3])? {
+            tags.extend(self.group_elements[g].iter().flat_map(|e| e.nodes.clone()));
+        }
+        tags.sort_unstable();
+        tags.dedup();
+        if tags.is_empty() {
+            return Err(format!(
+                "physical group '{name}' of {} has no elements",
+                self.file
+            ));
+        }
+        Ok(tags)
+    }
+
+    fn node(&self, tag: u64, elements: &[GmshElement], group: &str) -> Result<Vec3, String> {
+        self.nodes.get(&tag).copied().ok_or_else(|| {
+            let e = elements
+                .iter()
+                .find(|e| e.nodes.contains(&tag))
+                .map_or(0, |e| e.tag);
+            format!(
+                "element {e} of '{group}' in {} refers to node {tag}, which the file does not define",
+                self.file
+            )
+        })
+    }
+
+    /// An error counting the elements of any type other than `kind`.
+    fn only_type(
+        &self,
+        elements: &[GmshElement],
+        kind: i32,
+        what: &str,
+        name: &str,
+    ) -> Result<(), String> {
+        let mut other: BTreeMap<i32, (usize, u64)> = BTreeMap::new();
+        for e in elements.iter().filter(|e| e.kind != kind) {
+            other.entry(e.kind).or_insert((0, e.tag)).0 += 1;
+        }
+        if other.is_empty() {
+            return Ok(());
+        }
+        let counts: Vec<String> = other
+            .iter()
+            .map(|(&t, &(n, first))| {
+                format!(
+                    "{n} element{} of Gmsh type {t} ({}; the first is element {first})",
+                    if n == 1 { "" } else { "s" },
+                    element_type_name(t)
+                )
+            })
+            .collect();
+        Err(format!(
+            "{what} '{name}' of {} has {}; only {} (Gmsh type {kind}) are supported",
+            self.file,
+            counts.join(" and "),
+            if kind == GMSH_HEX8 {
+                "8-node hexahedra"
+            } else {
+                "4-node quadrangles"
+            }
+        ))
+    }
+}
+
+fn dim_word(dim: i32) -> &'static str {
+    match dim {
+        0 => "point",
+        1 => "curve",
+        2 => "surface",
+        _ => "volume",
+    }
+}
+
+/// What a Gmsh element type number stands for (the common ones).
+pub fn element_type_name(kind: i32) -> String {
+    let s = match kind {
+        1 => "2-node line",
+        2 => "3-node triangle",
+        3 => "4-node quadrangle",
+        4 => "4-node tetrahedron",
+        5 => "8-node hexahedron",
+        6 => "6-node prism",
+        7 => "5-node pyramid",
+        8 => "3-node line",
+        9 => "6-node triangle",
+        10 => "9-node quadrangle",
+        11 => "10-node tetrahedron",
+        12 => "27-node hexahedron",
+        13 => "18-node prism",
+        14 => "14-node pyramid",
+        15 => "1-node point",
+        16 => "8-node quadrangle",
+        17 => "20-node hexahedron",
+        18 => "15-node prism",
+        19 => "13-node pyramid",
+        _ => return format!("higher-order or special element {kind}"),
+    };
+    s.to_string()
+}
+
+/// The version in the `$MeshFormat` header, if the bytes start like a Gmsh file.
+fn format_version(bytes: &[u8]) -> Option<String> {
+    let head = &bytes[..bytes.len().min(256)];
+    let text = String::from_utf8_lossy(head);
+    let mut lines = text.lines().map(str::trim).skip_while(|l| l.is_empty());
+    if lines.next()? != "$MeshFormat" {
+        return None;
+    }
+    lines.next()?.split_whitespace().next().map(str::to_string)
+}
+
+/// The `$PhysicalNames` section as (dimension, tag, name). It is text in ASCII and binary
+/// files alike, and comes before any binary data, so the first occurrence is the section.
+/// mshio does not read it.
+fn physical_names(bytes: &[u8]) -> Result<Vec<(i32, i32, String)>, String> {
+    const START: &[u8] = b"$PhysicalNames";
+    let Some(at) = bytes.windows(START.len()).position(|w| w == START) else {
+        return Ok(Vec::new());
+    };
+    let rest = &bytes[at + START.len()..];
+    let end = rest
+        .windows(b"$EndPhysicalNames".len())
+        .position(|w| w == b"$EndPhysicalNames")
+        .ok_or("no $EndPhysicalNames")?;
+    let text = std::str::from_utf8(&rest[..end]).map_err(|_| "not UTF-8 text")?;
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let count: usize = lines
+        .next()
+        .and_then(|l| l.parse().ok())
+        .ok_or("expected the number of names")?;
+    let mut out = Vec::with_capacity(count);
+    for line in lines {
+        let mut parts = line.splitn(3, char::is_whitespace);
+        let dim = parts.next().and_then(|s| s.parse::<i32>().ok());
+        let tag = parts.next().and_then(|s| s.parse::<i32>().ok());
+        let name = parts.next().map(str::trim);
+        match (dim, tag, name) {
+            (Some(d), Some(t), Some(n))
+                if (0..=3).contains(&d)
+                    && n.len() >= 2
+                    && n.starts_with('"')
+                    && n.ends_with('"') =>
+            {
+                out.push((d, t, n[1..n.len() - 1].to_string()))
+            }
+            _ => return Err(format!("expected `dim tag \"name\"`, got `{line}`")),
+        }
+    }
+    if out.len() != count {
+        return Err(format!("expected {count} names, found {}", out.len()));
+    }
+    Ok(out)
+}
+
+/// mshio's error as one line: what was being read, outermost first, and where (its own
+/// `Display` appends a hex dump of the rest of the file). Line numbers only mean something in
+/// an ASCII file.
+fn parse_error_text(e: &mshio::MshParserError<&[u8]>, bytes: &[u8]) -> String {
+    let trace = e.filtered_backtrace();
+    let Some((rest, _)) = trace.first() else {
+        return "unknown parse error".into();
+    };
+    let offset = bytes.len() - rest.len();
+    let what: Vec<String> = trace
+        .iter()
+        .rev()
+        .map(|(_, k)| k.to_string().trim_end_matches('.').to_string())
+        .collect();
+    let binary = String::from_utf8_lossy(&bytes[..bytes.len().min(256)])
+        .lines()
+        .nth(1)
+        .and_then(|l| l.split_whitespace().nth(1).map(|t| t != "0"))
+        .unwrap_or(false);
+    let place = if binary {
+        format!("byte {offset}")
+    } else {
+        let line = bytes[..offset].iter().filter(|&&b| b == b'\n').count() + 1;
+        format!("line {line}")
+    };
+    format!("failed reading {} at {place}", what.join(" / "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::hex8::NODE_XI;
+
+    /// One unit cube in the ASCII format, with a physical volume and a physical surface
+    /// (its z = 0 face), nodes placed at Gmsh's reference positions of a type 5 element.
+    fn cube(hex_nodes: &str) -> String {
+        format!(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"bottom\"\n3 1 \"cube\"\n$EndPhysicalNames\n\
+$Entities\n0 0 1 1\n1 0 0 0 1 1 0 1 2 0\n1 0 0 0 1 1 1 1 1 0\n$EndEntities\n\
+$Nodes\n1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n\
+0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n$EndNodes\n\
+$Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
+        )
+    }
+
+    #[test]
+    fn gmsh_hexahedron_order_is_ours() {
+        // The nodes sit at (1 + xi) / 2 of Gmsh's reference coordinates, so the element is
+        // the identity map scaled by one half: same node order, positive Jacobian.
+        let m = GmshMesh::from_bytes(cube("1 2 3 4 5 6 7 8").as_bytes(), "cube.msh").unwrap();
+        let v = m.volume("cube").unwrap();
+        assert_eq!(v.elements, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        for a in 0..8 {
+            for i in 0..3 {
+                assert_eq!(v.coords[a][i], 0.5 * (1.0 + NODE_XI[a][i]));
+            }
+        }
+        assert_eq!(m.surface_quads("bottom").unwrap(), vec![(1, [1, 2, 3, 4])]);
+        assert_eq!(m.group_nodes("bottom").unwrap(), vec![1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn sparse_node_tags_are_kept() {
+        // Tags with gaps: mshio keeps a tag map only then; the hexahedron refers to them.
+        let text = cube("10 20 30 40 50 60 70 80")
+            .replace(
+                "1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n",
+                "1 8 10 80\n3 1 0 8\n10\n20\n30\n40\n50\n60\n70\n80\n",
+            )
+            .replace("1 1 2 3 4\n", "1 10 20 30 40\n");
+        let m = GmshMesh::from_bytes(text.as_bytes(), "sparse.msh").unwrap();
+        assert_eq!(m.nodes[&70], [1.0, 1.0, 1.0]);
+        let v = m.volume("cube").unwrap();
+        assert_eq!(v.node_tags, vec![10, 20, 30, 40, 50, 60, 70, 80]);
+        assert_eq!(v.elements, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(m.group_nodes("bottom").unwrap(), vec![10, 20, 30, 40]);
+    }
+
+    #[test]
+    fn inverted_element_is_named() {
+        let m = GmshMesh::from_bytes(cube("5 6 7 8 1 2 3 4").as_bytes(), "cube.msh").unwrap();
+        let e = m.volume("cube").unwrap_err();
+        assert!(e.contains("element 2 ") && e.contains("inverted"), "{e}");
+    }
+
+    #[test]
+    fn missing_group_lists_the_others() {
+        let m = GmshMesh::from_bytes(cube("1 2 3 4 5 6 7 8").as_bytes(), "cube.msh").unwrap();
+        let e = m.volume("block").unwrap_err();
+        assert!(
+            e.contains("no physical volume named 'block'") && e.contains("'cube'"),
+            "{e}"
+        );
+        let e = m.surface_quads("cube").unwrap_err();
+        assert!(e.contains("'bottom'"), "{e}");
+    }
+
+    #[test]
+    fn other_versions_are_refused() {
+        let e =
+            GmshMesh::from_bytes(b"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n", "old.msh").unwrap_err();
+        assert!(e.contains("format 2.2"), "{e}");
+        let e = GmshMesh::from_bytes(b"solid\n", "x.msh").unwrap_err();
+        assert!(e.contains("not a Gmsh mesh file"), "{e}");
+    }
+}

@@ -1,0 +1,488 @@
+//! `solver post hertz`: the contact pressure under a cylinder (axis along z) pressed onto a
+//! flat body, against the Hertz line-contact (plane strain) solution
+//!
+//!   p(x) = p0 sqrt(1 - x^2 / a^2),  a = sqrt(4 P R / (pi E*)),  p0 = 2 P / (pi a),
+//!   1 / E* = (1 - nu1^2) / E1 + (1 - nu2^2) / E2,
+//!
+//! with P the normal load per unit length. Everything is read from the result file: the
+//! scene's one contact pair names the slave surface (the cylinder) and the master surface,
+//! the scene's bodies give E and nu, a circle fitted to the slave nodes gives R and the axis,
+//! the resultant contact force gives P and the normal direction. The nodal pressure is the
+//! slave node's normal contact force over its tributary area (a quarter of each slave face
+//! it belongs to).
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use super::figures::{render_figure, Curve, Figure, LegendAt, Mark, Panel};
+use super::plot::fonts_available;
+use crate::fem::hex8::FACES;
+use crate::math::{dot, Vec3};
+use crate::output::{OutputError, OutputMesh, ResultFile};
+use crate::scene::{MaterialDef, SceneFile};
+
+/// Arguments of `solver post hertz`.
+#[derive(clap::Args, Debug, Clone, PartialEq)]
+pub struct HertzArgs {
+    /// The result file (.h5) of a cylinder-on-flat scene with one contact pair.
+    pub file: PathBuf,
+    /// The plot to write (.png): pressure against position across the contact.
+    #[arg(short = 'o', long)]
+    pub output: PathBuf,
+}
+
+/// The Hertz line contact for a load per unit length, radius and contact modulus.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HertzLine {
+    /// Contact half-width.
+    pub a: f64,
+    /// Peak pressure.
+    pub p0: f64,
+}
+
+impl HertzLine {
+    pub fn new(load_per_length: f64, radius: f64, e_star: f64) -> Self {
+        let a = (4.0 * load_per_length * radius / (std::f64::consts::PI * e_star)).sqrt();
+        HertzLine {
+            a,
+            p0: 2.0 * load_per_length / (std::f64::consts::PI * a),
+        }
+    }
+
+    /// The pressure at distance `x` from the centre line of the contact.
+    pub fn pressure(&self, x: f64) -> f64 {
+        let r = x / self.a;
+        if r.abs() >= 1.0 {
+            0.0
+        } else {
+            self.p0 * (1.0 - r * r).sqrt()
+        }
+    }
+}
+
+/// The plane-strain contact modulus E* of two elastic bodies.
+pub fn contact_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
+    1.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
+}
+
+/// Least-squares circle through points of the plane: (centre, radius, largest distance of
+/// a point from the circle). Fits x^2 + y^2 + D x + E y + F = 0 (linear in D, E, F).
+pub fn fit_circle(points: &[[f64; 2]]) -> Option<([f64; 2], f64, f64)> {
+    if points.len() < 3 {
+        return None;
+    }
+    // Centred and scaled for conditioning.
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p[0]).sum::<f64>() / n;
+    let my = points.iter().map(|p| p[1]).sum::<f64>() / n;
+    let scale = points
+        .iter()
+        .map(|p| (p[0] - mx).hypot(p[1] - my))
+        .fold(0.0, f64::max);
+    if !(scale > 0.0) {
+        return None;
+    }
+    let mut m = [[0.0; 3]; 3];
+    let mut r = [0.0; 3];
+    for p in points {
+        let (x, y) = ((p[0] - mx) / scale, (p[1] - my) / scale);
+        let row = [x, y, 1.0];
+        let rhs = -(x * x + y * y);
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += row[i] * row[j];
+            }
+            r[i] += row[i] * rhs;
+        }
+    }
+    let (inv, det) = crate::math::inverse(&m);
+    if !(det.abs() > 1e-12 * n * n * n) {
+        return None;
+    }
+    let s: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| inv[i][j] * r[j]).sum());
+    let (cx, cy) = (-s[0] / 2.0, -s[1] / 2.0);
+    let rr = cx * cx + cy * cy - s[2];
+    if !(rr > 0.0) {
+        return None;
+    }
+    let radius = rr.sqrt() * scale;
+    let centre = [mx + cx * scale, my + cy * scale];
+    let off = points
+        .iter()
+        .map(|p| ((p[0] - centre[0]).hypot(p[1] - centre[1]) - radius).abs())
+        .fold(0.0, f64::max);
+    Some((centre, radius, off))
+}
+
+/// The comparison: FE pressures at the slave nodes and the Hertz solution.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HertzComparison {
+    pub radius: f64,
+    pub e_star: f64,
+    /// Resultant normal contact force per unit length.
+    pub load_per_length: f64,
+    pub hertz: HertzLine,
+    /// (position across the contact, pressure) at every slave node, sorted by position.
+    pub nodes: Vec<(f64, f64)>,
+    /// Largest |position| of a node in contact.
+    pub contact_edge: f64,
+    /// Node spacing across the contact at its centre.
+    pub spacing: f64,
+    /// Largest FE pressure.
+    pub peak: f64,
+    /// RMS of FE minus Hertz pressure over the nodes within 1.5 a, over p0.
+    pub rms_error: f64,
+}
+
+impl HertzComparison {
+    pub fn render(&self) -> String {
+        let h = &self.hertz;
+        let in_window = self.nodes.iter().filter(|n| n.0.abs() <= 1.5 * h.a).count();
+        format!(
+            "Hertz line contact (plane strain)\n\
+             \x20 radius R (fitted to the slave nodes)    {}\n\
+             \x20 contact modulus E*                      {}\n\
+             \x20 load per unit length P (contact force)  {}\n\
+             \x20 half-width a: Hertz {}, FE outermost node in contact {} (node spacing {})\n\
+             \x20 peak pressure: Hertz p0 {}, FE {} ({:+.1}%)\n\
+             \x20 RMS error of the nodal pressure within |x| <= 1.5 a ({} nodes): {:.1}% of p0\n",
+            g(self.radius),
+            g(self.e_star),
+            g(self.load_per_length),
+            g(h.a),
+            g(self.contact_edge),
+            g(self.spacing),
+            g(h.p0),
+            g(self.peak),
+            100.0 * (self.peak - h.p0) / h.p0,
+            in_window,
+            100.0 * self.rms_error
+        ) + &self.table()
+    }
+
+    /// Position, FE and Hertz pressure within 1.5 a, nodes at one position (along the
+    /// cylinder's length) averaged.
+    fn table(&self) -> String {
+        let mut rows: Vec<(f64, f64, usize)> = Vec::new();
+        for &(x, p) in self
+            .nodes
+            .iter()
+            .filter(|n| n.0.abs() <= 1.5 * self.hertz.a)
+        {
+            match rows.last_mut() {
+                Some(r) if (x - r.0).abs() <= 1e-9 * self.radius => {
+                    r.1 += p;
+                    r.2 += 1;
+                }
+                _ => rows.push((x, p, 1)),
+            }
+        }
+        let mut s = format!("  {:>10}  {:>10}  {:>10}\n", "x", "FE", "Hertz");
+        for (x, p, n) in rows {
+            s += &format!(
+                "  {:>10}  {:>10}  {:>10}\n",
+                g(x),
+                g(p / n as f64),
+                g(self.hertz.pressure(x))
+            );
+        }
+        s
+    }
+
+    /// The plot: FE nodal pressures and the Hertz curve over [-2a, 2a].
+    pub fn figure(&self) -> Figure {
+        let a = self.hertz.a;
+        let theory: Vec<(f64, f64)> = (0..=400)
+            .map(|i| {
+                let x = -2.0 * a + 4.0 * a * i as f64 / 400.0;
+                (x, self.hertz.pressure(x))
+            })
+            .collect();
+        let fe: Vec<(f64, f64)> = self
+            .nodes
+            .iter()
+            .copied()
+            .filter(|n| n.0.abs() <= 2.0 * a)
+            .collect();
+        Figure {
+            title: format!(
+                "Cylinder on block: contact pressure against Hertz (R = {}, P = {} per unit length)",
+                g(self.radius),
+                g(self.load_per_length)
+            ),
+            panels: vec![Panel {
+                title: format!(
+                    "a = {}, p0 = {}; RMS error {:.1}% of p0 within 1.5 a",
+                    g(a),
+                    g(self.hertz.p0),
+                    100.0 * self.rms_error
+                ),
+                x_label: "position across the contact (from the cylinder's centre line)".into(),
+                y_label: "contact pressure".into(),
+                curves: vec![
+                    Curve {
+                        label: Some("Hertz".into()),
+                        color: 0,
+                        mark: Mark::Line,
+                        legend: Mark::Line,
+                        points: theory,
+                    },
+                    Curve {
+                        label: Some("FE: nodal force / tributary area".into()),
+                        color: 1,
+                        mark: Mark::Points,
+                        legend: Mark::Points,
+                        points: fe,
+                    },
+                ],
+                legend: LegendAt::UpperRight,
+            }],
+        }
+    }
+}
+
+/// Four significant digits, plain for moderate magnitudes.
+fn g(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-3..1e6).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// Runs `solver post hertz`: compares, draws, and returns the report.
+pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
+    let f = ResultFile::open(&args.file)?;
+    let c = compare(&f)?;
+    let text = fonts_available();
+    if !text {
+        eprintln!(
+            "warning: no usable system font (sans-serif); the plot is drawn without text \
+             (install fonts-dejavu-core for labels)"
+        );
+    }
+    render_figure(&c.figure(), &args.output, text)?;
+    Ok(format!("{}wrote {}", c.render(), args.output.display()))
+}
+
+/// The comparison at the last step of a result file.
+pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
+    let usage = |message: String| OutputError::Usage {
+        file: f.path().to_path_buf(),
+        message,
+    };
+    let steps = f.num_steps();
+    if steps == 0 {
+        return Err(usage("the file has no completed step".into()));
+    }
+    let attrs = f.attributes()?;
+    let scene: SceneFile = toml::from_str(&attrs.scene_text)
+        .map_err(|e| usage(format!("the scene stored in the file does not parse: {e}")))?;
+    let [contact] = scene.contact.as_slice() else {
+        return Err(usage(format!(
+            "expected a scene with one [[contact]] pair, found {}",
+            scene.contact.len()
+        )));
+    };
+    let mesh = f.mesh()?;
+    let faces = |name: &str| -> Result<&Vec<(u64, u8)>, OutputError> {
+        mesh.side_sets
+            .iter()
+            .find(|s| s.0 == name)
+            .map(|s| &s.1)
+            .ok_or_else(|| usage(format!("the file has no side set '{name}'")))
+    };
+    let elements = element_table(&mesh);
+    let material = |set: &str| -> Result<(f64, f64), OutputError> {
+        let body = side_set_body(&elements, faces(set)?)
+            .ok_or_else(|| usage(format!("side set '{set}' is not on exactly one body")))?;
+        let def = scene
+            .body
+            .iter()
+            .find(|b| b.name == body)
+            .ok_or_else(|| usage(format!("the scene has no body '{body}'")))?;
+        Ok(match def.material {
+            MaterialDef::LinearElastic { e, nu, .. } | MaterialDef::NeoHookean { e, nu, .. } => {
+                (e, nu)
+            }
+        })
+    };
+    let (e1, nu1) = material(&contact.slave)?;
+    let (e2, nu2) = material(&contact.master)?;
+    let e_star = contact_modulus(e1, nu1, e2, nu2);
+
+    // Slave nodes and their tributary areas.
+    let mut area: HashMap<usize, f64> = HashMap::new();
+    for &(id, face) in faces(&contact.slave)? {
+        let conn = elements
+            .get(&id)
+            .ok_or_else(|| usage(format!("side set names element {id}, which the mesh lacks")))?
+            .1;
+        let nodes = FACES[face as usize].map(|a| conn[a] as usize);
+        let x: [Vec3; 4] = nodes.map(|n| mesh.coordinates[n]);
+        let quarter = crate::fem::face::area(&x) / 4.0;
+        for n in nodes {
+            *area.entry(n).or_insert(0.0) += quarter;
+        }
+    }
+    let mut slave: Vec<usize> = area.keys().copied().collect();
+    slave.sort_unstable();
+
+    let plane: Vec<[f64; 2]> = slave
+        .iter()
+        .map(|&n| [mesh.coordinates[n][0], mesh.coordinates[n][1]])
+        .collect();
+    let (centre, radius, off) = fit_circle(&plane)
+        .ok_or_else(|| usage("the slave nodes do not lie on a circle about a z axis".into()))?;
+    if off > 1e-3 * radius {
+        return Err(usage(format!(
+            "the slave surface '{}' is not a cylinder about a z axis (a node lies {off:.3e} off the best circle of radius {radius:.4e})",
+            contact.slave
+        )));
+    }
+    let zs = slave.iter().map(|&n| mesh.coordinates[n][2]);
+    let length = zs.clone().fold(f64::NEG_INFINITY, f64::max) - zs.fold(f64::INFINITY, f64::min);
+    if !(length > 0.0) {
+        return Err(usage("the slave surface has no length along z".into()));
+    }
+
+    let force = f.contact_force(steps - 1)?;
+    let status = f.contact_status(steps - 1)?;
+    let mut total = [0.0; 3];
+    for &n in &slave {
+        for i in 0..3 {
+            total[i] += force[n][i];
+        }
+    }
+    let magnitude = crate::math::norm(&total);
+    if !(magnitude > 0.0) {
+        return Err(usage("there is no contact force at the last step".into()));
+    }
+    let normal = total.map(|v| v / magnitude);
+    if normal[2].abs() > 1e-6 {
+        return Err(usage(format!(
+            "the resultant contact force {total:?} is not perpendicular to the cylinder's axis (z)"
+        )));
+    }
+    let across = [normal[1], -normal[0], 0.0];
+    let position = |n: usize| {
+        let x = mesh.coordinates[n];
+        dot(&[x[0] - centre[0], x[1] - centre[1], 0.0], &across)
+    };
+    let load_per_length = magnitude / length;
+    let hertz = HertzLine::new(load_per_length, radius, e_star);
+
+    let mut nodes: Vec<(f64, f64)> = slave
+        .iter()
+        .map(|&n| (position(n), dot(&force[n], &normal) / area[&n]))
+        .collect();
+    nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let contact_edge = slave
+        .iter()
+        .filter(|&&n| status[n] == 1 || status[n] == 2)
+        .map(|&n| position(n).abs())
+        .fold(0.0, f64::max);
+    let mut distinct: Vec<f64> = nodes.iter().map(|n| n.0.abs()).collect();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * radius);
+    let spacing = match distinct.as_slice() {
+        [a, b, ..] if *a <= 1e-9 * radius => *b,
+        [a, b, ..] => a + b,
+        _ => 0.0,
+    };
+    let peak = nodes.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
+    let window: Vec<f64> = nodes
+        .iter()
+        .filter(|n| n.0.abs() <= 1.5 * hertz.a)
+        .map(|n| n.1 - hertz.pressure(n.0))
+        .collect();
+    if window.is_empty() {
+        return Err(usage(
+            "no slave node lies within 1.5 a of the contact".into(),
+        ));
+    }
+    let rms_error =
+        (window.iter().map(|d| d * d).sum::<f64>() / window.len() as f64).sqrt() / hertz.p0;
+    Ok(HertzComparison {
+        radius,
+        e_star,
+        load_per_length,
+        hertz,
+        nodes,
+        contact_edge,
+        spacing,
+        peak,
+        rms_error,
+    })
+}
+
+/// Element id -> (body name, connectivity).
+fn element_table(mesh: &OutputMesh) -> HashMap<u64, (&str, [u64; 8])> {
+    let mut out = HashMap::new();
+    for b in &mesh.bodies {
+        for (id, conn) in b.element_ids.iter().zip(&b.connectivity) {
+            out.insert(*id, (b.name.as_str(), *conn));
+        }
+    }
+    out
+}
+
+/// The one body all faces of a side set belong to.
+fn side_set_body<'a>(
+    elements: &HashMap<u64, (&'a str, [u64; 8])>,
+    faces: &[(u64, u8)],
+) -> Option<&'a str> {
+    let mut body = None;
+    for (id, _) in faces {
+        let b = elements.get(id)?.0;
+        match body {
+            None => body = Some(b),
+            Some(o) if o != b => return None,
+            _ => {}
+        }
+    }
+    body
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hertz_half_width_and_peak() {
+        // P = pi E* a^2 / (4 R): with E* = 1, R = 1, P = pi / 4 gives a = 1 and p0 = 1/2.
+        let h = HertzLine::new(std::f64::consts::PI / 4.0, 1.0, 1.0);
+        assert!((h.a - 1.0).abs() < 1e-15);
+        assert!((h.p0 - 0.5).abs() < 1e-15);
+        assert_eq!(h.pressure(1.5), 0.0);
+        // The pressure integrates to P: p0 pi a / 2.
+        let n = 200_000;
+        let sum: f64 = (0..n)
+            .map(|i| h.pressure(-1.0 + 2.0 * (i as f64 + 0.5) / n as f64) * 2.0 / n as f64)
+            .sum();
+        assert!((sum - std::f64::consts::PI / 4.0).abs() < 1e-6, "{sum}");
+        // Two equal bodies: E* = E / (2 (1 - nu^2)).
+        assert!((contact_modulus(2.0, 0.5, 2.0, 0.5) - 1.0 / 0.75).abs() < 1e-15);
+    }
+
+    #[test]
+    fn circle_fit_is_exact_on_a_circle() {
+        let pts: Vec<[f64; 2]> = (0..7)
+            .map(|i| {
+                let t = std::f64::consts::PI * (1.0 + i as f64 / 6.0);
+                [3.0 + 10.0 * t.cos(), 10.0 + 10.0 * t.sin()]
+            })
+            .collect();
+        let (c, r, off) = fit_circle(&pts).unwrap();
+        assert!(
+            (c[0] - 3.0).abs() < 1e-9 && (c[1] - 10.0).abs() < 1e-9,
+            "{c:?}"
+        );
+        assert!((r - 10.0).abs() < 1e-9 && off < 1e-9);
+        assert!(fit_circle(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]).is_none());
+    }
+}

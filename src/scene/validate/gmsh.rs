@@ -1,0 +1,177 @@
+//! The scene's Gmsh mesh: bodies from physical volumes, node sets from physical groups,
+//! side sets from physical surfaces. Gmsh node tags become the solver's node numbers here and
+//! nowhere else.
+
+use super::{Builder, SceneError};
+use crate::math::Vec3;
+use crate::mesh::gmsh::GmshMesh;
+use crate::mesh::GlobalMesh;
+use crate::scene::types::GmshDef;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// The mesh file and which solver node each Gmsh node tag became.
+pub(super) struct GmshImport {
+    mesh: GmshMesh,
+    /// Gmsh node tag -> (global node index, body index, physical volume name).
+    nodes: HashMap<u64, (u32, usize, String)>,
+}
+
+/// The message for a Gmsh key in a scene without a `[gmsh]` table.
+pub(super) const NEEDS_GMSH: &str =
+    "needs the mesh file: add `[gmsh]` with `file = \"<mesh>.msh\"`";
+
+impl Builder {
+    /// The scene's Gmsh mesh, or an error at `key` when it has none.
+    pub(super) fn needs_gmsh<'a>(
+        &self,
+        key: &str,
+        gmsh: Option<&'a GmshImport>,
+    ) -> Result<&'a GmshImport, SceneError> {
+        gmsh.ok_or_else(|| self.err(key, NEEDS_GMSH))
+    }
+
+    /// Reads the `[gmsh]` file, its path taken relative to the scene file.
+    pub(super) fn gmsh_file(&self, def: &GmshDef) -> Result<GmshImport, SceneError> {
+        let dir = Path::new(&self.file).parent().unwrap_or(Path::new(""));
+        let path = dir.join(&def.file);
+        if !path.is_file() {
+            return Err(self.err(
+                "gmsh.file",
+                format!(
+                    "no mesh file {} (the path is relative to the scene file)",
+                    path.display()
+                ),
+            ));
+        }
+        let mesh = GmshMesh::read(&path).map_err(|m| self.err("gmsh.file", m))?;
+        Ok(GmshImport {
+            mesh,
+            nodes: HashMap::new(),
+        })
+    }
+}
+
+impl GmshImport {
+    /// The nodes (in node tag order) and hexahedra (0-based, local) of body `body`, the
+    /// physical volume `volume`, whose first node will be global node `first_node`.
+    pub(super) fn add_body(
+        &mut self,
+        b: &Builder,
+        key: &str,
+        volume: &str,
+        body: usize,
+        first_node: usize,
+    ) -> Result<(Vec<Vec3>, Vec<[u32; 8]>), SceneError> {
+        let key = format!("{key}.gmsh_volume");
+        let v = self.mesh.volume(volume).map_err(|m| b.err(&key, m))?;
+        for (i, tag) in v.node_tags.iter().enumerate() {
+            if let Some((_, _, other)) = self.nodes.get(tag) {
+                return Err(b.err(
+                    &key,
+                    format!(
+                        "physical volumes '{other}' and '{volume}' of {} share node {tag}; bodies cannot share nodes (mesh them as separate volumes and join them by contact)",
+                        self.mesh.file
+                    ),
+                ));
+            }
+            self.nodes
+                .insert(*tag, ((first_node + i) as u32, body, volume.to_string()));
+        }
+        Ok((v.coords, v.elements))
+    }
+
+    fn global_node(&self, b: &Builder, key: &str, tag: u64, what: &str) -> Result<u32, SceneError> {
+        self.nodes.get(&tag).map(|n| n.0).ok_or_else(|| {
+            b.err(
+                key,
+                format!(
+                    "{what} has node {tag}, which is in no body's physical volume (only nodes of the [[body]] volumes of {} can be used)",
+                    self.mesh.file
+                ),
+            )
+        })
+    }
+
+    /// Global nodes of the physical groups named `group`, optionally only those of `body`.
+    pub(super) fn node_set(
+        &self,
+        b: &Builder,
+        key: &str,
+        group: &str,
+        body: Option<usize>,
+    ) -> Result<Vec<u32>, SceneError> {
+        let key = format!("{key}.gmsh_group");
+        let tags = self.mesh.group_nodes(group).map_err(|m| b.err(&key, m))?;
+        let mut nodes = Vec::with_capacity(tags.len());
+        for tag in tags {
+            let what = format!("physical group '{group}'");
+            let n = self.global_node(b, &key, tag, &what)?;
+            if body.is_none_or(|bi| self.nodes[&tag].1 == bi) {
+                nodes.push(n);
+            }
+        }
+        nodes.sort_unstable();
+        Ok(nodes)
+    }
+
+    /// The (element, local face) under each quadrangle of the physical surface `surface`,
+    /// optionally only faces of `body`. Every quadrangle must be a boundary face of a body.
+    pub(super) fn side_set(
+        &self,
+        b: &Builder,
+        key: &str,
+        surface: &str,
+        mesh: &GlobalMesh,
+        boundary: &[(u32, u8)],
+        body: Option<usize>,
+    ) -> Result<Vec<(u32, u8)>, SceneError> {
+        let key = format!("{key}.gmsh_surface");
+        let quads = self
+            .mesh
+            .surface_quads(surface)
+            .map_err(|m| b.err(&key, m))?;
+        let sorted = |mut k: [u32; 4]| {
+            k.sort_unstable();
+            k
+        };
+        let on_boundary: HashMap<[u32; 4], (u32, u8)> = boundary
+            .iter()
+            .map(|&(e, f)| (sorted(mesh.face_nodes(e, f)), (e, f)))
+            .collect();
+        let mut faces = Vec::with_capacity(quads.len());
+        for (tag, q) in quads {
+            let what = format!("quadrangle {tag} of physical surface '{surface}'");
+            let mut k = [0u32; 4];
+            for a in 0..4 {
+                k[a] = self.global_node(b, &key, q[a], &what)?;
+            }
+            match on_boundary.get(&sorted(k)) {
+                Some(&(e, f)) => {
+                    if body.is_none_or(|bi| mesh.element_body[e as usize] as usize == bi) {
+                        faces.push((e, f));
+                    }
+                }
+                None => {
+                    let inner = (0..mesh.num_elements())
+                        .any(|e| (0..6).any(|f| sorted(mesh.face_nodes(e as u32, f)) == sorted(k)));
+                    return Err(b.err(
+                        &key,
+                        format!(
+                            "{what} in {} is {}",
+                            self.mesh.file,
+                            if inner {
+                                "a face between two hexahedra, not on a body's boundary"
+                            } else {
+                                "not a face of any body's hexahedron"
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        faces.sort_unstable();
+        faces.dedup();
+        Ok(faces)
+    }
+}
