@@ -576,6 +576,10 @@ pub fn run_from<C: Comm + ?Sized>(
                         rec.contact_updates, c.active, c.stick, c.slip, c.released, c.max_penetration
                     );
                 }
+                // Time left, from the pace of the steps this run has done so far.
+                let done = (step - first_step) as f64;
+                let left = (nsteps - step) as f64 * start.elapsed().as_secs_f64() / done;
+                line += &format!("  ~{left:.0} s left");
                 match &progress {
                     Some(bar) => {
                         bar.set_message(format!("t = {t:.4}  CG {}", rec.cg_iterations));
