@@ -8,7 +8,14 @@
 //! 3. CG iterations and wall time of a cube compression solved through `run::run`,
 //! 4. the contact search (`MasterSurface::new`, the BVH of master faces, and
 //!    `MasterSurface::search` of every slave node) on two stacked blocks with non-matching
-//!    meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode).
+//!    meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode),
+//! 5. the block-on-block scene (`run/scenes/bench/block_on_block.toml`) refined to n = 10,
+//!    20, 40 elements per edge (n = 10 in quick mode), run by `target/release/solver` under
+//!    `run/mpirun` on 1 and 2 ranks: CG iterations, contact updates, wall time, peak memory,
+//!    total contact force, the 2-rank speed-up and whether the two result files are bitwise
+//!    identical; and `solver check --ranks 2, 3` of the largest size (the partition),
+//! 6. CalculiX (`ccx`, when installed) on the same problem, from an input deck written here,
+//!    on 2 threads within 5 minutes per size: its wall time and total force beside ours.
 //!
 //! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
 //! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
@@ -19,15 +26,16 @@ use serde::{Serialize, Serializer};
 use solver::comm::SerialComm;
 use solver::math::{Mat3, Vec3, ZERO33};
 use solver::mesh::local::LocalMesh;
+use solver::output::ResultFile;
 use solver::problem::Problem;
 use solver::run::{run, RunOptions};
-use solver::scene::parse_scene;
+use solver::scene::{load_scene_refined, parse_scene};
 use solver::solver::assembly::Assembly;
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::path::PathBuf;
-use std::process::ExitCode;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode, Stdio};
+use std::time::{Duration, Instant};
 
 // ---------------------------------------------------------------------------------------
 // Settings
@@ -49,6 +57,12 @@ struct Config {
     /// (master faces per edge, repeats) of the contact search: m^2 master faces, m^2
     /// slave nodes.
     contact: (usize, usize),
+    /// (refinement factor, repeats) of the block-on-block solver runs.
+    block: Vec<(usize, usize)>,
+    /// Refinement factor whose decomposition over PARTITION_RANKS is reported.
+    partition_refine: usize,
+    /// Refinement factors CalculiX runs at (with the repeats of `block`).
+    calculix: Vec<usize>,
 }
 
 impl Config {
@@ -64,6 +78,9 @@ impl Config {
                 diagonal_repeats: 3,
                 cube: vec![(10, 3), (20, 3)],
                 contact: (100, 5),
+                block: vec![(1, 1)],
+                partition_refine: 1,
+                calculix: vec![1],
             }
         } else {
             Config {
@@ -76,6 +93,10 @@ impl Config {
                 diagonal_repeats: 5,
                 cube: vec![(10, 5), (20, 3), (40, 3)],
                 contact: (316, 7),
+                // n = 40 takes about 10 minutes on one rank: one repeat.
+                block: vec![(1, 3), (2, 3), (4, 1)],
+                partition_refine: 4,
+                calculix: vec![1, 2, 4],
             }
         }
     }
@@ -1055,27 +1076,876 @@ fn contact_search(m: usize, repeats: usize) -> Result<ContactResult, String> {
 }
 
 // ---------------------------------------------------------------------------------------
-// Placeholders for later issues
+// Subprocesses
 // ---------------------------------------------------------------------------------------
 
-const NOT_YET_MEASURED: [(&str, &str, &str); 2] = [
-    (
-        "two_rank_speedup",
-        "2-rank speed-up",
-        "Wall-time speed-up of the same problem on 2 MPI ranks over 1 rank.",
-    ),
-    (
-        "calculix_comparison",
-        "CalculiX comparison",
-        "Wall time and results against CalculiX (ccx) on the same model.",
-    ),
-];
+/// The repository the bench was built from: the scene and `run/mpirun` are found there.
+fn repo_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The `solver` binary built beside this one (`run/bench` builds both).
+fn solver_exe() -> Result<PathBuf, String> {
+    let exe =
+        std::env::current_exe().map_err(|e| format!("cannot locate the bench binary: {e}"))?;
+    let solver = exe.with_file_name("solver");
+    if solver.is_file() {
+        Ok(solver)
+    } else {
+        Err(format!(
+            "{} not found: build it first (`cargo build --release --bin solver`; run/bench does)",
+            solver.display()
+        ))
+    }
+}
+
+/// How a subprocess ended.
+struct Finished {
+    /// Exit code; `None` when a signal ended it.
+    code: Option<i32>,
+    /// Why the bench stopped it (time or memory limit), if it did.
+    stopped: Option<String>,
+    /// Wall-clock seconds from spawn to exit.
+    wall: f64,
+    /// Largest VmHWM of the process itself (not its children) seen while it ran, bytes.
+    peak_rss: Option<f64>,
+}
+
+/// (VmHWM, VmRSS) of a process in bytes, from /proc/<pid>/status.
+fn process_memory(pid: u32) -> Option<(f64, f64)> {
+    let s = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let field = |name: &str| -> Option<f64> {
+        let l = s.lines().find(|l| l.starts_with(name))?;
+        let kb: f64 = l.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb * 1024.0)
+    };
+    Some((field("VmHWM:")?, field("VmRSS:")?))
+}
+
+/// MemAvailable of /proc/meminfo in bytes.
+fn memory_available() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let l = s.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: f64 = l.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// Runs `cmd` with its standard output and error in the given files, stopping it after
+/// `timeout_s` seconds or when its resident memory passes `rss_limit` bytes.
+fn run_limited(
+    cmd: &mut Command,
+    stdout: &Path,
+    stderr: &Path,
+    timeout_s: f64,
+    rss_limit: Option<f64>,
+) -> Result<Finished, String> {
+    let open = |p: &Path| {
+        std::fs::File::create(p).map_err(|e| format!("cannot create {}: {e}", p.display()))
+    };
+    cmd.stdin(Stdio::null())
+        .stdout(open(stdout)?)
+        .stderr(open(stderr)?);
+    let start = Instant::now();
+    let mut child = cmd
+        .spawn()
+        .map_err(|e| format!("cannot start {:?}: {e}", cmd.get_program()))?;
+    let pid = child.id();
+    let mut peak: Option<f64> = None;
+    let mut stopped = None;
+    let status = loop {
+        if let Some(s) = child
+            .try_wait()
+            .map_err(|e| format!("waiting for {pid}: {e}"))?
+        {
+            break s;
+        }
+        if let Some((hwm, rss)) = process_memory(pid) {
+            peak = Some(peak.map_or(hwm, |p| p.max(hwm)));
+            if let Some(limit) = rss_limit.filter(|&l| rss > l) {
+                stopped = Some(format!(
+                    "stopped at {:.0} MiB resident (limit {:.0} MiB)",
+                    rss / MIB,
+                    limit / MIB
+                ));
+            }
+        }
+        let elapsed = start.elapsed().as_secs_f64();
+        if stopped.is_none() && elapsed > timeout_s {
+            stopped = Some(format!("stopped after {timeout_s:.0} s"));
+        }
+        if stopped.is_some() {
+            break stop(&mut child)?;
+        }
+        // Sleep about 1 % of the time so far: the wall time is exact to about that.
+        std::thread::sleep(Duration::from_secs_f64((0.01 * elapsed).clamp(0.002, 0.1)));
+    };
+    Ok(Finished {
+        code: status.code(),
+        stopped,
+        wall: start.elapsed().as_secs_f64(),
+        peak_rss: peak,
+    })
+}
+
+/// SIGTERM (mpirun passes it on to its ranks), then SIGKILL if it has not ended in 10 s.
+fn stop(child: &mut Child) -> Result<std::process::ExitStatus, String> {
+    let pid = child.id();
+    let _ = Command::new("kill")
+        .args(["-TERM", &pid.to_string()])
+        .stderr(Stdio::null())
+        .status();
+    let t = Instant::now();
+    while t.elapsed() < Duration::from_secs(10) {
+        if let Some(s) = child
+            .try_wait()
+            .map_err(|e| format!("waiting for {pid}: {e}"))?
+        {
+            return Ok(s);
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    child.wait().map_err(|e| format!("waiting for {pid}: {e}"))
+}
+
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// The number written right after `key` in `line` (trailing `,` or `;` dropped).
+fn number_after<T: std::str::FromStr>(line: &str, key: &str) -> Option<T> {
+    let i = line.find(key)?;
+    line[i + key.len()..]
+        .split_whitespace()
+        .next()?
+        .trim_end_matches([',', ';'])
+        .parse()
+        .ok()
+}
+
+/// The number written right before `key` in `line`.
+fn number_before<T: std::str::FromStr>(line: &str, key: &str) -> Option<T> {
+    let i = line.find(key)?;
+    line[..i]
+        .split_whitespace()
+        .next_back()?
+        .trim_end_matches([',', ';'])
+        .parse()
+        .ok()
+}
+
+fn last_line(text: &str) -> &str {
+    text.lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("")
+}
+
+// ---------------------------------------------------------------------------------------
+// 4. Block on block: the solver on 1 and 2 ranks
+// ---------------------------------------------------------------------------------------
+
+/// The benchmark scene; the solver refines it itself (`solver run --refine F`).
+const BLOCK_SCENE: &str = "run/scenes/bench/block_on_block.toml";
+/// Elements per edge of each block in BLOCK_SCENE.
+const BLOCK_BASE_N: usize = 10;
+/// Rank counts of the solver runs; the speed-up is the first over the second.
+const BLOCK_RANKS: [usize; 2] = [1, 2];
+/// Rank counts whose decomposition `solver check --ranks` reports.
+const PARTITION_RANKS: [usize; 2] = [2, 3];
+/// Node sets of BLOCK_SCENE held in y: the upper block's top (pressed down), the lower
+/// block's bottom.
+const BLOCK_TOP_SET: &str = "upper_top";
+const BLOCK_BOTTOM_SET: &str = "lower_bottom";
+/// A solver run still going after this long is stopped (a hang under MPI, not a result).
+const SOLVER_TIMEOUT_S: f64 = 7200.0;
+
+/// What one solver run printed on standard error (rank 0, without -q).
+#[derive(Clone, Debug, PartialEq)]
+struct SolverLog {
+    elements: usize,
+    nodes: usize,
+    steps: usize,
+    /// From the final `done:` line.
+    cg_iterations: u64,
+    /// Sum of the per-step `CG <n>`; equals `cg_iterations`.
+    cg_step_sum: u64,
+    /// Sum of the per-step `contact updates <n>`.
+    contact_updates: u64,
+    /// The run's wall time as the solver reports it (decomposition to result file).
+    wall: f64,
+    /// Peak memory, MiB per rank (the largest VmHWM over the ranks).
+    peak_mib: f64,
+}
+
+fn parse_solver_log(text: &str) -> Result<SolverLog, String> {
+    let head = text
+        .lines()
+        .find(|l| l.contains(" elements, ") && l.contains(" rank(s)"))
+        .ok_or("no '<name>: .. elements, .. nodes, .. rank(s)' line")?;
+    let done = text
+        .lines()
+        .find(|l| l.starts_with("done: "))
+        .ok_or("no 'done: ..' line")?;
+    let bad = |what: &str, line: &str| format!("cannot read {what} from '{line}'");
+    let mut cg_step_sum = 0u64;
+    let mut contact_updates = 0u64;
+    for l in text.lines().filter(|l| l.starts_with("step ")) {
+        cg_step_sum += number_after::<u64>(l, " CG ").ok_or_else(|| bad("CG", l))?;
+        contact_updates +=
+            number_after::<u64>(l, "contact updates ").ok_or_else(|| bad("contact updates", l))?;
+    }
+    Ok(SolverLog {
+        elements: number_before(head, " elements").ok_or_else(|| bad("elements", head))?,
+        nodes: number_before(head, " nodes").ok_or_else(|| bad("nodes", head))?,
+        steps: number_after(done, "done: ").ok_or_else(|| bad("steps", done))?,
+        cg_iterations: number_before(done, " CG iterations").ok_or_else(|| bad("CG", done))?,
+        cg_step_sum,
+        contact_updates,
+        wall: number_before(done, " s, peak memory").ok_or_else(|| bad("seconds", done))?,
+        peak_mib: number_after(done, "peak memory ").ok_or_else(|| bad("memory", done))?,
+    })
+}
+
+/// One solver run through `run/mpirun`; its standard error goes to `<stem>.log`.
+fn solver_run(
+    exe: &Path,
+    refine: usize,
+    ranks: usize,
+    result: &Path,
+) -> Result<(SolverLog, f64), String> {
+    let root = repo_root();
+    let log = result.with_extension("log");
+    let mut cmd = Command::new(root.join("run/mpirun"));
+    cmd.args(["-np", &ranks.to_string()])
+        .arg(exe)
+        .arg("run")
+        .arg(root.join(BLOCK_SCENE))
+        .args(["--refine", &refine.to_string(), "-o"])
+        .arg(result);
+    let f = run_limited(
+        &mut cmd,
+        &result.with_extension("out"),
+        &log,
+        SOLVER_TIMEOUT_S,
+        None,
+    )?;
+    let text =
+        std::fs::read_to_string(&log).map_err(|e| format!("cannot read {}: {e}", log.display()))?;
+    if let Some(why) = f.stopped {
+        return Err(format!("{why} (log {})", log.display()));
+    }
+    if f.code != Some(0) {
+        return Err(format!(
+            "exit code {}: {} (log {})",
+            f.code.map_or("none (signal)".into(), |c| c.to_string()),
+            last_line(&text),
+            log.display()
+        ));
+    }
+    let parsed = parse_solver_log(&text).map_err(|e| format!("{}: {e}", log.display()))?;
+    Ok((parsed, f.wall))
+}
+
+/// Sum over all nodes of the contact force at the last step of a result file.
+fn total_contact_force(path: &Path) -> Result<Vec3, String> {
+    let file = ResultFile::open(path).map_err(|e| e.to_string())?;
+    let last = file
+        .num_steps()
+        .checked_sub(1)
+        .ok_or_else(|| format!("{}: no steps", path.display()))?;
+    let force = file.contact_force(last).map_err(|e| e.to_string())?;
+    Ok(force.iter().fold([0.0; 3], |a, f| solver::math::add(&a, f)))
+}
+
+/// The block-on-block scene at one size on one rank count, repeated.
+struct BlockCase {
+    ranks: usize,
+    /// The first repeat's log (the counts are the same in every repeat unless
+    /// `consistent` is false).
+    log: SolverLog,
+    consistent: bool,
+    /// Solver-reported wall time.
+    wall: Stat,
+    /// Wall time of the `run/mpirun` process (MPI start-up and scene loading included).
+    process_wall: Stat,
+    peak_mib: Stat,
+    /// Total contact force at the last step (from the last repeat's result file).
+    contact_force: Result<Vec3, String>,
+    result: PathBuf,
+}
+
+impl BlockCase {
+    fn bytes_per_element(&self) -> f64 {
+        self.peak_mib.median * MIB / (self.log.elements as f64 / self.ranks as f64)
+    }
+}
+
+fn block_case(
+    exe: &Path,
+    dir: &Path,
+    refine: usize,
+    ranks: usize,
+    repeats: usize,
+) -> Result<BlockCase, String> {
+    let n = BLOCK_BASE_N * refine;
+    let result = dir.join(format!("n{n}_np{ranks}.h5"));
+    let mut logs = Vec::new();
+    let mut process = Vec::new();
+    for r in 0..repeats.max(1) {
+        let (log, wall) = solver_run(exe, refine, ranks, &result)?;
+        eprintln!(
+            "bench:   n = {n}, {ranks} rank(s), run {}/{}: {} CG iterations, {} contact updates, {:.2} s, {:.1} MiB per rank",
+            r + 1,
+            repeats.max(1),
+            log.cg_iterations,
+            log.contact_updates,
+            log.wall,
+            log.peak_mib
+        );
+        logs.push(log);
+        process.push(wall);
+    }
+    let first = logs[0].clone();
+    let consistent = logs.iter().all(|l| {
+        (l.steps, l.cg_iterations, l.cg_step_sum, l.contact_updates)
+            == (
+                first.steps,
+                first.cg_iterations,
+                first.cg_step_sum,
+                first.contact_updates,
+            )
+    }) && first.cg_iterations == first.cg_step_sum;
+    let walls: Vec<f64> = logs.iter().map(|l| l.wall).collect();
+    let mibs: Vec<f64> = logs.iter().map(|l| l.peak_mib).collect();
+    Ok(BlockCase {
+        ranks,
+        log: first,
+        consistent,
+        wall: Stat::of(&walls),
+        process_wall: Stat::of(&process),
+        peak_mib: Stat::of(&mibs),
+        contact_force: total_contact_force(&result),
+        result,
+    })
+}
+
+/// `solver post compare A B`: exit code 0 when bitwise identical.
+struct Compare {
+    code: Option<i32>,
+    /// Its last line ("result: ...").
+    summary: String,
+}
+
+fn compare_results(exe: &Path, a: &Path, b: &Path) -> Result<Compare, String> {
+    let out = Command::new(exe)
+        .args(["post", "compare"])
+        .arg(a)
+        .arg(b)
+        .output()
+        .map_err(|e| format!("cannot run {} post compare: {e}", exe.display()))?;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    Ok(Compare {
+        code: out.status.code(),
+        summary: last_line(if stdout.trim().is_empty() {
+            &stderr
+        } else {
+            &stdout
+        })
+        .to_string(),
+    })
+}
+
+/// One size of the block-on-block scene on every rank count of BLOCK_RANKS.
+struct BlockSize {
+    n: usize,
+    refine: usize,
+    cases: Vec<Result<BlockCase, String>>,
+    /// The first rank count's result file against the second's.
+    compare: Option<Result<Compare, String>>,
+}
+
+impl BlockSize {
+    fn case(&self, ranks: usize) -> Option<&BlockCase> {
+        self.cases.iter().flatten().find(|c| c.ranks == ranks)
+    }
+
+    /// (median, min, max) of the first rank count's wall time over the second's.
+    fn speedup(&self) -> Option<Stat> {
+        let a = self.case(BLOCK_RANKS[0])?;
+        let b = self.case(BLOCK_RANKS[1])?;
+        Some(Stat {
+            median: a.wall.median / b.wall.median,
+            min: a.wall.min / b.wall.max,
+            max: a.wall.max / b.wall.min,
+            repeats: a.wall.repeats.min(b.wall.repeats),
+        })
+    }
+
+    fn elements(&self) -> Option<usize> {
+        self.cases.iter().flatten().map(|c| c.log.elements).next()
+    }
+}
+
+fn block_size(exe: &Path, dir: &Path, refine: usize, repeats: usize) -> BlockSize {
+    let n = BLOCK_BASE_N * refine;
+    let cases: Vec<Result<BlockCase, String>> = BLOCK_RANKS
+        .iter()
+        .map(|&ranks| {
+            let c = block_case(exe, dir, refine, ranks, repeats);
+            if let Err(e) = &c {
+                eprintln!("bench:   n = {n}, {ranks} rank(s) failed: {e}");
+            }
+            c
+        })
+        .collect();
+    let compare = match (&cases[0], &cases[1]) {
+        (Ok(a), Ok(b)) => Some(compare_results(exe, &a.result, &b.result)),
+        _ => None,
+    };
+    BlockSize {
+        n,
+        refine,
+        cases,
+        compare,
+    }
+}
+
+/// `solver check SCENE --refine F --ranks R`: the decomposition part of its output.
+struct PartitionReport {
+    n: usize,
+    ranks: usize,
+    imbalance: Option<f64>,
+    edge_cut: Option<u64>,
+    /// From the `decomposition:` line to the end.
+    text: String,
+}
+
+fn partition_report(exe: &Path, refine: usize, ranks: usize) -> Result<PartitionReport, String> {
+    let out = Command::new(exe)
+        .arg("check")
+        .arg(repo_root().join(BLOCK_SCENE))
+        .args([
+            "--refine",
+            &refine.to_string(),
+            "--ranks",
+            &ranks.to_string(),
+        ])
+        .output()
+        .map_err(|e| format!("cannot run {} check: {e}", exe.display()))?;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        return Err(format!(
+            "solver check --refine {refine} --ranks {ranks}: {}",
+            last_line(&String::from_utf8_lossy(&out.stderr))
+        ));
+    }
+    let start = stdout
+        .find("decomposition:")
+        .ok_or("solver check printed no 'decomposition:' line")?;
+    let text = stdout[start..].trim_end().to_string();
+    Ok(PartitionReport {
+        n: BLOCK_BASE_N * refine,
+        ranks,
+        imbalance: number_after(&text, "element imbalance "),
+        edge_cut: number_after(&text, "edge cut "),
+        text,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// 5. CalculiX beside us
+// ---------------------------------------------------------------------------------------
+
+/// CalculiX gets this long per size; larger sizes are skipped after one that does not
+/// finish in time.
+const CCX_TIMEOUT_S: f64 = 300.0;
+const CCX_THREADS: usize = 2;
+/// Slope of the linear pressure-overclosure law (pressure per unit overclosure) of the
+/// node-to-surface penalty contact: with contact pressures of order 10 the overclosure is
+/// about 1e-6, 1e-4 of the 0.009 the top is pressed down.
+const CCX_PENALTY: f64 = 1e7;
+/// ccx's face label of each of our local faces 0 (-y), 1 (+x), 2 (+y), 3 (-x), 4 (-z),
+/// 5 (+z): with our corner order a C3D8's face S1 is 1-2-3-4 (-z), S2 5-8-7-6 (+z), S3
+/// 1-5-6-2 (-y), S4 2-6-7-3 (+x), S5 3-7-8-4 (+y), S6 4-8-5-1 (-x).
+const CCX_FACE: [u8; 6] = [3, 4, 5, 6, 1, 2];
+
+/// A name as ccx stores it (upper case; letters, digits and '_').
+fn ccx_name(prefix: &str, name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_uppercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("{prefix}{s}")
+}
+
+/// A CalculiX input deck of a scene: the same nodes and elements (ids = our 1-based ids),
+/// a linear elastic material per body, the prescribed displacements at the last step's
+/// time applied over one static step (ramped), the first contact pair as frictionless
+/// node-to-surface penalty contact, and the total reaction force of every prescribed node
+/// set printed to the .dat file. Only what the block-on-block scene uses is supported.
+fn calculix_deck(problem: &Problem) -> Result<String, String> {
+    use solver::fem::Formulation;
+    use solver::material::Material;
+    use solver::scene::Kinematics;
+    let unsupported = |what: &str| Err(format!("the CalculiX deck does not support {what}"));
+    if !matches!(problem.kinematics, Kinematics::Small) {
+        return unsupported("large kinematics");
+    }
+    if !problem.pressures.is_empty()
+        || !problem.tractions.is_empty()
+        || !problem.body_forces.is_empty()
+    {
+        return unsupported("pressures, tractions or body forces");
+    }
+    let [pair] = problem.contacts.as_slice() else {
+        return unsupported("other than one contact pair");
+    };
+    if pair.mu != 0.0 {
+        return unsupported("friction");
+    }
+    let mesh = &problem.mesh;
+    let mut d = String::new();
+    let w = &mut d;
+    let _ = writeln!(
+        w,
+        "** {} written by the solver's bench: C3D8 (2x2x2 Gauss) as the scene's \"full\",\n\
+         ** frictionless node-to-surface penalty contact, linear static (no NLGEOM).\n*HEADING\n{}",
+        problem.name, problem.name
+    );
+    let _ = writeln!(w, "*NODE, NSET=NALL");
+    for (i, x) in mesh.coords.iter().enumerate() {
+        let _ = writeln!(w, "{}, {:?}, {:?}, {:?}", i + 1, x[0], x[1], x[2]);
+    }
+    for (b, body) in mesh.bodies.iter().enumerate() {
+        let model = &problem.body_models[b];
+        let Material::LinearElastic(m) = &model.material else {
+            return unsupported("materials other than linear elastic");
+        };
+        if !matches!(model.formulation, Formulation::Full) {
+            return unsupported("formulations other than \"full\"");
+        }
+        let (lambda, mu) = (m.lambda, m.mu);
+        let e = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
+        let nu = lambda / (2.0 * (lambda + mu));
+        let elset = ccx_name("E_", &body.name);
+        let _ = writeln!(w, "*ELEMENT, TYPE=C3D8, ELSET={elset}");
+        for k in body.first_element..body.first_element + body.num_elements {
+            let c = mesh.elements[k];
+            let _ = write!(w, "{}", k + 1);
+            for n in c {
+                let _ = write!(w, ", {}", n + 1);
+            }
+            let _ = writeln!(w);
+        }
+        let material = ccx_name("M_", &body.name);
+        let _ = writeln!(
+            w,
+            "*MATERIAL, NAME={material}\n*ELASTIC\n{e:?}, {nu:?}\n\
+             *SOLID SECTION, ELSET={elset}, MATERIAL={material}"
+        );
+    }
+
+    // Prescribed displacements: one axis each, at the final time.
+    let t_end = problem
+        .step_times
+        .last()
+        .copied()
+        .ok_or("the scene has no load steps")?;
+    let mut boundary = Vec::new();
+    let mut sets: Vec<usize> = Vec::new();
+    for dc in &problem.dirichlet {
+        let axis = (0..3).find(|&i| {
+            (dc.direction[i].abs() - 1.0).abs() < 1e-12
+                && (0..3).all(|j| j == i || dc.direction[j].abs() < 1e-12)
+        });
+        let Some(i) = axis else {
+            return unsupported("prescribed directions other than x, y or z");
+        };
+        let value = dc.function.eval(t_end) / dc.direction[i];
+        let set = &problem.node_sets[dc.node_set];
+        boundary.push(format!(
+            "{}, {}, {}, {value:?}",
+            ccx_name("N_", &set.name),
+            i + 1,
+            i + 1
+        ));
+        if !sets.contains(&dc.node_set) {
+            sets.push(dc.node_set);
+        }
+    }
+    for &s in &sets {
+        let set = &problem.node_sets[s];
+        let _ = writeln!(w, "*NSET, NSET={}", ccx_name("N_", &set.name));
+        write_ids(w, set.nodes.iter().map(|&n| n as usize + 1));
+    }
+
+    // Contact: master faces of the pair, slave faces from the side set whose nodes are
+    // the pair's slave nodes.
+    let face_nodes = |e: u32, f: u8| -> [u32; 4] {
+        let c = mesh.elements[e as usize];
+        solver::fem::hex8::FACES[f as usize].map(|a| c[a])
+    };
+    let slave_set = problem
+        .side_sets
+        .iter()
+        .find(|s| {
+            let mut nodes: Vec<u32> = s
+                .faces
+                .iter()
+                .flat_map(|&(e, f)| face_nodes(e, f))
+                .collect();
+            nodes.sort_unstable();
+            nodes.dedup();
+            nodes == pair.slave_nodes
+        })
+        .ok_or("no side set has exactly the contact pair's slave nodes")?;
+    for (name, faces) in [
+        ("S_MASTER", &pair.master_faces),
+        ("S_SLAVE", &slave_set.faces),
+    ] {
+        let _ = writeln!(w, "*SURFACE, NAME={name}, TYPE=ELEMENT");
+        for &(e, f) in faces.iter() {
+            let _ = writeln!(w, "{}, S{}", e + 1, CCX_FACE[f as usize]);
+        }
+    }
+    let _ = writeln!(
+        w,
+        "*SURFACE INTERACTION, NAME=FRICTIONLESS\n\
+         *SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n{CCX_PENALTY:?}\n\
+         *CONTACT PAIR, INTERACTION=FRICTIONLESS, TYPE=NODE TO SURFACE\nS_SLAVE, S_MASTER"
+    );
+
+    let _ = writeln!(w, "*STEP\n*STATIC\n1.0, 1.0, 1.0e-5, 1.0\n*BOUNDARY");
+    for b in &boundary {
+        let _ = writeln!(w, "{b}");
+    }
+    for &s in &sets {
+        let _ = writeln!(
+            w,
+            "*NODE PRINT, NSET={}, TOTALS=ONLY\nRF",
+            ccx_name("N_", &problem.node_sets[s].name)
+        );
+    }
+    let _ = writeln!(w, "*END STEP");
+    Ok(d)
+}
+
+/// Ids sixteen to a line (ccx reads at most 16 entries per data line).
+fn write_ids(w: &mut String, ids: impl Iterator<Item = usize>) {
+    let ids: Vec<usize> = ids.collect();
+    for chunk in ids.chunks(16) {
+        let line: Vec<String> = chunk.iter().map(usize::to_string).collect();
+        let _ = writeln!(w, "{}", line.join(", "));
+    }
+}
+
+/// The last "total force (fx,fy,fz) for set NAME" of a ccx .dat file.
+fn ccx_total_force(dat: &str, set: &str) -> Option<Vec3> {
+    let key = format!("total force (fx,fy,fz) for set {set} ");
+    let lines: Vec<&str> = dat.lines().collect();
+    let i = lines.iter().rposition(|l| l.contains(&key))?;
+    let v: Vec<f64> = lines[i + 1..]
+        .iter()
+        .find(|l| !l.trim().is_empty())?
+        .split_whitespace()
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    (v.len() == 3).then(|| [v[0], v[1], v[2]])
+}
+
+enum CcxOutcome {
+    Finished {
+        /// Process wall time.
+        wall: Stat,
+        /// ccx's own "Total CalculiX Time" (median).
+        own_time: Option<f64>,
+        peak_mib: Option<f64>,
+        /// Newton iterations of the step (contact iterations), first repeat.
+        iterations: usize,
+        /// Total reaction force of the upper block's top and of the lower block's bottom.
+        top: Vec3,
+        bottom: Vec3,
+    },
+    Stopped(String),
+    Failed(String),
+    Skipped(String),
+}
+
+struct CcxSize {
+    n: usize,
+    elements: usize,
+    nodes: usize,
+    deck: PathBuf,
+    outcome: CcxOutcome,
+}
+
+struct Calculix {
+    /// `None`: ccx is not installed (or does not run).
+    version: Option<String>,
+    sizes: Vec<CcxSize>,
+}
+
+fn ccx_version() -> Option<String> {
+    // `ccx -v` prints "This is Version 2.20" and exits with a non-zero code.
+    let out = Command::new("ccx").arg("-v").output().ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("This is Version "))
+        .map(str::to_string);
+    Some(v.unwrap_or_else(|| "unknown version".into()))
+}
+
+fn calculix(cfg: &Config) -> Calculix {
+    let Some(version) = ccx_version() else {
+        eprintln!(
+            "bench: CalculiX not available (no ccx on PATH; `run/setup --calculix` installs it)"
+        );
+        return Calculix {
+            version: None,
+            sizes: Vec::new(),
+        };
+    };
+    eprintln!("bench: CalculiX {version}");
+    let mut sizes = Vec::new();
+    let mut skip: Option<String> = None;
+    for &refine in &cfg.calculix {
+        let n = BLOCK_BASE_N * refine;
+        let repeats = cfg.block.iter().find(|b| b.0 == refine).map_or(1, |b| b.1);
+        let size = match &skip {
+            Some(why) => Ok(CcxSize {
+                n,
+                elements: 0,
+                nodes: 0,
+                deck: PathBuf::new(),
+                outcome: CcxOutcome::Skipped(why.clone()),
+            }),
+            None => ccx_size(&cfg.out, refine, repeats),
+        };
+        let size = size.unwrap_or_else(|e| CcxSize {
+            n,
+            elements: 0,
+            nodes: 0,
+            deck: PathBuf::new(),
+            outcome: CcxOutcome::Failed(e),
+        });
+        match &size.outcome {
+            CcxOutcome::Finished { wall, top, .. } => eprintln!(
+                "bench:   ccx n = {n}: {:.2} s, total force {:.6}",
+                wall.median, -top[1]
+            ),
+            CcxOutcome::Stopped(why) => {
+                eprintln!("bench:   ccx n = {n}: {why}");
+                skip = Some(format!("n = {n} did not finish ({why})"));
+            }
+            CcxOutcome::Failed(e) => eprintln!("bench:   ccx n = {n} failed: {e}"),
+            CcxOutcome::Skipped(_) => {}
+        }
+        sizes.push(size);
+    }
+    Calculix {
+        version: Some(version),
+        sizes,
+    }
+}
+
+fn ccx_size(out: &Path, refine: usize, repeats: usize) -> Result<CcxSize, String> {
+    let n = BLOCK_BASE_N * refine;
+    let problem = load_scene_refined(&repo_root().join(BLOCK_SCENE), refine as u32)
+        .map_err(|e| e.to_string())?;
+    let dir = out.join("calculix").join(format!("n{n}"));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let job = format!("block_on_block_n{n}");
+    let deck = dir.join(format!("{job}.inp"));
+    std::fs::write(&deck, calculix_deck(&problem)?)
+        .map_err(|e| format!("cannot write {}: {e}", deck.display()))?;
+    let mut size = CcxSize {
+        n,
+        elements: problem.mesh.num_elements(),
+        nodes: problem.mesh.num_nodes(),
+        deck: deck.clone(),
+        outcome: CcxOutcome::Skipped(String::new()),
+    };
+    drop(problem);
+    let (top_set, bottom_set) = (
+        ccx_name("N_", BLOCK_TOP_SET),
+        ccx_name("N_", BLOCK_BOTTOM_SET),
+    );
+    let mut walls = Vec::new();
+    let mut own = Vec::new();
+    let mut peak: Option<f64> = None;
+    let mut first: Option<(usize, Vec3, Vec3)> = None;
+    for _ in 0..repeats.max(1) {
+        let dat = dir.join(format!("{job}.dat"));
+        let _ = std::fs::remove_file(&dat);
+        let log = dir.join("ccx.log");
+        let mut cmd = Command::new("ccx");
+        cmd.args(["-i", &job])
+            .current_dir(&dir)
+            .env("OMP_NUM_THREADS", CCX_THREADS.to_string());
+        let f = run_limited(
+            &mut cmd,
+            &log,
+            &dir.join("ccx.err"),
+            CCX_TIMEOUT_S,
+            // Leave the machine a quarter of what it had (others may be working on it).
+            memory_available().map(|m| 0.75 * m),
+        )?;
+        if let Some(why) = f.stopped {
+            size.outcome = CcxOutcome::Stopped(why);
+            return Ok(size);
+        }
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        let dat_text = std::fs::read_to_string(&dat).unwrap_or_default();
+        // ccx exits with 0 after an input error too: judge by its output.
+        let error = text.lines().find(|l| l.contains("*ERROR")).map(str::trim);
+        let forces = (
+            ccx_total_force(&dat_text, &top_set),
+            ccx_total_force(&dat_text, &bottom_set),
+        );
+        let (Some(top), Some(bottom), None) = (forces.0, forces.1, error) else {
+            size.outcome = CcxOutcome::Failed(format!(
+                "exit code {:?}; {} (log {})",
+                f.code,
+                error.unwrap_or("no total force in the .dat file"),
+                log.display()
+            ));
+            return Ok(size);
+        };
+        walls.push(f.wall);
+        own.extend(number_after::<f64>(&text, "Total CalculiX Time: "));
+        if let Some(p) = f.peak_rss {
+            peak = Some(peak.map_or(p, |q| q.max(p)));
+        }
+        let iterations = text
+            .lines()
+            .filter(|l| l.trim_start().starts_with("iteration "))
+            .count();
+        first.get_or_insert((iterations, top, bottom));
+    }
+    let (iterations, top, bottom) = first.expect("at least one repeat");
+    size.outcome = CcxOutcome::Finished {
+        wall: Stat::of(&walls),
+        own_time: (!own.is_empty()).then(|| Stat::of(&own).median),
+        peak_mib: peak.map(|p| p / MIB),
+        iterations,
+        top,
+        bottom,
+    };
+    Ok(size)
+}
 
 // ---------------------------------------------------------------------------------------
 // Output
 // ---------------------------------------------------------------------------------------
 
-const DOC: [(&str, &str); 14] = [
+const DOC: [(&str, &str); 16] = [
     ("schema", "identifier and version of this file's layout"),
     ("meta", "when and where it ran: date (RFC 3339, UTC), git commit (short) and whether tracked files had uncommitted changes, CPU model and cache size from /proc/cpuinfo (under a hypervisor the cache size may be a nominal figure), logical CPUs and physical cores, quick mode, total wall time in s, /proc/loadavg (1, 5, 15 min) at the start and the end (other processes on the machine inflate wall times), cpu_steal_fraction = share of all CPUs' time the hypervisor gave to other guests during the run (from /proc/stat)"),
     ("statistics", "every measured figure is given as <name>_median, <name>_min and <name>_max over `repeats` timed runs (after one untimed warm-up for the kernels and the bandwidth); rates are derived from the times, so rate_min comes from the slowest run"),
@@ -1088,7 +1958,9 @@ const DOC: [(&str, &str); 14] = [
     ("element_kernels.checksum", "sum of |entries| of the result, to show it is not trivial"),
     ("cg_cube", "unit cube, linear elastic E = 1e6, nu = 0.3, u_y = 0 at y = 0, u_x = 0 at x = 0, u_z = 0 at z = 0, u_y = -0.01 at y = 1, one load step, tolerance 1e-8, solved by solver::run::run on SerialComm; run_wall includes decomposition and set-up, solve_wall is the load step; unknowns = free degrees of freedom; iterations_per_cbrt_unknowns = cg_iterations / unknowns^(1/3); force_call is one internal_force call on the same mesh and kernel_share = cg_iterations x force_call_min / solve_wall_min (true-residual recomputations not counted; minima are the least disturbed by other load); max_error_rel = max |u - u_exact| / 0.01 against the exact uniaxial-stress field"),
     ("contact_search", "two blocks stacked at y = 0.1 (lower [0,1]x[0,0.1]x[0,1] divided m x 1 x m, upper [0,1]x[0.1,0.2]x[0,1] divided (m-1) x 1 x (m-1), so the meshes do not match), generated as a scene and read by parse_scene (parse_s, not part of the timings); master = the lower block's top (m^2 faces), slave = the upper block's bottom nodes (m^2), each offset along y by a pseudo-random gap uniform in [-0.5, 0.5] x normal_tolerance (perturb_s, not timed either); default tolerances (normal 0.5 x face_size, tangential 0.1 x face_size). Per repeat, on one thread: build_s = MasterSurface::new (face corners and the BVH of their inflated boxes), search_s = MasterSurface::search of every slave node (collecting the results), total_s = both; after one untimed warm-up round; slave_nodes_per_s and us_per_query derived from search_s, total_slave_nodes_per_s from total_s. interactions_found = slave nodes with an interaction; expected = slave nodes over the master surface's x-z extent with |offset| <= normal_tolerance, expected_found = how many of those found a face; max_gap_error = max |gap - offset| and max_point_error = max distance of the contact point from the node's foot on y = 0.1, over the interactions"),
-    ("not_yet_measured", "measurements that come with later issues: names only, no numbers"),
+    ("block_on_block", "run/scenes/bench/block_on_block.toml (two linear elastic blocks, E = 1000, nu = 0.3, the upper one [0.05,0.95]x[1,1.9]x[0.05,0.95] pressed by u_y = -0.009 at its top onto the lower [0,1]^3 held at its bottom; frictionless, non-matching meshes, 2 load steps) refined by `solver run --refine F` to n = 10 F elements per edge per block, run as `run/mpirun -np R target/release/solver run SCENE --refine F -o out/bench/block/nN_npR.h5` (standard error in nN_npR.log). Per size and rank count: steps, cg_iterations and contact_updates summed over the steps (the same every repeat unless counts_same_every_repeat is false), wall_s = the run time the solver prints (decomposition to result file; without MPI start-up and scene loading), process_wall_s = wall time of the mpirun process, peak_mib_per_rank = the largest VmHWM over the ranks as the solver prints it, bytes_per_element = peak / (elements / ranks), marginal_bytes_per_element = the growth of the peak over the next smaller size per element added per rank (the fixed cost of the runtime cancels), contact_force = sum over all nodes of /results/contact/force at the last step read with solver::output::ResultFile. speedup = 1-rank wall_s / 2-rank wall_s (min from the slowest 1-rank over the fastest 2-rank run); bitwise_identical = `solver post compare` of the 1- and 2-rank result files exited with 0"),
+    ("partition", "`solver check SCENE --refine F --ranks R` for R = 2, 3: element imbalance (max/mean), edge cut, owned and ghost elements and nodes per rank, master faces each rank owns / holds for its slave nodes; text is its output from the `decomposition:` line on"),
+    ("calculix", "CalculiX ccx (Debian calculix-ccx; `run/setup --calculix`) on the same problem: the input deck is written from the scene as the solver loads it (same nodes, elements and ids; C3D8 elements, 2x2x2 Gauss like the scene's full integration; E and nu per body; the prescribed displacements at the final time over one *STATIC step; frictionless NODE TO SURFACE penalty contact of the scene's slave faces on its master faces with PRESSURE-OVERCLOSURE=LINEAR of slope penalty_slope; *NODE PRINT TOTALS=ONLY of RF for the prescribed node sets), run as `ccx -i JOB` with OMP_NUM_THREADS = 2 in out/bench/calculix/nN/, stopped after 5 minutes (larger sizes are then skipped) or at 3/4 of the memory available. wall_s = process wall time, ccx_time_s = its own \"Total CalculiX Time\", peak_mib = its VmHWM, iterations = its Newton (contact) iterations; total_force = -RF_y summed over the upper block's top, bottom_force = RF_y summed over the lower block's bottom; relative_difference = (ccx total_force - our 2-rank contact force y) / ours; our_process_wall_s = our 2-rank process wall time on that size"),
     ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s), slave nodes per second, microseconds per query (us)"),
 ];
 
@@ -1100,6 +1972,9 @@ struct Results {
     kernels: Vec<KernelResult>,
     cubes: Vec<CubeResult>,
     contact: ContactResult,
+    blocks: Vec<BlockSize>,
+    partitions: Vec<Result<PartitionReport, String>>,
+    calculix: Calculix,
     total_wall: f64,
     load_end: Option<String>,
     /// Fraction of the machine's CPU time stolen by the hypervisor during the run.
@@ -1240,30 +2115,22 @@ impl Results {
             .put("max_gap_error", c.max_gap_error)
             .put("max_point_error", c.max_point_error)
             .json();
-        let placeholders = NOT_YET_MEASURED
-            .iter()
-            .map(|(key, _, what)| {
-                Rec::default()
-                    .put("name", *key)
-                    .put("description", *what)
-                    .put("status", "not yet measured")
-                    .json()
-            })
-            .collect();
         let doc = J::Obj(
             DOC.iter()
                 .map(|(k, v)| (k.to_string(), J::Str(v.to_string())))
                 .collect(),
         );
         Rec::default()
-            .put("schema", "solver-bench/1")
+            .put("schema", "solver-bench/2")
             .put("doc", doc)
             .put("meta", meta)
             .put("memory_bandwidth", J::Arr(stream))
             .put("element_kernels", J::Arr(kernels))
             .put("cg_cube", J::Arr(cubes))
             .put("contact_search", contact)
-            .put("not_yet_measured", J::Arr(placeholders))
+            .put("block_on_block", self.block_json())
+            .put("partition", self.partition_json())
+            .put("calculix", self.calculix_json())
             .json()
     }
 
@@ -1485,13 +2352,397 @@ impl Results {
             c.expected,
         );
 
-        for (_, title, what) in NOT_YET_MEASURED.iter() {
+        self.block_markdown(w);
+        self.calculix_markdown(w);
+        s
+    }
+}
+
+impl Results {
+    /// Growth of the peak memory per rank over the next smaller size, per element added
+    /// per rank (bytes).
+    fn marginal_bytes(&self, i: usize, ranks: usize) -> Option<f64> {
+        let b = self.blocks.get(i)?.case(ranks)?;
+        let a = self.blocks.get(i.checked_sub(1)?)?.case(ranks)?;
+        let de = (b.log.elements as f64 - a.log.elements as f64) / ranks as f64;
+        (de > 0.0).then(|| (b.peak_mib.median - a.peak_mib.median) * MIB / de)
+    }
+
+    /// Our total contact force (y) on a size: the 2-rank run's, else the 1-rank run's.
+    fn our_force(&self, n: usize) -> Option<(f64, &BlockCase)> {
+        let size = self.blocks.iter().find(|b| b.n == n)?;
+        BLOCK_RANKS.iter().rev().find_map(|&r| {
+            let c = size.case(r)?;
+            c.contact_force.as_ref().ok().map(|f| (f[1], c))
+        })
+    }
+
+    fn block_json(&self) -> J {
+        let sizes = self
+            .blocks
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let runs = b
+                    .cases
+                    .iter()
+                    .zip(BLOCK_RANKS)
+                    .map(|(c, ranks)| match c {
+                        Err(e) => Rec::default()
+                            .put("ranks", ranks)
+                            .put("error", e.as_str())
+                            .json(),
+                        Ok(c) => {
+                            let l = &c.log;
+                            let (force, force_error) = match &c.contact_force {
+                                Ok(f) => (J::Arr(f.iter().map(|&x| J::Num(x)).collect()), None),
+                                Err(e) => (J::Null, Some(e.clone())),
+                            };
+                            Rec::default()
+                                .put("ranks", ranks)
+                                .put("elements", l.elements)
+                                .put("nodes", l.nodes)
+                                .put("steps", l.steps)
+                                .put("cg_iterations", l.cg_iterations)
+                                .put("contact_updates", l.contact_updates)
+                                .put("counts_same_every_repeat", c.consistent)
+                                .put("repeats", c.wall.repeats)
+                                .stat("wall_s", &c.wall)
+                                .stat("process_wall_s", &c.process_wall)
+                                .stat("peak_mib_per_rank", &c.peak_mib)
+                                .put("elements_per_rank", l.elements as f64 / ranks as f64)
+                                .put("bytes_per_element", c.bytes_per_element())
+                                .put("marginal_bytes_per_element", self.marginal_bytes(i, ranks))
+                                .put("contact_force", force)
+                                .put("contact_force_error", force_error)
+                                .put("result_file", c.result.display().to_string())
+                                .json()
+                        }
+                    })
+                    .collect();
+                let mut rec = Rec::default()
+                    .put("n", b.n)
+                    .put("refine", b.refine)
+                    .put("elements", b.elements())
+                    .put("runs", J::Arr(runs));
+                rec = match b.speedup() {
+                    Some(s) => rec.stat("speedup", &s),
+                    None => rec.put("speedup_median", J::Null),
+                };
+                match &b.compare {
+                    Some(Ok(c)) => rec
+                        .put("bitwise_identical", c.code == Some(0))
+                        .put("compare_exit_code", c.code.map(|x| x as i64).map(J::Int))
+                        .put("compare_summary", c.summary.as_str()),
+                    Some(Err(e)) => rec
+                        .put("bitwise_identical", J::Null)
+                        .put("compare_error", e.as_str()),
+                    None => rec.put("bitwise_identical", J::Null),
+                }
+                .json()
+            })
+            .collect();
+        Rec::default()
+            .put("scene", BLOCK_SCENE)
+            .put(
+                "ranks",
+                J::Arr(BLOCK_RANKS.iter().map(|&r| r.into()).collect()),
+            )
+            .put("sizes", J::Arr(sizes))
+            .json()
+    }
+
+    fn partition_json(&self) -> J {
+        J::Arr(
+            self.partitions
+                .iter()
+                .map(|p| match p {
+                    Ok(p) => Rec::default()
+                        .put("n", p.n)
+                        .put("ranks", p.ranks)
+                        .put("element_imbalance", p.imbalance)
+                        .put("edge_cut", p.edge_cut)
+                        .put("text", p.text.as_str())
+                        .json(),
+                    Err(e) => Rec::default().put("error", e.as_str()).json(),
+                })
+                .collect(),
+        )
+    }
+
+    fn calculix_json(&self) -> J {
+        let c = &self.calculix;
+        let sizes = c
+            .sizes
+            .iter()
+            .map(|s| {
+                let ours = self.our_force(s.n);
+                let ours_2 = self
+                    .blocks
+                    .iter()
+                    .find(|b| b.n == s.n)
+                    .and_then(|b| b.case(BLOCK_RANKS[1]));
+                let rec = Rec::default()
+                    .put("n", s.n)
+                    .put("elements", s.elements)
+                    .put("nodes", s.nodes)
+                    .put("deck", s.deck.display().to_string())
+                    .put("threads", CCX_THREADS)
+                    .put("our_contact_force_y", ours.map(|o| o.0))
+                    .put("our_process_wall_s", ours_2.map(|b| b.process_wall.median))
+                    .put("our_wall_s", ours_2.map(|b| b.wall.median));
+                match &s.outcome {
+                    CcxOutcome::Finished {
+                        wall,
+                        own_time,
+                        peak_mib,
+                        iterations,
+                        top,
+                        bottom,
+                    } => rec
+                        .put("status", "finished")
+                        .put("repeats", wall.repeats)
+                        .stat("wall_s", wall)
+                        .put("ccx_time_s", *own_time)
+                        .put("peak_mib", *peak_mib)
+                        .put("iterations", *iterations)
+                        .put("total_force", -top[1])
+                        .put("bottom_force", bottom[1])
+                        .put("relative_difference", ours.map(|o| (-top[1] - o.0) / o.0)),
+                    CcxOutcome::Stopped(why) => {
+                        rec.put("status", "stopped").put("reason", why.as_str())
+                    }
+                    CcxOutcome::Failed(e) => rec.put("status", "failed").put("reason", e.as_str()),
+                    CcxOutcome::Skipped(why) => {
+                        rec.put("status", "skipped").put("reason", why.as_str())
+                    }
+                }
+                .json()
+            })
+            .collect();
+        Rec::default()
+            .put("available", c.version.is_some())
+            .put("version", c.version.clone())
+            .put("threads", CCX_THREADS)
+            .put("timeout_s", CCX_TIMEOUT_S)
+            .put("penalty_slope", CCX_PENALTY)
+            .put("sizes", J::Arr(sizes))
+            .json()
+    }
+
+    fn block_markdown(&self, w: &mut String) {
+        let _ = writeln!(w, "\n## Block on block: the solver on 1 and 2 ranks\n");
+        let repeats: Vec<String> = self
+            .blocks
+            .iter()
+            .map(|b| {
+                let r = b
+                    .cases
+                    .iter()
+                    .flatten()
+                    .map(|c| c.wall.repeats)
+                    .max()
+                    .unwrap_or(0);
+                format!("n = {}: {r}", b.n)
+            })
+            .collect();
+        let _ = writeln!(
+            w,
+            "`{BLOCK_SCENE}`: the upper block [0.05,0.95]x[1,1.9]x[0.05,0.95] pressed by u_y = \
+             -0.009 at its top (x, z held) onto the lower block [0,1]^3 held at its bottom, both \
+             linear elastic (E = 1000, nu = 0.3), n^3 hexahedra each with non-matching meshes, \
+             frictionless contact, 2 load steps, tolerance 1e-8. The solver refines it \
+             (`solver run --refine F`) and runs as a subprocess under `run/mpirun -np R`. \
+             Repeats: {}. \"time\" is the run time the solver prints (decomposition to result \
+             file, without MPI start-up and scene loading), \"process\" the wall time of the \
+             mpirun process. \"peak\" is the largest VmHWM over the ranks as the solver prints \
+             it; \"B/element\" = peak / (elements / ranks), \"marginal\" = growth of the peak \
+             over the next smaller size per element added per rank (the runtime's fixed cost \
+             cancels). \"contact force\" = sum of the y components of `/results/contact/force` \
+             over all nodes at the last step.\n",
+            repeats.join(", ")
+        );
+        let _ = writeln!(
+            w,
+            "| n | elements | ranks | CG iterations | contact updates | n runs | time s | process s | peak MiB/rank | B/element | marginal B/element | contact force y |"
+        );
+        let _ = writeln!(
+            w,
+            "|---:|---:|---:|---:|---:|---:|---|---|---|---:|---:|---:|"
+        );
+        for (i, b) in self.blocks.iter().enumerate() {
+            for (c, ranks) in b.cases.iter().zip(BLOCK_RANKS) {
+                match c {
+                    Err(e) => {
+                        let _ = writeln!(
+                            w,
+                            "| {} | {} | {ranks} | failed: {} |||||||||",
+                            b.n,
+                            b.elements().map_or("-".into(), |e| e.to_string()),
+                            e.replace('|', "/")
+                        );
+                    }
+                    Ok(c) => {
+                        let _ = writeln!(
+                            w,
+                            "| {} | {} | {ranks} | {}{} | {} | {} | {} | {} | {} | {:.0} | {} | {} |",
+                            b.n,
+                            c.log.elements,
+                            c.log.cg_iterations,
+                            if c.consistent { "" } else { " (varied)" },
+                            c.log.contact_updates,
+                            c.wall.repeats,
+                            fmt_stat(&c.wall, 2),
+                            fmt_stat(&c.process_wall, 2),
+                            fmt_stat(&c.peak_mib, 1),
+                            c.bytes_per_element(),
+                            self.marginal_bytes(i, ranks)
+                                .map_or("-".into(), |m| format!("{m:.0}")),
+                            match &c.contact_force {
+                                Ok(f) => format!("{:.6}", f[1]),
+                                Err(e) => format!("unreadable: {}", e.replace('|', "/")),
+                            }
+                        );
+                    }
+                }
+            }
+        }
+        let _ = writeln!(
+            w,
+            "\n| n | 1-rank time s | 2-rank time s | speed-up | 1 and 2 ranks bitwise identical |"
+        );
+        let _ = writeln!(w, "|---:|---:|---:|---|---|");
+        for b in &self.blocks {
+            let t = |r: usize| {
+                b.case(r)
+                    .map_or("-".into(), |c| format!("{:.2}", c.wall.median))
+            };
+            let identical = match &b.compare {
+                Some(Ok(c)) if c.code == Some(0) => "yes".to_string(),
+                Some(Ok(c)) => format!(
+                    "**no** (exit {}: {})",
+                    c.code.map_or("none".into(), |x| x.to_string()),
+                    c.summary
+                ),
+                Some(Err(e)) => format!("not compared: {e}"),
+                None => "not compared (a run failed)".to_string(),
+            };
             let _ = writeln!(
                 w,
-                "\n## {title}: not yet measured\n\n{what} Comes with a later issue."
+                "| {} | {} | {} | {} | {} |",
+                b.n,
+                t(BLOCK_RANKS[0]),
+                t(BLOCK_RANKS[1]),
+                b.speedup().map_or("-".into(), |s| fmt_stat(&s, 2)),
+                identical
             );
         }
-        s
+
+        let _ = writeln!(w, "\n## Partition\n");
+        let _ = writeln!(
+            w,
+            "`solver check {BLOCK_SCENE} --refine F --ranks R`: how the mesh splits (METIS), \
+             and the master faces each rank owns / holds for its slave nodes.\n"
+        );
+        for p in &self.partitions {
+            match p {
+                Ok(p) => {
+                    let _ = writeln!(
+                        w,
+                        "n = {}, {} ranks:\n\n```\n{}\n```\n",
+                        p.n, p.ranks, p.text
+                    );
+                }
+                Err(e) => {
+                    let _ = writeln!(w, "{e}\n");
+                }
+            }
+        }
+    }
+
+    fn calculix_markdown(&self, w: &mut String) {
+        let c = &self.calculix;
+        let _ = writeln!(w, "## CalculiX beside us\n");
+        let Some(version) = &c.version else {
+            let _ = writeln!(
+                w,
+                "CalculiX not available (no `ccx` on PATH; `run/setup --calculix` installs \
+                 Debian's calculix-ccx)."
+            );
+            return;
+        };
+        let _ = writeln!(
+            w,
+            "CalculiX {version} (`ccx`) on the same problem, from an input deck the bench writes \
+             from the scene as the solver loads it: the same nodes and elements (C3D8, 2x2x2 \
+             Gauss like the scene's full integration), E and nu, the prescribed displacements \
+             at the final time over one static step (no NLGEOM), and frictionless \
+             node-to-surface penalty contact of the slave faces on the master faces with a \
+             linear pressure-overclosure law of slope {CCX_PENALTY:e} (overclosure about 1e-6 \
+             at these pressures). `OMP_NUM_THREADS={CCX_THREADS}`, direct solver (SPOOLES as \
+             Debian builds it), at most {CCX_TIMEOUT_S:.0} s per size (larger sizes are \
+             skipped after one that does not finish). \"ccx force\" = -(sum of RF_y over the \
+             upper block's top), \"bottom\" = sum of RF_y over the lower block's bottom; \
+             \"ours\" = our total contact force (2 ranks). Times are process wall times on both \
+             sides (ours: `run/mpirun -np 2`, medians; the repeats are those of the table above). \
+             Decks and logs in `out/bench/calculix/`.\n"
+        );
+        let _ = writeln!(
+            w,
+            "| n | elements | our 2-rank process s | ccx s (2 threads) | ccx / ours | ccx peak MiB | ccx iterations | our force | ccx force | bottom | relative difference |"
+        );
+        let _ = writeln!(w, "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|");
+        for s in &c.sizes {
+            let ours = self.our_force(s.n);
+            let ours_2 = self
+                .blocks
+                .iter()
+                .find(|b| b.n == s.n)
+                .and_then(|b| b.case(BLOCK_RANKS[1]));
+            let our_t = ours_2.map(|b| b.process_wall.median);
+            let head = format!(
+                "| {} | {} | {} |",
+                s.n,
+                if s.elements > 0 {
+                    s.elements.to_string()
+                } else {
+                    "-".into()
+                },
+                our_t.map_or("-".into(), |t| format!("{t:.2}"))
+            );
+            let our_f = ours.map_or("-".into(), |o| format!("{:.6}", o.0));
+            let _ = match &s.outcome {
+                CcxOutcome::Finished {
+                    wall,
+                    peak_mib,
+                    iterations,
+                    top,
+                    bottom,
+                    ..
+                } => writeln!(
+                    w,
+                    "{head} {} | {} | {} | {} | {our_f} | {:.6} | {:.6} | {} |",
+                    fmt_stat(wall, 2),
+                    our_t.map_or("-".into(), |t| format!("{:.2}", wall.median / t)),
+                    peak_mib.map_or("-".into(), |m| format!("{m:.0}")),
+                    iterations,
+                    -top[1],
+                    bottom[1],
+                    ours.map_or("-".into(), |o| format!("{:+.2e}", (-top[1] - o.0) / o.0)),
+                ),
+                CcxOutcome::Stopped(why) => {
+                    writeln!(w, "{head} {why} |||| {our_f} ||||")
+                }
+                CcxOutcome::Failed(e) => {
+                    writeln!(
+                        w,
+                        "{head} failed: {} |||| {our_f} ||||",
+                        e.replace('|', "/")
+                    )
+                }
+                CcxOutcome::Skipped(why) => writeln!(w, "{head} not run: {why} |||| {our_f} ||||"),
+            };
+        }
     }
 }
 
@@ -1524,7 +2775,7 @@ fn fmt_rate(s: &Stat) -> String {
 // ---------------------------------------------------------------------------------------
 
 const USAGE: &str = "usage: bench [--quick] [--out DIR]\n\
-  --quick    smaller sizes and fewer repeats (a smoke test, well under a minute)\n\
+  --quick    smaller sizes and fewer repeats (a smoke test, under a minute)\n\
   --out DIR  where results.json and report.md go (default out/bench)";
 
 fn main() -> ExitCode {
@@ -1623,6 +2874,38 @@ fn bench(cfg: Config) -> Result<(), String> {
         t.elapsed().as_secs_f64()
     );
 
+    let exe = solver_exe()?;
+    let block_dir = cfg.out.join("block");
+    std::fs::create_dir_all(&block_dir)
+        .map_err(|e| format!("cannot create {}: {e}", block_dir.display()))?;
+    let mut blocks = Vec::new();
+    for &(refine, repeats) in &cfg.block {
+        let t = Instant::now();
+        eprintln!(
+            "bench: block on block n = {} on {BLOCK_RANKS:?} ranks ({repeats} repeat(s))",
+            BLOCK_BASE_N * refine
+        );
+        let b = block_size(&exe, &block_dir, refine, repeats);
+        eprintln!(
+            "bench:   speed-up {}, 1 and 2 ranks {}, {:.1} s in all",
+            b.speedup()
+                .map_or("-".into(), |s| format!("{:.2}", s.median)),
+            match &b.compare {
+                Some(Ok(c)) if c.code == Some(0) => "bitwise identical".to_string(),
+                Some(Ok(c)) => format!("differ ({})", c.summary),
+                Some(Err(e)) => format!("not compared: {e}"),
+                None => "not compared".to_string(),
+            },
+            t.elapsed().as_secs_f64()
+        );
+        blocks.push(b);
+    }
+    let partitions: Vec<Result<PartitionReport, String>> = PARTITION_RANKS
+        .iter()
+        .map(|&r| partition_report(&exe, cfg.partition_refine, r))
+        .collect();
+    let calculix = calculix(&cfg);
+
     let steal = match (machine.jiffies_start, cpu_jiffies()) {
         (Some((a0, s0)), Some((a1, s1))) if a1 > a0 => {
             Some(s1.saturating_sub(s0) as f64 / (a1 - a0) as f64)
@@ -1637,6 +2920,9 @@ fn bench(cfg: Config) -> Result<(), String> {
         kernels,
         cubes,
         contact,
+        blocks,
+        partitions,
+        calculix,
         total_wall: start.elapsed().as_secs_f64(),
         load_end: load_average(),
         steal,
@@ -1652,5 +2938,97 @@ fn bench(cfg: Config) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}: {e}", rpath.display()))?;
     println!("{report}");
     eprintln!("bench: wrote {} and {}", jpath.display(), rpath.display());
+    let failed = results
+        .blocks
+        .iter()
+        .flat_map(|b| &b.cases)
+        .filter(|c| c.is_err())
+        .count();
+    if failed > 0 {
+        return Err(format!(
+            "{failed} block-on-block run(s) failed; see the report"
+        ));
+    }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solver_log_is_parsed() {
+        let log = "\
+block_on_block_r2: 2 bodies, 16000 elements, 18522 nodes, 2 steps, 2 rank(s)
+step 1/2  t = 0.500000    CG   1027  residual 1.891e-9 (reference 2.025e-1)  cut-backs 0  7.883 s  contact updates 5, in contact 441 (stick 0, slip 441), released 0, max penetration 1.91e-10
+step 2/2  t = 1.000000    CG    835  residual 3.237e-9 (reference 4.050e-1)  cut-backs 0  5.981 s  contact updates 6, in contact 441 (stick 0, slip 441), released 0, max penetration 1.48e-9
+done: 2 steps, 1862 CG iterations, 13.953 s, peak memory 59.5 MiB per rank; results in out/x.h5
+";
+        let l = parse_solver_log(log).unwrap();
+        assert_eq!(
+            l,
+            SolverLog {
+                elements: 16000,
+                nodes: 18522,
+                steps: 2,
+                cg_iterations: 1862,
+                cg_step_sum: 1862,
+                contact_updates: 11,
+                wall: 13.953,
+                peak_mib: 59.5,
+            }
+        );
+        assert!(parse_solver_log("error: no such file").is_err());
+    }
+
+    #[test]
+    fn ccx_totals_are_read() {
+        let dat = "
+ total force (fx,fy,fz) for set N_UPPER_TOP and time  0.1000000E+01
+
+        3.006675E-06 -4.346548E+00 -3.006675E-06
+";
+        let f = ccx_total_force(dat, "N_UPPER_TOP").unwrap();
+        assert_eq!(f, [3.006675e-6, -4.346548, -3.006675e-6]);
+        assert!(ccx_total_force(dat, "N_UPPER").is_none());
+    }
+
+    #[test]
+    fn a_process_past_its_time_limit_is_stopped() {
+        let dir = std::env::temp_dir();
+        let out = dir.join(format!("bench-test-{}.out", std::process::id()));
+        let f = run_limited(Command::new("sleep").arg("30"), &out, &out, 0.3, None).unwrap();
+        let _ = std::fs::remove_file(&out);
+        assert!(f.stopped.is_some() && f.code.is_none(), "{:?}", f.stopped);
+        assert!(f.wall < 5.0, "stopped after {} s", f.wall);
+    }
+
+    /// The deck of the bench scene: every node and element, the master faces on the lower
+    /// block's top (+y: S5), the slave faces on the upper block's bottom (-y: S3).
+    #[test]
+    fn calculix_deck_of_the_bench_scene() {
+        let problem = load_scene_refined(&repo_root().join(BLOCK_SCENE), 1).unwrap();
+        let deck = calculix_deck(&problem).unwrap();
+        let block = |start: &str| -> Vec<&str> {
+            deck.lines()
+                .skip_while(|l| !l.starts_with(start))
+                .skip(1)
+                .take_while(|l| !l.starts_with('*'))
+                .collect()
+        };
+        assert_eq!(block("*NODE").len(), 2 * 11 * 11 * 11);
+        assert_eq!(block("*ELEMENT, TYPE=C3D8, ELSET=E_LOWER").len(), 1000);
+        let master = block("*SURFACE, NAME=S_MASTER");
+        let slave = block("*SURFACE, NAME=S_SLAVE");
+        assert_eq!(master.len(), 100);
+        assert_eq!(slave.len(), 100);
+        assert!(master.iter().all(|l| l.ends_with(", S5")));
+        assert!(slave.iter().all(|l| l.ends_with(", S3")));
+        let elastic: Vec<f64> = block("*ELASTIC")[0]
+            .split(", ")
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert!((elastic[0] - 1000.0).abs() < 1e-9 && (elastic[1] - 0.3).abs() < 1e-12);
+        assert!(deck.contains("N_UPPER_TOP, 2, 2, -0.009\n"));
+    }
 }
