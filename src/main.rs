@@ -44,6 +44,9 @@ enum Command {
         /// the same scene (also a `.tmp` file a killed run left, or a `.failed.h5`).
         #[arg(long, value_name = "RESULT.h5")]
         restart: Option<PathBuf>,
+        /// CG preconditioner, overriding the scene's `solver.preconditioner`.
+        #[arg(long, value_parser = ["auto", "jacobi", "two_level"])]
+        preconditioner: Option<String>,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
@@ -101,6 +104,7 @@ fn main() -> ExitCode {
             output,
             refine,
             restart,
+            preconditioner,
         } => with_comm(|comm| {
             let loaded = load_scene_refined(&scene, refine);
             let err = loaded.as_ref().err().map(|e| e.to_string());
@@ -110,7 +114,15 @@ fn main() -> ExitCode {
                 }
                 return 2;
             }
-            let problem = loaded.expect("every rank loaded the scene");
+            let mut problem = loaded.expect("every rank loaded the scene");
+            if let Some(p) = preconditioner.as_deref() {
+                use solver::problem::Preconditioner;
+                problem.solver.preconditioner = match p {
+                    "jacobi" => Preconditioner::Jacobi,
+                    "two_level" => Preconditioner::TwoLevel,
+                    _ => Preconditioner::Auto,
+                };
+            }
             if let Some(path) = &restart {
                 let err = comm
                     .is_root()

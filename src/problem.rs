@@ -67,7 +67,23 @@ pub struct SolverSettings {
     pub max_cutbacks: usize,
     /// Contact updates allowed in one load step.
     pub max_contact_updates: usize,
+    pub preconditioner: Preconditioner,
 }
+
+/// The CG preconditioner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Preconditioner {
+    /// Two-level on meshes of at least `TWO_LEVEL_NODES` nodes, Jacobi below.
+    #[default]
+    Auto,
+    /// Nodal block Jacobi.
+    Jacobi,
+    /// Nodal block Jacobi plus a coarse space of aggregate rigid-body modes.
+    TwoLevel,
+}
+
+/// Meshes from this many nodes up use the two-level preconditioner by default.
+pub const TWO_LEVEL_NODES: usize = 20_000;
 
 impl Default for SolverSettings {
     fn default() -> Self {
@@ -77,6 +93,7 @@ impl Default for SolverSettings {
             predictor: true,
             max_cutbacks: 6,
             max_contact_updates: 200,
+            preconditioner: Preconditioner::Auto,
         }
     }
 }

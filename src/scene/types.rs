@@ -226,6 +226,8 @@ pub struct SolverDef {
     pub max_cutbacks: Option<i64>,
     /// Contact updates allowed in one load step.
     pub max_contact_updates: Option<i64>,
+    /// "auto" (default), "jacobi" or "two_level".
+    pub preconditioner: Option<String>,
 }
 
 #[derive(Deserialize, Debug, Clone, Default)]

@@ -883,6 +883,20 @@ impl Builder {
             }
             out.max_cutbacks = n as usize;
         }
+        if let Some(name) = &s.preconditioner {
+            use crate::problem::Preconditioner;
+            out.preconditioner = match name.as_str() {
+                "auto" => Preconditioner::Auto,
+                "jacobi" => Preconditioner::Jacobi,
+                "two_level" => Preconditioner::TwoLevel,
+                other => {
+                    return Err(self.err(
+                        "solver.preconditioner",
+                        format!("expected \"auto\", \"jacobi\" or \"two_level\", got \"{other}\""),
+                    ))
+                }
+            };
+        }
         Ok(out)
     }
 }

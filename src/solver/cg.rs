@@ -7,6 +7,7 @@
 //! (Fletcher-Reeves beta); nonlinear ones use Polak-Ribiere+ with restarts.
 
 use super::assembly::{Assembly, ElementError};
+use super::coarse::CoarseSpace;
 use super::constraints::Constraints;
 use super::loads::Loads;
 use crate::comm::{self, Comm};
@@ -98,6 +99,13 @@ pub struct Cg {
     fe_trial: Vec<Vec3>,
     diag: Vec<Mat3>,
     minv: Vec<Mat3>,
+    /// The coarse space of the two-level preconditioner, when used.
+    coarse: Option<CoarseSpace>,
+    coarse_work: Vec<f64>,
+    /// A new load increment began since the coarse operator was measured.
+    coarse_stale: bool,
+    /// Constraint rows when the coarse operator was measured.
+    coarse_rows: usize,
 }
 
 impl Cg {
@@ -117,7 +125,25 @@ impl Cg {
             fe_trial: v(),
             diag: vec![[[0.0; 3]; 3]; n],
             minv: vec![[[0.0; 3]; 3]; n],
+            coarse: None,
+            coarse_work: Vec::new(),
+            coarse_stale: true,
+            coarse_rows: 0,
         }
+    }
+
+    /// Uses the two-level preconditioner with this coarse space.
+    pub fn set_coarse(&mut self, coarse: CoarseSpace) {
+        self.coarse = Some(coarse);
+    }
+
+    /// Marks a new load increment. The coarse operator is measured again when the bodies
+    /// are nonlinear (the tangent moved) or the number of constraint rows changed by more
+    /// than a tenth; otherwise it is kept: measured with an earlier constraint set it is
+    /// still a valid (positive) preconditioner, only a slightly less sharp one, and
+    /// measuring costs an operator application per colour and mode.
+    pub fn invalidate_coarse(&mut self) {
+        self.coarse_stale = true;
     }
 
     /// The internal and external forces of the last accepted iterate.
@@ -224,6 +250,7 @@ impl Cg {
             });
         }
         self.precondition(pb, u)?;
+        self.setup_coarse(pb, u, linear, s)?;
 
         let mut rz_old = 0.0;
         let mut restart = true;
@@ -232,6 +259,16 @@ impl Cg {
             // z = M^-1 r
             for a in 0..nl {
                 self.z[a] = matvec(&self.minv[a], &self.r[a]);
+            }
+            if let Some(c) = &self.coarse {
+                c.apply(
+                    comm,
+                    pb.cons,
+                    n,
+                    &self.r,
+                    &mut self.z,
+                    &mut self.coarse_work,
+                );
             }
             let rz = comm::dot(comm, &self.r, &self.z, n);
             let beta = if restart || rz_old == 0.0 {
@@ -380,6 +417,80 @@ impl Cg {
         std::mem::swap(&mut self.fe, &mut self.fe_trial);
         residual(pb.comm, pb.cons, &self.fi, &self.fe, &mut self.r);
         Ok(())
+    }
+
+    /// Measures and factors the coarse operator Q^T A Q when it is out of date: one
+    /// operator application per colour and mode (exact for linear bodies, a
+    /// finite-difference probe at u otherwise).
+    fn setup_coarse<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let Some(mut cs) = self.coarse.take() else {
+            return Ok(());
+        };
+        let rows = pb.cons.num_rows() as f64;
+        let rows = comm::global_sum(pb.comm, {
+            let mut acc = comm::ExactSum::new();
+            acc.add(rows);
+            acc
+        });
+        let similar = (rows - self.coarse_rows as f64).abs() <= 0.1 * self.coarse_rows as f64;
+        if cs.is_set_up() && similar && (linear || !self.coarse_stale) {
+            self.coarse = Some(cs);
+            return Ok(());
+        }
+        self.coarse_stale = false;
+        self.coarse_rows = rows as usize;
+        let comm = pb.comm;
+        let owned = pb.owned();
+        let dim = cs.dim();
+        let mut kc = vec![0.0; dim * dim];
+        let mut restricted = Vec::new();
+        let mut result = Ok(());
+        'probes: for c in 0..cs.num_colors() {
+            for m in 0..6 {
+                cs.probe(pb.cons, c, m, owned, &mut self.pu);
+                pb.cons.expand(comm, &mut self.pu);
+                pb.asm.mesh.exchange(comm, &mut self.pu);
+                if linear {
+                    if let Err(e) = agree(comm, pb.asm.internal_force(&self.pu, &mut self.q)) {
+                        result = Err(e);
+                        break 'probes;
+                    }
+                } else {
+                    let pmax = max_abs(comm, &self.pu, owned).max(f64::MIN_POSITIVE);
+                    let eps = 1e-7 * s.length_scale / pmax;
+                    for a in 0..u.len() {
+                        for i in 0..3 {
+                            self.trial[a][i] = u[a][i] + eps * self.pu[a][i];
+                        }
+                    }
+                    if let Err(e) = pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial) {
+                        result = Err(e);
+                        break 'probes;
+                    }
+                    for a in 0..u.len() {
+                        for i in 0..3 {
+                            self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                                - (self.fi[a][i] - self.fe[a][i]))
+                                / eps;
+                        }
+                    }
+                }
+                pb.cons.reduce(comm, &mut self.q, None);
+                cs.restrict(comm, &self.q, &mut restricted);
+                cs.record(c, m, &restricted, &mut kc);
+            }
+        }
+        if result.is_ok() {
+            cs.factor(kc);
+        }
+        self.coarse = Some(cs);
+        result
     }
 
     /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with

@@ -85,7 +85,7 @@ struct NodeRows {
 /// A point-to-point exchange: entries `send[r]` of a source array go to rank r, which
 /// writes them to the entries `recv[r]` of its destination array.
 #[derive(Default)]
-struct Plan {
+pub(crate) struct Plan {
     send: Vec<(usize, Vec<u32>)>,
     recv: Vec<(usize, Vec<u32>)>,
 }
@@ -121,7 +121,7 @@ impl Plan {
         }
     }
 
-    fn run<const K: usize, C: Comm + ?Sized>(
+    pub(crate) fn run<const K: usize, C: Comm + ?Sized>(
         &self,
         comm: &C,
         src: &[[f64; K]],
@@ -181,7 +181,11 @@ pub struct CircularDependency(pub u32);
 
 /// Asks the owners of the given remote nodes for their values: returns the plan that
 /// fetches them into `slots`. Collective.
-fn fetch_plan<C: Comm + ?Sized>(comm: &C, mesh: &LocalMesh, wanted: &[(u32, u32)]) -> Plan {
+pub(crate) fn fetch_plan<C: Comm + ?Sized>(
+    comm: &C,
+    mesh: &LocalMesh,
+    wanted: &[(u32, u32)],
+) -> Plan {
     let size = comm.size();
     let mut by_rank: Vec<Vec<u32>> = vec![Vec::new(); size];
     let mut request: Vec<Vec<f64>> = vec![Vec::new(); size];

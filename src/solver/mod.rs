@@ -3,6 +3,7 @@
 
 pub mod assembly;
 pub mod cg;
+pub mod coarse;
 pub mod constraints;
 pub mod loads;
 pub mod stepping;

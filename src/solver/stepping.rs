@@ -66,11 +66,30 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
     cons: Constraints,
     multipliers: Vec<f64>,
     extra: Vec<Vec3>,
+    /// Which preconditioner the run uses, for the log.
+    pub coarse_note: String,
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Self {
         let n = mesh.num_nodes();
+        use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
+        let wanted = match problem.solver.preconditioner {
+            Preconditioner::Jacobi => false,
+            Preconditioner::TwoLevel => true,
+            Preconditioner::Auto => problem.mesh.num_nodes() >= TWO_LEVEL_NODES,
+        };
+        let (coarse, coarse_note) = if wanted {
+            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
+                Ok(c) => {
+                    let note = format!("preconditioner: two-level; {}", c.summary);
+                    (Some(c), note)
+                }
+                Err(why) => (None, format!("preconditioner: nodal block Jacobi ({why})")),
+            }
+        } else {
+            (None, "preconditioner: nodal block Jacobi".to_string())
+        };
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -86,7 +105,14 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             asm: Assembly::new(mesh, &problem.body_models),
             loads: Loads::new(problem, mesh),
             dirichlet,
-            cg: Cg::new(n),
+            cg: {
+                let mut cg = Cg::new(n);
+                if let Some(c) = coarse {
+                    cg.set_coarse(c);
+                }
+                cg
+            },
+            coarse_note,
             u: vec![[0.0; 3]; n],
             u_prev: vec![[0.0; 3]; n],
             time: problem.start_time,
@@ -279,6 +305,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         };
         let mut changed = true;
         let mut updates = 0usize;
+        self.cg.invalidate_coarse();
         if !self.problem.contacts.is_empty() {
             // Gap removal at the predicted configuration, before the first model problem.
             let cons = self.build_constraints(t, contact)?;

@@ -1,0 +1,522 @@
+//! A coarse space for the CG preconditioner: the two-level additive preconditioner
+//! M^-1 = (nodal block Jacobi) + Q Kc^-1 Q^T, where the columns of Q are the six rigid-body
+//! modes of aggregates of nodes (the nodes of one body inside one cell of a uniform grid of
+//! cell size H, several elements wide) projected on the free directions of constrained
+//! nodes, and Kc = Q^T A Q is the operator of the model problem (constraints included)
+//! seen through them. Jacobi takes care of the wavelengths near the element size, the coarse
+//! space of those longer than H; CG iterations grow like H/h instead of like the number of
+//! elements along the body.
+//!
+//! Kc is measured, not assembled: the aggregates are coloured so that two aggregates of one
+//! colour never touch (27 colours of a 3 x 3 x 3 cell pattern, times the bodies sharing a
+//! cell), and one operator application per colour and mode gives every aggregate's coupling
+//! to its neighbour of that colour (162 applications for one body per cell).
+//!
+//! Everything is independent of the partition: aggregates come from the global mesh; a
+//! coarse coefficient is summed by one rank over its aggregate's nodes in global node order
+//! (values of nodes owned elsewhere are fetched first); every rank factors the same Kc and
+//! solves the same coarse system. Results stay bitwise identical on any number of ranks.
+
+use super::constraints::{fetch_plan, Constraints, Plan};
+use crate::comm::Comm;
+use crate::math::{matvec, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use std::collections::HashMap;
+
+/// Rigid-body modes per aggregate.
+const MODES: usize = 6;
+/// At most this many aggregates (a dense coarse factor of (6 x this)^2 values per rank).
+const MAX_AGGREGATES: usize = 400;
+/// Aim at aggregates about this many nodes wide.
+const NODES_PER_SIDE: f64 = 6.0;
+
+/// Where a node value comes from when an aggregate's coefficients are summed.
+#[derive(Clone, Copy)]
+enum Src {
+    Local(u32),
+    Remote(u32),
+}
+
+pub struct CoarseSpace {
+    num_aggregates: usize,
+    /// Colour of each aggregate.
+    color: Vec<u16>,
+    num_colors: usize,
+    /// For each aggregate and colour, the neighbouring aggregate of that colour (it may be
+    /// the aggregate itself), or u32::MAX.
+    neighbour: Vec<u32>,
+    /// Per local node: (aggregate, scaled offset (x - centre) / H).
+    node: Vec<(u32, Vec3)>,
+    /// Aggregates this rank sums: (aggregate, sources in global node order with offsets).
+    sums: Vec<(u32, Vec<(Src, Vec3)>)>,
+    fetch: Plan,
+    num_remote: usize,
+    /// The factor of Kc, when set up.
+    factor: Option<Factor>,
+    /// A short description for the log.
+    pub summary: String,
+}
+
+/// Values of the six modes of an aggregate at a node with scaled offset d.
+#[inline]
+fn modes(d: &Vec3) -> [Vec3; MODES] {
+    [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, -d[2], d[1]],
+        [d[2], 0.0, -d[0]],
+        [-d[1], d[0], 0.0],
+    ]
+}
+
+impl CoarseSpace {
+    /// Builds the aggregates and the summation plan (collective), or says why a coarse
+    /// space is not used for this mesh.
+    pub fn new<C: Comm + ?Sized>(
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+    ) -> Result<Self, String> {
+        let g = &problem.mesh;
+        let n = g.num_nodes();
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for x in &g.coords {
+            for i in 0..3 {
+                lo[i] = lo[i].min(x[i]);
+                hi[i] = hi[i].max(x[i]);
+            }
+        }
+        // Cell size: about NODES_PER_SIDE nodes per aggregate side, and wide enough that
+        // everything one node couples to (its elements, a contact tie and the slave's own
+        // elements) lies in its cell or the next one.
+        let mut span = 0.0f64;
+        for e in 0..g.num_elements() {
+            let x = g.element_coords(e);
+            for i in 0..3 {
+                let (a, b) = x
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                        (a.min(p[i]), b.max(p[i]))
+                    });
+                span = span.max(b - a);
+            }
+        }
+        let reach = problem
+            .contacts
+            .iter()
+            .map(|c| c.normal_tolerance.max(c.tangential_tolerance))
+            .fold(0.0, f64::max);
+        let volume: f64 = (0..3).map(|i| (hi[i] - lo[i]).max(span)).product();
+        let per_node = volume / n as f64;
+        let target = (per_node * NODES_PER_SIDE.powi(3)).cbrt();
+        let mut h = target.max(2.0 * span + reach);
+        let key_of = |x: &Vec3, h: f64| -> [u32; 3] {
+            std::array::from_fn(|i| ((x[i] - lo[i]) / h).floor().max(0.0) as u32)
+        };
+        // Grow H until there are few enough aggregates.
+        let mut keys: Vec<([u32; 3], u32)>;
+        loop {
+            keys = (0..n)
+                .map(|a| (key_of(&g.coords[a], h), node_body(problem, a)))
+                .collect();
+            let mut distinct = keys.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            if distinct.len() <= MAX_AGGREGATES {
+                break;
+            }
+            h *= 1.25;
+        }
+        let mut list = keys.clone();
+        list.sort_unstable_by_key(|&(c, b)| (c[2], c[1], c[0], b));
+        list.dedup();
+        let index: HashMap<([u32; 3], u32), u32> = list
+            .iter()
+            .enumerate()
+            .map(|(k, &key)| (key, k as u32))
+            .collect();
+        let na = list.len();
+        // Colour: the cell's place in a 3 x 3 x 3 pattern, and the body's slot among the
+        // bodies of its cell.
+        let mut slot = vec![0u16; na];
+        for k in 1..na {
+            if list[k].0 == list[k - 1].0 {
+                slot[k] = slot[k - 1] + 1;
+            }
+        }
+        let slots = slot.iter().copied().max().unwrap_or(0) as usize + 1;
+        if slots > 2 {
+            return Err(format!(
+                "{slots} bodies share one coarse cell (the coarse space handles two)"
+            ));
+        }
+        let pattern = |c: &[u32; 3]| (c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3)) as u16;
+        let num_colors = 27 * slots;
+        let color: Vec<u16> = (0..na)
+            .map(|k| pattern(&list[k].0) + 27 * slot[k])
+            .collect();
+        let mut neighbour = vec![u32::MAX; na * num_colors];
+        for (k, (c, _)) in list.iter().enumerate() {
+            for dz in -1i64..=1 {
+                for dy in -1i64..=1 {
+                    for dx in -1i64..=1 {
+                        let m = [c[0] as i64 + dx, c[1] as i64 + dy, c[2] as i64 + dz];
+                        if m.iter().any(|&v| v < 0) {
+                            continue;
+                        }
+                        let cell = [m[0] as u32, m[1] as u32, m[2] as u32];
+                        for (j, &(cj, _)) in
+                            list.iter()
+                                .enumerate()
+                                .skip(list.partition_point(|&(cc, _)| {
+                                    (cc[2], cc[1], cc[0]) < (cell[2], cell[1], cell[0])
+                                }))
+                        {
+                            if cj != cell {
+                                break;
+                            }
+                            neighbour[k * num_colors + color[j] as usize] = j as u32;
+                        }
+                    }
+                }
+            }
+        }
+        // Centres: mean of each aggregate's nodes, summed in global node order.
+        let mut centre = vec![[0.0; 3]; na];
+        let mut count = vec![0usize; na];
+        let agg: Vec<u32> = keys.iter().map(|k| index[k]).collect();
+        for a in 0..n {
+            let k = agg[a] as usize;
+            for i in 0..3 {
+                centre[k][i] += g.coords[a][i];
+            }
+            count[k] += 1;
+        }
+        for k in 0..na {
+            for i in 0..3 {
+                centre[k][i] /= count[k] as f64;
+            }
+        }
+        let offset = |a: usize| -> Vec3 {
+            let k = agg[a] as usize;
+            std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / h)
+        };
+        let node = mesh
+            .node_global
+            .iter()
+            .map(|&gid| (agg[gid as usize], offset(gid as usize)))
+            .collect();
+        // Each aggregate is summed by the owner of its lowest node.
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); na];
+        for a in 0..n {
+            members[agg[a] as usize].push(a as u32);
+        }
+        let mut remote: HashMap<u32, u32> = HashMap::new();
+        let mut wanted = Vec::new();
+        let mut sums = Vec::new();
+        for (k, nodes) in members.iter().enumerate() {
+            if mesh.owner(nodes[0]) != comm.rank() {
+                continue;
+            }
+            let src = nodes
+                .iter()
+                .map(|&gid| {
+                    let s = match mesh.owned_node(gid) {
+                        Some(l) => Src::Local(l as u32),
+                        None => Src::Remote(*remote.entry(gid).or_insert_with(|| {
+                            wanted.push((gid, wanted.len() as u32));
+                            wanted.len() as u32 - 1
+                        })),
+                    };
+                    (s, offset(gid as usize))
+                })
+                .collect();
+            sums.push((k as u32, src));
+        }
+        let fetch = fetch_plan(comm, mesh, &wanted);
+        Ok(CoarseSpace {
+            num_aggregates: na,
+            color,
+            num_colors,
+            neighbour,
+            node,
+            sums,
+            fetch,
+            num_remote: wanted.len(),
+            factor: None,
+            summary: format!(
+                "coarse space: {na} aggregates ({} unknowns), cell size {h:.4e}, {num_colors} colours",
+                MODES * na
+            ),
+        })
+    }
+
+    pub fn dim(&self) -> usize {
+        MODES * self.num_aggregates
+    }
+
+    pub fn is_set_up(&self) -> bool {
+        self.factor.is_some()
+    }
+
+    pub fn invalidate(&mut self) {
+        self.factor = None;
+    }
+
+    pub fn num_colors(&self) -> usize {
+        self.num_colors
+    }
+
+    /// The probe vector of colour `c` and mode `m` on the owned nodes (projected on the free
+    /// directions of constrained nodes); ghosts are zero.
+    pub fn probe(&self, cons: &Constraints, c: usize, m: usize, owned: usize, v: &mut [Vec3]) {
+        v.iter_mut().for_each(|x| *x = [0.0; 3]);
+        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
+            if self.color[*k as usize] as usize == c {
+                let phi = modes(d)[m];
+                v[l] = match cons.projector(l) {
+                    Some(p) => matvec(p, &phi),
+                    None => phi,
+                };
+            }
+        }
+    }
+
+    /// Q^T r: every aggregate's six coefficients, the same on every rank. Collective.
+    pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, r: &[Vec3], out: &mut Vec<f64>) {
+        let mut far = vec![[0.0; 3]; self.num_remote];
+        self.fetch.run(comm, r, &mut far);
+        let mut mine = Vec::with_capacity(self.sums.len() * (MODES + 1));
+        for (k, src) in &self.sums {
+            let mut acc = [0.0; MODES];
+            for (s, d) in src {
+                let v = match *s {
+                    Src::Local(l) => &r[l as usize],
+                    Src::Remote(q) => &far[q as usize],
+                };
+                for (m, phi) in modes(d).iter().enumerate() {
+                    acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
+                }
+            }
+            mine.push(*k as f64);
+            mine.extend(acc);
+        }
+        out.clear();
+        out.resize(self.dim(), 0.0);
+        let parts = if comm.size() > 1 {
+            comm.all_gather_f64(&mine)
+        } else {
+            vec![mine]
+        };
+        for part in parts {
+            for w in part.chunks_exact(MODES + 1) {
+                let k = w[0] as usize;
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&w[1..]);
+            }
+        }
+    }
+
+    /// Records the coarse coefficients of A applied to probe (c, m).
+    pub fn record(&self, c: usize, m: usize, restricted: &[f64], kc: &mut [f64]) {
+        let n = self.dim();
+        for k in 0..self.num_aggregates {
+            let j = self.neighbour[k * self.num_colors + c];
+            if j == u32::MAX {
+                continue;
+            }
+            for l in 0..MODES {
+                kc[(MODES * k + l) * n + MODES * j as usize + m] = restricted[MODES * k + l];
+            }
+        }
+    }
+
+    /// Symmetrises and factors Kc (dense Cholesky; coarse unknowns with no stiffness of
+    /// their own, such as the modes of an aggregate held by Dirichlet conditions, are left
+    /// out). Returns the number of unknowns kept.
+    pub fn factor(&mut self, mut kc: Vec<f64>) -> usize {
+        let n = self.dim();
+        for i in 0..n {
+            for j in 0..i {
+                let s = 0.5 * (kc[i * n + j] + kc[j * n + i]);
+                kc[i * n + j] = s;
+                kc[j * n + i] = s;
+            }
+        }
+        let f = Factor::new(kc, n);
+        let kept = f.kept.iter().filter(|&&k| k).count();
+        self.factor = Some(f);
+        kept
+    }
+
+    /// z += Q Kc^-1 Q^T r on the owned nodes. Collective.
+    pub fn apply<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        cons: &Constraints,
+        owned: usize,
+        r: &[Vec3],
+        z: &mut [Vec3],
+        work: &mut Vec<f64>,
+    ) {
+        let Some(f) = &self.factor else {
+            return;
+        };
+        self.restrict(comm, r, work);
+        f.solve(work);
+        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
+            let y = &work[MODES * *k as usize..MODES * (*k as usize + 1)];
+            let mut v = [0.0; 3];
+            for (m, phi) in modes(d).iter().enumerate() {
+                for i in 0..3 {
+                    v[i] += phi[i] * y[m];
+                }
+            }
+            if let Some(p) = cons.projector(l) {
+                v = matvec(p, &v);
+            }
+            for i in 0..3 {
+                z[l][i] += v[i];
+            }
+        }
+    }
+}
+
+/// The body a global node belongs to.
+fn node_body(problem: &Problem, a: usize) -> u32 {
+    problem
+        .mesh
+        .bodies
+        .iter()
+        .position(|b| a >= b.first_node && a < b.first_node + b.num_nodes)
+        .unwrap_or(0) as u32
+}
+
+/// Dense Cholesky factor (lower, row-major) with unknowns of no stiffness left out.
+struct Factor {
+    n: usize,
+    l: Vec<f64>,
+    kept: Vec<bool>,
+}
+
+impl Factor {
+    /// Row-oriented Cholesky: each entry is a contiguous dot product of two row prefixes.
+    /// An unknown whose pivot is lost to cancellation (a mode the earlier ones already
+    /// span) or that has no stiffness is dropped.
+    fn new(a: Vec<f64>, n: usize) -> Self {
+        let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0, f64::max);
+        let mut l = vec![0.0; n * n];
+        let mut kept = vec![false; n];
+        for i in 0..n {
+            for j in 0..=i {
+                let (ri, rj) = (&l[i * n..i * n + j], &l[j * n..j * n + j]);
+                let dot: f64 = ri.iter().zip(rj).map(|(x, y)| x * y).sum();
+                let s = a[i * n + j] - dot;
+                if j < i {
+                    l[i * n + j] = if kept[j] { s / l[j * n + j] } else { 0.0 };
+                } else {
+                    let d = a[i * n + i];
+                    if s > 1e-10 * d && d > 1e-14 * scale {
+                        l[i * n + i] = s.sqrt();
+                        kept[i] = true;
+                    } else {
+                        l[i * n..i * n + i + 1].iter_mut().for_each(|v| *v = 0.0);
+                    }
+                }
+            }
+        }
+        Factor { n, l, kept }
+    }
+
+    /// x <- A^-1 x on the kept unknowns (zero on the others).
+    fn solve(&self, x: &mut [f64]) {
+        let n = self.n;
+        let l = &self.l;
+        for i in 0..n {
+            if !self.kept[i] {
+                x[i] = 0.0;
+                continue;
+            }
+            let mut s = x[i];
+            for j in 0..i {
+                s -= l[i * n + j] * x[j];
+            }
+            x[i] = s / l[i * n + i];
+        }
+        for i in (0..n).rev() {
+            if !self.kept[i] {
+                x[i] = 0.0;
+                continue;
+            }
+            let mut s = x[i];
+            for j in i + 1..n {
+                s -= l[j * n + i] * x[j];
+            }
+            x[i] = s / l[i * n + i];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn factor_solves_and_drops_dependent_unknowns() {
+        // A = B^T B + I on 5 unknowns, then a sixth unknown that copies the first (its row
+        // and column duplicate unknown 0, so A is singular): the factor must drop it and
+        // solve the other five exactly.
+        let n0 = 5;
+        let b: Vec<f64> = (0..25)
+            .map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.4)
+            .collect();
+        let mut a = vec![0.0; 36];
+        for i in 0..n0 {
+            for j in 0..n0 {
+                let mut s = if i == j { 1.0 } else { 0.0 };
+                for k in 0..n0 {
+                    s += b[k * n0 + i] * b[k * n0 + j];
+                }
+                a[i * 6 + j] = s;
+            }
+        }
+        for j in 0..6 {
+            let v = if j == 5 { a[0] } else { a[j] };
+            a[5 * 6 + j] = v;
+            a[j * 6 + 5] = v;
+        }
+        let f = Factor::new(a.clone(), 6);
+        assert_eq!(f.kept, vec![true, true, true, true, true, false]);
+        let x_true = [0.3, -1.2, 0.7, 2.0, -0.5, 0.0];
+        let mut x: Vec<f64> = (0..6)
+            .map(|i| (0..5).map(|j| a[i * 6 + j] * x_true[j]).sum())
+            .collect();
+        f.solve(&mut x);
+        // The system's condition number is below 100, so the solution is exact to about
+        // 100 eps relative.
+        for i in 0..6 {
+            assert!(
+                (x[i] - x_true[i]).abs() < 1e-13,
+                "{i}: {} vs {}",
+                x[i],
+                x_true[i]
+            );
+        }
+    }
+
+    #[test]
+    fn rotation_modes_are_rigid() {
+        // The rotation modes are omega x d: orthogonal to d, the same length as d's part
+        // normal to the axis.
+        let d = [0.3, -0.7, 1.1];
+        for (m, axis) in [(3usize, 0usize), (4, 1), (5, 2)] {
+            let v = modes(&d)[m];
+            assert!(crate::math::dot(&v, &d).abs() < 1e-16);
+            assert_eq!(v[axis], 0.0);
+            let normal: f64 = (0..3).filter(|&i| i != axis).map(|i| d[i] * d[i]).sum();
+            assert!((crate::math::dot(&v, &v) - normal).abs() < 1e-15);
+        }
+    }
+}
