@@ -163,3 +163,46 @@ fn missing_file_and_bad_command_line() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unrecognized subcommand"));
 }
+
+/// Every scene under run/ and mpi-tests/ passes `solver check` and its summary names its
+/// bodies, elements and steps (the summary analysts read before a run).
+#[test]
+fn every_shipped_scene_passes_check() {
+    fn scenes(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                scenes(&p, out);
+            } else if p.extension().is_some_and(|x| x == "toml") {
+                out.push(p);
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    scenes(&root.join("run"), &mut found);
+    scenes(&root.join("mpi-tests"), &mut found);
+    found.sort();
+    assert!(found.len() >= 14, "only {} scenes found", found.len());
+    for p in &found {
+        let out = Command::new(env!("CARGO_BIN_EXE_solver"))
+            .arg("check")
+            .arg(p)
+            .output()
+            .expect("solver runs");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            p.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for needle in ["bodies", "elements", "steps"] {
+            assert!(
+                text.contains(needle),
+                "{}: summary lacks '{needle}':\n{text}",
+                p.display()
+            );
+        }
+    }
+}
