@@ -11,16 +11,25 @@
 //!    meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode),
 //! 5. the block-on-block scene (`run/scenes/bench/block_on_block.toml`) refined to n = 10,
 //!    20, 40 elements per edge (n = 10 in quick mode), run by `target/release/solver` under
-//!    `run/mpirun` on 1 and 2 ranks: CG iterations, contact updates, wall time, peak memory,
-//!    total contact force, the 2-rank speed-up and whether the two result files are bitwise
-//!    identical; and `solver check --ranks 2, 3` of the largest size (the partition),
+//!    `run/mpirun` on 1 and 2 ranks with each preconditioner (`--preconditioner jacobi` and
+//!    `two_level`): CG iterations, contact updates, wall time, peak memory, total contact
+//!    force, the coarse space, the two-level / Jacobi ratios of iterations and time, the
+//!    difference of the contact forces, the 2-rank speed-up and whether the 1- and 2-rank
+//!    result files are bitwise identical; and `solver check --ranks 2, 3` of the largest size
+//!    (the partition),
 //! 6. CalculiX (`ccx`, when installed) on the same problem, from an input deck written here,
 //!    on 2 threads within 5 minutes per size: its wall time and total force beside ours.
 //!
 //! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
 //! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
+//!
+//! `bench --large [--ranks 2|1|1,2] [--out DIR]` runs only the block on block at n = 80
+//! (about 10^6 elements) with the two-level preconditioner, after a memory estimate from
+//! n = 20 and 40 on the same rank count, and puts it into the same two files as a section
+//! of its own (the other sections are left as they are; a later normal run keeps it).
 
 use partition::Decomposition;
+use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::ser::{SerializeMap, SerializeSeq};
 use serde::{Serialize, Serializer};
 use solver::comm::SerialComm;
@@ -93,7 +102,7 @@ impl Config {
                 diagonal_repeats: 5,
                 cube: vec![(10, 5), (20, 3), (40, 3)],
                 contact: (316, 7),
-                // n = 40 takes about 10 minutes on one rank: one repeat.
+                // n = 40 with Jacobi takes about 10 minutes on one rank: one repeat.
                 block: vec![(1, 3), (2, 3), (4, 1)],
                 partition_refine: 4,
                 calculix: vec![1, 2, 4],
@@ -164,6 +173,7 @@ impl Stat {
 }
 
 /// A JSON value whose objects keep their keys in insertion order.
+#[derive(Clone)]
 enum J {
     Null,
     Bool(bool),
@@ -196,6 +206,76 @@ impl Serialize for J {
                     map.serialize_entry(k, v)?;
                 }
                 map.end()
+            }
+        }
+    }
+}
+
+/// JSON read back in document order (the large section is merged into an earlier
+/// results.json and carried over by a later run without reordering the file).
+impl<'de> Deserialize<'de> for J {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<J, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = J;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a JSON value")
+            }
+            fn visit_unit<E>(self) -> Result<J, E> {
+                Ok(J::Null)
+            }
+            fn visit_none<E>(self) -> Result<J, E> {
+                Ok(J::Null)
+            }
+            fn visit_bool<E>(self, b: bool) -> Result<J, E> {
+                Ok(J::Bool(b))
+            }
+            fn visit_i64<E>(self, i: i64) -> Result<J, E> {
+                Ok(J::Int(i))
+            }
+            fn visit_u64<E>(self, u: u64) -> Result<J, E> {
+                Ok(i64::try_from(u).map_or(J::Num(u as f64), J::Int))
+            }
+            fn visit_f64<E>(self, x: f64) -> Result<J, E> {
+                Ok(J::Num(x))
+            }
+            fn visit_str<E>(self, t: &str) -> Result<J, E> {
+                Ok(J::Str(t.to_string()))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut a: A) -> Result<J, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = a.next_element()? {
+                    v.push(x);
+                }
+                Ok(J::Arr(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut a: A) -> Result<J, A::Error> {
+                let mut kv = Vec::new();
+                while let Some(entry) = a.next_entry::<String, J>()? {
+                    kv.push(entry);
+                }
+                Ok(J::Obj(kv))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl J {
+    /// The value of `key` in an object.
+    fn get(&self, key: &str) -> Option<&J> {
+        match self {
+            J::Obj(kv) => kv.iter().find(|(k, _)| k == key).map(|(_, v)| v),
+            _ => None,
+        }
+    }
+
+    /// Sets `key` of an object (in place when present, else at the end).
+    fn set(&mut self, key: &str, v: J) {
+        if let J::Obj(kv) = self {
+            match kv.iter_mut().find(|(k, _)| k == key) {
+                Some(e) => e.1 = v,
+                None => kv.push((key.to_string(), v)),
             }
         }
     }
@@ -252,6 +332,12 @@ impl Rec {
         self.0.push((format!("{prefix}_median"), J::Num(s.median)));
         self.0.push((format!("{prefix}_min"), J::Num(s.min)));
         self.0.push((format!("{prefix}_max"), J::Num(s.max)));
+        self
+    }
+
+    /// Appends the fields of `other`.
+    fn extend(mut self, other: Rec) -> Self {
+        self.0.extend(other.0);
         self
     }
 
@@ -752,6 +838,7 @@ segments = [{{ end = 1.0, steps = 1 }}]
 
 [solver]
 tolerance = {CUBE_TOLERANCE:e}
+preconditioner = "jacobi"
 "#
     )
 }
@@ -1130,14 +1217,35 @@ fn memory_available() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
-/// Runs `cmd` with its standard output and error in the given files, stopping it after
-/// `timeout_s` seconds or when its resident memory passes `rss_limit` bytes.
+/// When the bench stops a subprocess.
+#[derive(Clone, Copy, Debug)]
+struct Limits {
+    /// Wall-clock seconds.
+    timeout_s: f64,
+    /// Resident memory of the process itself (not its children), bytes.
+    rss_limit: Option<f64>,
+    /// The machine's MemAvailable falling below this many bytes (the process tree under
+    /// mpirun is not followed: this guards the machine, whoever holds the memory).
+    min_available: Option<f64>,
+}
+
+impl Limits {
+    fn timeout(timeout_s: f64) -> Self {
+        Limits {
+            timeout_s,
+            rss_limit: None,
+            min_available: None,
+        }
+    }
+}
+
+/// Runs `cmd` with its standard output and error in the given files, stopping it at
+/// `limits`.
 fn run_limited(
     cmd: &mut Command,
     stdout: &Path,
     stderr: &Path,
-    timeout_s: f64,
-    rss_limit: Option<f64>,
+    limits: &Limits,
 ) -> Result<Finished, String> {
     let open = |p: &Path| {
         std::fs::File::create(p).map_err(|e| format!("cannot create {}: {e}", p.display()))
@@ -1161,7 +1269,7 @@ fn run_limited(
         }
         if let Some((hwm, rss)) = process_memory(pid) {
             peak = Some(peak.map_or(hwm, |p| p.max(hwm)));
-            if let Some(limit) = rss_limit.filter(|&l| rss > l) {
+            if let Some(limit) = limits.rss_limit.filter(|&l| rss > l) {
                 stopped = Some(format!(
                     "stopped at {:.0} MiB resident (limit {:.0} MiB)",
                     rss / MIB,
@@ -1169,9 +1277,18 @@ fn run_limited(
                 ));
             }
         }
+        if let Some(floor) = limits.min_available {
+            if let Some(avail) = memory_available().filter(|&a| a < floor) {
+                stopped.get_or_insert(format!(
+                    "stopped when the machine had {:.0} MiB available (floor {:.0} MiB)",
+                    avail / MIB,
+                    floor / MIB
+                ));
+            }
+        }
         let elapsed = start.elapsed().as_secs_f64();
-        if stopped.is_none() && elapsed > timeout_s {
-            stopped = Some(format!("stopped after {timeout_s:.0} s"));
+        if stopped.is_none() && elapsed > limits.timeout_s {
+            stopped = Some(format!("stopped after {:.0} s", limits.timeout_s));
         }
         if stopped.is_some() {
             break stop(&mut child)?;
@@ -1221,12 +1338,13 @@ fn number_after<T: std::str::FromStr>(line: &str, key: &str) -> Option<T> {
         .ok()
 }
 
-/// The number written right before `key` in `line`.
+/// The number written right before `key` in `line` (a leading `(` dropped).
 fn number_before<T: std::str::FromStr>(line: &str, key: &str) -> Option<T> {
     let i = line.find(key)?;
     line[..i]
         .split_whitespace()
         .next_back()?
+        .trim_start_matches('(')
         .trim_end_matches([',', ';'])
         .parse()
         .ok()
@@ -1240,7 +1358,7 @@ fn last_line(text: &str) -> &str {
 }
 
 // ---------------------------------------------------------------------------------------
-// 4. Block on block: the solver on 1 and 2 ranks
+// 4. Block on block: the solver on 1 and 2 ranks with each preconditioner
 // ---------------------------------------------------------------------------------------
 
 /// The benchmark scene; the solver refines it itself (`solver run --refine F`).
@@ -1257,8 +1375,49 @@ const BLOCK_TOP_SET: &str = "upper_top";
 const BLOCK_BOTTOM_SET: &str = "lower_bottom";
 /// A solver run still going after this long is stopped (a hang under MPI, not a result).
 const SOLVER_TIMEOUT_S: f64 = 7200.0;
+/// What the two-level preconditioner should reach on n = GOAL_N (the project's issue 9):
+/// at most these fractions of Jacobi's CG iterations and wall time.
+const GOAL_N: usize = 40;
+const GOAL_ITERATION_RATIO: f64 = 1.0 / 5.0;
+const GOAL_TIME_RATIO: f64 = 1.0 / 3.0;
 
-/// What one solver run printed on standard error (rank 0, without -q).
+/// A CG preconditioner (`solver run --preconditioner`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Precond {
+    Jacobi,
+    TwoLevel,
+}
+
+/// Every block-on-block size runs with each; ratios are the second over the first.
+const PRECONDITIONERS: [Precond; 2] = [Precond::Jacobi, Precond::TwoLevel];
+
+impl Precond {
+    /// The value of `--preconditioner`.
+    fn arg(self) -> &'static str {
+        match self {
+            Precond::Jacobi => "jacobi",
+            Precond::TwoLevel => "two_level",
+        }
+    }
+
+    fn label(self) -> &'static str {
+        match self {
+            Precond::Jacobi => "Jacobi",
+            Precond::TwoLevel => "two-level",
+        }
+    }
+
+    /// Whether the solver's `preconditioner:` line (without the prefix) says it used this
+    /// one: a two-level run whose coarse space cannot be built falls back to Jacobi.
+    fn used(self, line: &str) -> bool {
+        match self {
+            Precond::Jacobi => line == "nodal block Jacobi",
+            Precond::TwoLevel => line.starts_with("two-level"),
+        }
+    }
+}
+
+/// What one solver run printed on standard error (rank 0, with -vv).
 #[derive(Clone, Debug, PartialEq)]
 struct SolverLog {
     elements: usize,
@@ -1274,6 +1433,8 @@ struct SolverLog {
     wall: f64,
     /// Peak memory, MiB per rank (the largest VmHWM over the ranks).
     peak_mib: f64,
+    /// The `preconditioner: ..` line without its prefix (printed from -v on).
+    preconditioner: Option<String>,
 }
 
 fn parse_solver_log(text: &str) -> Result<SolverLog, String> {
@@ -1302,6 +1463,29 @@ fn parse_solver_log(text: &str) -> Result<SolverLog, String> {
         contact_updates,
         wall: number_before(done, " s, peak memory").ok_or_else(|| bad("seconds", done))?,
         peak_mib: number_after(done, "peak memory ").ok_or_else(|| bad("memory", done))?,
+        preconditioner: text
+            .lines()
+            .find_map(|l| l.strip_prefix("preconditioner: "))
+            .map(|l| l.trim().to_string()),
+    })
+}
+
+/// The coarse space a two-level `preconditioner:` line describes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CoarseInfo {
+    aggregates: usize,
+    unknowns: usize,
+    cell_size: f64,
+    colours: usize,
+}
+
+fn coarse_info(line: &str) -> Option<CoarseInfo> {
+    let s = &line[line.find("coarse space: ")?..];
+    Some(CoarseInfo {
+        aggregates: number_before(s, " aggregates")?,
+        unknowns: number_before(s, " unknowns")?,
+        cell_size: number_after(s, "cell size ")?,
+        colours: number_before(s, " colours")?,
     })
 }
 
@@ -1310,24 +1494,21 @@ fn solver_run(
     exe: &Path,
     refine: usize,
     ranks: usize,
+    precond: Precond,
     result: &Path,
+    limits: &Limits,
 ) -> Result<(SolverLog, f64), String> {
     let root = repo_root();
     let log = result.with_extension("log");
     let mut cmd = Command::new(root.join("run/mpirun"));
     cmd.args(["-np", &ranks.to_string()])
         .arg(exe)
-        .arg("run")
+        .args(["-vv", "run"])
         .arg(root.join(BLOCK_SCENE))
-        .args(["--refine", &refine.to_string(), "-o"])
+        .args(["--refine", &refine.to_string()])
+        .args(["--preconditioner", precond.arg(), "-o"])
         .arg(result);
-    let f = run_limited(
-        &mut cmd,
-        &result.with_extension("out"),
-        &log,
-        SOLVER_TIMEOUT_S,
-        None,
-    )?;
+    let f = run_limited(&mut cmd, &result.with_extension("out"), &log, limits)?;
     let text =
         std::fs::read_to_string(&log).map_err(|e| format!("cannot read {}: {e}", log.display()))?;
     if let Some(why) = f.stopped {
@@ -1342,7 +1523,15 @@ fn solver_run(
         ));
     }
     let parsed = parse_solver_log(&text).map_err(|e| format!("{}: {e}", log.display()))?;
-    Ok((parsed, f.wall))
+    match parsed.preconditioner.as_deref() {
+        Some(line) if precond.used(line) => Ok((parsed, f.wall)),
+        Some(line) => Err(format!(
+            "asked for --preconditioner {}, the solver used: {line} (log {})",
+            precond.arg(),
+            log.display()
+        )),
+        None => Err(format!("no 'preconditioner:' line in {}", log.display())),
+    }
 }
 
 /// Sum over all nodes of the contact force at the last step of a result file.
@@ -1356,8 +1545,11 @@ fn total_contact_force(path: &Path) -> Result<Vec3, String> {
     Ok(force.iter().fold([0.0; 3], |a, f| solver::math::add(&a, f)))
 }
 
-/// The block-on-block scene at one size on one rank count, repeated.
+/// The block-on-block scene at one size on one rank count with one preconditioner,
+/// repeated.
 struct BlockCase {
+    /// Elements per edge of each block.
+    n: usize,
     ranks: usize,
     /// The first repeat's log (the counts are the same in every repeat unless
     /// `consistent` is false).
@@ -1377,6 +1569,46 @@ impl BlockCase {
     fn bytes_per_element(&self) -> f64 {
         self.peak_mib.median * MIB / (self.log.elements as f64 / self.ranks as f64)
     }
+
+    fn preconditioner_line(&self) -> &str {
+        self.log.preconditioner.as_deref().unwrap_or("")
+    }
+
+    fn coarse(&self) -> Option<CoarseInfo> {
+        coarse_info(self.preconditioner_line())
+    }
+
+    /// The JSON record of the run (without the rank count, preconditioner and size).
+    fn json(&self, marginal_bytes: Option<f64>) -> Rec {
+        let l = &self.log;
+        let (force, force_error) = match &self.contact_force {
+            Ok(f) => (J::Arr(f.iter().map(|&x| J::Num(x)).collect()), None),
+            Err(e) => (J::Null, Some(e.clone())),
+        };
+        let coarse = self.coarse();
+        Rec::default()
+            .put("elements", l.elements)
+            .put("nodes", l.nodes)
+            .put("steps", l.steps)
+            .put("cg_iterations", l.cg_iterations)
+            .put("contact_updates", l.contact_updates)
+            .put("counts_same_every_repeat", self.consistent)
+            .put("repeats", self.wall.repeats)
+            .stat("wall_s", &self.wall)
+            .stat("process_wall_s", &self.process_wall)
+            .stat("peak_mib_per_rank", &self.peak_mib)
+            .put("elements_per_rank", l.elements as f64 / self.ranks as f64)
+            .put("bytes_per_element", self.bytes_per_element())
+            .put("marginal_bytes_per_element", marginal_bytes)
+            .put("contact_force", force)
+            .put("contact_force_error", force_error)
+            .put("preconditioner_line", self.preconditioner_line())
+            .put("coarse_aggregates", coarse.map(|c| c.aggregates))
+            .put("coarse_unknowns", coarse.map(|c| c.unknowns))
+            .put("coarse_cell_size", coarse.map(|c| c.cell_size))
+            .put("coarse_colours", coarse.map(|c| c.colours))
+            .put("result_file", self.result.display().to_string())
+    }
 }
 
 fn block_case(
@@ -1384,16 +1616,19 @@ fn block_case(
     dir: &Path,
     refine: usize,
     ranks: usize,
+    precond: Precond,
     repeats: usize,
+    limits: &Limits,
 ) -> Result<BlockCase, String> {
     let n = BLOCK_BASE_N * refine;
-    let result = dir.join(format!("n{n}_np{ranks}.h5"));
+    let result = dir.join(format!("n{n}_np{ranks}_{}.h5", precond.arg()));
     let mut logs = Vec::new();
     let mut process = Vec::new();
     for r in 0..repeats.max(1) {
-        let (log, wall) = solver_run(exe, refine, ranks, &result)?;
+        let (log, wall) = solver_run(exe, refine, ranks, precond, &result, limits)?;
         eprintln!(
-            "bench:   n = {n}, {ranks} rank(s), run {}/{}: {} CG iterations, {} contact updates, {:.2} s, {:.1} MiB per rank",
+            "bench:   n = {n}, {}, {ranks} rank(s), run {}/{}: {} CG iterations, {} contact updates, {:.2} s, {:.1} MiB per rank",
+            precond.label(),
             r + 1,
             repeats.max(1),
             log.cg_iterations,
@@ -1406,17 +1641,24 @@ fn block_case(
     }
     let first = logs[0].clone();
     let consistent = logs.iter().all(|l| {
-        (l.steps, l.cg_iterations, l.cg_step_sum, l.contact_updates)
-            == (
-                first.steps,
-                first.cg_iterations,
-                first.cg_step_sum,
-                first.contact_updates,
-            )
+        (
+            l.steps,
+            l.cg_iterations,
+            l.cg_step_sum,
+            l.contact_updates,
+            &l.preconditioner,
+        ) == (
+            first.steps,
+            first.cg_iterations,
+            first.cg_step_sum,
+            first.contact_updates,
+            &first.preconditioner,
+        )
     }) && first.cg_iterations == first.cg_step_sum;
     let walls: Vec<f64> = logs.iter().map(|l| l.wall).collect();
     let mibs: Vec<f64> = logs.iter().map(|l| l.peak_mib).collect();
     Ok(BlockCase {
+        n,
         ranks,
         log: first,
         consistent,
@@ -1433,6 +1675,12 @@ struct Compare {
     code: Option<i32>,
     /// Its last line ("result: ...").
     summary: String,
+}
+
+impl Compare {
+    fn identical(&self) -> bool {
+        self.code == Some(0)
+    }
 }
 
 fn compare_results(exe: &Path, a: &Path, b: &Path) -> Result<Compare, String> {
@@ -1455,59 +1703,168 @@ fn compare_results(exe: &Path, a: &Path, b: &Path) -> Result<Compare, String> {
     })
 }
 
-/// One size of the block-on-block scene on every rank count of BLOCK_RANKS.
-struct BlockSize {
-    n: usize,
-    refine: usize,
+/// "yes", or why not, of a 1-against-2-rank comparison.
+fn identity_text(compare: &Option<Result<Compare, String>>) -> String {
+    match compare {
+        Some(Ok(c)) if c.identical() => "yes".to_string(),
+        Some(Ok(c)) => format!(
+            "**no** (exit {}: {})",
+            c.code.map_or("none".into(), |x| x.to_string()),
+            c.summary
+        ),
+        Some(Err(e)) => format!("not compared: {e}"),
+        None => "not compared (a run failed)".to_string(),
+    }
+}
+
+/// The speed-up of the first rank count over the second: (median, min, max) of the
+/// first's wall time over the second's.
+fn speedup(a: &BlockCase, b: &BlockCase) -> Stat {
+    ratio(&a.wall, &b.wall)
+}
+
+/// `a / b` of two time statistics: the minimum from the fastest `a` over the slowest `b`.
+fn ratio(a: &Stat, b: &Stat) -> Stat {
+    Stat {
+        median: a.median / b.median,
+        min: a.min / b.max,
+        max: a.max / b.min,
+        repeats: a.repeats.min(b.repeats),
+    }
+}
+
+/// One size with one preconditioner on every rank count of BLOCK_RANKS.
+struct PrecondRuns {
+    precond: Precond,
     cases: Vec<Result<BlockCase, String>>,
     /// The first rank count's result file against the second's.
     compare: Option<Result<Compare, String>>,
 }
 
-impl BlockSize {
+impl PrecondRuns {
     fn case(&self, ranks: usize) -> Option<&BlockCase> {
         self.cases.iter().flatten().find(|c| c.ranks == ranks)
     }
 
-    /// (median, min, max) of the first rank count's wall time over the second's.
     fn speedup(&self) -> Option<Stat> {
-        let a = self.case(BLOCK_RANKS[0])?;
-        let b = self.case(BLOCK_RANKS[1])?;
-        Some(Stat {
-            median: a.wall.median / b.wall.median,
-            min: a.wall.min / b.wall.max,
-            max: a.wall.max / b.wall.min,
-            repeats: a.wall.repeats.min(b.wall.repeats),
-        })
+        Some(speedup(
+            self.case(BLOCK_RANKS[0])?,
+            self.case(BLOCK_RANKS[1])?,
+        ))
+    }
+}
+
+/// One size of the block-on-block scene with every preconditioner on every rank count.
+struct BlockSize {
+    n: usize,
+    refine: usize,
+    /// In the order of PRECONDITIONERS.
+    runs: Vec<PrecondRuns>,
+}
+
+impl BlockSize {
+    fn runs(&self, p: Precond) -> Option<&PrecondRuns> {
+        self.runs.iter().find(|r| r.precond == p)
+    }
+
+    fn case(&self, p: Precond, ranks: usize) -> Option<&BlockCase> {
+        self.runs(p)?.case(ranks)
     }
 
     fn elements(&self) -> Option<usize> {
-        self.cases.iter().flatten().map(|c| c.log.elements).next()
+        self.runs
+            .iter()
+            .flat_map(|r| r.cases.iter().flatten())
+            .map(|c| c.log.elements)
+            .next()
+    }
+
+    /// The two runs compared on a rank count: (Jacobi, two-level).
+    fn pair(&self, ranks: usize) -> Option<(&BlockCase, &BlockCase)> {
+        Some((
+            self.case(PRECONDITIONERS[0], ranks)?,
+            self.case(PRECONDITIONERS[1], ranks)?,
+        ))
+    }
+
+    /// Two-level CG iterations over Jacobi's.
+    fn iteration_ratio(&self, ranks: usize) -> Option<f64> {
+        let (j, t) = self.pair(ranks)?;
+        Some(t.log.cg_iterations as f64 / j.log.cg_iterations as f64)
+    }
+
+    /// Two-level wall time over Jacobi's.
+    fn time_ratio(&self, ranks: usize) -> Option<Stat> {
+        let (j, t) = self.pair(ranks)?;
+        Some(ratio(&t.wall, &j.wall))
+    }
+
+    /// |F_two-level - F_Jacobi| / |F_Jacobi| of the total contact force vectors.
+    fn force_difference(&self, ranks: usize) -> Option<f64> {
+        let (j, t) = self.pair(ranks)?;
+        let (fj, ft) = (
+            j.contact_force.as_ref().ok()?,
+            t.contact_force.as_ref().ok()?,
+        );
+        Some(solver::math::norm(&solver::math::sub(ft, fj)) / solver::math::norm(fj))
+    }
+
+    /// The preconditioner lines of the two-level runs, one per distinct line, with the
+    /// rank counts that printed it.
+    fn coarse_lines(&self) -> Vec<(Vec<usize>, String)> {
+        let mut lines: Vec<(Vec<usize>, String)> = Vec::new();
+        let Some(runs) = self.runs(Precond::TwoLevel) else {
+            return lines;
+        };
+        for c in runs.cases.iter().flatten() {
+            let line = c.preconditioner_line().to_string();
+            match lines.iter_mut().find(|(_, l)| *l == line) {
+                Some((ranks, _)) => ranks.push(c.ranks),
+                None => lines.push((vec![c.ranks], line)),
+            }
+        }
+        lines
     }
 }
 
 fn block_size(exe: &Path, dir: &Path, refine: usize, repeats: usize) -> BlockSize {
     let n = BLOCK_BASE_N * refine;
-    let cases: Vec<Result<BlockCase, String>> = BLOCK_RANKS
+    let limits = Limits::timeout(SOLVER_TIMEOUT_S);
+    let runs = PRECONDITIONERS
         .iter()
-        .map(|&ranks| {
-            let c = block_case(exe, dir, refine, ranks, repeats);
-            if let Err(e) = &c {
-                eprintln!("bench:   n = {n}, {ranks} rank(s) failed: {e}");
+        .map(|&precond| {
+            let cases: Vec<Result<BlockCase, String>> = BLOCK_RANKS
+                .iter()
+                .map(|&ranks| {
+                    let c = block_case(exe, dir, refine, ranks, precond, repeats, &limits);
+                    if let Err(e) = &c {
+                        eprintln!(
+                            "bench:   n = {n}, {}, {ranks} rank(s) failed: {e}",
+                            precond.label()
+                        );
+                    }
+                    c
+                })
+                .collect();
+            let compare = match (&cases[0], &cases[1]) {
+                (Ok(a), Ok(b)) => Some(compare_results(exe, &a.result, &b.result)),
+                _ => None,
+            };
+            PrecondRuns {
+                precond,
+                cases,
+                compare,
             }
-            c
         })
         .collect();
-    let compare = match (&cases[0], &cases[1]) {
-        (Ok(a), Ok(b)) => Some(compare_results(exe, &a.result, &b.result)),
-        _ => None,
-    };
-    BlockSize {
-        n,
-        refine,
-        cases,
-        compare,
-    }
+    BlockSize { n, refine, runs }
+}
+
+/// The solve tolerance of BLOCK_SCENE (`solver.tolerance`).
+fn block_tolerance() -> Option<f64> {
+    load_scene_refined(&repo_root().join(BLOCK_SCENE), 1)
+        .ok()
+        .map(|p| p.solver.tolerance)
 }
 
 /// `solver check SCENE --refine F --ranks R`: the decomposition part of its output.
@@ -1893,9 +2250,12 @@ fn ccx_size(out: &Path, refine: usize, repeats: usize) -> Result<CcxSize, String
             &mut cmd,
             &log,
             &dir.join("ccx.err"),
-            CCX_TIMEOUT_S,
-            // Leave the machine a quarter of what it had (others may be working on it).
-            memory_available().map(|m| 0.75 * m),
+            &Limits {
+                timeout_s: CCX_TIMEOUT_S,
+                // Leave the machine a quarter of what it had (others may be working on it).
+                rss_limit: memory_available().map(|m| 0.75 * m),
+                min_available: None,
+            },
         )?;
         if let Some(why) = f.stopped {
             size.outcome = CcxOutcome::Stopped(why);
@@ -1942,10 +2302,529 @@ fn ccx_size(out: &Path, refine: usize, repeats: usize) -> Result<CcxSize, String
 }
 
 // ---------------------------------------------------------------------------------------
+// 6. --large: the block on block at about 10^6 elements
+// ---------------------------------------------------------------------------------------
+
+/// Refinement factor of the large run: n = 80, 2 x 512000 elements.
+const LARGE_REFINE: usize = 8;
+/// Refinement factors of the pilot runs whose peak memory predicts the large run's.
+const LARGE_PILOT: [usize; 2] = [2, 4];
+/// The large run starts only when ranks x its predicted peak per rank x this fits in the
+/// machine's MemAvailable.
+const LARGE_MEMORY_MARGIN: f64 = 1.25;
+/// It is stopped when the machine's MemAvailable falls below this (bytes) ...
+const LARGE_MIN_AVAILABLE: f64 = 1024.0 * MIB;
+/// ... or after this long.
+const LARGE_TIMEOUT_S: f64 = 6.0 * 3600.0;
+/// Rank counts of `--large` without `--ranks`.
+const LARGE_DEFAULT_RANKS: [usize; 1] = [2];
+/// Heading of the large section of report.md: from it to the end of the file is that
+/// section (a normal run writes it last, as it found it).
+const LARGE_HEADING: &str = "## Large block on block";
+
+/// The memory check before a large run.
+struct MemoryEstimate {
+    /// (n, elements, peak MiB per rank) of the pilot runs.
+    pilot: Vec<(usize, usize, f64)>,
+    /// Growth of the peak per element added per rank between the pilots, bytes.
+    marginal_bytes: f64,
+    /// Elements of the large run.
+    elements: usize,
+    predicted_mib_per_rank: f64,
+    available_mib: Option<f64>,
+    fits: bool,
+}
+
+impl MemoryEstimate {
+    fn new(pilot: &[&BlockCase], ranks: usize) -> Result<MemoryEstimate, String> {
+        let [a, b] = pilot else {
+            return Err("the memory estimate needs two pilot runs".into());
+        };
+        let per_rank = |c: &BlockCase| c.log.elements as f64 / ranks as f64;
+        let de = per_rank(b) - per_rank(a);
+        let marginal_bytes = (b.peak_mib.median - a.peak_mib.median) * MIB / de;
+        let last_refine = LARGE_PILOT[LARGE_PILOT.len() - 1];
+        let elements = (b.log.elements as f64 * (LARGE_REFINE as f64 / last_refine as f64).powi(3))
+            .round() as usize;
+        // Linear in elements per rank through the larger pilot; if the peak did not grow
+        // (a measurement gone wrong), in proportion to it.
+        let predicted_mib_per_rank = if marginal_bytes > 0.0 {
+            b.peak_mib.median
+                + marginal_bytes * (elements as f64 / ranks as f64 - per_rank(b)) / MIB
+        } else {
+            b.peak_mib.median * elements as f64 / b.log.elements as f64
+        };
+        let available_mib = memory_available().map(|m| m / MIB);
+        let fits = available_mib.is_some_and(|avail| {
+            ranks as f64 * predicted_mib_per_rank * LARGE_MEMORY_MARGIN <= avail
+        });
+        Ok(MemoryEstimate {
+            pilot: pilot
+                .iter()
+                .map(|c| (c.n, c.log.elements, c.peak_mib.median))
+                .collect(),
+            marginal_bytes,
+            elements,
+            predicted_mib_per_rank,
+            available_mib,
+            fits,
+        })
+    }
+
+    fn json(&self, ranks: usize) -> J {
+        Rec::default()
+            .put(
+                "pilot",
+                J::Arr(
+                    self.pilot
+                        .iter()
+                        .map(|&(n, e, p)| {
+                            Rec::default()
+                                .put("n", n)
+                                .put("elements", e)
+                                .put("peak_mib_per_rank", p)
+                                .json()
+                        })
+                        .collect(),
+                ),
+            )
+            .put("marginal_bytes_per_element", self.marginal_bytes)
+            .put("elements", self.elements)
+            .put("predicted_peak_mib_per_rank", self.predicted_mib_per_rank)
+            .put(
+                "predicted_total_mib",
+                ranks as f64 * self.predicted_mib_per_rank,
+            )
+            .put("memory_margin", LARGE_MEMORY_MARGIN)
+            .put("available_mib", self.available_mib)
+            .put("fits", self.fits)
+            .json()
+    }
+
+    fn text(&self, ranks: usize) -> String {
+        let pilot: Vec<String> = self
+            .pilot
+            .iter()
+            .map(|(n, e, p)| format!("n = {n} ({e} elements) {p:.1} MiB"))
+            .collect();
+        format!(
+            "pilot peaks per rank {}; {:.0} B per element added per rank; predicted {:.0} MiB \
+             per rank, {:.0} MiB on {ranks} rank(s), x {LARGE_MEMORY_MARGIN} against {} \
+             available: {}",
+            pilot.join(", "),
+            self.marginal_bytes,
+            self.predicted_mib_per_rank,
+            ranks as f64 * self.predicted_mib_per_rank,
+            self.available_mib
+                .map_or("unknown".to_string(), |m| format!("{m:.0} MiB")),
+            if self.fits { "fits" } else { "does not fit" }
+        )
+    }
+}
+
+/// How the large run on one rank count went.
+enum LargeOutcome {
+    Finished(Box<BlockCase>),
+    Failed(String),
+    /// Not started (the pilots failed or the memory does not suffice).
+    NotRun(String),
+}
+
+struct LargeRun {
+    ranks: usize,
+    estimate: Result<MemoryEstimate, String>,
+    outcome: LargeOutcome,
+}
+
+impl LargeRun {
+    /// Growth of the peak per rank from the larger pilot to the large run, per element
+    /// added per rank (bytes).
+    fn marginal_bytes(&self) -> Option<f64> {
+        let LargeOutcome::Finished(c) = &self.outcome else {
+            return None;
+        };
+        let &(_, e, peak) = self.estimate.as_ref().ok()?.pilot.last()?;
+        let de = (c.log.elements as f64 - e as f64) / self.ranks as f64;
+        (de > 0.0).then(|| (c.peak_mib.median - peak) * MIB / de)
+    }
+}
+
+/// The pilots, the memory check and the large run on `ranks` ranks.
+fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
+    let limits = Limits::timeout(SOLVER_TIMEOUT_S);
+    eprintln!(
+        "bench: large, {ranks} rank(s): pilot runs n = {:?} (two-level) for the memory estimate",
+        LARGE_PILOT.map(|f| BLOCK_BASE_N * f)
+    );
+    let pilot: Result<Vec<BlockCase>, String> = LARGE_PILOT
+        .iter()
+        .map(|&f| block_case(exe, dir, f, ranks, Precond::TwoLevel, 1, &limits))
+        .collect();
+    let estimate = pilot.and_then(|p| MemoryEstimate::new(&p.iter().collect::<Vec<_>>(), ranks));
+    let outcome = match &estimate {
+        Err(e) => LargeOutcome::NotRun(format!("memory estimate failed: {e}")),
+        Ok(m) if !m.fits => LargeOutcome::NotRun(format!("not enough memory: {}", m.text(ranks))),
+        Ok(m) => {
+            eprintln!("bench: large, {ranks} rank(s): {}", m.text(ranks));
+            eprintln!(
+                "bench: large, {ranks} rank(s): n = {} ({} elements), two-level; this takes a while",
+                BLOCK_BASE_N * LARGE_REFINE,
+                m.elements
+            );
+            let limits = Limits {
+                timeout_s: LARGE_TIMEOUT_S,
+                rss_limit: None,
+                min_available: Some(LARGE_MIN_AVAILABLE),
+            };
+            match block_case(exe, dir, LARGE_REFINE, ranks, Precond::TwoLevel, 1, &limits) {
+                Ok(c) => LargeOutcome::Finished(Box::new(c)),
+                Err(e) => LargeOutcome::Failed(e),
+            }
+        }
+    };
+    match &outcome {
+        LargeOutcome::Finished(_) => {}
+        LargeOutcome::Failed(why) => eprintln!("bench: large, {ranks} rank(s) failed: {why}"),
+        LargeOutcome::NotRun(why) => eprintln!("bench: large, {ranks} rank(s) not run: {why}"),
+    }
+    LargeRun {
+        ranks,
+        estimate,
+        outcome,
+    }
+}
+
+/// Everything `--large` measured.
+struct Large {
+    machine: Machine,
+    runs: Vec<LargeRun>,
+    /// The first finished run's result file against the second's.
+    compare: Option<Result<Compare, String>>,
+    total_wall: f64,
+    load_end: Option<String>,
+    steal: Option<f64>,
+}
+
+impl Large {
+    fn finished(&self) -> Vec<&BlockCase> {
+        self.runs
+            .iter()
+            .filter_map(|r| match &r.outcome {
+                LargeOutcome::Finished(c) => Some(c.as_ref()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Speed-up of the fewest ranks over the most, when both finished.
+    fn speedup(&self) -> Option<Stat> {
+        let f = self.finished();
+        let a = f.iter().min_by_key(|c| c.ranks)?;
+        let b = f.iter().max_by_key(|c| c.ranks)?;
+        (a.ranks < b.ranks).then(|| speedup(a, b))
+    }
+
+    fn json(&self) -> J {
+        let m = &self.machine;
+        let runs = self
+            .runs
+            .iter()
+            .map(|r| {
+                let head = Rec::default().put("ranks", r.ranks);
+                let head = match &r.estimate {
+                    Ok(e) => head.put("memory_check", e.json(r.ranks)),
+                    Err(e) => head.put(
+                        "memory_check",
+                        Rec::default().put("error", e.as_str()).json(),
+                    ),
+                };
+                match &r.outcome {
+                    LargeOutcome::Finished(c) => head
+                        .put("status", "finished")
+                        .extend(c.json(r.marginal_bytes()))
+                        .json(),
+                    LargeOutcome::Failed(e) => head
+                        .put("status", "failed")
+                        .put("reason", e.as_str())
+                        .json(),
+                    LargeOutcome::NotRun(e) => head
+                        .put("status", "not_run")
+                        .put("reason", e.as_str())
+                        .json(),
+                }
+            })
+            .collect();
+        let rec = Rec::default()
+            .put(
+                "meta",
+                Rec::default()
+                    .put("date", m.date.as_str())
+                    .put("git_commit", m.git_commit.clone())
+                    .put("git_dirty", m.git_dirty)
+                    .put("cpu_model", m.cpu_model.as_str())
+                    .put("logical_cpus", m.logical_cpus)
+                    .put("total_wall_s", self.total_wall)
+                    .put("load_average_start", m.load_start.clone())
+                    .put("load_average_end", self.load_end.clone())
+                    .put("cpu_steal_fraction", self.steal)
+                    .json(),
+            )
+            .put("scene", BLOCK_SCENE)
+            .put("n", BLOCK_BASE_N * LARGE_REFINE)
+            .put("refine", LARGE_REFINE)
+            .put("preconditioner", Precond::TwoLevel.arg())
+            .put("timeout_s", LARGE_TIMEOUT_S)
+            .put("min_available_mib", LARGE_MIN_AVAILABLE / MIB)
+            .put("runs", J::Arr(runs));
+        let rec = match self.speedup() {
+            Some(s) => rec.stat("speedup", &s),
+            None => rec.put("speedup_median", J::Null),
+        };
+        match &self.compare {
+            Some(Ok(c)) => rec
+                .put("bitwise_identical", c.identical())
+                .put("compare_summary", c.summary.as_str()),
+            Some(Err(e)) => rec
+                .put("bitwise_identical", J::Null)
+                .put("compare_error", e.as_str()),
+            None => rec.put("bitwise_identical", J::Null),
+        }
+        .json()
+    }
+
+    fn markdown(&self, dir: &Path) -> String {
+        let m = &self.machine;
+        let mut s = String::new();
+        let w = &mut s;
+        let _ = writeln!(
+            w,
+            "{LARGE_HEADING} (n = {}, `run/bench --large`)\n",
+            BLOCK_BASE_N * LARGE_REFINE
+        );
+        let _ = writeln!(
+            w,
+            "{} on {}, commit {}{}; load average {} at the start, {} at the end; hypervisor \
+             steal {}; {:.0} s in all. `{BLOCK_SCENE}` refined by {LARGE_REFINE} (n = {} \
+             elements per edge per block), `--preconditioner two_level`, one run per rank \
+             count. Before each, two-level runs at n = {} on the same rank count measure the \
+             peak memory per rank; extrapolated linearly in elements per rank it must fit \
+             {LARGE_MEMORY_MARGIN} times over in the memory available, and the run is stopped \
+             if the machine's available memory falls below {:.0} MiB or after {:.0} h. \
+             Columns as in the block-on-block table; \"marginal\" is the growth of the peak \
+             per element added per rank from the larger pilot run. Result files and logs in \
+             `{}`.\n",
+            m.date,
+            m.cpu_model,
+            m.git_commit.as_deref().unwrap_or("unknown"),
+            if m.git_dirty == Some(true) {
+                " (with uncommitted changes)"
+            } else {
+                ""
+            },
+            m.load_start.as_deref().unwrap_or("unknown"),
+            self.load_end.as_deref().unwrap_or("unknown"),
+            self.steal
+                .map_or("unknown".to_string(), |x| format!("{:.1} %", 100.0 * x)),
+            self.total_wall,
+            BLOCK_BASE_N * LARGE_REFINE,
+            LARGE_PILOT
+                .map(|f| (BLOCK_BASE_N * f).to_string())
+                .join(" and "),
+            LARGE_MIN_AVAILABLE / MIB,
+            LARGE_TIMEOUT_S / 3600.0,
+            dir.display(),
+        );
+        let _ = writeln!(
+            w,
+            "| ranks | elements | CG iterations | contact updates | time s | process s | peak MiB/rank | B/element | marginal B/element | contact force y | coarse space |"
+        );
+        let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|");
+        for r in &self.runs {
+            let _ = match &r.outcome {
+                LargeOutcome::Finished(c) => writeln!(
+                    w,
+                    "| {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.0} | {} | {} | {} |",
+                    r.ranks,
+                    c.log.elements,
+                    c.log.cg_iterations,
+                    c.log.contact_updates,
+                    c.wall.median,
+                    c.process_wall.median,
+                    c.peak_mib.median,
+                    c.bytes_per_element(),
+                    r.marginal_bytes().map_or("-".into(), |m| format!("{m:.0}")),
+                    match &c.contact_force {
+                        Ok(f) => format!("{:.6}", f[1]),
+                        Err(e) => format!("unreadable: {}", e.replace('|', "/")),
+                    },
+                    c.preconditioner_line().replace('|', "/")
+                ),
+                LargeOutcome::Failed(e) => {
+                    writeln!(
+                        w,
+                        "| {} | failed: {} |||||||||",
+                        r.ranks,
+                        e.replace('|', "/")
+                    )
+                }
+                LargeOutcome::NotRun(e) => {
+                    writeln!(
+                        w,
+                        "| {} | not run: {} |||||||||",
+                        r.ranks,
+                        e.replace('|', "/")
+                    )
+                }
+            };
+        }
+        let _ = writeln!(w);
+        for r in &self.runs {
+            let _ = match &r.estimate {
+                Ok(e) => writeln!(
+                    w,
+                    "- memory check, {} rank(s): {}",
+                    r.ranks,
+                    e.text(r.ranks)
+                ),
+                Err(e) => writeln!(w, "- memory check, {} rank(s): failed: {e}", r.ranks),
+            };
+        }
+        if let Some(s) = self.speedup() {
+            let _ = writeln!(
+                w,
+                "- speed-up {:.2}; bitwise identical: {}",
+                s.median,
+                identity_text(&self.compare)
+            );
+        }
+        s
+    }
+}
+
+/// `bench --large`: the large runs, merged into `<out>/results.json` and `<out>/report.md`.
+fn large(out: &Path, ranks: &[usize]) -> Result<(), String> {
+    let start = Instant::now();
+    let dir = out.join("large");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let machine = machine();
+    let exe = solver_exe()?;
+    eprintln!(
+        "bench: large block on block (n = {}, two-level) on {ranks:?} rank(s)",
+        BLOCK_BASE_N * LARGE_REFINE
+    );
+    let runs: Vec<LargeRun> = ranks.iter().map(|&r| large_run(&exe, &dir, r)).collect();
+    let finished: Vec<&BlockCase> = runs
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            LargeOutcome::Finished(c) => Some(c.as_ref()),
+            _ => None,
+        })
+        .collect();
+    let compare = match finished.as_slice() {
+        [a, b, ..] => Some(compare_results(&exe, &a.result, &b.result)),
+        _ => None,
+    };
+    let steal = steal_since(&machine);
+    let large = Large {
+        machine,
+        runs,
+        compare,
+        total_wall: start.elapsed().as_secs_f64(),
+        load_end: load_average(),
+        steal,
+    };
+
+    let section = large.markdown(&dir);
+    let (jpath, rpath) = merge_large(out, large.json(), &section)?;
+    println!("{section}");
+    eprintln!("bench: wrote {} and {}", jpath.display(), rpath.display());
+    let failed = large
+        .runs
+        .iter()
+        .filter(|r| !matches!(r.outcome, LargeOutcome::Finished(_)))
+        .count();
+    if failed > 0 {
+        return Err(format!(
+            "{failed} large run(s) did not finish; see the report"
+        ));
+    }
+    Ok(())
+}
+
+/// Writes the large section into `<out>/results.json` and `<out>/report.md`, replacing an
+/// earlier one and keeping the rest (files that do not exist yet get only this section).
+fn merge_large(out: &Path, json: J, section: &str) -> Result<(PathBuf, PathBuf), String> {
+    let jpath = out.join("results.json");
+    let rpath = out.join("report.md");
+    let mut root = std::fs::read_to_string(&jpath)
+        .ok()
+        .and_then(|t| serde_json::from_str::<J>(&t).ok())
+        .filter(|j| matches!(j, J::Obj(_)))
+        .unwrap_or_else(|| {
+            let doc = DOC
+                .iter()
+                .filter(|(k, _)| ["schema", "statistics", "large", "units"].contains(k))
+                .map(|(k, v)| (k.to_string(), J::Str(v.to_string())))
+                .collect();
+            Rec::default()
+                .put("schema", SCHEMA)
+                .put("doc", J::Obj(doc))
+                .json()
+        });
+    root.set("large", json);
+    let mut report = std::fs::read_to_string(&rpath)
+        .unwrap_or_else(|_| "# Solver performance benchmark\n\n".to_string());
+    if let Some(i) = report.find(LARGE_HEADING) {
+        report.truncate(i);
+    } else if !report.ends_with("\n\n") {
+        report.push('\n');
+    }
+    report.push_str(section);
+    let text = serde_json::to_string_pretty(&root)
+        .map_err(|e| format!("cannot serialise the results: {e}"))?;
+    std::fs::write(&jpath, text + "\n")
+        .map_err(|e| format!("cannot write {}: {e}", jpath.display()))?;
+    std::fs::write(&rpath, &report)
+        .map_err(|e| format!("cannot write {}: {e}", rpath.display()))?;
+    Ok((jpath, rpath))
+}
+
+/// The large section of earlier files in `out`, for a normal run to keep: its JSON and
+/// its part of report.md (from LARGE_HEADING to the end).
+fn earlier_large(out: &Path) -> Option<(J, String)> {
+    let json = std::fs::read_to_string(out.join("results.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<J>(&t).ok())
+        .and_then(|j| j.get("large").cloned())
+        .filter(|j| !matches!(j, J::Null));
+    let text = std::fs::read_to_string(out.join("report.md"))
+        .ok()
+        .and_then(|r| r.find(LARGE_HEADING).map(|i| r[i..].to_string()));
+    if json.is_none() && text.is_none() {
+        return None;
+    }
+    Some((json.unwrap_or(J::Null), text.unwrap_or_default()))
+}
+
+/// Fraction of the machine's CPU time the hypervisor gave to other guests since `m` was
+/// taken.
+fn steal_since(m: &Machine) -> Option<f64> {
+    match (m.jiffies_start, cpu_jiffies()) {
+        (Some((a0, s0)), Some((a1, s1))) if a1 > a0 => {
+            Some(s1.saturating_sub(s0) as f64 / (a1 - a0) as f64)
+        }
+        _ => None,
+    }
+}
+
+// ---------------------------------------------------------------------------------------
 // Output
 // ---------------------------------------------------------------------------------------
 
-const DOC: [(&str, &str); 16] = [
+/// Identifier and version of results.json's layout.
+const SCHEMA: &str = "solver-bench/3";
+
+const DOC: [(&str, &str); 17] = [
     ("schema", "identifier and version of this file's layout"),
     ("meta", "when and where it ran: date (RFC 3339, UTC), git commit (short) and whether tracked files had uncommitted changes, CPU model and cache size from /proc/cpuinfo (under a hypervisor the cache size may be a nominal figure), logical CPUs and physical cores, quick mode, total wall time in s, /proc/loadavg (1, 5, 15 min) at the start and the end (other processes on the machine inflate wall times), cpu_steal_fraction = share of all CPUs' time the hypervisor gave to other guests during the run (from /proc/stat)"),
     ("statistics", "every measured figure is given as <name>_median, <name>_min and <name>_max over `repeats` timed runs (after one untimed warm-up for the kernels and the bandwidth); rates are derived from the times, so rate_min comes from the slowest run"),
@@ -1956,11 +2835,12 @@ const DOC: [(&str, &str); 16] = [
     ("element_kernels.model_gb_s", "model_bytes_per_element x elements_per_s_median / 1e9"),
     ("element_kernels.fraction_of_triad_1core", "model_gb_s / the one-core triad bandwidth median"),
     ("element_kernels.checksum", "sum of |entries| of the result, to show it is not trivial"),
-    ("cg_cube", "unit cube, linear elastic E = 1e6, nu = 0.3, u_y = 0 at y = 0, u_x = 0 at x = 0, u_z = 0 at z = 0, u_y = -0.01 at y = 1, one load step, tolerance 1e-8, solved by solver::run::run on SerialComm; run_wall includes decomposition and set-up, solve_wall is the load step; unknowns = free degrees of freedom; iterations_per_cbrt_unknowns = cg_iterations / unknowns^(1/3); force_call is one internal_force call on the same mesh and kernel_share = cg_iterations x force_call_min / solve_wall_min (true-residual recomputations not counted; minima are the least disturbed by other load); max_error_rel = max |u - u_exact| / 0.01 against the exact uniaxial-stress field"),
+    ("cg_cube", "unit cube, linear elastic E = 1e6, nu = 0.3, u_y = 0 at y = 0, u_x = 0 at x = 0, u_z = 0 at z = 0, u_y = -0.01 at y = 1, one load step, tolerance 1e-8, nodal block-Jacobi preconditioner (solver.preconditioner = \"jacobi\"; the block-on-block section compares it with the two-level one), solved by solver::run::run on SerialComm; run_wall includes decomposition and set-up, solve_wall is the load step; unknowns = free degrees of freedom; iterations_per_cbrt_unknowns = cg_iterations / unknowns^(1/3); force_call is one internal_force call on the same mesh and kernel_share = cg_iterations x force_call_min / solve_wall_min (true-residual recomputations not counted; minima are the least disturbed by other load); max_error_rel = max |u - u_exact| / 0.01 against the exact uniaxial-stress field"),
     ("contact_search", "two blocks stacked at y = 0.1 (lower [0,1]x[0,0.1]x[0,1] divided m x 1 x m, upper [0,1]x[0.1,0.2]x[0,1] divided (m-1) x 1 x (m-1), so the meshes do not match), generated as a scene and read by parse_scene (parse_s, not part of the timings); master = the lower block's top (m^2 faces), slave = the upper block's bottom nodes (m^2), each offset along y by a pseudo-random gap uniform in [-0.5, 0.5] x normal_tolerance (perturb_s, not timed either); default tolerances (normal 0.5 x face_size, tangential 0.1 x face_size). Per repeat, on one thread: build_s = MasterSurface::new (face corners and the BVH of their inflated boxes), search_s = MasterSurface::search of every slave node (collecting the results), total_s = both; after one untimed warm-up round; slave_nodes_per_s and us_per_query derived from search_s, total_slave_nodes_per_s from total_s. interactions_found = slave nodes with an interaction; expected = slave nodes over the master surface's x-z extent with |offset| <= normal_tolerance, expected_found = how many of those found a face; max_gap_error = max |gap - offset| and max_point_error = max distance of the contact point from the node's foot on y = 0.1, over the interactions"),
-    ("block_on_block", "run/scenes/bench/block_on_block.toml (two linear elastic blocks, E = 1000, nu = 0.3, the upper one [0.05,0.95]x[1,1.9]x[0.05,0.95] pressed by u_y = -0.009 at its top onto the lower [0,1]^3 held at its bottom; frictionless, non-matching meshes, 2 load steps) refined by `solver run --refine F` to n = 10 F elements per edge per block, run as `run/mpirun -np R target/release/solver run SCENE --refine F -o out/bench/block/nN_npR.h5` (standard error in nN_npR.log). Per size and rank count: steps, cg_iterations and contact_updates summed over the steps (the same every repeat unless counts_same_every_repeat is false), wall_s = the run time the solver prints (decomposition to result file; without MPI start-up and scene loading), process_wall_s = wall time of the mpirun process, peak_mib_per_rank = the largest VmHWM over the ranks as the solver prints it, bytes_per_element = peak / (elements / ranks), marginal_bytes_per_element = the growth of the peak over the next smaller size per element added per rank (the fixed cost of the runtime cancels), contact_force = sum over all nodes of /results/contact/force at the last step read with solver::output::ResultFile. speedup = 1-rank wall_s / 2-rank wall_s (min from the slowest 1-rank over the fastest 2-rank run); bitwise_identical = `solver post compare` of the 1- and 2-rank result files exited with 0"),
+    ("block_on_block", "run/scenes/bench/block_on_block.toml (two linear elastic blocks, E = 1000, nu = 0.3, the upper one [0.05,0.95]x[1,1.9]x[0.05,0.95] pressed by u_y = -0.009 at its top onto the lower [0,1]^3 held at its bottom; frictionless, non-matching meshes, 2 load steps, solve tolerance `tolerance`) refined by `solver run --refine F` to n = 10 F elements per edge per block, run as `run/mpirun -np R target/release/solver -vv run SCENE --refine F --preconditioner P -o out/bench/block/nN_npR_P.h5` (standard error in nN_npR_P.log) for P = jacobi (nodal block Jacobi) and two_level (plus the coarse space of aggregate rigid-body modes); a run whose `preconditioner:` line is not the one asked for (a two-level run falling back to Jacobi) counts as failed. Per size, preconditioner and rank count (`runs`): steps, cg_iterations and contact_updates summed over the steps (the same every repeat unless counts_same_every_repeat is false), wall_s = the run time the solver prints (decomposition to result file; without MPI start-up and scene loading), process_wall_s = wall time of the mpirun process, peak_mib_per_rank = the largest VmHWM over the ranks as the solver prints it, bytes_per_element = peak / (elements / ranks), marginal_bytes_per_element = the growth of the peak over the next smaller size (same preconditioner and ranks) per element added per rank (the fixed cost of the runtime cancels), contact_force = sum over all nodes of /results/contact/force at the last step read with solver::output::ResultFile, preconditioner_line = the solver's `preconditioner:` line and coarse_* the coarse space it describes (aggregates, unknowns = 6 per aggregate, grid cell size, colours). two_level_over_jacobi, per rank count: iteration_ratio = two-level / Jacobi CG iterations, time_ratio = two-level / Jacobi wall_s (min from the fastest two-level over the slowest Jacobi repeat), *_goal_met against `goal` (judged on n = goal.n), contact_force_relative_difference = |F_two_level - F_jacobi| / |F_jacobi| of the total force vectors, contact_force_within_tolerance = that <= tolerance. one_against_two_ranks, per preconditioner: speedup = 1-rank wall_s / 2-rank wall_s (min from the slowest 1-rank over the fastest 2-rank run); bitwise_identical = `solver post compare` of the 1- and 2-rank result files exited with 0. coarse_space: the distinct two-level preconditioner lines with the rank counts that printed them"),
     ("partition", "`solver check SCENE --refine F --ranks R` for R = 2, 3: element imbalance (max/mean), edge cut, owned and ghost elements and nodes per rank, master faces each rank owns / holds for its slave nodes; text is its output from the `decomposition:` line on"),
-    ("calculix", "CalculiX ccx (Debian calculix-ccx; `run/setup --calculix`) on the same problem: the input deck is written from the scene as the solver loads it (same nodes, elements and ids; C3D8 elements, 2x2x2 Gauss like the scene's full integration; E and nu per body; the prescribed displacements at the final time over one *STATIC step; frictionless NODE TO SURFACE penalty contact of the scene's slave faces on its master faces with PRESSURE-OVERCLOSURE=LINEAR of slope penalty_slope; *NODE PRINT TOTALS=ONLY of RF for the prescribed node sets), run as `ccx -i JOB` with OMP_NUM_THREADS = 2 in out/bench/calculix/nN/, stopped after 5 minutes (larger sizes are then skipped) or at 3/4 of the memory available. wall_s = process wall time, ccx_time_s = its own \"Total CalculiX Time\", peak_mib = its VmHWM, iterations = its Newton (contact) iterations; total_force = -RF_y summed over the upper block's top, bottom_force = RF_y summed over the lower block's bottom; relative_difference = (ccx total_force - our 2-rank contact force y) / ours; our_process_wall_s = our 2-rank process wall time on that size"),
+    ("calculix", "CalculiX ccx (Debian calculix-ccx; `run/setup --calculix`) on the same problem: the input deck is written from the scene as the solver loads it (same nodes, elements and ids; C3D8 elements, 2x2x2 Gauss like the scene's full integration; E and nu per body; the prescribed displacements at the final time over one *STATIC step; frictionless NODE TO SURFACE penalty contact of the scene's slave faces on its master faces with PRESSURE-OVERCLOSURE=LINEAR of slope penalty_slope; *NODE PRINT TOTALS=ONLY of RF for the prescribed node sets), run as `ccx -i JOB` with OMP_NUM_THREADS = 2 in out/bench/calculix/nN/, stopped after 5 minutes (larger sizes are then skipped) or at 3/4 of the memory available. wall_s = process wall time, ccx_time_s = its own \"Total CalculiX Time\", peak_mib = its VmHWM, iterations = its Newton (contact) iterations; total_force = -RF_y summed over the upper block's top, bottom_force = RF_y summed over the lower block's bottom; relative_difference = (ccx total_force - our contact force y) / ours; ours = the two-level 2-rank run (our_preconditioner, our_ranks): our_contact_force_y, our_process_wall_s = its process wall time, our_wall_s = its solver-reported time"),
+    ("large", "written by `run/bench --large` only (never by the normal or quick run, which keep an earlier large section as it is): the block on block refined by 8 (n = 80, 2 x 512000 elements) with --preconditioner two_level on the rank counts of `--ranks` (default 2), each after a memory check: two_level pilot runs at n = 20 and 40 on the same rank count, their peak per rank extrapolated linearly in elements per rank to n = 80 (predicted_peak_mib_per_rank), and the run started only when ranks x that x memory_margin fits in MemAvailable (available_mib); stopped when MemAvailable falls below min_available_mib or after timeout_s. Fields of a finished run as in block_on_block.runs; meta as in `meta`, of the large run itself"),
     ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s), slave nodes per second, microseconds per query (us)"),
 ];
 
@@ -1973,12 +2853,17 @@ struct Results {
     cubes: Vec<CubeResult>,
     contact: ContactResult,
     blocks: Vec<BlockSize>,
+    /// The solve tolerance of BLOCK_SCENE.
+    block_tolerance: Option<f64>,
     partitions: Vec<Result<PartitionReport, String>>,
     calculix: Calculix,
     total_wall: f64,
     load_end: Option<String>,
     /// Fraction of the machine's CPU time stolen by the hypervisor during the run.
     steal: Option<f64>,
+    /// The large section of an earlier `--large` run, carried over as it was: its JSON
+    /// and its part of report.md.
+    large: Option<(J, String)>,
 }
 
 impl Results {
@@ -2121,7 +3006,7 @@ impl Results {
                 .collect(),
         );
         Rec::default()
-            .put("schema", "solver-bench/2")
+            .put("schema", SCHEMA)
             .put("doc", doc)
             .put("meta", meta)
             .put("memory_bandwidth", J::Arr(stream))
@@ -2131,6 +3016,7 @@ impl Results {
             .put("block_on_block", self.block_json())
             .put("partition", self.partition_json())
             .put("calculix", self.calculix_json())
+            .put("large", self.large.as_ref().map(|l| l.0.clone()))
             .json()
     }
 
@@ -2246,7 +3132,7 @@ impl Results {
             w,
             "Unit cube, linear elastic E = 1e6, nu = 0.3; u_y = 0 at y = 0, symmetry u_x = 0 at \
              x = 0 and u_z = 0 at z = 0, u_y = -0.01 at y = 1; one load step, tolerance 1e-8, \
-             block-Jacobi PCG. \"solve\" is the load step's wall time, \"run\" adds \
+             nodal block-Jacobi PCG (`preconditioner = \"jacobi\"` on every size). \"solve\" is the load step's wall time, \"run\" adds \
              decomposition and set-up. \"kernel share\" = iterations x one `internal_force` \
              call on that mesh / solve time (fastest of each). \"error\" = max |u - u_exact| / 0.01 against the \
              exact uniaxial-stress field.\n"
@@ -2354,6 +3240,9 @@ impl Results {
 
         self.block_markdown(w);
         self.calculix_markdown(w);
+        if let Some((_, text)) = &self.large {
+            let _ = write!(w, "\n{text}");
+        }
         s
     }
 }
@@ -2361,85 +3250,129 @@ impl Results {
 impl Results {
     /// Growth of the peak memory per rank over the next smaller size, per element added
     /// per rank (bytes).
-    fn marginal_bytes(&self, i: usize, ranks: usize) -> Option<f64> {
-        let b = self.blocks.get(i)?.case(ranks)?;
-        let a = self.blocks.get(i.checked_sub(1)?)?.case(ranks)?;
+    fn marginal_bytes(&self, i: usize, p: Precond, ranks: usize) -> Option<f64> {
+        let b = self.blocks.get(i)?.case(p, ranks)?;
+        let a = self.blocks.get(i.checked_sub(1)?)?.case(p, ranks)?;
         let de = (b.log.elements as f64 - a.log.elements as f64) / ranks as f64;
         (de > 0.0).then(|| (b.peak_mib.median - a.peak_mib.median) * MIB / de)
     }
 
-    /// Our total contact force (y) on a size: the 2-rank run's, else the 1-rank run's.
+    /// The run CalculiX is set beside on a size: two-level on 2 ranks.
+    fn our_case(&self, n: usize) -> Option<&BlockCase> {
+        self.blocks
+            .iter()
+            .find(|b| b.n == n)?
+            .case(Precond::TwoLevel, BLOCK_RANKS[1])
+    }
+
+    /// Our total contact force (y) on a size: the two-level 2-rank run's, else the
+    /// two-level 1-rank run's.
     fn our_force(&self, n: usize) -> Option<(f64, &BlockCase)> {
         let size = self.blocks.iter().find(|b| b.n == n)?;
         BLOCK_RANKS.iter().rev().find_map(|&r| {
-            let c = size.case(r)?;
+            let c = size.case(Precond::TwoLevel, r)?;
             c.contact_force.as_ref().ok().map(|f| (f[1], c))
         })
     }
 
     fn block_json(&self) -> J {
+        let tol = self.block_tolerance;
         let sizes = self
             .blocks
             .iter()
             .enumerate()
             .map(|(i, b)| {
                 let runs = b
-                    .cases
+                    .runs
                     .iter()
-                    .zip(BLOCK_RANKS)
-                    .map(|(c, ranks)| match c {
-                        Err(e) => Rec::default()
-                            .put("ranks", ranks)
-                            .put("error", e.as_str())
-                            .json(),
-                        Ok(c) => {
-                            let l = &c.log;
-                            let (force, force_error) = match &c.contact_force {
-                                Ok(f) => (J::Arr(f.iter().map(|&x| J::Num(x)).collect()), None),
-                                Err(e) => (J::Null, Some(e.clone())),
-                            };
-                            Rec::default()
-                                .put("ranks", ranks)
-                                .put("elements", l.elements)
-                                .put("nodes", l.nodes)
-                                .put("steps", l.steps)
-                                .put("cg_iterations", l.cg_iterations)
-                                .put("contact_updates", l.contact_updates)
-                                .put("counts_same_every_repeat", c.consistent)
-                                .put("repeats", c.wall.repeats)
-                                .stat("wall_s", &c.wall)
-                                .stat("process_wall_s", &c.process_wall)
-                                .stat("peak_mib_per_rank", &c.peak_mib)
-                                .put("elements_per_rank", l.elements as f64 / ranks as f64)
-                                .put("bytes_per_element", c.bytes_per_element())
-                                .put("marginal_bytes_per_element", self.marginal_bytes(i, ranks))
-                                .put("contact_force", force)
-                                .put("contact_force_error", force_error)
-                                .put("result_file", c.result.display().to_string())
-                                .json()
+                    .flat_map(|pr| {
+                        pr.cases
+                            .iter()
+                            .zip(BLOCK_RANKS)
+                            .map(|(c, r)| (pr.precond, r, c))
+                    })
+                    .map(|(p, ranks, c)| {
+                        let head = Rec::default()
+                            .put("preconditioner", p.arg())
+                            .put("ranks", ranks);
+                        match c {
+                            Err(e) => head.put("error", e.as_str()).json(),
+                            Ok(c) => head.extend(c.json(self.marginal_bytes(i, p, ranks))).json(),
                         }
                     })
                     .collect();
-                let mut rec = Rec::default()
+                let ranks_compared = b
+                    .runs
+                    .iter()
+                    .map(|pr| {
+                        let rec = Rec::default().put("preconditioner", pr.precond.arg());
+                        let rec = match pr.speedup() {
+                            Some(s) => rec.stat("speedup", &s),
+                            None => rec.put("speedup_median", J::Null),
+                        };
+                        match &pr.compare {
+                            Some(Ok(c)) => rec
+                                .put("bitwise_identical", c.identical())
+                                .put("compare_exit_code", c.code.map(|x| x as i64).map(J::Int))
+                                .put("compare_summary", c.summary.as_str()),
+                            Some(Err(e)) => rec
+                                .put("bitwise_identical", J::Null)
+                                .put("compare_error", e.as_str()),
+                            None => rec.put("bitwise_identical", J::Null),
+                        }
+                        .json()
+                    })
+                    .collect();
+                let precond_compared = BLOCK_RANKS
+                    .iter()
+                    .map(|&r| {
+                        let pair = b.pair(r);
+                        let it = b.iteration_ratio(r);
+                        let time = b.time_ratio(r);
+                        let df = b.force_difference(r);
+                        let rec = Rec::default()
+                            .put("ranks", r)
+                            .put("cg_iterations_jacobi", pair.map(|p| p.0.log.cg_iterations))
+                            .put(
+                                "cg_iterations_two_level",
+                                pair.map(|p| p.1.log.cg_iterations),
+                            )
+                            .put("wall_s_jacobi", pair.map(|p| p.0.wall.median))
+                            .put("wall_s_two_level", pair.map(|p| p.1.wall.median))
+                            .put("iteration_ratio", it);
+                        let rec = match &time {
+                            Some(t) => rec.stat("time_ratio", t),
+                            None => rec.put("time_ratio_median", J::Null),
+                        };
+                        rec.put("iteration_goal_met", it.map(|x| x <= GOAL_ITERATION_RATIO))
+                            .put("time_goal_met", time.map(|t| t.median <= GOAL_TIME_RATIO))
+                            .put("contact_force_relative_difference", df)
+                            .put(
+                                "contact_force_within_tolerance",
+                                df.zip(tol).map(|(d, t)| d <= t),
+                            )
+                            .json()
+                    })
+                    .collect();
+                let coarse = b
+                    .coarse_lines()
+                    .into_iter()
+                    .map(|(ranks, line)| {
+                        Rec::default()
+                            .put("ranks", J::Arr(ranks.into_iter().map(J::from).collect()))
+                            .put("line", line)
+                            .json()
+                    })
+                    .collect();
+                Rec::default()
                     .put("n", b.n)
                     .put("refine", b.refine)
                     .put("elements", b.elements())
-                    .put("runs", J::Arr(runs));
-                rec = match b.speedup() {
-                    Some(s) => rec.stat("speedup", &s),
-                    None => rec.put("speedup_median", J::Null),
-                };
-                match &b.compare {
-                    Some(Ok(c)) => rec
-                        .put("bitwise_identical", c.code == Some(0))
-                        .put("compare_exit_code", c.code.map(|x| x as i64).map(J::Int))
-                        .put("compare_summary", c.summary.as_str()),
-                    Some(Err(e)) => rec
-                        .put("bitwise_identical", J::Null)
-                        .put("compare_error", e.as_str()),
-                    None => rec.put("bitwise_identical", J::Null),
-                }
-                .json()
+                    .put("runs", J::Arr(runs))
+                    .put("two_level_over_jacobi", J::Arr(precond_compared))
+                    .put("one_against_two_ranks", J::Arr(ranks_compared))
+                    .put("coarse_space", J::Arr(coarse))
+                    .json()
             })
             .collect();
         Rec::default()
@@ -2447,6 +3380,19 @@ impl Results {
             .put(
                 "ranks",
                 J::Arr(BLOCK_RANKS.iter().map(|&r| r.into()).collect()),
+            )
+            .put(
+                "preconditioners",
+                J::Arr(PRECONDITIONERS.iter().map(|p| p.arg().into()).collect()),
+            )
+            .put("tolerance", tol)
+            .put(
+                "goal",
+                Rec::default()
+                    .put("n", GOAL_N)
+                    .put("iteration_ratio_at_most", GOAL_ITERATION_RATIO)
+                    .put("time_ratio_at_most", GOAL_TIME_RATIO)
+                    .json(),
             )
             .put("sizes", J::Arr(sizes))
             .json()
@@ -2477,17 +3423,15 @@ impl Results {
             .iter()
             .map(|s| {
                 let ours = self.our_force(s.n);
-                let ours_2 = self
-                    .blocks
-                    .iter()
-                    .find(|b| b.n == s.n)
-                    .and_then(|b| b.case(BLOCK_RANKS[1]));
+                let ours_2 = self.our_case(s.n);
                 let rec = Rec::default()
                     .put("n", s.n)
                     .put("elements", s.elements)
                     .put("nodes", s.nodes)
                     .put("deck", s.deck.display().to_string())
                     .put("threads", CCX_THREADS)
+                    .put("our_preconditioner", Precond::TwoLevel.arg())
+                    .put("our_ranks", BLOCK_RANKS[1])
                     .put("our_contact_force_y", ours.map(|o| o.0))
                     .put("our_process_wall_s", ours_2.map(|b| b.process_wall.median))
                     .put("our_wall_s", ours_2.map(|b| b.wall.median));
@@ -2531,111 +3475,217 @@ impl Results {
     }
 
     fn block_markdown(&self, w: &mut String) {
-        let _ = writeln!(w, "\n## Block on block: the solver on 1 and 2 ranks\n");
+        let _ = writeln!(
+            w,
+            "\n## Block on block: the solver on 1 and 2 ranks, Jacobi and two-level\n"
+        );
         let repeats: Vec<String> = self
             .blocks
             .iter()
             .map(|b| {
                 let r = b
-                    .cases
+                    .runs
                     .iter()
-                    .flatten()
+                    .flat_map(|pr| pr.cases.iter().flatten())
                     .map(|c| c.wall.repeats)
                     .max()
                     .unwrap_or(0);
                 format!("n = {}: {r}", b.n)
             })
             .collect();
+        let tol = self
+            .block_tolerance
+            .map_or("unknown".to_string(), |t| format!("{t:e}"));
         let _ = writeln!(
             w,
             "`{BLOCK_SCENE}`: the upper block [0.05,0.95]x[1,1.9]x[0.05,0.95] pressed by u_y = \
              -0.009 at its top (x, z held) onto the lower block [0,1]^3 held at its bottom, both \
              linear elastic (E = 1000, nu = 0.3), n^3 hexahedra each with non-matching meshes, \
-             frictionless contact, 2 load steps, tolerance 1e-8. The solver refines it \
-             (`solver run --refine F`) and runs as a subprocess under `run/mpirun -np R`. \
-             Repeats: {}. \"time\" is the run time the solver prints (decomposition to result \
+             frictionless contact, 2 load steps, tolerance {tol}. The solver refines it \
+             (`solver run --refine F`) and runs as a subprocess under `run/mpirun -np R`, once \
+             with `--preconditioner jacobi` (nodal block Jacobi) and once with `two_level` \
+             (the same plus a coarse space of aggregate rigid-body modes). \
+             Repeats per run: {}{}. \"time\" is the run time the solver prints (decomposition to result \
              file, without MPI start-up and scene loading), \"process\" the wall time of the \
              mpirun process. \"peak\" is the largest VmHWM over the ranks as the solver prints \
              it; \"B/element\" = peak / (elements / ranks), \"marginal\" = growth of the peak \
-             over the next smaller size per element added per rank (the runtime's fixed cost \
-             cancels). \"contact force\" = sum of the y components of `/results/contact/force` \
-             over all nodes at the last step.\n",
-            repeats.join(", ")
+             over the next smaller size per element added per rank, same preconditioner (the \
+             runtime's fixed cost cancels). \"contact force\" = sum of the y components of \
+             `/results/contact/force` over all nodes at the last step.\n",
+            repeats.join(", "),
+            if self.blocks.iter().any(|b| b.n == GOAL_N) {
+                " (one repeat on the largest size: its Jacobi run alone takes about 10 minutes \
+                 on one rank)"
+            } else {
+                ""
+            }
         );
         let _ = writeln!(
             w,
-            "| n | elements | ranks | CG iterations | contact updates | n runs | time s | process s | peak MiB/rank | B/element | marginal B/element | contact force y |"
+            "| n | elements | preconditioner | ranks | CG iterations | contact updates | n runs | time s | process s | peak MiB/rank | B/element | marginal B/element | contact force y |"
         );
         let _ = writeln!(
             w,
-            "|---:|---:|---:|---:|---:|---:|---|---|---|---:|---:|---:|"
+            "|---:|---:|---|---:|---:|---:|---:|---|---|---|---:|---:|---:|"
         );
         for (i, b) in self.blocks.iter().enumerate() {
-            for (c, ranks) in b.cases.iter().zip(BLOCK_RANKS) {
-                match c {
-                    Err(e) => {
-                        let _ = writeln!(
-                            w,
-                            "| {} | {} | {ranks} | failed: {} |||||||||",
-                            b.n,
-                            b.elements().map_or("-".into(), |e| e.to_string()),
-                            e.replace('|', "/")
-                        );
-                    }
-                    Ok(c) => {
-                        let _ = writeln!(
-                            w,
-                            "| {} | {} | {ranks} | {}{} | {} | {} | {} | {} | {} | {:.0} | {} | {} |",
-                            b.n,
-                            c.log.elements,
-                            c.log.cg_iterations,
-                            if c.consistent { "" } else { " (varied)" },
-                            c.log.contact_updates,
-                            c.wall.repeats,
-                            fmt_stat(&c.wall, 2),
-                            fmt_stat(&c.process_wall, 2),
-                            fmt_stat(&c.peak_mib, 1),
-                            c.bytes_per_element(),
-                            self.marginal_bytes(i, ranks)
-                                .map_or("-".into(), |m| format!("{m:.0}")),
-                            match &c.contact_force {
-                                Ok(f) => format!("{:.6}", f[1]),
-                                Err(e) => format!("unreadable: {}", e.replace('|', "/")),
-                            }
-                        );
+            for pr in &b.runs {
+                let p = pr.precond;
+                for (c, ranks) in pr.cases.iter().zip(BLOCK_RANKS) {
+                    match c {
+                        Err(e) => {
+                            let _ = writeln!(
+                                w,
+                                "| {} | {} | {} | {ranks} | failed: {} |||||||||",
+                                b.n,
+                                b.elements().map_or("-".into(), |e| e.to_string()),
+                                p.label(),
+                                e.replace('|', "/")
+                            );
+                        }
+                        Ok(c) => {
+                            let _ = writeln!(
+                                w,
+                                "| {} | {} | {} | {ranks} | {}{} | {} | {} | {} | {} | {} | {:.0} | {} | {} |",
+                                b.n,
+                                c.log.elements,
+                                p.label(),
+                                c.log.cg_iterations,
+                                if c.consistent { "" } else { " (varied)" },
+                                c.log.contact_updates,
+                                c.wall.repeats,
+                                fmt_stat(&c.wall, 2),
+                                fmt_stat(&c.process_wall, 2),
+                                fmt_stat(&c.peak_mib, 1),
+                                c.bytes_per_element(),
+                                self.marginal_bytes(i, p, ranks)
+                                    .map_or("-".into(), |m| format!("{m:.0}")),
+                                match &c.contact_force {
+                                    Ok(f) => format!("{:.6}", f[1]),
+                                    Err(e) => format!("unreadable: {}", e.replace('|', "/")),
+                                }
+                            );
+                        }
                     }
                 }
             }
         }
+
+        let _ = writeln!(w, "\n### Two-level against Jacobi\n");
         let _ = writeln!(
             w,
-            "\n| n | 1-rank time s | 2-rank time s | speed-up | 1 and 2 ranks bitwise identical |"
+            "Ratios are two-level over Jacobi on the same rank count: CG iterations, and the \
+             solver's run time (median [min, max], the extremes from the fastest over the \
+             slowest repeat). The goal on n = {GOAL_N} is a CG ratio of at most {:.2} and a \
+             time ratio of at most {:.2}. \"force difference\" = |F_two-level - F_Jacobi| / \
+             |F_Jacobi| of the total contact force vectors; both solves stop at the relative \
+             residual {tol}, and the forces should agree to about that.\n",
+            GOAL_ITERATION_RATIO, GOAL_TIME_RATIO
         );
-        let _ = writeln!(w, "|---:|---:|---:|---|---|");
+        let _ = writeln!(
+            w,
+            "| n | ranks | CG Jacobi | CG two-level | CG ratio | time Jacobi s | time two-level s | time ratio | force difference |"
+        );
+        let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|---|---:|");
         for b in &self.blocks {
-            let t = |r: usize| {
-                b.case(r)
-                    .map_or("-".into(), |c| format!("{:.2}", c.wall.median))
-            };
-            let identical = match &b.compare {
-                Some(Ok(c)) if c.code == Some(0) => "yes".to_string(),
-                Some(Ok(c)) => format!(
-                    "**no** (exit {}: {})",
-                    c.code.map_or("none".into(), |x| x.to_string()),
-                    c.summary
-                ),
-                Some(Err(e)) => format!("not compared: {e}"),
-                None => "not compared (a run failed)".to_string(),
-            };
-            let _ = writeln!(
-                w,
-                "| {} | {} | {} | {} | {} |",
-                b.n,
-                t(BLOCK_RANKS[0]),
-                t(BLOCK_RANKS[1]),
-                b.speedup().map_or("-".into(), |s| fmt_stat(&s, 2)),
-                identical
-            );
+            for r in BLOCK_RANKS {
+                let Some((j, t)) = b.pair(r) else {
+                    let _ = writeln!(w, "| {} | {r} | not compared (a run failed) ||||||||", b.n);
+                    continue;
+                };
+                let _ = writeln!(
+                    w,
+                    "| {} | {r} | {} | {} | {} | {:.2} | {:.2} | {} | {} |",
+                    b.n,
+                    j.log.cg_iterations,
+                    t.log.cg_iterations,
+                    b.iteration_ratio(r)
+                        .map_or("-".into(), |x| format!("{x:.3}")),
+                    j.wall.median,
+                    t.wall.median,
+                    b.time_ratio(r).map_or("-".into(), |s| fmt_stat(&s, 3)),
+                    b.force_difference(r)
+                        .map_or("-".into(), |d| format!("{d:.1e}")),
+                );
+            }
+        }
+        let goal = self.blocks.iter().find(|b| b.n == GOAL_N);
+        let _ = match goal {
+            None => writeln!(w, "\nGoal: n = {GOAL_N} was not run."),
+            Some(b) => {
+                let met = |ok: bool| if ok { "met" } else { "**not met**" };
+                let parts: Vec<String> = BLOCK_RANKS
+                    .iter()
+                    .filter_map(|&r| {
+                        let it = b.iteration_ratio(r)?;
+                        let t = b.time_ratio(r)?.median;
+                        Some(format!(
+                            "{r} rank(s): CG ratio {it:.3} ({}), time ratio {t:.3} ({})",
+                            met(it <= GOAL_ITERATION_RATIO),
+                            met(t <= GOAL_TIME_RATIO)
+                        ))
+                    })
+                    .collect();
+                if parts.is_empty() {
+                    writeln!(w, "\nGoal on n = {GOAL_N}: not judged (a run failed).")
+                } else {
+                    writeln!(w, "\nGoal on n = {GOAL_N}: {}.", parts.join("; "))
+                }
+            }
+        };
+
+        let _ = writeln!(w, "\n### 2 ranks against 1\n");
+        let _ = writeln!(
+            w,
+            "| n | preconditioner | 1-rank time s | 2-rank time s | speed-up | 1 and 2 ranks bitwise identical |"
+        );
+        let _ = writeln!(w, "|---:|---|---:|---:|---|---|");
+        for b in &self.blocks {
+            for pr in &b.runs {
+                let t = |r: usize| {
+                    pr.case(r)
+                        .map_or("-".into(), |c| format!("{:.2}", c.wall.median))
+                };
+                let _ = writeln!(
+                    w,
+                    "| {} | {} | {} | {} | {} | {} |",
+                    b.n,
+                    pr.precond.label(),
+                    t(BLOCK_RANKS[0]),
+                    t(BLOCK_RANKS[1]),
+                    pr.speedup().map_or("-".into(), |s| fmt_stat(&s, 2)),
+                    identity_text(&pr.compare)
+                );
+            }
+        }
+
+        let _ = writeln!(w, "\n### Coarse space\n");
+        let _ = writeln!(
+            w,
+            "The two-level runs' `preconditioner:` line (`solver -vv`): aggregates are the nodes \
+             of one body in one cell of a uniform grid, 6 rigid-body modes each.\n"
+        );
+        let _ = writeln!(
+            w,
+            "| n | ranks | aggregates | coarse unknowns | cell size | colours | line |"
+        );
+        let _ = writeln!(w, "|---:|---|---:|---:|---:|---:|---|");
+        for b in &self.blocks {
+            for (ranks, line) in b.coarse_lines() {
+                let ranks: Vec<String> = ranks.iter().map(usize::to_string).collect();
+                let c = coarse_info(&line);
+                let _ = writeln!(
+                    w,
+                    "| {} | {} | {} | {} | {} | {} | {} |",
+                    b.n,
+                    ranks.join(", "),
+                    c.map_or("-".into(), |c| c.aggregates.to_string()),
+                    c.map_or("-".into(), |c| c.unknowns.to_string()),
+                    c.map_or("-".into(), |c| format!("{:.4e}", c.cell_size)),
+                    c.map_or("-".into(), |c| c.colours.to_string()),
+                    line.replace('|', "/")
+                );
+            }
         }
 
         let _ = writeln!(w, "\n## Partition\n");
@@ -2683,22 +3733,19 @@ impl Results {
              Debian builds it), at most {CCX_TIMEOUT_S:.0} s per size (larger sizes are \
              skipped after one that does not finish). \"ccx force\" = -(sum of RF_y over the \
              upper block's top), \"bottom\" = sum of RF_y over the lower block's bottom; \
-             \"ours\" = our total contact force (2 ranks). Times are process wall times on both \
-             sides (ours: `run/mpirun -np 2`, medians; the repeats are those of the table above). \
+             \"ours\" = our total contact force (two-level preconditioner, 2 ranks). Times are \
+             process wall times on both sides (ours: `run/mpirun -np 2 ... --preconditioner \
+             two_level`, medians; the repeats are those of the table above). \
              Decks and logs in `out/bench/calculix/`.\n"
         );
         let _ = writeln!(
             w,
-            "| n | elements | our 2-rank process s | ccx s (2 threads) | ccx / ours | ccx peak MiB | ccx iterations | our force | ccx force | bottom | relative difference |"
+            "| n | elements | our two-level 2-rank process s | ccx s (2 threads) | ccx / ours | ccx peak MiB | ccx iterations | our force | ccx force | bottom | relative difference |"
         );
         let _ = writeln!(w, "|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|");
         for s in &c.sizes {
             let ours = self.our_force(s.n);
-            let ours_2 = self
-                .blocks
-                .iter()
-                .find(|b| b.n == s.n)
-                .and_then(|b| b.case(BLOCK_RANKS[1]));
+            let ours_2 = self.our_case(s.n);
             let our_t = ours_2.map(|b| b.process_wall.median);
             let head = format!(
                 "| {} | {} | {} |",
@@ -2774,35 +3821,65 @@ fn fmt_rate(s: &Stat) -> String {
 // Main
 // ---------------------------------------------------------------------------------------
 
-const USAGE: &str = "usage: bench [--quick] [--out DIR]\n\
-  --quick    smaller sizes and fewer repeats (a smoke test, under a minute)\n\
-  --out DIR  where results.json and report.md go (default out/bench)";
+const USAGE: &str = concat!(
+    "usage: bench [--quick] [--out DIR]\n",
+    "       bench --large [--ranks R[,R]] [--out DIR]\n",
+    "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
+    "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
+    "               a memory check; merged into results.json and report.md as a section of\n",
+    "               its own\n",
+    "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
+    "  --out DIR    where results.json and report.md go (default out/bench)",
+);
 
 fn main() -> ExitCode {
     let mut quick = false;
+    let mut large_mode = false;
+    let mut ranks: Option<Vec<usize>> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = std::env::args().skip(1);
+    let usage_error = |msg: &str| {
+        eprintln!("bench: {msg}\n{USAGE}");
+        ExitCode::from(2)
+    };
     while let Some(a) = args.next() {
         match a.as_str() {
             "--quick" => quick = true,
+            "--large" => large_mode = true,
+            "--ranks" => {
+                let list: Option<Vec<usize>> = args.next().and_then(|v| {
+                    v.split(',')
+                        .map(|r| r.trim().parse().ok().filter(|&r: &usize| r >= 1))
+                        .collect()
+                });
+                match list {
+                    Some(l) if !l.is_empty() => ranks = Some(l),
+                    _ => return usage_error("--ranks needs rank counts such as 2 or 1,2"),
+                }
+            }
             "--out" => match args.next() {
                 Some(d) => out = PathBuf::from(d),
-                None => {
-                    eprintln!("bench: --out needs a directory\n{USAGE}");
-                    return ExitCode::from(2);
-                }
+                None => return usage_error("--out needs a directory"),
             },
             "-h" | "--help" => {
                 println!("{USAGE}");
                 return ExitCode::SUCCESS;
             }
-            other => {
-                eprintln!("bench: unknown argument '{other}'\n{USAGE}");
-                return ExitCode::from(2);
-            }
+            other => return usage_error(&format!("unknown argument '{other}'")),
         }
     }
-    match bench(Config::new(quick, out)) {
+    if large_mode && quick {
+        return usage_error("--large and --quick do not go together");
+    }
+    if ranks.is_some() && !large_mode {
+        return usage_error("--ranks goes with --large only");
+    }
+    let done = if large_mode {
+        large(&out, &ranks.unwrap_or(LARGE_DEFAULT_RANKS.to_vec()))
+    } else {
+        bench(Config::new(quick, out))
+    };
+    match done {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("bench: {e}");
@@ -2881,21 +3958,38 @@ fn bench(cfg: Config) -> Result<(), String> {
     let mut blocks = Vec::new();
     for &(refine, repeats) in &cfg.block {
         let t = Instant::now();
+        let n = BLOCK_BASE_N * refine;
         eprintln!(
-            "bench: block on block n = {} on {BLOCK_RANKS:?} ranks ({repeats} repeat(s))",
-            BLOCK_BASE_N * refine
+            "bench: block on block n = {n} on {BLOCK_RANKS:?} ranks, {} ({repeats} repeat(s))",
+            PRECONDITIONERS.map(Precond::label).join(" and ")
         );
         let b = block_size(&exe, &block_dir, refine, repeats);
+        for pr in &b.runs {
+            eprintln!(
+                "bench:   n = {n}, {}: speed-up {}, 1 and 2 ranks {}",
+                pr.precond.label(),
+                pr.speedup()
+                    .map_or("-".into(), |s| format!("{:.2}", s.median)),
+                match &pr.compare {
+                    Some(Ok(c)) if c.identical() => "bitwise identical".to_string(),
+                    Some(Ok(c)) => format!("differ ({})", c.summary),
+                    Some(Err(e)) => format!("not compared: {e}"),
+                    None => "not compared".to_string(),
+                }
+            );
+        }
+        for r in BLOCK_RANKS {
+            if let (Some(it), Some(tr), Some(df)) =
+                (b.iteration_ratio(r), b.time_ratio(r), b.force_difference(r))
+            {
+                eprintln!(
+                    "bench:   n = {n}, {r} rank(s): two-level / Jacobi: CG {it:.3}, time {:.3}; contact forces differ by {df:.1e}",
+                    tr.median
+                );
+            }
+        }
         eprintln!(
-            "bench:   speed-up {}, 1 and 2 ranks {}, {:.1} s in all",
-            b.speedup()
-                .map_or("-".into(), |s| format!("{:.2}", s.median)),
-            match &b.compare {
-                Some(Ok(c)) if c.code == Some(0) => "bitwise identical".to_string(),
-                Some(Ok(c)) => format!("differ ({})", c.summary),
-                Some(Err(e)) => format!("not compared: {e}"),
-                None => "not compared".to_string(),
-            },
+            "bench:   n = {n}: {:.1} s in all",
             t.elapsed().as_secs_f64()
         );
         blocks.push(b);
@@ -2906,12 +4000,7 @@ fn bench(cfg: Config) -> Result<(), String> {
         .collect();
     let calculix = calculix(&cfg);
 
-    let steal = match (machine.jiffies_start, cpu_jiffies()) {
-        (Some((a0, s0)), Some((a1, s1))) if a1 > a0 => {
-            Some(s1.saturating_sub(s0) as f64 / (a1 - a0) as f64)
-        }
-        _ => None,
-    };
+    let steal = steal_since(&machine);
     let results = Results {
         cfg_quick: cfg.quick,
         machine,
@@ -2921,11 +4010,13 @@ fn bench(cfg: Config) -> Result<(), String> {
         cubes,
         contact,
         blocks,
+        block_tolerance: block_tolerance(),
         partitions,
         calculix,
         total_wall: start.elapsed().as_secs_f64(),
         load_end: load_average(),
         steal,
+        large: earlier_large(&cfg.out),
     };
     let json = serde_json::to_string_pretty(&results.json())
         .map_err(|e| format!("cannot serialise the results: {e}"))?;
@@ -2941,7 +4032,8 @@ fn bench(cfg: Config) -> Result<(), String> {
     let failed = results
         .blocks
         .iter()
-        .flat_map(|b| &b.cases)
+        .flat_map(|b| &b.runs)
+        .flat_map(|pr| &pr.cases)
         .filter(|c| c.is_err())
         .count();
     if failed > 0 {
@@ -2960,6 +4052,11 @@ mod tests {
     fn solver_log_is_parsed() {
         let log = "\
 block_on_block_r2: 2 bodies, 16000 elements, 18522 nodes, 2 steps, 2 rank(s)
+decomposition: 2 part(s), element imbalance 1.000 (max/mean), edge cut 1234
+  rank    own elems  ghost elems    own nodes  ghost nodes
+     0         8000          400         9261          441
+     1         8000          400         9261          441
+preconditioner: two-level; coarse space: 128 aggregates (768 unknowns), cell size 2.8087e-1, 54 colours
 step 1/2  t = 0.500000    CG   1027  residual 1.891e-9 (reference 2.025e-1)  cut-backs 0  7.883 s  contact updates 5, in contact 441 (stick 0, slip 441), released 0, max penetration 1.91e-10
 step 2/2  t = 1.000000    CG    835  residual 3.237e-9 (reference 4.050e-1)  cut-backs 0  5.981 s  contact updates 6, in contact 441 (stick 0, slip 441), released 0, max penetration 1.48e-9
 done: 2 steps, 1862 CG iterations, 13.953 s, peak memory 59.5 MiB per rank; results in out/x.h5
@@ -2976,9 +4073,86 @@ done: 2 steps, 1862 CG iterations, 13.953 s, peak memory 59.5 MiB per rank; resu
                 contact_updates: 11,
                 wall: 13.953,
                 peak_mib: 59.5,
+                preconditioner: Some(
+                    "two-level; coarse space: 128 aggregates (768 unknowns), cell size \
+                     2.8087e-1, 54 colours"
+                        .into()
+                ),
             }
         );
         assert!(parse_solver_log("error: no such file").is_err());
+        let line = l.preconditioner.as_deref().unwrap();
+        assert!(Precond::TwoLevel.used(line) && !Precond::Jacobi.used(line));
+        assert_eq!(
+            coarse_info(line),
+            Some(CoarseInfo {
+                aggregates: 128,
+                unknowns: 768,
+                cell_size: 0.28087,
+                colours: 54
+            })
+        );
+        assert!(Precond::Jacobi.used("nodal block Jacobi"));
+        assert!(!Precond::TwoLevel.used("nodal block Jacobi (no coarse space: why)"));
+        assert_eq!(coarse_info("nodal block Jacobi"), None);
+    }
+
+    /// results.json read back keeps its key order, and a large section set into it goes
+    /// last (or replaces the earlier one in place).
+    #[test]
+    fn json_round_trip_keeps_order() {
+        let text = r#"{"schema":"x","z":[1,2.5,null,true],"a":{"k":"v","b":-3}}"#;
+        let mut j: J = serde_json::from_str(text).unwrap();
+        assert_eq!(serde_json::to_string(&j).unwrap(), text);
+        j.set("large", J::Int(1));
+        j.set("z", J::Null);
+        assert_eq!(
+            serde_json::to_string(&j).unwrap(),
+            r#"{"schema":"x","z":null,"a":{"k":"v","b":-3},"large":1}"#
+        );
+        assert!(matches!(j.get("large"), Some(J::Int(1))));
+    }
+
+    /// `--large` puts its section into the normal run's files in place of an earlier one,
+    /// and a normal run finds it there to keep.
+    #[test]
+    fn large_section_is_merged_and_found() {
+        let out = std::env::temp_dir().join(format!("bench-large-{}", std::process::id()));
+        std::fs::create_dir_all(&out).unwrap();
+        let report = |out: &Path| std::fs::read_to_string(out.join("report.md")).unwrap();
+        let keys = |out: &Path| -> Vec<String> {
+            let t = std::fs::read_to_string(out.join("results.json")).unwrap();
+            match serde_json::from_str::<J>(&t).unwrap() {
+                J::Obj(kv) => kv.into_iter().map(|(k, _)| k).collect(),
+                _ => panic!("not an object"),
+            }
+        };
+        // No earlier files: only the large section.
+        merge_large(&out, J::Int(1), &format!("{LARGE_HEADING} (a)\n")).unwrap();
+        assert_eq!(keys(&out), ["schema", "doc", "large"]);
+        assert!(report(&out).ends_with(&format!("\n\n{LARGE_HEADING} (a)\n")));
+        // A normal run's files: the section goes last, then replaces itself.
+        std::fs::write(
+            out.join("results.json"),
+            r#"{"schema":"s","meta":{},"block_on_block":[],"large":null,"calculix":{}}"#,
+        )
+        .unwrap();
+        std::fs::write(out.join("report.md"), "# Bench\n\n## CalculiX\n\ntable\n").unwrap();
+        assert!(earlier_large(&out).is_none());
+        merge_large(&out, J::Int(2), &format!("{LARGE_HEADING} (b)\n")).unwrap();
+        merge_large(&out, J::Int(3), &format!("{LARGE_HEADING} (c)\n")).unwrap();
+        assert_eq!(
+            keys(&out),
+            ["schema", "meta", "block_on_block", "large", "calculix"]
+        );
+        assert_eq!(
+            report(&out),
+            format!("# Bench\n\n## CalculiX\n\ntable\n\n{LARGE_HEADING} (c)\n")
+        );
+        let (j, text) = earlier_large(&out).unwrap();
+        assert!(matches!(j, J::Int(3)));
+        assert_eq!(text, format!("{LARGE_HEADING} (c)\n"));
+        let _ = std::fs::remove_dir_all(&out);
     }
 
     #[test]
@@ -2997,7 +4171,13 @@ done: 2 steps, 1862 CG iterations, 13.953 s, peak memory 59.5 MiB per rank; resu
     fn a_process_past_its_time_limit_is_stopped() {
         let dir = std::env::temp_dir();
         let out = dir.join(format!("bench-test-{}.out", std::process::id()));
-        let f = run_limited(Command::new("sleep").arg("30"), &out, &out, 0.3, None).unwrap();
+        let f = run_limited(
+            Command::new("sleep").arg("30"),
+            &out,
+            &out,
+            &Limits::timeout(0.3),
+        )
+        .unwrap();
         let _ = std::fs::remove_file(&out);
         assert!(f.stopped.is_some() && f.code.is_none(), "{:?}", f.stopped);
         assert!(f.wall < 5.0, "stopped after {} s", f.wall);
