@@ -1,0 +1,224 @@
+//! Scenes of the extreme suite (run/scenes/extreme/, run by `run/extreme`) that must hold on
+//! every build: scale invariance (the penetration scene in units scaled by 1e-6 and 1e6
+//! gives the same normalised answer), the force balance of the 1e6 stiffness contrast, and
+//! the clean stop of a load that cannot be carried.
+
+mod common;
+
+use common::{problem, solve};
+use solver::math::{add, norm, Vec3};
+use solver::problem::Problem;
+use solver::run::GlobalState;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("run/scenes/extreme/{name}.toml"))
+}
+
+fn load(name: &str) -> Problem {
+    let path = scene_path(name);
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    problem(&text)
+}
+
+fn sum(v: &[Vec3]) -> Vec3 {
+    v.iter()
+        .fold([0.0; 3], |s, x| [s[0] + x[0], s[1] + x[1], s[2] + x[2]])
+}
+
+/// Largest |a - b / unit| over every component, relative to the largest |a|.
+fn scaled_difference<const W: usize>(a: &[[f64; W]], b: &[[f64; W]], unit: f64) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let (mut diff, mut size) = (0.0f64, 0.0f64);
+    for (x, y) in a.iter().zip(b) {
+        for i in 0..W {
+            diff = diff.max((x[i] - y[i] / unit).abs());
+            size = size.max(x[i].abs());
+        }
+    }
+    diff / size
+}
+
+#[test]
+fn penetration_scaled_by_1e_minus_6_and_1e6_gives_the_same_normalised_answer() {
+    // penetration_micro and penetration_mega are the penetration scene with every length
+    // times L and Young's modulus times S (forces times S L^2). Displacement / L, stress / S
+    // and forces / (S L^2) must agree to 1e-10 relative: the scaled input differs from the
+    // exact scaling by one rounding (1e-16), and the solver's decisions (convergence,
+    // capture, stick) must all be relative. An absolute tolerance anywhere would show at
+    // these scales (forces of 1e-18 and 1e18).
+    let base = load("penetration");
+    let (_, s0) = solve(&base);
+    for (name, l, s) in [
+        ("penetration_micro", 1e-6, 1e-6),
+        ("penetration_mega", 1e6, 1e6),
+    ] {
+        let p = load(name);
+        let (_, st) = solve(&p);
+        let f = s * l * l;
+        let d = [
+            (
+                "displacement",
+                scaled_difference(&s0.displacement, &st.displacement, l),
+            ),
+            ("stress", scaled_difference(&s0.stress, &st.stress, s)),
+            ("reaction", scaled_difference(&s0.reaction, &st.reaction, f)),
+            (
+                "contact force",
+                scaled_difference(&s0.contact_force, &st.contact_force, f),
+            ),
+        ];
+        println!("{name} (L = {l:e}, S = {s:e}): max relative difference {d:?}");
+        for (what, v) in d {
+            assert!(v <= 1e-10, "{name}: {what} differs by {v:e} (relative)");
+        }
+        assert_eq!(
+            s0.contact_status, st.contact_status,
+            "{name}: contact status"
+        );
+    }
+    // The unscaled answer itself (last step, t = 2): uniaxial sigma_yy = -E delta / 2 with
+    // the overlap delta = 0.175 (E = 1e4).
+    let exact = -1.0e4 * 0.175 / 2.0;
+    let err = s0
+        .stress
+        .iter()
+        .flat_map(|x| [x[0], x[1] - exact, x[2], x[3], x[4], x[5]])
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        / exact.abs();
+    assert!(err <= 1e-8, "penetration: stress error {err:e}");
+}
+
+/// Resultant of the scene's pressures at the last step on the faces of body `body` (all
+/// bodies when None): -p times the outward vector area, exact for the bilinear faces.
+fn pressure_resultant(p: &Problem, body: Option<usize>) -> Vec3 {
+    let t = *p.step_times.last().unwrap();
+    let mut total = [0.0; 3];
+    for pr in &p.pressures {
+        let value = pr.function.eval(t);
+        for &(e, f) in &p.side_sets[pr.side_set].faces {
+            if body.is_some_and(|b| p.mesh.element_body[e as usize] as usize != b) {
+                continue;
+            }
+            // face_nodes orders the corners with an outward normal.
+            let x = p.mesh.face_nodes(e, f).map(|n| p.mesh.coords[n as usize]);
+            let d1 = [0, 1, 2].map(|i| x[2][i] - x[0][i]);
+            let d2 = [0, 1, 2].map(|i| x[3][i] - x[1][i]);
+            let area = [
+                0.5 * (d1[1] * d2[2] - d1[2] * d2[1]),
+                0.5 * (d1[2] * d2[0] - d1[0] * d2[2]),
+                0.5 * (d1[0] * d2[1] - d1[1] * d2[0]),
+            ];
+            for i in 0..3 {
+                total[i] -= value * area[i];
+            }
+        }
+    }
+    total
+}
+
+fn body_index(p: &Problem, name: &str) -> usize {
+    p.mesh.bodies.iter().position(|b| b.name == name).unwrap()
+}
+
+/// (sum of all reactions + applied loads, the slave body's reactions + contact force +
+/// loads, the contact force on the slave nodes).
+fn balances(p: &Problem, s: &GlobalState, slave_body: &str) -> (Vec3, Vec3, Vec3) {
+    let global = add(&sum(&s.reaction), &pressure_resultant(p, None));
+    let b = &p.mesh.bodies[body_index(p, slave_body)];
+    let nodes = b.first_node..b.first_node + b.num_nodes;
+    let contact = sum(&s.contact_force[nodes.clone()]);
+    let slave = add(
+        &add(&sum(&s.reaction[nodes]), &contact),
+        &pressure_resultant(p, Some(body_index(p, slave_body))),
+    );
+    (global, slave, contact)
+}
+
+#[test]
+fn stiffness_contrast_1e6_balances_forces_with_the_stiff_body_as_master_and_as_slave() {
+    // A stiff block (E = 1e9) under a soft one (E = 1e3), pressure p = 10 on the soft top
+    // (A = 1), frictionless contact with the stiff body as master, then as slave.
+    //
+    // Tolerance 1e-8 of pA: every resultant below is a sum of constraint forces (reactions
+    // and contact multipliers), which differs from the applied load only by the sum of the
+    // free residual components over the nodes concerned: at most sqrt(3 N) |r| with
+    // N = 250 nodes and |r| <= 1e-12 of the reference force (the scene's tolerance; the
+    // reference is about pA / 3), so below 1e-10 pA. The multipliers themselves are
+    // differences of nodal forces of size about pA in both bodies (the stiff body strains
+    // 1e6 times less), so their round-off is near 1e-15 pA; 1e-8 leaves a wide margin and
+    // still fails at once if a contrast-induced error (a lost digit per decade of
+    // contrast) entered the constraint forces.
+    let p_load = 10.0;
+    for (name, slave, contact_y) in [
+        ("contrast_stiff_master", "soft", p_load),
+        ("contrast_soft_master", "stiff", -p_load),
+    ] {
+        let p = load(name);
+        let (_, s) = solve(&p);
+        let (global, body, contact) = balances(&p, &s, slave);
+        let exact = [0.0, contact_y, 0.0];
+        let contact_err = norm(&[0, 1, 2].map(|i| contact[i] - exact[i]));
+        println!(
+            "{name}: |sum R + loads| / pA = {:.3e}; '{slave}' (slave): |R + f_contact + loads| / pA = {:.3e}; contact force {contact:?}",
+            norm(&global) / p_load,
+            norm(&body) / p_load
+        );
+        assert!(norm(&global) <= 1e-8 * p_load, "{name}: {global:?}");
+        assert!(norm(&body) <= 1e-8 * p_load, "{name}: {body:?}");
+        assert!(
+            contact_err <= 1e-8 * p_load,
+            "{name}: contact force {contact:?}"
+        );
+    }
+}
+
+#[test]
+fn block_pushed_off_its_master_stops_cleanly() {
+    // off_edge: a block pressed onto another is pushed past its edge; once its slave nodes
+    // leave the master surface nothing carries the pressure. The run must stop with exit
+    // code 1 and a message naming the step and the time, keep the completed steps in
+    // <name>.failed.h5 and leave no complete-looking result.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("extreme-off-edge");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("off_edge.h5");
+    let run = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .arg("-q")
+        .arg("run")
+        .arg(scene_path("off_edge"))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&run.stderr);
+    println!("{log}");
+    assert_eq!(run.status.code(), Some(1), "exit code; stderr:\n{log}");
+    let error = log
+        .lines()
+        .find(|l| l.starts_with("error:"))
+        .unwrap_or_else(|| panic!("no error line:\n{log}"));
+    assert!(error.contains("off_edge.toml"), "{error}");
+    // The blocks separate during step 3 (the slave nodes pass x = 1 at t = 1/3).
+    assert!(error.contains("step 3 (t = "), "{error}");
+    assert!(error.contains("failed after"), "{error}");
+    assert!(log.contains("off_edge.failed.h5"), "{log}");
+    assert!(dir.join("off_edge.failed.h5").exists());
+    assert!(!out.exists(), "a complete-looking result file was left");
+    assert!(!dir.join("off_edge.h5.tmp").exists());
+    // The failed file holds the two completed steps and says why it stopped.
+    let info = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["post", "info"])
+        .arg(dir.join("off_edge.failed.h5"))
+        .output()
+        .unwrap();
+    let info = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.lines()
+            .any(|l| l.starts_with("steps:") && l.trim_end().ends_with(" 2")),
+        "{info}"
+    );
+    assert!(info.contains("failed: "), "{info}");
+}
