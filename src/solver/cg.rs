@@ -42,10 +42,19 @@ impl std::fmt::Display for SolveFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             SolveFailure::Element(m) => write!(f, "{m}"),
-            SolveFailure::NotConverged { iterations, residual, reference } => write!(
-                f,
-                "CG did not converge in {iterations} iterations (residual {residual:.3e}, reference force {reference:.3e})"
-            ),
+            SolveFailure::NotConverged { iterations, residual, reference } => {
+                write!(
+                    f,
+                    "CG did not converge in {iterations} iterations (residual {residual:.3e}, reference force {reference:.3e})"
+                )?;
+                if *residual < 1e-8 * reference {
+                    // The residual came down by eight orders and stalled: a round-off floor
+                    // (stiff bodies carry internal forces far above the load), not a
+                    // missing support.
+                    write!(f, "; it stalled far below the load: the tolerance may be below what round-off allows (a large stiffness contrast), try a larger solver.tolerance")?;
+                }
+                Ok(())
+            }
             SolveFailure::NonPositiveCurvature { iterations } => {
                 write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
             }

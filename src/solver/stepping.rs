@@ -30,18 +30,29 @@ pub struct StepRecord {
 #[derive(Clone, Debug)]
 pub struct StepFailure {
     pub step: usize,
+    /// The time of the (possibly cut-back) increment that failed.
     pub time: f64,
+    /// The end of the load step.
+    pub target: f64,
     pub cause: SolveFailure,
     pub cutbacks: usize,
 }
 
 impl std::fmt::Display for StepFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "step {} (t = {}) failed after {} cut-backs: {}",
-            self.step, self.time, self.cutbacks, self.cause
-        )
+        if self.time == self.target {
+            write!(
+                f,
+                "step {} (t = {}) failed after {} cut-backs: {}",
+                self.step, self.time, self.cutbacks, self.cause
+            )
+        } else {
+            write!(
+                f,
+                "step {} (to t = {}) failed at t = {} after {} cut-backs: {}",
+                self.step, self.target, self.time, self.cutbacks, self.cause
+            )
+        }
     }
 }
 
@@ -257,6 +268,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         return Err(StepFailure {
                             step,
                             time: t_new,
+                            target,
                             cause,
                             cutbacks,
                         });
@@ -348,6 +360,20 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 }
             };
             record.cg_iterations += outcome.iterations as u64;
+            // A body that is not held (a mechanism, or a slave body pushed off its master)
+            // runs away instead of failing to converge: stop it with that diagnosis.
+            let owned = self.mesh.num_owned_nodes;
+            let umax = u[..owned]
+                .iter()
+                .flatten()
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            let umax = crate::comm::max_f64(self.comm, umax);
+            if !(umax <= 1e3 * self.length_scale) {
+                return Err(SolveFailure::Unbounded {
+                    iterations: outcome.iterations,
+                    max_displacement: umax,
+                });
+            }
             let mut multipliers = Vec::new();
             self.cg.multipliers(&pb, &mut multipliers);
             let done = !self.problem.contacts.is_empty() && !changed && outcome.iterations == 0;
