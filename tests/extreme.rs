@@ -204,7 +204,10 @@ fn block_pushed_off_its_master_stops_cleanly() {
     // The blocks separate during step 3 (the slave nodes pass x = 1 at t = 1/3).
     // "step 3 (to t = 0.5) failed at t = 0.375 after 2 cut-backs: ...": the step, its
     // end and the time of the cut-back increment that failed.
-    assert!(error.contains("step 3 (to t = 0.5) failed at t = "), "{error}");
+    assert!(
+        error.contains("step 3 (to t = 0.5) failed at t = "),
+        "{error}"
+    );
     assert!(error.contains("cut-backs"), "{error}");
     assert!(log.contains("off_edge.failed.h5"), "{log}");
     assert!(dir.join("off_edge.failed.h5").exists());

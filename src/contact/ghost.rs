@@ -86,6 +86,7 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
         }
     }
     let received = comm.all_to_all_f64(&send);
+    let small = problem.body_models.iter().all(|m| !m.material.is_large());
     let mut faces: Vec<Vec<GhostFace>> = vec![Vec::new(); npairs];
     for msg in &received {
         for w in msg.chunks_exact(FACE_WORDS) {
@@ -101,10 +102,22 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
         .zip(faces)
         .map(|(pair, mut list)| {
             list.sort_unstable_by_key(|f| f.0);
-            let ids = list.iter().map(|f| f.0).collect();
+            let ids: Vec<u32> = list.iter().map(|f| f.0).collect();
             let current = list.iter().map(|f| f.1).collect();
             let start = list.iter().map(|f| f.2).collect();
-            MasterSurface::from_faces(pair, ids, current, start)
+            let reference: Vec<[Vec3; 4]> = ids
+                .iter()
+                .map(|&f| {
+                    let n = &pair.face_nodes[f as usize];
+                    std::array::from_fn(|a| problem.mesh.coords[n[a] as usize])
+                })
+                .collect();
+            let surface = MasterSurface::from_faces(pair, ids, current, start);
+            if small {
+                surface.with_reference_normals(reference)
+            } else {
+                surface
+            }
         })
         .collect()
 }

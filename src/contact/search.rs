@@ -38,6 +38,9 @@ pub struct MasterSurface<'a> {
     corners: Vec<[Vec3; 4]>,
     /// Corner positions at the start of the step.
     start: Vec<[Vec3; 4]>,
+    /// Reference corner positions, when normals are taken from the undeformed faces
+    /// (small kinematics: the constraint directions of linear theory).
+    reference: Option<Vec<[Vec3; 4]>>,
     bvh: Bvh,
 }
 
@@ -92,7 +95,24 @@ impl<'a> MasterSurface<'a> {
             index,
             corners,
             start,
+            reference: None,
             bvh,
+        }
+    }
+
+    /// Takes normals from the faces' reference corners (in the order of the faces held):
+    /// under small kinematics the contact directions are those of the undeformed surface,
+    /// as linear theory has them, while points and gaps follow the displacement.
+    pub fn with_reference_normals(mut self, reference: Vec<[Vec3; 4]>) -> Self {
+        self.reference = Some(reference);
+        self
+    }
+
+    /// The corners normals are computed from.
+    fn normal_corners(&self, k: usize) -> &[Vec3; 4] {
+        match &self.reference {
+            Some(r) => &r[k],
+            None => &self.corners[k],
         }
     }
 
@@ -151,7 +171,7 @@ impl<'a> MasterSurface<'a> {
         }
         let clamped = [s[0].clamp(-1.0, 1.0), s[1].clamp(-1.0, 1.0)];
         let xc = interpolate(c, &face::shape(clamped[0], clamped[1]));
-        let n_face = normal(c, &clamped);
+        let n_face = normal(self.normal_corners(k as usize), &clamped);
         let d = sub(x, &xc);
         let gap = dot(&d, &n_face);
         let tangential = norm(&sub(&d, &scale(&n_face, gap)));
@@ -201,7 +221,7 @@ impl<'a> MasterSurface<'a> {
             let xe = interpolate(&self.corners[k as usize], &face::shape(s[0], s[1]));
             let (sg, _) = closest_point(cg, &xe);
             let sg = [sg[0].clamp(-1.0, 1.0), sg[1].clamp(-1.0, 1.0)];
-            let ng = normal(cg, &sg);
+            let ng = normal(self.normal_corners(kg as usize), &sg);
             let avg = add(n_face, &ng);
             let la = norm(&avg);
             if !(la > 1e-12) {
