@@ -54,10 +54,6 @@ pub struct Geometry {
     volume: f64,
     /// Volume-averaged gradients (the uniform gradient of Flanagan and Belytschko).
     bbar: [Vec3; 8],
-    /// Flanagan-Belytschko hourglass shape vectors and sum over nodes of |bbar|^2 (for the
-    /// `mean` formulation; they depend on the reference geometry only).
-    gamma: [[f64; 8]; 4],
-    bb: f64,
 }
 
 #[inline]
@@ -82,18 +78,11 @@ pub fn geometry(x: &[Vec3; 8]) -> Result<Geometry, ElementFailure> {
             *v /= volume;
         }
     }
-    let gamma = hourglass_vectors(x, &bbar);
-    let bb = bbar
-        .iter()
-        .map(|b| b[0] * b[0] + b[1] * b[1] + b[2] * b[2])
-        .sum();
     Ok(Geometry {
         g,
         wdet,
         volume,
         bbar,
-        gamma,
-        bb,
     })
 }
 
@@ -201,19 +190,10 @@ fn mean_dilatation(u: &[Vec3; 8], geo: &Geometry) -> Result<(f64, [Vec3; 8]), El
     Ok((jsum / geo.volume, hbar))
 }
 
-/// The hourglass vectors gamma (base vectors orthogonalised against linear fields,
-/// Flanagan-Belytschko) and the stiffness k of the `mean` formulation:
-/// f_a = k sum_alpha gamma_alpha,a q_alpha, q_alpha = sum_a gamma_alpha,a u_a.
+/// Hourglass base vectors orthogonalised against linear fields (Flanagan-Belytschko), and
+/// the stiffness k: f_a = k sum_alpha gamma_alpha,a q_alpha, q_alpha = sum_a gamma_alpha,a u_a.
 #[inline]
-fn hourglass(geo: &Geometry, coefficient: f64, mu: f64) -> (&[[f64; 8]; 4], f64) {
-    // Scaled so that coefficient 1 matches the shear part of the fully integrated
-    // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are
-    // volume-preserving on average, and lambda would lock near incompressibility.
-    (&geo.gamma, coefficient * mu * geo.volume * geo.bb / 24.0)
-}
-
-/// Flanagan-Belytschko hourglass shape vectors of the reference element.
-fn hourglass_vectors(x: &[Vec3; 8], bbar: &[Vec3; 8]) -> [[f64; 8]; 4] {
+fn hourglass(x: &[Vec3; 8], geo: &Geometry, coefficient: f64, mu: f64) -> ([[f64; 8]; 4], f64) {
     let mut gamma = [[0.0; 8]; 4];
     for (alpha, ga) in gamma.iter_mut().enumerate() {
         let mut base = [0.0; 8];
@@ -233,10 +213,19 @@ fn hourglass_vectors(x: &[Vec3; 8], bbar: &[Vec3; 8]) -> [[f64; 8]; 4] {
             }
         }
         for a in 0..8 {
-            ga[a] = base[a] - (bbar[a][0] * hx[0] + bbar[a][1] * hx[1] + bbar[a][2] * hx[2]);
+            ga[a] = base[a]
+                - (geo.bbar[a][0] * hx[0] + geo.bbar[a][1] * hx[1] + geo.bbar[a][2] * hx[2]);
         }
     }
-    gamma
+    let bb: f64 = geo
+        .bbar
+        .iter()
+        .map(|b| b[0] * b[0] + b[1] * b[1] + b[2] * b[2])
+        .sum();
+    // Scaled so that coefficient 1 matches the shear part of the fully integrated
+    // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are
+    // volume-preserving on average, and lambda would lock near incompressibility.
+    (gamma, coefficient * mu * geo.volume * bb / 24.0)
 }
 
 /// Internal force of one element into `f` (overwritten).
@@ -247,12 +236,13 @@ pub fn internal_force(
     form: Formulation,
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
-    internal_force_with(&geometry(x)?, u, mat, form, f)
+    internal_force_with(&geometry(x)?, x, u, mat, form, f)
 }
 
 /// `internal_force` with the element's reference geometry already computed.
 pub fn internal_force_with(
     geo: &Geometry,
+    x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
@@ -316,7 +306,7 @@ pub fn internal_force_with(
             let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
             accumulate(f, &s, &geo.bbar, geo.volume);
             let (_, mu) = mat.lambda_mu();
-            let (gamma, k) = hourglass(geo, coefficient, mu);
+            let (gamma, k) = hourglass(x, geo, coefficient, mu);
             for ga in gamma.iter() {
                 let mut qv = [0.0; 3];
                 for a in 0..8 {
@@ -360,12 +350,13 @@ pub fn diagonal_blocks(
     form: Formulation,
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
-    diagonal_blocks_with(&geometry(x)?, u, mat, form, d)
+    diagonal_blocks_with(&geometry(x)?, x, u, mat, form, d)
 }
 
 /// `diagonal_blocks` with the element's reference geometry already computed.
 pub fn diagonal_blocks_with(
     geo: &Geometry,
+    x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
@@ -424,7 +415,7 @@ pub fn diagonal_blocks_with(
             for a in 0..8 {
                 add_scaled(&mut d[a], &mat.tangent_gg(&h, &geo.bbar[a]), geo.volume);
             }
-            let (gamma, k) = hourglass(geo, coefficient, mu);
+            let (gamma, k) = hourglass(x, geo, coefficient, mu);
             for a in 0..8 {
                 let s: f64 = gamma.iter().map(|ga| ga[a] * ga[a]).sum();
                 for i in 0..3 {

@@ -63,9 +63,10 @@ impl<'a> Assembly<'a> {
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
+            let x = self.mesh.element_coords(e);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            element::internal_force_with(geo, &ue, &m.material, m.formulation, &mut fe)
+            element::internal_force_with(geo, &x, &ue, &m.material, m.formulation, &mut fe)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
@@ -83,9 +84,10 @@ impl<'a> Assembly<'a> {
         let mut de = [ZERO33; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
+            let x = self.mesh.element_coords(e);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            element::diagonal_blocks_with(geo, &ue, &m.material, m.formulation, &mut de)
+            element::diagonal_blocks_with(geo, &x, &ue, &m.material, m.formulation, &mut de)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 for i in 0..3 {
