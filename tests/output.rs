@@ -322,6 +322,39 @@ fn a_run_that_dies_leaves_only_the_tmp_file_with_its_finished_steps() {
     assert_eq!(a.wall_time, None);
 }
 
+/// A process started while a result file is open must not inherit its descriptor: HDF5's
+/// `flock` belongs to the open file description, so an inherited descriptor would keep the
+/// file locked after the writer closes it and the next open would fail with "unable to lock
+/// file" (seen in CI when another test started a Python process at the wrong moment).
+#[test]
+fn a_process_started_while_the_file_is_open_does_not_keep_it_locked() {
+    let dir = test_dir("child_lock");
+    let path = dir.join("run.h5");
+    let mesh = synthetic_mesh();
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    w.append_step(&synthetic_step(0, &mesh)).unwrap();
+    let mut child = std::process::Command::new("sleep")
+        .arg("30")
+        .spawn()
+        .expect("starting `sleep`");
+    let path = w.finish(1.0).unwrap();
+    let opened = ResultFile::open(&path).map(|f| f.num_steps());
+    // The reader too: its shared lock, kept by a child, would refuse a writer's exclusive one.
+    let reader = ResultFile::open(&path).unwrap();
+    let mut child2 = std::process::Command::new("sleep")
+        .arg("30")
+        .spawn()
+        .expect("starting `sleep`");
+    drop(reader);
+    let read_write = hdf5::File::open_rw(&path).map(|_| ());
+    for c in [&mut child, &mut child2] {
+        let _ = c.kill();
+        let _ = c.wait();
+    }
+    assert_eq!(opened.unwrap(), 1);
+    read_write.unwrap();
+}
+
 #[test]
 fn finish_failed_names_the_file_as_failed() {
     let dir = test_dir("failed");

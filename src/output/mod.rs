@@ -8,6 +8,7 @@
 //! * [`layout`] names every dataset and attribute; `README-section.md` beside this file
 //!   documents them.
 
+mod cloexec;
 mod data;
 mod error;
 pub mod layout;

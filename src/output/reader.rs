@@ -115,7 +115,10 @@ impl ResultFile {
             return Err(file_err("the file is empty".into()));
         }
         let file = match hdf5::File::open(path) {
-            Ok(f) => f,
+            Ok(f) => {
+                super::cloexec::close_on_exec(&f);
+                f
+            }
             Err(e) => {
                 return Err(match has_hdf5_signature(path) {
                     Ok(true) => OutputError::Corrupt {

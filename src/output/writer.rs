@@ -273,6 +273,7 @@ impl ResultWriter {
         }
 
         let file = hdf5::File::create(&tmp).at(&tmp, "/ (creating the file)")?;
+        super::cloexec::close_on_exec(&file);
         let root: &hdf5::Location = &file;
         set_attr(
             &tmp,

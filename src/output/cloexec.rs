@@ -1,0 +1,41 @@
+//! Marks the file descriptor under an open HDF5 file close-on-exec.
+//!
+//! HDF5 opens files without `O_CLOEXEC` and locks them with `flock`, which belongs to the
+//! open file description. A process started while a result file is open (a post-processing
+//! script, a test's helper) would inherit the descriptor and keep the lock after we close
+//! the file, and the next open of the same file then fails with "unable to lock file".
+//! Setting `FD_CLOEXEC` right after the open keeps the descriptor, and the lock, ours.
+
+use std::os::raw::{c_int, c_void};
+
+/// Sets `FD_CLOEXEC` on the descriptor of `file` when it uses the POSIX (sec2) driver, the
+/// one every result file uses. Other drivers are left alone; failures are ignored, since the
+/// flag only guards against a lock left in a child process.
+pub(super) fn close_on_exec(file: &hdf5::File) {
+    let sec2 = matches!(
+        file.access_plist().and_then(|p| p.get_driver()),
+        Ok(hdf5::file::FileDriver::Sec2)
+    );
+    if !sec2 {
+        return;
+    }
+    let mut handle: *mut c_void = std::ptr::null_mut();
+    // SAFETY: `file.id()` is a valid open file id; for the sec2 driver HDF5 sets `handle` to
+    // the address of the driver's `int` descriptor, valid while the file is open. The call
+    // runs under the hdf5 crate's global lock like every other library call.
+    let status = hdf5::sync::sync(|| unsafe {
+        hdf5_sys::h5f::H5Fget_vfd_handle(file.id(), hdf5_sys::h5p::H5P_DEFAULT, &mut handle)
+    });
+    if status < 0 || handle.is_null() {
+        return;
+    }
+    // SAFETY: see above; `fd` is an open descriptor owned by HDF5, and F_GETFD/F_SETFD only
+    // change its flags.
+    unsafe {
+        let fd = *(handle as *const c_int);
+        let flags = libc::fcntl(fd, libc::F_GETFD);
+        if flags >= 0 {
+            libc::fcntl(fd, libc::F_SETFD, flags | libc::FD_CLOEXEC);
+        }
+    }
+}
