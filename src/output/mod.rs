@@ -8,10 +8,10 @@
 //! * [`layout`] names every dataset and attribute; `README-section.md` beside this file
 //!   documents them.
 
-mod cloexec;
 mod data;
 mod error;
 pub mod layout;
+mod open;
 mod reader;
 mod timestamp;
 mod writer;

@@ -114,11 +114,8 @@ impl ResultFile {
         if meta.len() == 0 {
             return Err(file_err("the file is empty".into()));
         }
-        let file = match hdf5::File::open(path) {
-            Ok(f) => {
-                super::cloexec::close_on_exec(&f);
-                f
-            }
+        let file = match super::open::open(path) {
+            Ok(f) => f,
             Err(e) => {
                 return Err(match has_hdf5_signature(path) {
                     Ok(true) => OutputError::Corrupt {

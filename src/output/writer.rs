@@ -272,8 +272,7 @@ impl ResultWriter {
             remove_if_present(stale)?;
         }
 
-        let file = hdf5::File::create(&tmp).at(&tmp, "/ (creating the file)")?;
-        super::cloexec::close_on_exec(&file);
+        let file = super::open::create(&tmp).at(&tmp, "/ (creating the file)")?;
         let root: &hdf5::Location = &file;
         set_attr(
             &tmp,

@@ -1,17 +1,19 @@
-//! Marks the file descriptor under an open HDF5 file close-on-exec.
+//! Opening HDF5 files so that other processes cannot hold their locks.
 //!
 //! HDF5 opens files without `O_CLOEXEC` and locks them with `flock`, which belongs to the
 //! open file description. A process started while a result file is open (a post-processing
 //! script, a test's helper) would inherit the descriptor and keep the lock after we close
 //! the file, and the next open of the same file then fails with "unable to lock file".
-//! Setting `FD_CLOEXEC` right after the open keeps the descriptor, and the lock, ours.
+//! [`close_on_exec`] marks the descriptor right after the open; a process forked in the
+//! instant before that, or still between its fork and its exec, holds the lock for that
+//! instant only, so [`create`] and [`open`] retry a refused lock for up to a second.
 
 use std::os::raw::{c_int, c_void};
 
 /// Sets `FD_CLOEXEC` on the descriptor of `file` when it uses the POSIX (sec2) driver, the
 /// one every result file uses. Other drivers are left alone; failures are ignored, since the
 /// flag only guards against a lock left in a child process.
-pub(super) fn close_on_exec(file: &hdf5::File) {
+fn close_on_exec(file: &hdf5::File) {
     let sec2 = matches!(
         file.access_plist().and_then(|p| p.get_driver()),
         Ok(hdf5::file::FileDriver::Sec2)
@@ -38,4 +40,35 @@ pub(super) fn close_on_exec(file: &hdf5::File) {
             libc::fcntl(fd, libc::F_SETFD, flags | libc::FD_CLOEXEC);
         }
     }
+}
+
+/// How often, and how long apart, a refused lock is retried (one second in all).
+const LOCK_RETRIES: u32 = 40;
+const LOCK_RETRY_PAUSE: std::time::Duration = std::time::Duration::from_millis(25);
+
+fn retry_lock(mut attempt: impl FnMut() -> hdf5::Result<hdf5::File>) -> hdf5::Result<hdf5::File> {
+    let mut tries = 0;
+    loop {
+        match attempt() {
+            Ok(file) => {
+                close_on_exec(&file);
+                return Ok(file);
+            }
+            Err(e) if tries < LOCK_RETRIES && e.to_string().contains("unable to lock file") => {
+                tries += 1;
+                std::thread::sleep(LOCK_RETRY_PAUSE);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// Creates (truncates) `path` for writing.
+pub(super) fn create(path: &std::path::Path) -> hdf5::Result<hdf5::File> {
+    retry_lock(|| hdf5::File::create(path))
+}
+
+/// Opens `path` read-only.
+pub(super) fn open(path: &std::path::Path) -> hdf5::Result<hdf5::File> {
+    retry_lock(|| hdf5::File::open(path))
 }
