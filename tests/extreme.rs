@@ -1,7 +1,8 @@
 //! Scenes of the extreme suite (run/scenes/extreme/, run by `run/extreme`) that must hold on
 //! every build: scale invariance (the penetration scene in units scaled by 1e-6 and 1e6
-//! gives the same normalised answer), the force balance of the 1e6 stiffness contrast, and
-//! the clean stop of a load that cannot be carried.
+//! gives the same normalised answer), the force balance of the 1e6 stiffness contrast, the
+//! clean stop of a load that cannot be carried, and Coulomb friction where it is hardest
+//! (a block dragged across many faces; a slope just steeper than the friction angle).
 
 mod common;
 
@@ -226,4 +227,77 @@ fn block_pushed_off_its_master_stops_cleanly() {
         "{info}"
     );
     assert!(info.contains("failed: "), "{info}");
+}
+
+#[test]
+fn dragged_block_carries_mu_times_the_normal_load_against_the_motion() {
+    // The block of run/scenes/extreme/drag.toml (pressure p = 100 on A = 1, mu = 0.3) is
+    // dragged 2.5 in x over a rigid base. Once it slides every slave node slips and Coulomb
+    // puts the friction force against the slip (here -x): the contact forces on the slave
+    // nodes sum to (-mu p A, p A, 0) exactly. A friction direction that kept the Poisson
+    // spreading of the loading step (the block's corners slip outward in z first) misses
+    // this by 17 percent (-24.97 in x); one that oscillates never settles.
+    //
+    // Tolerance 1e-8 of pA: as in the stiffness-contrast test, a sum of constraint forces
+    // differs from the exact resultant by the free residual left by CG (scene tolerance
+    // 1e-12 of the reference force, summed over 64 block nodes: below 1e-10 pA) plus
+    // the friction direction's settling error, which the contact update drives below the
+    // same force tolerance.
+    let p = load("drag");
+    let (_, s) = solve(&p);
+    let (global, body, contact) = balances(&p, &s, "block");
+    let exact = [-30.0, 100.0, 0.0];
+    let err = norm(&[0, 1, 2].map(|i| contact[i] - exact[i]));
+    println!(
+        "drag: contact force {contact:?}, |error| / pA = {:.3e}",
+        err / 100.0
+    );
+    assert!(norm(&global) <= 1e-8 * 100.0, "{global:?}");
+    assert!(norm(&body) <= 1e-8 * 100.0, "{body:?}");
+    assert!(err <= 1e-8 * 100.0, "contact force {contact:?}");
+    let b = &p.mesh.bodies[body_index(&p, "block")];
+    let nodes = b.first_node..b.first_node + b.num_nodes;
+    let slipping = s
+        .constraints
+        .iter()
+        .filter(|c| nodes.contains(&(c.slave as usize)) && !c.stick)
+        .count();
+    assert_eq!(slipping, 16, "every slave node slips: {:?}", s.constraints);
+}
+
+#[test]
+fn bc_interaction_just_below_the_stick_limit_slips_everywhere_it_can() {
+    // run/scenes/extreme/bc_mu_tan_minus.toml: the paper's bc_interaction scene with
+    // mu = tan(20 deg) - 1e-6. Sticking would need 2.7e-6 (relative) more friction than mu
+    // allows, so every slave node off the x = 0 face (held there by u_x = 0, it cannot
+    // move along the incline) must end slipping with friction mu |f_n|. A node that slipped
+    // under the previous step's friction force and then reversed would stick where that
+    // slide left it, 6-17 percent below its capacity (what an earlier version did).
+    let p = load("bc_mu_tan_minus");
+    let (_, s) = solve(&p);
+    let mu = p.contacts[0].mu;
+    let mut off_edge = 0;
+    for c in &s.constraints {
+        if p.mesh.coords[c.slave as usize][0] <= 1e-12 {
+            continue;
+        }
+        off_edge += 1;
+        assert!(!c.stick, "slave node {} sticks", c.slave + 1);
+    }
+    assert_eq!(off_edge, 16);
+    // Friction at capacity: the tangential part of each slipping node's contact force is
+    // mu times its normal part. 1e-8: the friction magnitude is set from the normal force
+    // of the last model problem, which the final one reproduces to the CG tolerance
+    // (1e-12 of the reference force, about 1e-10 of a nodal force).
+    for c in s.constraints.iter().filter(|c| !c.stick) {
+        let f = s.contact_force[c.slave as usize];
+        let fn_ = solver::math::dot(&f, &c.normal);
+        let ft = norm(&[0, 1, 2].map(|i| f[i] - fn_ * c.normal[i]));
+        assert!(
+            (ft - mu * fn_).abs() <= 1e-8 * fn_,
+            "slave node {}: |f_t| = {ft}, mu f_n = {}",
+            c.slave + 1,
+            mu * fn_
+        );
+    }
 }

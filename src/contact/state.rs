@@ -22,6 +22,19 @@ const PENETRATION_NOISE: f64 = 1e-10;
 /// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
 const EDGE_HYSTERESIS: f64 = 1e-4;
 
+/// A secant over a change of the slip smaller than this fraction of the slip is not
+/// taken (the solver's error would dominate it); the last estimate is kept.
+const SECANT_MIN: f64 = 1e-7;
+
+/// Slipping nodes' friction forces count as settled once each is within this fraction of
+/// its capacity (the capacity's own change between model problems): the reversal of a
+/// slip is judged from then on.
+const SETTLED: f64 = 1e-8;
+
+/// A slip shorter than this fraction of the face size is round-off: it does not turn the
+/// friction direction.
+const SLIP_NOISE: f64 = 1e-10;
+
 /// Tangential behaviour of an active constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Mode {
@@ -47,6 +60,16 @@ pub struct Active {
     pub normal_force: f64,
     /// Tangential contact force on the slave from the last model problem.
     pub tangential_force: Vec3,
+    /// Secant estimate of the node's tangential stiffness (force per slip), measured from
+    /// two model problems of one step; 0 until measured. Kept across steps.
+    pub slip_stiffness: f64,
+    /// The tangential force held on the slave in the last model problem of this step (the
+    /// stick force, or the friction force) with the slip measured after it: one end of the
+    /// next secant. Cleared when a step begins.
+    pub secant: Option<(Vec3, Vec3)>,
+    /// The master point (face, coordinates) the node sat on when the step began; None for
+    /// a node captured during the step.
+    pub start: Option<(u32, [f64; 2])>,
 }
 
 /// Counts reported per step.
@@ -86,8 +109,14 @@ pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
 }
 
 impl ContactState {
+    /// Starts a load step: records where each constrained node sits on its master surface,
+    /// the point a node that turns out not to slip in this step sticks to.
     pub fn begin_step(&mut self) {
         self.released.clear();
+        for a in &mut self.active {
+            a.secant = None;
+            a.start = Some((a.face, a.s));
+        }
     }
 
     pub fn counts(&self) -> ContactCounts {
@@ -306,16 +335,54 @@ impl ContactState {
         self.active = kept;
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
-        // node that moved against its friction force sticks again.
+        // node that moved against its friction force sticks again. That reversal is only
+        // judged once the friction forces are settled (no node starts to slip in this
+        // update and every slipping node's force is its capacity to SETTLED): while they change, a
+        // node can be dragged back by its neighbours' changing forces rather than its own.
+        // The state is the same on every rank, so every rank decides alike.
+        let slipping_settled = self.active.iter().all(|a| match a.mode {
+            Mode::Slip { magnitude, .. } => {
+                let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
+                (capacity - magnitude).abs() <= force_tol.max(SETTLED * capacity)
+            }
+            _ => true,
+        });
+        let onset = self.active.iter().any(|a| {
+            let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
+            let ft = norm(&a.tangential_force);
+            a.mode == Mode::Stick && ft > capacity * (1.0 + 1e-9) && ft > force_tol
+        });
+        let judge_reversal = slipping_settled && !onset;
         for a in self.active.iter_mut() {
             let pair = &problem.contacts[a.pair];
             let mu = pair.mu;
             let capacity = mu * a.normal_force.max(0.0);
+            // The slip since the start of the step, relative to the master point. The face
+            // is held unless the node has moved beyond the ghosting margin of its face (a
+            // body running away); then the search below releases it, and the slip test has
+            // nothing to measure against.
+            let slip = || -> Option<Vec3> {
+                let l = mesh.owned_node(a.slave)?;
+                let (now, then) = surfaces[a.pair].face_corners(a.face)?;
+                let w = crate::fem::face::shape(a.s[0], a.s[1]);
+                let mut d = sub(&u[l], &start[l]);
+                for j in 0..4 {
+                    d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
+                }
+                Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
+            };
+            let measured = match a.mode {
+                Mode::Free => None,
+                _ => slip(),
+            };
             match a.mode {
                 Mode::Free => {}
                 Mode::Stick => {
                     let ft = norm(&a.tangential_force);
                     if ft > capacity * (1.0 + 1e-9) && ft > force_tol {
+                        // The onset: the friction force takes the direction of the force
+                        // the stick constraint carried (the slip it releases goes that way).
+                        a.secant = measured.map(|d| (a.tangential_force, d));
                         a.mode = Mode::Slip {
                             dir: scale(&a.tangential_force, 1.0 / ft),
                             magnitude: capacity,
@@ -323,35 +390,41 @@ impl ContactState {
                         changed = true;
                     }
                 }
-                Mode::Slip { dir, .. } => {
-                    let Some(l) = mesh.owned_node(a.slave) else {
+                Mode::Slip { dir, magnitude } => {
+                    let Some(slip) = measured else {
                         continue;
                     };
-                    // The slip since the start of the step, relative to the master point: a
-                    // node that moved along its friction force has reversed and sticks.
-                    // The face is held unless the node has moved beyond the ghosting
-                    // margin of its face (a body running away); then the search below
-                    // releases it, and the slip test has nothing to measure against.
-                    let Some((now, then)) = surfaces[a.pair].face_corners(a.face) else {
-                        continue;
-                    };
-                    let w = crate::fem::face::shape(a.s[0], a.s[1]);
-                    let mut d = sub(&u[l], &start[l]);
-                    for j in 0..4 {
-                        d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
-                    }
-                    let slip = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
-                    // The friction direction stays the one chosen at the onset of slip (see
-                    // the notes: a slip whose direction turns is not followed yet).
-                    if dot(&slip, &dir) > 1e-12 * pair.face_size {
+                    // A node that moved along its friction force has reversed: it does not
+                    // slip in this step (the step's slip is one vector, against the friction
+                    // force, or zero), so it sticks where the step found it. (Sticking where
+                    // the last model problem left it would keep a slide made under a
+                    // friction force still being settled, e.g. the last step's.)
+                    if judge_reversal && dot(&slip, &dir) > 1e-12 * pair.face_size {
                         a.mode = Mode::Stick;
+                        a.secant = None;
+                        if let Some((face, s)) = a.start {
+                            a.face = face;
+                            a.s = s;
+                        }
                         changed = true;
-                    } else {
-                        a.mode = Mode::Slip {
-                            dir,
-                            magnitude: capacity,
-                        };
+                        continue;
                     }
+                    let held = scale(&dir, magnitude);
+                    let noise = SLIP_NOISE * pair.face_size;
+                    a.slip_stiffness =
+                        secant_stiffness(a.secant, held, slip, noise).unwrap_or(a.slip_stiffness);
+                    a.secant = Some((held, slip));
+                    a.mode = Mode::Slip {
+                        dir: friction_direction(
+                            dir,
+                            held,
+                            slip,
+                            a.slip_stiffness,
+                            noise,
+                            force_tol,
+                        ),
+                        magnitude: capacity,
+                    };
                 }
             }
         }
@@ -483,6 +556,9 @@ impl ContactState {
                 && w[1] >= 0.0
                 && w[1] < nodes
                 && (w[2] as usize) < problem.contacts[w[0] as usize].master_faces.len()
+                && (w[25] == 0.0
+                    || (w[26] >= 0.0
+                        && (w[26] as usize) < problem.contacts[w[0] as usize].master_faces.len()))
                 && w.iter().all(|x| x.is_finite())
         };
         let chunks: Vec<&[f64]> = active.chunks_exact(ACTIVE_WORDS).collect();
@@ -552,8 +628,63 @@ impl ContactState {
     }
 }
 
+/// The node's tangential stiffness from two (force held, slip) states of one step: the
+/// force the rest of the structure puts on the node changes with its slip by -K slip, so
+/// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
+/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
+/// positive.
+fn secant_stiffness(
+    previous: Option<(Vec3, Vec3)>,
+    held: Vec3,
+    slip: Vec3,
+    noise: f64,
+) -> Option<f64> {
+    let (f0, d0) = previous?;
+    let dd = sub(&slip, &d0);
+    let length2 = dot(&dd, &dd);
+    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
+        return None;
+    }
+    let k = dot(&sub(&held, &f0), &dd) / length2;
+    (k > 0.0 && k.is_finite()).then_some(k)
+}
+
+/// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
+/// force `held` (along `dir`) and slipped by `slip` this step. The friction force must
+/// oppose the slip; setting it against the measured slip directly overshoots near the onset
+/// of slip (there the slip's direction turns strongly with the friction force's). Instead
+/// the force that would hold the node where the step began is estimated,
+/// g = held - k slip with the secant stiffness k, and the friction force is set along it:
+/// the return mapping of an elastic stick, exact in one update when the node's stiffness
+/// is isotropic, and a contraction for an estimate within a factor of two. Without an
+/// estimate, for a slip of round-off size, or when the friction force would turn by less
+/// than `force_tol` (the force the model problem resolves), the direction is kept.
+fn friction_direction(
+    dir: Vec3,
+    held: Vec3,
+    slip: Vec3,
+    k: f64,
+    noise: f64,
+    force_tol: f64,
+) -> Vec3 {
+    if k <= 0.0 || norm(&slip) <= noise {
+        return dir;
+    }
+    let g = sub(&held, &scale(&slip, k));
+    let length = norm(&g);
+    if !(length > 0.0 && length.is_finite()) {
+        return dir;
+    }
+    let turned = scale(&g, 1.0 / length);
+    if norm(&sub(&turned, &dir)) * norm(&held) <= force_tol {
+        dir
+    } else {
+        turned
+    }
+}
+
 /// Values per active constraint in a message.
-const ACTIVE_WORDS: usize = 17;
+const ACTIVE_WORDS: usize = 29;
 
 fn encode(a: &Active, out: &mut Vec<f64>) {
     let (tag, dir, magnitude) = match a.mode {
@@ -567,6 +698,19 @@ fn encode(a: &Active, out: &mut Vec<f64>) {
     out.extend(dir);
     out.extend([magnitude, a.normal_force]);
     out.extend(a.tangential_force);
+    out.push(a.slip_stiffness);
+    match a.secant {
+        Some((f, d)) => {
+            out.push(1.0);
+            out.extend(f);
+            out.extend(d);
+        }
+        None => out.extend([0.0; 7]),
+    }
+    match a.start {
+        Some((face, s)) => out.extend([1.0, face as f64, s[0], s[1]]),
+        None => out.extend([0.0; 4]),
+    }
 }
 
 fn decode(w: &[f64]) -> Active {
@@ -586,6 +730,9 @@ fn decode(w: &[f64]) -> Active {
         },
         normal_force: w[13],
         tangential_force: [w[14], w[15], w[16]],
+        slip_stiffness: w[17],
+        secant: (w[18] != 0.0).then_some(([w[19], w[20], w[21]], [w[22], w[23], w[24]])),
+        start: (w[25] != 0.0).then_some((w[26] as u32, [w[27], w[28]])),
     }
 }
 
@@ -599,5 +746,8 @@ fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
         mode: if mu > 0.0 { Mode::Stick } else { Mode::Free },
         normal_force: 0.0,
         tangential_force: [0.0; 3],
+        slip_stiffness: 0.0,
+        secant: None,
+        start: None,
     }
 }
