@@ -210,6 +210,15 @@ fn block_pushed_off_its_master_stops_cleanly() {
         "{error}"
     );
     assert!(error.contains("cut-backs"), "{error}");
+    // The cause and the place: the block tips over the base's edge x = 1 (an axis along
+    // z) once only the slave nodes on the last row before the edge are left in contact;
+    // its top is held in x and z only, so that rotation is free.
+    assert!(
+        error.contains(
+            "body 'block' is not held: its prescribed displacements and contact ties block 5 of its 6 rigid-body motions (free: rotation about (0, 0, 1))"
+        ),
+        "{error}"
+    );
     assert!(log.contains("off_edge.failed.h5"), "{log}");
     assert!(dir.join("off_edge.failed.h5").exists());
     assert!(!out.exists(), "a complete-looking result file was left");
@@ -300,4 +309,36 @@ fn bc_interaction_just_below_the_stick_limit_slips_everywhere_it_can() {
             mu * fn_
         );
     }
+}
+
+#[test]
+fn support_diagnosis_counts_the_rigid_motions_a_body_keeps() {
+    // The bar of run/examples/bar.toml is held (u_x = 0 on x = 0, u_y = u_z = 0
+    // everywhere): nothing to report. Without the y and z rows, only u_x = 0 on the end
+    // face x = 0 is left: it blocks the x translation and the rotations about y and z
+    // (the face's nodes sit at different y and z), so translations along y and z and the
+    // rotation about x are free: 3 of 6 blocked. Exact counts: the rows are unit vectors
+    // and the Gram matrix's null space is exact up to round-off (1e-16 against the 1e-10
+    // cut).
+    use solver::contact::state::ContactState;
+    use solver::solver::support::unheld_bodies;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("run/examples/bar.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let held = problem(&text);
+    assert!(unheld_bodies(&held, &ContactState::default()).is_empty());
+    let loose = text.replace("components = [\"y\", \"z\"]", "components = []");
+    let loose = problem(&loose.replace(
+        "[[displacement]]\nnode_set = \"all\"\ncomponents = []\nvalue = 0.0\n",
+        "",
+    ));
+    let lines = unheld_bodies(&loose, &ContactState::default());
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(
+        lines[0].starts_with("body 'bar' is not held: its prescribed displacements and contact ties block 3 of its 6 rigid-body motions"),
+        "{lines:?}"
+    );
+    assert!(
+        lines[0].ends_with("(free: translation along y, translation along z, rotation about x)"),
+        "{lines:?}"
+    );
 }

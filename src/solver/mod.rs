@@ -7,6 +7,7 @@ pub mod coarse;
 pub mod constraints;
 pub mod loads;
 pub mod stepping;
+pub mod support;
 
 pub use cg::{ModelOutcome, SolveFailure};
 pub use stepping::{StepRecord, Stepper};

@@ -36,6 +36,9 @@ pub struct StepFailure {
     pub target: f64,
     pub cause: SolveFailure,
     pub cutbacks: usize,
+    /// Bodies the supports of the failing attempt did not hold (see `support`), when the
+    /// cause is one a missing support produces.
+    pub unheld: Vec<String>,
 }
 
 impl std::fmt::Display for StepFailure {
@@ -52,7 +55,11 @@ impl std::fmt::Display for StepFailure {
                 "step {} (to t = {}) failed at t = {} after {} cut-backs: {}",
                 self.step, self.target, self.time, self.cutbacks, self.cause
             )
+        }?;
+        for line in &self.unheld {
+            write!(f, "; {line}")?;
         }
+        Ok(())
     }
 }
 
@@ -265,12 +272,30 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {
+                        // A singular model problem (a body its supports no longer hold, e.g.
+                        // a slave body pushed off its master) shows as one of these.
+                        let unheld = match &cause {
+                            SolveFailure::NotConverged {
+                                residual,
+                                reference,
+                                ..
+                            } if *residual >= 1e-8 * reference => {
+                                super::support::unheld_bodies(self.problem, &contact)
+                            }
+                            SolveFailure::NonPositiveCurvature { .. }
+                            | SolveFailure::NonFinite { .. }
+                            | SolveFailure::Unbounded { .. } => {
+                                super::support::unheld_bodies(self.problem, &contact)
+                            }
+                            _ => Vec::new(),
+                        };
                         return Err(StepFailure {
                             step,
                             time: t_new,
                             target,
                             cause,
                             cutbacks,
+                            unheld,
                         });
                     }
                 }

@@ -1,0 +1,174 @@
+//! Which bodies their supports hold: a diagnosis for a step that cannot be solved.
+//!
+//! A body is held against rigid motion when its prescribed directions and the contact ties
+//! on its nodes block all six rigid-body motions. A support row (direction c at point x)
+//! blocks the motions m = (t, w) with c . (t + w x x) != 0, i.e. the 6-vector
+//! (c, x x c) . m; the body is held when those vectors span R^6. When a slave body has
+//! been pushed off its master (every tie released), the rows left span fewer than six
+//! motions and the model problem is singular: CG wanders instead of converging. Naming the
+//! body and its free motions turns "CG did not converge" into a cause and a place.
+//!
+//! A contact tie counts as a support of both bodies it joins (optimistic when neither is
+//! held otherwise: two free bodies touching each other are not reported). Reference
+//! coordinates are used: the question is which motions are blocked, not by how much.
+
+use crate::contact::state::{tangents, ContactState, Mode};
+use crate::math::{cross, Vec3};
+use crate::problem::Problem;
+use nalgebra::{Matrix6, SymmetricEigen, Vector6};
+
+/// An eigenvalue of the support Gram matrix below this fraction of the largest one is a
+/// free motion (the rows are unit directions and lever arms scaled by the body's size, so
+/// the matrix is well scaled; round-off sits near 1e-16).
+const FREE: f64 = 1e-10;
+
+/// One line per body that is not held: "body 'name' ... (free: ...)". Deterministic and
+/// the same on every rank (it reads only replicated data).
+pub fn unheld_bodies(problem: &Problem, contact: &ContactState) -> Vec<String> {
+    let mesh = &problem.mesh;
+    let body_of = |g: usize| {
+        mesh.bodies
+            .iter()
+            .position(|b| (b.first_node..b.first_node + b.num_nodes).contains(&g))
+    };
+    let mut rows: Vec<Vec<(Vec3, Vec3)>> = vec![Vec::new(); mesh.bodies.len()];
+    for bc in &problem.dirichlet {
+        for &g in &problem.node_sets[bc.node_set].nodes {
+            if let Some(b) = body_of(g as usize) {
+                rows[b].push((mesh.coords[g as usize], bc.direction));
+            }
+        }
+    }
+    for a in &contact.active {
+        let x = mesh.coords[a.slave as usize];
+        let mut dirs = vec![a.normal];
+        if a.mode == Mode::Stick {
+            let (t1, t2) = tangents(&a.normal);
+            dirs.extend([t1, t2]);
+        }
+        let pair = &problem.contacts[a.pair];
+        let master = body_of(pair.face_nodes[a.face as usize][0] as usize);
+        for b in [body_of(a.slave as usize), master].into_iter().flatten() {
+            rows[b].extend(dirs.iter().map(|&d| (x, d)));
+        }
+    }
+    let mut out = Vec::new();
+    for (b, body) in mesh.bodies.iter().enumerate() {
+        if body.num_nodes == 0 {
+            continue;
+        }
+        let nodes = &mesh.coords[body.first_node..body.first_node + body.num_nodes];
+        let n = nodes.len() as f64;
+        let mut centre = [0.0; 3];
+        for x in nodes {
+            for i in 0..3 {
+                centre[i] += x[i] / n;
+            }
+        }
+        let size = nodes
+            .iter()
+            .map(|x| {
+                (0..3)
+                    .map(|i| (x[i] - centre[i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let mut gram = Matrix6::<f64>::zeros();
+        for (x, c) in &rows[b] {
+            let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);
+            let m = cross(&arm, c);
+            let r = Vector6::new(c[0], c[1], c[2], m[0], m[1], m[2]);
+            gram += r * r.transpose();
+        }
+        let eig = SymmetricEigen::new(gram);
+        let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
+        let free: Vec<usize> = (0..6)
+            .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
+            .collect();
+        if free.is_empty() {
+            continue;
+        }
+        // The free motions as a projector (the eigenvectors of a repeated zero eigenvalue
+        // are any basis of its space): first the axis motions lying wholly in it, then the
+        // rest of the space, described by its basis vectors.
+        let mut projector = Matrix6::<f64>::zeros();
+        for &k in &free {
+            let v = eig.eigenvectors.column(k).into_owned();
+            projector += v * v.transpose();
+        }
+        const AXIS: [&str; 6] = [
+            "translation along x",
+            "translation along y",
+            "translation along z",
+            "rotation about x",
+            "rotation about y",
+            "rotation about z",
+        ];
+        let mut motions: Vec<String> = Vec::new();
+        for (i, name) in AXIS.iter().enumerate() {
+            if projector[(i, i)] >= 1.0 - 1e-8 {
+                motions.push(name.to_string());
+                let e = Vector6::from_fn(|r, _| if r == i { 1.0 } else { 0.0 });
+                projector -= e * e.transpose();
+            }
+        }
+        let rest = SymmetricEigen::new(projector);
+        let mut order: Vec<usize> = (0..6).filter(|&k| rest.eigenvalues[k] > 0.5).collect();
+        order.sort_by(|&i, &j| rest.eigenvalues[j].total_cmp(&rest.eigenvalues[i]));
+        for k in order {
+            motions.push(describe(&rest.eigenvectors.column(k).into_owned()));
+        }
+        out.push(format!(
+            "body '{}' is not held: its prescribed displacements and contact ties block {} of its 6 rigid-body motions (free: {})",
+            body.name,
+            6 - free.len(),
+            motions.join(", ")
+        ));
+    }
+    out
+}
+
+/// "translation along (a, b, c)" or "rotation about (a, b, c)" (rotations about the body's
+/// centre), whichever part dominates, the direction rounded to two decimals with a
+/// positive first non-zero component.
+fn describe(v: &Vector6<f64>) -> String {
+    let t = [v[0], v[1], v[2]];
+    let w = [v[3], v[4], v[5]];
+    let norm = |a: &Vec3| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let (kind, d) = if norm(&t) >= norm(&w) {
+        ("translation along", t)
+    } else {
+        ("rotation about", w)
+    };
+    let l = norm(&d);
+    let mut d = d.map(|x| x / l);
+    if let Some(first) = d.iter().find(|x| x.abs() >= 5e-3) {
+        if *first < 0.0 {
+            d = d.map(|x| -x);
+        }
+    }
+    let f = |x: f64| {
+        let r = (x * 100.0).round() / 100.0;
+        if r == 0.0 {
+            "0".to_string()
+        } else {
+            format!("{r}")
+        }
+    };
+    format!("{kind} ({}, {}, {})", f(d[0]), f(d[1]), f(d[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn describe_names_the_dominant_part() {
+        let v = Vector6::new(0.0, -1.0, 0.0, 0.0, 0.0, 0.0);
+        assert_eq!(describe(&v), "translation along (0, 1, 0)");
+        let v = Vector6::new(0.1, 0.0, 0.0, 0.0, 0.0, 0.9);
+        assert_eq!(describe(&v), "rotation about (0, 0, 1)");
+    }
+}
