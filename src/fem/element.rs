@@ -45,59 +45,162 @@ impl std::fmt::Display for ElementFailure {
     }
 }
 
-/// Reference-configuration data of one element at its Gauss points: computed once per
-/// element and reused for every evaluation (see `Assembly`).
+/// Reference-configuration data of one element that every formulation uses: computed once
+/// per element and reused for every evaluation (see `Assembly`). 208 bytes.
 #[derive(Clone, Debug)]
 pub struct Geometry {
-    g: [[Vec3; 8]; 8],
-    wdet: [f64; 8],
+    /// Volume-averaged gradients (the uniform gradient of Flanagan and Belytschko),
+    /// component-major: `bbar[k][a]` = d N_a / d X_k averaged over the element.
+    bbar: [[f64; 8]; 3],
     volume: f64,
-    /// Volume-averaged gradients (the uniform gradient of Flanagan and Belytschko).
-    bbar: [Vec3; 8],
+    /// volume * sum_a |bbar_a|^2, the scale of the hourglass stiffness.
+    vbb: f64,
+}
+
+/// The gradients at the eight Gauss points, Gauss-point index innermost (`g[a][k][q]`)
+/// so that loops over the Gauss points vectorise, and det J at each. 1600 bytes; needed
+/// only by the fully integrated formulations.
+#[derive(Clone, Debug, Default)]
+pub struct GaussGeometry {
+    g: [[[f64; 8]; 3]; 8],
+    wdet: [f64; 8],
+}
+
+/// A 3x3 matrix at each of the eight Gauss points: `m[i][j][q]`.
+type QMat = [[[f64; 8]; 3]; 3];
+const ZERO_Q: QMat = [[[0.0; 8]; 3]; 3];
+
+/// The hourglass base vectors (xi eta, eta zeta, zeta xi, xi eta zeta at the nodes):
+/// `HG_BASE[alpha][a]`, entries +-1.
+const HG_BASE: [[f64; 8]; 4] = hg_base();
+
+const fn hg_base() -> [[f64; 8]; 4] {
+    let mut b = [[0.0; 8]; 4];
+    let mut a = 0;
+    while a < 8 {
+        let p = NODE_XI[a];
+        b[0][a] = p[1] * p[2];
+        b[1][a] = p[2] * p[0];
+        b[2][a] = p[0] * p[1];
+        b[3][a] = p[0] * p[1] * p[2];
+        a += 1;
+    }
+    b
 }
 
 #[inline]
-pub fn geometry(x: &[Vec3; 8]) -> Result<Geometry, ElementFailure> {
-    let mut g = [[[0.0; 3]; 8]; 8];
-    let mut wdet = [0.0; 8];
+pub fn geometry(x: &[Vec3; 8]) -> Result<(Geometry, GaussGeometry), ElementFailure> {
+    let mut gauss = GaussGeometry::default();
     let mut volume = 0.0;
-    let mut bbar = [[0.0; 3]; 8];
+    let mut bbar = [[0.0; 8]; 3];
     for q in 0..8 {
         let (gq, d) = gradients(x, &GAUSS[q]).ok_or(ElementFailure::InvertedReference)?;
-        g[q] = gq;
-        wdet[q] = d;
+        gauss.wdet[q] = d;
         volume += d;
         for a in 0..8 {
             for k in 0..3 {
-                bbar[a][k] += d * gq[a][k];
+                gauss.g[a][k][q] = gq[a][k];
+                bbar[k][a] += d * gq[a][k];
             }
         }
     }
-    for b in bbar.iter_mut() {
-        for v in b.iter_mut() {
+    let mut bb = 0.0;
+    for row in bbar.iter_mut() {
+        for v in row.iter_mut() {
             *v /= volume;
+            bb += *v * *v;
         }
     }
-    Ok(Geometry {
-        g,
-        wdet,
-        volume,
-        bbar,
-    })
+    Ok((
+        Geometry {
+            bbar,
+            volume,
+            vbb: volume * bb,
+        },
+        gauss,
+    ))
 }
 
-/// h_ij = sum_a u_a,i g_a,j
+impl Geometry {
+    #[inline]
+    fn bbar_at(&self, a: usize) -> Vec3 {
+        [self.bbar[0][a], self.bbar[1][a], self.bbar[2][a]]
+    }
+}
+
+/// h_ij = sum_a u_a,i bbar_a,j (the element-mean displacement gradient)
 #[inline]
-fn displacement_gradient(u: &[Vec3; 8], g: &[Vec3; 8]) -> Mat3 {
+fn mean_gradient(u: &[Vec3; 8], geo: &Geometry) -> Mat3 {
     let mut h = ZERO33;
     for a in 0..8 {
         for i in 0..3 {
             for j in 0..3 {
-                h[i][j] += u[a][i] * g[a][j];
+                h[i][j] += u[a][i] * geo.bbar[j][a];
             }
         }
     }
     h
+}
+
+/// h_ij(q) = sum_a u_a,i g_a,j(q) at every Gauss point.
+#[inline(always)]
+fn gauss_gradient(u: &[Vec3; 8], gauss: &GaussGeometry) -> QMat {
+    let mut h = ZERO_Q;
+    for j in 0..3 {
+        let mut acc = [[0.0; 8]; 3];
+        for a in 0..8 {
+            let ga = &gauss.g[a][j];
+            for i in 0..3 {
+                let ua = u[a][i];
+                for q in 0..8 {
+                    acc[i][q] += ua * ga[q];
+                }
+            }
+        }
+        for i in 0..3 {
+            h[i][j] = acc[i];
+        }
+    }
+    h
+}
+
+/// f_a,i += sum_q sum_j t_ij(q) g_a,j(q)  (t already carries the quadrature weights).
+#[inline(always)]
+fn gauss_scatter(t: &QMat, gauss: &GaussGeometry, f: &mut [Vec3; 8]) {
+    for a in 0..8 {
+        let ga = &gauss.g[a];
+        for i in 0..3 {
+            let mut acc = [0.0; 8];
+            for j in 0..3 {
+                for q in 0..8 {
+                    acc[q] += t[i][j][q] * ga[j][q];
+                }
+            }
+            f[a][i] += hsum(&acc);
+        }
+    }
+}
+
+/// Sum of eight values in a fixed order.
+#[inline(always)]
+fn hsum(v: &[f64; 8]) -> f64 {
+    let s = [v[0] + v[4], v[1] + v[5], v[2] + v[6], v[3] + v[7]];
+    (s[0] + s[2]) + (s[1] + s[3])
+}
+
+#[inline(always)]
+fn at(m: &QMat, q: usize) -> Mat3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[i][j][q]))
+}
+
+/// t(q) = w m
+#[inline(always)]
+fn put(t: &mut QMat, q: usize, m: &Mat3, w: f64) {
+    for i in 0..3 {
+        for j in 0..3 {
+            t[i][j][q] = w * m[i][j];
+        }
+    }
 }
 
 #[inline]
@@ -129,34 +232,25 @@ fn scaled(m: &Mat3, s: f64) -> Mat3 {
     r
 }
 
-/// F-bar deformation gradient at one Gauss point: (J0 / J)^(1/3) F.
-struct FBar {
-    f: Mat3,
-    finv_t_g: [Vec3; 8],
-    ratio: f64,
-    fbar: Mat3,
-}
+/// F, F^-1 and J at each of the eight Gauss points.
+type Deformation = ([Mat3; 8], [Mat3; 8], [f64; 8]);
 
+/// F = I + h, F^-1 and J at every Gauss point; fails if J <= 0 at one.
 #[inline]
-fn fbar_at(h: &Mat3, g: &[Vec3; 8], j0: f64) -> Result<FBar, ElementFailure> {
-    let f = add_identity(h);
-    let (finv, j) = inverse(&f);
-    if !(j > 0.0) {
-        return Err(ElementFailure::InvertedCurrent);
-    }
-    let ratio = (j0 / j).cbrt();
-    let mut finv_t_g = [[0.0; 3]; 8];
-    for a in 0..8 {
-        for i in 0..3 {
-            finv_t_g[a][i] = finv[0][i] * g[a][0] + finv[1][i] * g[a][1] + finv[2][i] * g[a][2];
+fn deformation(h: &QMat) -> Result<Deformation, ElementFailure> {
+    let mut f = [ZERO33; 8];
+    let mut finv = [ZERO33; 8];
+    let mut j = [0.0; 8];
+    for q in 0..8 {
+        f[q] = add_identity(&at(h, q));
+        let (fi, jq) = inverse(&f[q]);
+        if !(jq > 0.0) {
+            return Err(ElementFailure::InvertedCurrent);
         }
+        finv[q] = fi;
+        j[q] = jq;
     }
-    Ok(FBar {
-        f,
-        finv_t_g,
-        ratio,
-        fbar: scaled(&f, ratio),
-    })
+    Ok((f, finv, j))
 }
 
 /// Mean-dilatation data for F-bar: the volume-averaged Jacobian J_bar = (1/V0) int J dV0 and
@@ -164,68 +258,52 @@ fn fbar_at(h: &Mat3, g: &[Vec3; 8], j0: f64) -> Result<FBar, ElementFailure> {
 /// hbar_a = (1/(V0 J_bar)) int J F^-T g_a dV0. Using the average (not the centroid value)
 /// keeps the element passing the patch test on distorted meshes.
 #[inline]
-fn mean_dilatation(u: &[Vec3; 8], geo: &Geometry) -> Result<(f64, [Vec3; 8]), ElementFailure> {
+fn mean_dilatation(
+    geo: &Geometry,
+    gauss: &GaussGeometry,
+    finv: &[Mat3; 8],
+    j: &[f64; 8],
+) -> (f64, [Vec3; 8]) {
     let mut jsum = 0.0;
-    let mut hbar = [[0.0; 3]; 8];
+    let mut t = ZERO_Q;
     for q in 0..8 {
-        let f = add_identity(&displacement_gradient(u, &geo.g[q]));
-        let (finv, j) = inverse(&f);
-        if !(j > 0.0) {
-            return Err(ElementFailure::InvertedCurrent);
-        }
-        let w = geo.wdet[q] * j;
+        let w = gauss.wdet[q] * j[q];
         jsum += w;
-        for a in 0..8 {
-            let g = &geo.g[q][a];
-            for i in 0..3 {
-                hbar[a][i] += w * (finv[0][i] * g[0] + finv[1][i] * g[1] + finv[2][i] * g[2]);
+        for i in 0..3 {
+            for k in 0..3 {
+                // F^-T_ik = Finv_ki
+                t[i][k][q] = w * finv[q][k][i];
             }
         }
     }
+    let mut hbar = [[0.0; 3]; 8];
+    gauss_scatter(&t, gauss, &mut hbar);
     for h in hbar.iter_mut() {
         for v in h.iter_mut() {
             *v /= jsum;
         }
     }
-    Ok((jsum / geo.volume, hbar))
+    (jsum / geo.volume, hbar)
 }
 
-/// Hourglass base vectors orthogonalised against linear fields (Flanagan-Belytschko), and
-/// the stiffness k: f_a = k sum_alpha gamma_alpha,a q_alpha, q_alpha = sum_a gamma_alpha,a u_a.
+/// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a, and the
+/// stiffness k (Flanagan-Belytschko): the hourglass vectors orthogonalised against linear
+/// fields are gamma_alpha,a = base_alpha,a - bbar_a . hx_alpha, and
+/// f_a = k sum_alpha gamma_alpha,a q_alpha with q_alpha = sum_a gamma_alpha,a u_a.
 #[inline]
-fn hourglass(x: &[Vec3; 8], geo: &Geometry, coefficient: f64, mu: f64) -> ([[f64; 8]; 4], f64) {
-    let mut gamma = [[0.0; 8]; 4];
-    for (alpha, ga) in gamma.iter_mut().enumerate() {
-        let mut base = [0.0; 8];
-        for (a, b) in base.iter_mut().enumerate() {
-            let p = NODE_XI[a];
-            *b = match alpha {
-                0 => p[1] * p[2],
-                1 => p[2] * p[0],
-                2 => p[0] * p[1],
-                _ => p[0] * p[1] * p[2],
-            };
-        }
-        let mut hx = [0.0; 3];
+fn hourglass(x: &[Vec3; 8], geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
+    let mut hx = [[0.0; 3]; 4];
+    for (alpha, h) in hx.iter_mut().enumerate() {
         for a in 0..8 {
             for i in 0..3 {
-                hx[i] += base[a] * x[a][i];
+                h[i] += HG_BASE[alpha][a] * x[a][i];
             }
         }
-        for a in 0..8 {
-            ga[a] = base[a]
-                - (geo.bbar[a][0] * hx[0] + geo.bbar[a][1] * hx[1] + geo.bbar[a][2] * hx[2]);
-        }
     }
-    let bb: f64 = geo
-        .bbar
-        .iter()
-        .map(|b| b[0] * b[0] + b[1] * b[1] + b[2] * b[2])
-        .sum();
     // Scaled so that coefficient 1 matches the shear part of the fully integrated
     // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are
     // volume-preserving on average, and lambda would lock near incompressibility.
-    (gamma, coefficient * mu * geo.volume * bb / 24.0)
+    (hx, coefficient * mu * geo.vbb / 24.0)
 }
 
 /// Internal force of one element into `f` (overwritten).
@@ -236,12 +314,15 @@ pub fn internal_force(
     form: Formulation,
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
-    internal_force_with(&geometry(x)?, x, u, mat, form, f)
+    let (geo, gauss) = geometry(x)?;
+    internal_force_with(&geo, Some(&gauss), x, u, mat, form, f)
 }
 
-/// `internal_force` with the element's reference geometry already computed.
+/// `internal_force` with the element's reference geometry already computed. `gauss` may
+/// be `None` for `Formulation::Mean` only.
 pub fn internal_force_with(
     geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
     x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
@@ -252,72 +333,150 @@ pub fn internal_force_with(
     let large = mat.is_large();
     match form {
         Formulation::Full => {
-            for q in 0..8 {
-                let h = displacement_gradient(u, &geo.g[q]);
-                let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
-                accumulate(f, &s, &geo.g[q], geo.wdet[q]);
+            let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+            let h = gauss_gradient(u, gauss);
+            let mut t = ZERO_Q;
+            match mat {
+                Material::LinearElastic(m) => {
+                    // s = mu (h + h^T) + lambda tr(h) I, weighted, all Gauss points at once.
+                    let w = &gauss.wdet;
+                    let mut tr = [0.0; 8];
+                    for q in 0..8 {
+                        tr[q] = h[0][0][q] + h[1][1][q] + h[2][2][q];
+                    }
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            for q in 0..8 {
+                                let mut s = m.mu * (h[i][j][q] + h[j][i][q]);
+                                if i == j {
+                                    s += m.lambda * tr[q];
+                                }
+                                t[i][j][q] = w[q] * s;
+                            }
+                        }
+                    }
+                }
+                _ => {
+                    for q in 0..8 {
+                        let s = mat
+                            .stress(&at(&h, q))
+                            .ok_or(ElementFailure::InvertedCurrent)?;
+                        put(&mut t, q, &s, gauss.wdet[q]);
+                    }
+                }
             }
+            gauss_scatter(&t, gauss, f);
         }
         Formulation::FullBar if !large => {
-            let theta_bar: f64 = (0..8).map(|a| crate::math::dot(&u[a], &geo.bbar[a])).sum();
+            // f_a = sum_q w_q [(s_q - p_q I) g_a(q) + p_q bbar_a] with p_q = tr(s_q)/3.
+            let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+            let theta_bar: f64 = (0..8)
+                .map(|a| crate::math::dot(&u[a], &geo.bbar_at(a)))
+                .sum();
+            let h = gauss_gradient(u, gauss);
+            let mut t = ZERO_Q;
+            let mut pw = 0.0;
             for q in 0..8 {
-                let mut h = displacement_gradient(u, &geo.g[q]);
-                let shift = (theta_bar - (h[0][0] + h[1][1] + h[2][2])) / 3.0;
-                for (i, row) in h.iter_mut().enumerate() {
+                let mut hq = at(&h, q);
+                let shift = (theta_bar - (hq[0][0] + hq[1][1] + hq[2][2])) / 3.0;
+                for (i, row) in hq.iter_mut().enumerate() {
                     row[i] += shift;
                 }
-                let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
+                let mut s = mat.stress(&hq).ok_or(ElementFailure::InvertedCurrent)?;
                 let p3 = (s[0][0] + s[1][1] + s[2][2]) / 3.0;
-                accumulate(f, &s, &geo.g[q], geo.wdet[q]);
-                for a in 0..8 {
-                    for i in 0..3 {
-                        f[a][i] += geo.wdet[q] * p3 * (geo.bbar[a][i] - geo.g[q][a][i]);
-                    }
+                for (i, row) in s.iter_mut().enumerate() {
+                    row[i] -= p3;
+                }
+                put(&mut t, q, &s, gauss.wdet[q]);
+                pw += gauss.wdet[q] * p3;
+            }
+            gauss_scatter(&t, gauss, f);
+            for (a, fa) in f.iter_mut().enumerate() {
+                for i in 0..3 {
+                    fa[i] += pw * geo.bbar[i][a];
                 }
             }
         }
         Formulation::FullBar => {
-            let (j0, h0) = mean_dilatation(u, geo)?;
+            // f_a = sum_q w_q [(P - (P:F)/3 F^-T) g_a(q) + (P:F)/3 h0_a], w_q = det_q ratio_q.
+            let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+            let h = gauss_gradient(u, gauss);
+            let (fq, finv, jq) = deformation(&h)?;
+            let (j0, h0) = mean_dilatation(geo, gauss, &finv, &jq);
+            let mut t = ZERO_Q;
+            let mut cw = 0.0;
             for q in 0..8 {
-                let h = displacement_gradient(u, &geo.g[q]);
-                let fb = fbar_at(&h, &geo.g[q], j0)?;
+                let ratio = (j0 / jq[q]).cbrt();
                 let p = mat
-                    .stress(&sub_identity(&fb.fbar))
+                    .stress(&sub_identity(&scaled(&fq[q], ratio)))
                     .ok_or(ElementFailure::InvertedCurrent)?;
                 let mut pf = 0.0;
                 for i in 0..3 {
                     for k in 0..3 {
-                        pf += p[i][k] * fb.f[i][k];
+                        pf += p[i][k] * fq[q][i][k];
                     }
                 }
-                let w = geo.wdet[q] * fb.ratio;
-                accumulate(f, &p, &geo.g[q], w);
-                for a in 0..8 {
-                    for i in 0..3 {
-                        f[a][i] += w * pf / 3.0 * (h0[a][i] - fb.finv_t_g[a][i]);
+                let w = gauss.wdet[q] * ratio;
+                let c = pf / 3.0;
+                for i in 0..3 {
+                    for k in 0..3 {
+                        t[i][k][q] = w * (p[i][k] - c * finv[q][k][i]);
                     }
+                }
+                cw += w * c;
+            }
+            gauss_scatter(&t, gauss, f);
+            for (fa, ha) in f.iter_mut().zip(h0.iter()) {
+                for i in 0..3 {
+                    fa[i] += cw * ha[i];
                 }
             }
         }
         Formulation::Mean {
             hourglass: coefficient,
         } => {
-            let h = displacement_gradient(u, &geo.bbar);
+            let h = mean_gradient(u, geo);
             let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
-            accumulate(f, &s, &geo.bbar, geo.volume);
             let (_, mu) = mat.lambda_mu();
-            let (gamma, k) = hourglass(x, geo, coefficient, mu);
-            for ga in gamma.iter() {
-                let mut qv = [0.0; 3];
+            let (hx, k) = hourglass(x, geo, coefficient, mu);
+            // q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a u_a - h hx_alpha, since
+            // sum_a u_a bbar_a^T = h; scaled by k.
+            let mut qk = [[0.0; 3]; 4];
+            for alpha in 0..4 {
+                let mut bu = [0.0; 3];
                 for a in 0..8 {
                     for i in 0..3 {
-                        qv[i] += ga[a] * u[a][i];
+                        bu[i] += HG_BASE[alpha][a] * u[a][i];
                     }
                 }
-                for a in 0..8 {
-                    for i in 0..3 {
-                        f[a][i] += k * ga[a] * qv[i];
+                for i in 0..3 {
+                    let hh =
+                        h[i][0] * hx[alpha][0] + h[i][1] * hx[alpha][1] + h[i][2] * hx[alpha][2];
+                    qk[alpha][i] = k * (bu[i] - hh);
+                }
+            }
+            // f_a = V s bbar_a + sum_alpha gamma_alpha,a qk_alpha
+            //     = (V s - M) bbar_a + sum_alpha base_alpha,a qk_alpha,
+            // with M_ij = sum_alpha qk_alpha,i hx_alpha,j.
+            let mut t = ZERO33;
+            for i in 0..3 {
+                for j in 0..3 {
+                    let mut m = 0.0;
+                    for alpha in 0..4 {
+                        m += qk[alpha][i] * hx[alpha][j];
                     }
+                    t[i][j] = geo.volume * s[i][j] - m;
+                }
+            }
+            for (a, fa) in f.iter_mut().enumerate() {
+                for i in 0..3 {
+                    let mut v = t[i][0] * geo.bbar[0][a]
+                        + t[i][1] * geo.bbar[1][a]
+                        + t[i][2] * geo.bbar[2][a];
+                    for alpha in 0..4 {
+                        v += HG_BASE[alpha][a] * qk[alpha][i];
+                    }
+                    fa[i] = v;
                 }
             }
         }
@@ -330,16 +489,6 @@ pub fn internal_force_with(
     Ok(())
 }
 
-/// f_a += w * s g_a
-#[inline]
-fn accumulate(f: &mut [Vec3; 8], s: &Mat3, g: &[Vec3; 8], w: f64) {
-    for a in 0..8 {
-        for i in 0..3 {
-            f[a][i] += w * (s[i][0] * g[a][0] + s[i][1] * g[a][1] + s[i][2] * g[a][2]);
-        }
-    }
-}
-
 /// The eight 3x3 diagonal blocks K_aa of the element tangent, into `d` (overwritten).
 /// Exact for `Full`, for `Mean` and for `FullBar` under small kinematics; under large
 /// kinematics `FullBar` gets a consistent-in-the-limit approximation (it only preconditions).
@@ -350,12 +499,76 @@ pub fn diagonal_blocks(
     form: Formulation,
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
-    diagonal_blocks_with(&geometry(x)?, x, u, mat, form, d)
+    let (geo, gauss) = geometry(x)?;
+    diagonal_blocks_with(&geo, Some(&gauss), x, u, mat, form, d)
 }
 
-/// `diagonal_blocks` with the element's reference geometry already computed.
+/// The material tangent at one point, ready to be contracted with gradients:
+/// `sum_JL g_J A_iJkL g_L = c v v^T + mu |g|^2 I` with v = g (linear elasticity,
+/// c = lambda + mu) or v = F^-T g (neo-Hookean, c = mu + lambda - lambda ln J); the same
+/// expressions as `Material::tangent_gg`, with F^-1 and ln J computed once per point.
+struct PointTangent {
+    finv: Option<Mat3>,
+    c: f64,
+    mu: f64,
+}
+
+#[inline]
+fn point_tangent(mat: &Material, h: &Mat3) -> PointTangent {
+    match mat {
+        Material::LinearElastic(m) => PointTangent {
+            finv: None,
+            c: m.lambda + m.mu,
+            mu: m.mu,
+        },
+        Material::NeoHookean(m) => {
+            let (finv, j) = inverse(&add_identity(h));
+            let lnj = if j > 0.0 { j.ln() } else { 0.0 };
+            PointTangent {
+                finv: Some(finv),
+                c: m.mu + m.lambda - m.lambda * lnj,
+                mu: m.mu,
+            }
+        }
+    }
+}
+
+/// F^-T g: v_i = sum_L Finv_Li g_L
+#[inline(always)]
+fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
+    [
+        finv[0][0] * g[0] + finv[1][0] * g[1] + finv[2][0] * g[2],
+        finv[0][1] * g[0] + finv[1][1] * g[1] + finv[2][1] * g[2],
+        finv[0][2] * g[0] + finv[1][2] * g[1] + finv[2][2] * g[2],
+    ]
+}
+
+/// d += w (c v v^T + mu |g|^2 I)
+#[inline(always)]
+fn add_tangent(d: &mut Mat3, pt: &PointTangent, g: &Vec3, w: f64) {
+    let v = match &pt.finv {
+        Some(finv) => finv_t(finv, g),
+        None => *g,
+    };
+    let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    for i in 0..3 {
+        for k in 0..3 {
+            d[i][k] += w * (pt.c * v[i] * v[k]);
+        }
+        d[i][i] += w * (pt.mu * gg);
+    }
+}
+
+#[inline(always)]
+fn g_at(gauss: &GaussGeometry, a: usize, q: usize) -> Vec3 {
+    [gauss.g[a][0][q], gauss.g[a][1][q], gauss.g[a][2][q]]
+}
+
+/// `diagonal_blocks` with the element's reference geometry already computed. `gauss` may
+/// be `None` for `Formulation::Mean` only.
 pub fn diagonal_blocks_with(
     geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
     x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
@@ -364,38 +577,46 @@ pub fn diagonal_blocks_with(
 ) -> Result<(), ElementFailure> {
     *d = [ZERO33; 8];
     let (lambda, mu) = mat.lambda_mu();
+    let large = mat.is_large();
     match form {
         Formulation::Full => {
+            let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+            // The linear elastic tangent does not depend on u.
+            let h = if large {
+                gauss_gradient(u, gauss)
+            } else {
+                ZERO_Q
+            };
             for q in 0..8 {
-                let h = displacement_gradient(u, &geo.g[q]);
-                for a in 0..8 {
-                    add_scaled(&mut d[a], &mat.tangent_gg(&h, &geo.g[q][a]), geo.wdet[q]);
+                let pt = point_tangent(mat, &at(&h, q));
+                for (a, da) in d.iter_mut().enumerate() {
+                    add_tangent(da, &pt, &g_at(gauss, a, q), gauss.wdet[q]);
                 }
             }
         }
         Formulation::FullBar => {
-            let large = mat.is_large();
-            let hbar = if large {
-                mean_dilatation(u, geo)?.1
+            let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+            let (hbar, finv) = if large {
+                let h = gauss_gradient(u, gauss);
+                let (_, finv, j) = deformation(&h)?;
+                (mean_dilatation(geo, gauss, &finv, &j).1, Some(finv))
             } else {
-                geo.bbar
+                (std::array::from_fn(|a| geo.bbar_at(a)), None)
             };
             for q in 0..8 {
-                let hvec: [Vec3; 8] = if large {
-                    let h = displacement_gradient(u, &geo.g[q]);
-                    fbar_at(&h, &geo.g[q], 1.0)?.finv_t_g
-                } else {
-                    geo.g[q]
-                };
-                for a in 0..8 {
-                    let g = &geo.g[q][a];
+                let w = gauss.wdet[q];
+                for (a, da) in d.iter_mut().enumerate() {
+                    let g = g_at(gauss, a, q);
                     let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-                    let hv = &hvec[a];
+                    let hv = match &finv {
+                        Some(fi) => finv_t(&fi[q], &g),
+                        None => g,
+                    };
                     for i in 0..3 {
                         for k in 0..3 {
-                            d[a][i][k] += geo.wdet[q] * (mu / 3.0) * hv[i] * hv[k];
+                            da[i][k] += w * (mu / 3.0) * hv[i] * hv[k];
                         }
-                        d[a][i][i] += geo.wdet[q] * mu * gg;
+                        da[i][i] += w * mu * gg;
                     }
                 }
             }
@@ -411,15 +632,19 @@ pub fn diagonal_blocks_with(
         Formulation::Mean {
             hourglass: coefficient,
         } => {
-            let h = displacement_gradient(u, &geo.bbar);
-            for a in 0..8 {
-                add_scaled(&mut d[a], &mat.tangent_gg(&h, &geo.bbar[a]), geo.volume);
-            }
-            let (gamma, k) = hourglass(x, geo, coefficient, mu);
-            for a in 0..8 {
-                let s: f64 = gamma.iter().map(|ga| ga[a] * ga[a]).sum();
+            let h = mean_gradient(u, geo);
+            let pt = point_tangent(mat, &h);
+            let (hx, k) = hourglass(x, geo, coefficient, mu);
+            for (a, da) in d.iter_mut().enumerate() {
+                let b = geo.bbar_at(a);
+                add_tangent(da, &pt, &b, geo.volume);
+                let mut s = 0.0;
+                for alpha in 0..4 {
+                    let g = HG_BASE[alpha][a] - crate::math::dot(&b, &hx[alpha]);
+                    s += g * g;
+                }
                 for i in 0..3 {
-                    d[a][i][i] += k * s;
+                    da[i][i] += k * s;
                 }
             }
         }
@@ -443,13 +668,15 @@ pub fn average_cauchy(
     mat: &Material,
     form: Formulation,
 ) -> Result<[f64; 6], ElementFailure> {
-    let geo = geometry(x)?;
-    average_cauchy_with(&geo, u, mat, form)
+    let (geo, gauss) = geometry(x)?;
+    average_cauchy_with(&geo, Some(&gauss), u, mat, form)
 }
 
-/// `average_cauchy` with the element's reference geometry already computed.
+/// `average_cauchy` with the element's reference geometry already computed. `gauss` may
+/// be `None` for `Formulation::Mean` only.
 pub fn average_cauchy_with(
     geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
@@ -467,33 +694,42 @@ pub fn average_cauchy_with(
         vol += jw;
         Ok(())
     };
+    let expect = "Gauss-point geometry of a fully integrated element";
     match form {
         Formulation::Full => {
+            let gauss = gauss.expect(expect);
+            let h = gauss_gradient(u, gauss);
             for q in 0..8 {
-                add(&displacement_gradient(u, &geo.g[q]), geo.wdet[q])?;
+                add(&at(&h, q), gauss.wdet[q])?;
             }
         }
         Formulation::FullBar if !mat.is_large() => {
-            let theta_bar: f64 = (0..8).map(|a| crate::math::dot(&u[a], &geo.bbar[a])).sum();
+            let gauss = gauss.expect(expect);
+            let theta_bar: f64 = (0..8)
+                .map(|a| crate::math::dot(&u[a], &geo.bbar_at(a)))
+                .sum();
+            let h = gauss_gradient(u, gauss);
             for q in 0..8 {
-                let mut h = displacement_gradient(u, &geo.g[q]);
-                let shift = (theta_bar - (h[0][0] + h[1][1] + h[2][2])) / 3.0;
-                for (i, row) in h.iter_mut().enumerate() {
+                let mut hq = at(&h, q);
+                let shift = (theta_bar - (hq[0][0] + hq[1][1] + hq[2][2])) / 3.0;
+                for (i, row) in hq.iter_mut().enumerate() {
                     row[i] += shift;
                 }
-                add(&h, geo.wdet[q])?;
+                add(&hq, gauss.wdet[q])?;
             }
         }
         Formulation::FullBar => {
-            let (j0, _) = mean_dilatation(u, geo)?;
+            let gauss = gauss.expect(expect);
+            let h = gauss_gradient(u, gauss);
+            let (fq, finv, jq) = deformation(&h)?;
+            let (j0, _) = mean_dilatation(geo, gauss, &finv, &jq);
             for q in 0..8 {
-                let h = displacement_gradient(u, &geo.g[q]);
-                let fb = fbar_at(&h, &geo.g[q], j0)?;
-                add(&sub_identity(&fb.fbar), geo.wdet[q])?;
+                let ratio = (j0 / jq[q]).cbrt();
+                add(&sub_identity(&scaled(&fq[q], ratio)), gauss.wdet[q])?;
             }
         }
         Formulation::Mean { .. } => {
-            add(&displacement_gradient(u, &geo.bbar), geo.volume)?;
+            add(&mean_gradient(u, geo), geo.volume)?;
         }
     }
     let s = scaled(&sum, 1.0 / vol);
@@ -507,5 +743,5 @@ pub fn average_cauchy_with(
 
 /// Reference volume of the element.
 pub fn volume(x: &[Vec3; 8]) -> Result<f64, ElementFailure> {
-    Ok(geometry(x)?.volume)
+    Ok(geometry(x)?.0.volume)
 }

@@ -2,7 +2,7 @@
 //! gathered from and scattered to rank-local nodal arrays. Elements are visited in
 //! ascending global order (see `mesh::local`).
 
-use crate::fem::{element, hex8, ElementFailure};
+use crate::fem::{element, hex8, ElementFailure, Formulation};
 use crate::math::{Mat3, Vec3, ZERO33};
 use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
@@ -25,22 +25,45 @@ pub struct Assembly<'a> {
     pub models: &'a [BodyModel],
     /// True when every body is linear (small kinematics): then f_int(u) = K u.
     pub linear: bool,
-    /// Reference geometry of every local element (gradients at the Gauss points), computed
-    /// once: the kernels would otherwise spend a third of a run recomputing it.
+    /// Reference geometry of every local element (mean gradients, volume), computed once:
+    /// the kernels would otherwise spend a third of a run recomputing it. 216 bytes each.
     geometry: Vec<Result<element::Geometry, ElementFailure>>,
+    /// Gradients at the Gauss points of every local element (1600 bytes each), kept only
+    /// when some body is fully integrated (empty when every body uses `Mean`).
+    gauss: Vec<element::GaussGeometry>,
 }
 
 impl<'a> Assembly<'a> {
     pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Self {
         let linear = models.iter().all(|m| !m.material.is_large());
-        let geometry = (0..mesh.elements.len())
-            .map(|e| element::geometry(&mesh.element_coords(e)))
-            .collect();
+        let needs_gauss = models
+            .iter()
+            .any(|m| !matches!(m.formulation, Formulation::Mean { .. }));
+        let ne = mesh.elements.len();
+        let mut geometry = Vec::with_capacity(ne);
+        let mut gauss = Vec::with_capacity(if needs_gauss { ne } else { 0 });
+        for e in 0..ne {
+            match element::geometry(&mesh.element_coords(e)) {
+                Ok((g, gg)) => {
+                    geometry.push(Ok(g));
+                    if needs_gauss {
+                        gauss.push(gg);
+                    }
+                }
+                Err(k) => {
+                    geometry.push(Err(k));
+                    if needs_gauss {
+                        gauss.push(element::GaussGeometry::default());
+                    }
+                }
+            }
+        }
         Assembly {
             mesh,
             models,
             linear,
             geometry,
+            gauss,
         }
     }
 
@@ -48,6 +71,17 @@ impl<'a> Assembly<'a> {
     fn gather(&self, e: usize, u: &[Vec3]) -> [Vec3; 8] {
         let el = &self.mesh.elements[e];
         std::array::from_fn(|a| u[el[a] as usize])
+    }
+
+    /// Reference coordinates of element `e` when its formulation needs them (`Mean`, for
+    /// the hourglass vectors); zeros otherwise, saving the gather.
+    #[inline]
+    fn coords_for(&self, e: usize, form: Formulation) -> [Vec3; 8] {
+        if matches!(form, Formulation::Mean { .. }) {
+            self.mesh.element_coords(e)
+        } else {
+            [[0.0; 3]; 8]
+        }
     }
 
     fn fail(&self, e: usize, failure: ElementFailure) -> ElementError {
@@ -63,10 +97,11 @@ impl<'a> Assembly<'a> {
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.mesh.element_coords(e);
+            let x = self.coords_for(e, m.formulation);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            element::internal_force_with(geo, &x, &ue, &m.material, m.formulation, &mut fe)
+            let gauss = self.gauss.get(e);
+            element::internal_force_with(geo, gauss, &x, &ue, &m.material, m.formulation, &mut fe)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
@@ -84,10 +119,11 @@ impl<'a> Assembly<'a> {
         let mut de = [ZERO33; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.mesh.element_coords(e);
+            let x = self.coords_for(e, m.formulation);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            element::diagonal_blocks_with(geo, &x, &ue, &m.material, m.formulation, &mut de)
+            let gauss = self.gauss.get(e);
+            element::diagonal_blocks_with(geo, gauss, &x, &ue, &m.material, m.formulation, &mut de)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 for i in 0..3 {
@@ -139,8 +175,14 @@ impl<'a> Assembly<'a> {
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             out.push(
-                element::average_cauchy_with(geo, &ue, &m.material, m.formulation)
-                    .map_err(|k| self.fail(e, k))?,
+                element::average_cauchy_with(
+                    geo,
+                    self.gauss.get(e),
+                    &ue,
+                    &m.material,
+                    m.formulation,
+                )
+                .map_err(|k| self.fail(e, k))?,
             );
         }
         Ok(out)
