@@ -70,6 +70,8 @@ pub struct Active {
     /// The master point (face, coordinates) the node sat on when the step began; None for
     /// a node captured during the step.
     pub start: Option<(u32, [f64; 2])>,
+    /// How often the node's slip reversed (slip -> stick) in this step.
+    pub reversals: u32,
 }
 
 /// Counts reported per step.
@@ -116,6 +118,7 @@ impl ContactState {
         for a in &mut self.active {
             a.secant = None;
             a.start = Some((a.face, a.s));
+            a.reversals = 0;
         }
     }
 
@@ -335,11 +338,13 @@ impl ContactState {
         self.active = kept;
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
-        // node that moved against its friction force sticks again. That reversal is only
-        // judged once the friction forces are settled (no node starts to slip in this
-        // update and every slipping node's force is its capacity to SETTLED): while they change, a
-        // node can be dragged back by its neighbours' changing forces rather than its own.
-        // The state is the same on every rank, so every rank decides alike.
+        // node that moved against its friction force sticks again. A node whose slip has
+        // already reversed once in this step (and slipped again) has its next reversal
+        // judged only once the friction forces are settled (no node starts to slip in this
+        // update and every slipping node's force is its capacity to SETTLED): while they
+        // change, a node can be dragged back by its neighbours' changing forces rather than
+        // its own, and would flip between stick and slip. The state is the same on every
+        // rank, so every rank decides alike.
         let slipping_settled = self.active.iter().all(|a| match a.mode {
             Mode::Slip { magnitude, .. } => {
                 let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
@@ -399,7 +404,10 @@ impl ContactState {
                     // force, or zero), so it sticks where the step found it. (Sticking where
                     // the last model problem left it would keep a slide made under a
                     // friction force still being settled, e.g. the last step's.)
-                    if judge_reversal && dot(&slip, &dir) > 1e-12 * pair.face_size {
+                    if (a.reversals == 0 || judge_reversal)
+                        && dot(&slip, &dir) > 1e-12 * pair.face_size
+                    {
+                        a.reversals += 1;
                         a.mode = Mode::Stick;
                         a.secant = None;
                         if let Some((face, s)) = a.start {
@@ -684,7 +692,7 @@ fn friction_direction(
 }
 
 /// Values per active constraint in a message.
-const ACTIVE_WORDS: usize = 29;
+const ACTIVE_WORDS: usize = 30;
 
 fn encode(a: &Active, out: &mut Vec<f64>) {
     let (tag, dir, magnitude) = match a.mode {
@@ -711,6 +719,7 @@ fn encode(a: &Active, out: &mut Vec<f64>) {
         Some((face, s)) => out.extend([1.0, face as f64, s[0], s[1]]),
         None => out.extend([0.0; 4]),
     }
+    out.push(a.reversals as f64);
 }
 
 fn decode(w: &[f64]) -> Active {
@@ -733,6 +742,7 @@ fn decode(w: &[f64]) -> Active {
         slip_stiffness: w[17],
         secant: (w[18] != 0.0).then_some(([w[19], w[20], w[21]], [w[22], w[23], w[24]])),
         start: (w[25] != 0.0).then_some((w[26] as u32, [w[27], w[28]])),
+        reversals: w[29] as u32,
     }
 }
 
@@ -749,5 +759,6 @@ fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
         slip_stiffness: 0.0,
         secant: None,
         start: None,
+        reversals: 0,
     }
 }

@@ -461,9 +461,13 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                     )
                 })
                 .collect();
-            if history.len() >= 2
-                && history[history.len() - 2] == signature
-                && history[history.len() - 1] != signature
+            // A state that comes back once (a node that slips, sticks, slips again while the
+            // friction forces settle) is not yet a cycle; one that alternates twice is.
+            let n = history.len();
+            if n >= 3
+                && history[n - 2] == signature
+                && history[n - 1] != signature
+                && history[n - 3] == history[n - 1]
             {
                 return Err(SolveFailure::ContactNotSettled {
                     updates,
