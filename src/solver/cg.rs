@@ -470,7 +470,9 @@ impl Cg {
                 pb.cons.expand(comm, &mut self.pu);
                 pb.asm.mesh.exchange(comm, &mut self.pu);
                 if linear {
-                    if let Err(e) = agree(comm, pb.asm.internal_force(&self.pu, &mut self.q)) {
+                    // A probe is non-zero on one colour's aggregates only.
+                    let r = pb.asm.internal_force_sparse(&self.pu, &mut self.q);
+                    if let Err(e) = agree(comm, r) {
                         result = Err(e);
                         break 'probes;
                     }
