@@ -46,7 +46,7 @@ impl std::fmt::Display for ElementFailure {
 }
 
 /// Reference-configuration data of one element that every formulation uses: computed once
-/// per element and reused for every evaluation (see `Assembly`). 208 bytes.
+/// per element and reused for every evaluation (see `Assembly`). 304 bytes.
 #[derive(Clone, Debug)]
 pub struct Geometry {
     /// Volume-averaged gradients (the uniform gradient of Flanagan and Belytschko),
@@ -55,6 +55,9 @@ pub struct Geometry {
     volume: f64,
     /// volume * sum_a |bbar_a|^2, the scale of the hourglass stiffness.
     vbb: f64,
+    /// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a
+    /// (kept so the one-point kernel need not gather the coordinates).
+    hx: [Vec3; 4],
 }
 
 /// The gradients at the eight Gauss points, Gauss-point index innermost (`g[a][k][q]`)
@@ -111,11 +114,20 @@ pub fn geometry(x: &[Vec3; 8]) -> Result<(Geometry, GaussGeometry), ElementFailu
             bb += *v * *v;
         }
     }
+    let mut hx = [[0.0; 3]; 4];
+    for (alpha, h) in hx.iter_mut().enumerate() {
+        for a in 0..8 {
+            for i in 0..3 {
+                h[i] += HG_BASE[alpha][a] * x[a][i];
+            }
+        }
+    }
     Ok((
         Geometry {
             bbar,
             volume,
             vbb: volume * bb,
+            hx,
         },
         gauss,
     ))
@@ -286,20 +298,14 @@ fn mean_dilatation(
     (jsum / geo.volume, hbar)
 }
 
-/// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a, and the
-/// stiffness k (Flanagan-Belytschko): the hourglass vectors orthogonalised against linear
-/// fields are gamma_alpha,a = base_alpha,a - bbar_a . hx_alpha, and
-/// f_a = k sum_alpha gamma_alpha,a q_alpha with q_alpha = sum_a gamma_alpha,a u_a.
+/// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a (from
+/// the geometry), and the stiffness k (Flanagan-Belytschko): the hourglass vectors
+/// orthogonalised against linear fields are gamma_alpha,a = base_alpha,a - bbar_a .
+/// hx_alpha, and f_a = k sum_alpha gamma_alpha,a q_alpha with q_alpha = sum_a
+/// gamma_alpha,a u_a.
 #[inline]
-fn hourglass(x: &[Vec3; 8], geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
-    let mut hx = [[0.0; 3]; 4];
-    for (alpha, h) in hx.iter_mut().enumerate() {
-        for a in 0..8 {
-            for i in 0..3 {
-                h[i] += HG_BASE[alpha][a] * x[a][i];
-            }
-        }
-    }
+fn hourglass(geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
+    let hx = geo.hx;
     // Scaled so that coefficient 1 matches the shear part of the fully integrated
     // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are
     // volume-preserving on average, and lambda would lock near incompressibility.
@@ -315,7 +321,7 @@ pub fn internal_force(
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
     let (geo, gauss) = geometry(x)?;
-    internal_force_with(&geo, Some(&gauss), x, u, mat, form, f)
+    internal_force_with(&geo, Some(&gauss), u, mat, form, f)
 }
 
 /// `internal_force` with the element's reference geometry already computed. `gauss` may
@@ -323,7 +329,6 @@ pub fn internal_force(
 pub fn internal_force_with(
     geo: &Geometry,
     gauss: Option<&GaussGeometry>,
-    x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
@@ -438,7 +443,7 @@ pub fn internal_force_with(
             let h = mean_gradient(u, geo);
             let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
             let (_, mu) = mat.lambda_mu();
-            let (hx, k) = hourglass(x, geo, coefficient, mu);
+            let (hx, k) = hourglass(geo, coefficient, mu);
             // q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a u_a - h hx_alpha, since
             // sum_a u_a bbar_a^T = h; scaled by k.
             let mut qk = [[0.0; 3]; 4];
@@ -500,7 +505,7 @@ pub fn diagonal_blocks(
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
     let (geo, gauss) = geometry(x)?;
-    diagonal_blocks_with(&geo, Some(&gauss), x, u, mat, form, d)
+    diagonal_blocks_with(&geo, Some(&gauss), u, mat, form, d)
 }
 
 /// The material tangent at one point, ready to be contracted with gradients:
@@ -569,7 +574,6 @@ fn g_at(gauss: &GaussGeometry, a: usize, q: usize) -> Vec3 {
 pub fn diagonal_blocks_with(
     geo: &Geometry,
     gauss: Option<&GaussGeometry>,
-    x: &[Vec3; 8],
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
@@ -634,7 +638,7 @@ pub fn diagonal_blocks_with(
         } => {
             let h = mean_gradient(u, geo);
             let pt = point_tangent(mat, &h);
-            let (hx, k) = hourglass(x, geo, coefficient, mu);
+            let (hx, k) = hourglass(geo, coefficient, mu);
             for (a, da) in d.iter_mut().enumerate() {
                 let b = geo.bbar_at(a);
                 add_tangent(da, &pt, &b, geo.volume);

@@ -73,17 +73,6 @@ impl<'a> Assembly<'a> {
         std::array::from_fn(|a| u[el[a] as usize])
     }
 
-    /// Reference coordinates of element `e` when its formulation needs them (`Mean`, for
-    /// the hourglass vectors); zeros otherwise, saving the gather.
-    #[inline]
-    fn coords_for(&self, e: usize, form: Formulation) -> [Vec3; 8] {
-        if matches!(form, Formulation::Mean { .. }) {
-            self.mesh.element_coords(e)
-        } else {
-            [[0.0; 3]; 8]
-        }
-    }
-
     fn fail(&self, e: usize, failure: ElementFailure) -> ElementError {
         ElementError {
             element: self.mesh.element_global[e] as u64 + 1,
@@ -97,11 +86,10 @@ impl<'a> Assembly<'a> {
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.coords_for(e, m.formulation);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let gauss = self.gauss.get(e);
-            element::internal_force_with(geo, gauss, &x, &ue, &m.material, m.formulation, &mut fe)
+            element::internal_force_with(geo, gauss, &ue, &m.material, m.formulation, &mut fe)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
@@ -127,9 +115,8 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.coords_for(e, m.formulation);
             let gauss = self.gauss.get(e);
-            element::internal_force_with(geo, gauss, &x, &ue, &m.material, m.formulation, &mut fe)
+            element::internal_force_with(geo, gauss, &ue, &m.material, m.formulation, &mut fe)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
@@ -147,11 +134,10 @@ impl<'a> Assembly<'a> {
         let mut de = [ZERO33; 8];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let x = self.coords_for(e, m.formulation);
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let gauss = self.gauss.get(e);
-            element::diagonal_blocks_with(geo, gauss, &x, &ue, &m.material, m.formulation, &mut de)
+            element::diagonal_blocks_with(geo, gauss, &ue, &m.material, m.formulation, &mut de)
                 .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 for i in 0..3 {
