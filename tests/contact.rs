@@ -649,13 +649,16 @@ tolerance = {TOL:?}
     )
 }
 
-/// Known limitation, kept as a failing test so it is not forgotten: the friction direction of
-/// a slipping node is fixed at the onset of slip, and a slipping node has no tangential
-/// stiffness. After the Poisson expansion makes every bottom corner slip radially, a small
-/// sideways load meets four friction forces that cancel in x, and the model problem is
-/// singular; the run stops with "non-positive curvature" instead of sticking. The fix is the
-/// slip-increment enforcement of the algorithm notes (a slipping node stays tied with its
-/// anchor moved by the excess force over a tangential stiffness).
+/// Known limitation, kept as a failing test so it is not forgotten: a slipping node has no
+/// tangential stiffness in the model problem (its friction force is a fixed load; its
+/// direction is updated between model problems). After the Poisson expansion makes every
+/// bottom corner slip radially, the step that adds a small sideways load starts with all
+/// four corners slipping: the block has no tangential support, the model problem is
+/// singular and the run stops ("non-positive curvature ...; body 'block' is not held: ...
+/// (free: translation along x, translation along z, rotation about y)") before any contact
+/// update can re-stick a corner. The fix is the slip-increment enforcement of the algorithm
+/// notes (a slipping node stays tied with its anchor moved by the excess force over a
+/// tangential stiffness), or starting each step with the slipping nodes stuck.
 #[test]
 #[ignore = "known limitation of the slip treatment; see the comment above"]
 fn coulomb_block_resists_a_small_tangential_load_after_radial_slip() {
