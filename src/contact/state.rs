@@ -352,11 +352,16 @@ impl ContactState {
             }
             _ => true,
         });
-        let onset = self.active.iter().any(|a| {
+        // A sticking node whose tangential force exceeds its capacity starts to slip.
+        let exceeds = |a: &Active| {
             let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
             let ft = norm(&a.tangential_force);
-            a.mode == Mode::Stick && ft > capacity * (1.0 + 1e-9) && ft > force_tol
-        });
+            ft > capacity * (1.0 + 1e-9) && ft > force_tol
+        };
+        let onset = self
+            .active
+            .iter()
+            .any(|a| a.mode == Mode::Stick && exceeds(a));
         let judge_reversal = slipping_settled && !onset;
         for a in self.active.iter_mut() {
             let pair = &problem.contacts[a.pair];
@@ -384,7 +389,7 @@ impl ContactState {
                 Mode::Free => {}
                 Mode::Stick => {
                     let ft = norm(&a.tangential_force);
-                    if ft > capacity * (1.0 + 1e-9) && ft > force_tol {
+                    if exceeds(a) {
                         // The onset: the friction force takes the direction of the force
                         // the stick constraint carried (the slip it releases goes that way).
                         a.secant = measured.map(|d| (a.tangential_force, d));

@@ -82,23 +82,7 @@ impl<'a> Assembly<'a> {
 
     /// f = f_int(u) on every local node (complete on owned nodes).
     pub fn internal_force(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
-        f.iter_mut().for_each(|v| *v = [0.0; 3]);
-        let mut fe = [[0.0; 3]; 8];
-        for e in 0..self.mesh.elements.len() {
-            let m = &self.models[self.mesh.element_body[e] as usize];
-            let ue = self.gather(e, u);
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            let gauss = self.gauss.get(e);
-            element::internal_force_with(geo, gauss, &ue, &m.material, m.formulation, &mut fe)
-                .map_err(|k| self.fail(e, k))?;
-            for (a, &n) in self.mesh.elements[e].iter().enumerate() {
-                let fa = &mut f[n as usize];
-                fa[0] += fe[a][0];
-                fa[1] += fe[a][1];
-                fa[2] += fe[a][2];
-            }
-        }
-        Ok(())
+        self.element_forces(u, f, false)
     }
 
     /// `internal_force` for a field that vanishes on most elements (the coarse space's
@@ -106,12 +90,24 @@ impl<'a> Assembly<'a> {
     /// (no material here carries an initial stress) and is skipped. Adding a zero never
     /// changes a sum, so the result is bitwise that of `internal_force`.
     pub fn internal_force_sparse(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
+        self.element_forces(u, f, true)
+    }
+
+    /// The element loop of both: each element's force summed into its nodes in element
+    /// order; `skip_zero` skips elements whose displacements are all zero.
+    #[inline]
+    fn element_forces(
+        &self,
+        u: &[Vec3],
+        f: &mut [Vec3],
+        skip_zero: bool,
+    ) -> Result<(), ElementError> {
         f.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let ue = self.gather(e, u);
-            if ue.iter().all(|v| v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) {
+            if skip_zero && ue.iter().all(|v| v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
