@@ -3,10 +3,11 @@
 
 use clap::{Parser, Subcommand};
 use solver::comm::{Comm, MpiComm, SerialComm};
+use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
 use solver::run::{run_from, RunOptions};
 use solver::scene::load_scene_refined;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
@@ -137,6 +138,22 @@ fn main() -> ExitCode {
             }
             let output =
                 output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
+            // The output is checked and locked before any work (rank 0 writes it).
+            let claimed = comm
+                .is_root()
+                .then(|| claim(&scene, &problem, &output, restart.as_deref(), verbosity));
+            let err = match &claimed {
+                Some(Err(e)) => Some(format!("{}{e}", e.exit_code())),
+                _ => None,
+            };
+            if let Some(e) = solver::comm::first_error(comm, err) {
+                let (code, message) = e.split_at(1);
+                if comm.is_root() {
+                    eprintln!("error: {message}");
+                }
+                return code.parse().unwrap_or(2);
+            }
+            let claimed = claimed.and_then(Result::ok);
             match run_from(
                 comm,
                 &problem,
@@ -153,6 +170,7 @@ fn main() -> ExitCode {
                             if let Some(p) = &summary.output {
                                 eprintln!("the completed steps are in {}", p.display());
                             }
+                            earlier_run_note(claimed.as_ref().map(|c| &c.paths.result));
                         }
                         1
                     } else {
@@ -170,6 +188,7 @@ fn main() -> ExitCode {
                                     .map(|p| p.display().to_string())
                                     .unwrap_or_default()
                             );
+                            earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
                         }
                         0
                     }
@@ -183,6 +202,57 @@ fn main() -> ExitCode {
             }
         }),
     }
+}
+
+/// Checks and locks the output path of a run: not the scene, its mesh or the restart file,
+/// a regular file or a new path, no other run writing it. Notes a stale lock taken over and
+/// the temporary files of earlier runs that did not finish.
+fn claim(
+    scene: &Path,
+    problem: &solver::problem::Problem,
+    output: &Path,
+    restart: Option<&Path>,
+    verbosity: u8,
+) -> Result<OutputClaim, OutputError> {
+    let meshes = solver::scene::mesh_files(&problem.file, &problem.text);
+    let mut inputs: Vec<(&Path, &str)> = vec![(scene, "the scene file")];
+    inputs.extend(meshes.iter().map(|m| (m.as_path(), "the mesh file")));
+    let claim = claim_output(output, &inputs, restart)?;
+    if verbosity > 0 {
+        if let Some(holder) = claim.stale_lock() {
+            eprintln!(
+                "note: {}: took over the lock of {holder}, which no longer runs",
+                claim.paths.lock.display()
+            );
+        }
+        let left: Vec<String> = leftover_temps(output)
+            .iter()
+            .filter(|t| Some(t.as_path()) != restart)
+            .map(|t| t.display().to_string())
+            .collect();
+        if !left.is_empty() {
+            eprintln!(
+                "note: runs that did not finish left {}; continue one with --restart, or remove them",
+                left.join(", ")
+            );
+        }
+    }
+    Ok(claim)
+}
+
+/// Names a file an earlier run left under the other name of this run's output.
+fn earlier_run_note(other: Option<&PathBuf>) {
+    let Some(path) = other.filter(|p| p.exists()) else {
+        return;
+    };
+    let started = ResultFile::open(path)
+        .and_then(|f| f.attributes())
+        .map(|a| format!(", started {}", a.start_time))
+        .unwrap_or_default();
+    eprintln!(
+        "note: {} is from an earlier run{started}, left as it was",
+        path.display()
+    );
 }
 
 /// Runs `f` with the MPI communicator when started under mpirun, else serially.

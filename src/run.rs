@@ -240,10 +240,10 @@ struct Resumed {
     steps: Vec<StepOutput>,
 }
 
-/// Checks that a result file holds a restart state this scene can continue from.
+/// Checks that a result file holds a restart state this scene can continue from: every
+/// checksum of what a restart reads, and every value finite.
 pub fn check_restart(path: &Path, problem: &Problem) -> Result<(), String> {
-    let file = ResultFile::open(path).map_err(|e| e.to_string())?;
-    restart_of(&file, path, problem).map(|_| ())
+    read_restart(path, problem).map(|_| ())
 }
 
 /// Reads the restart state and the finished steps of an earlier run of the same scene.
@@ -252,20 +252,10 @@ fn read_restart(path: &Path, problem: &Problem) -> Result<Resumed, String> {
     let state = restart_of(&file, path, problem)?;
     let stats = file.stats().map_err(|e| e.to_string())?;
     let times = file.time().map_err(|e| e.to_string())?;
-    let mut steps = Vec::new();
-    for i in 0..state.rows as usize {
-        let e = |e: crate::output::OutputError| e.to_string();
-        steps.push(StepOutput {
-            time: times[i],
-            displacement: file.displacement(i).map_err(e)?,
-            stress: file.stress(i).map_err(e)?,
-            reaction: file.reaction(i).map_err(e)?,
-            contact_force: file.contact_force(i).map_err(e)?,
-            contact_status: file.contact_status(i).map_err(e)?,
-            contact_gap: file.gap(i).map_err(e)?,
-            stats: stats[i],
-        });
-    }
+    let steps = (0..state.rows as usize)
+        .map(|i| file.step_output(i, times[i], stats[i]))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
     Ok(Resumed { state, steps })
 }
 
@@ -526,12 +516,14 @@ pub fn run_from<C: Comm + ?Sized>(
             });
         }
         if let Some(w) = writer.as_mut() {
-            for s in &earlier_steps {
-                local_err = w.append_step(s).err().map(|e| e.to_string());
-                if local_err.is_some() {
-                    break;
-                }
-            }
+            // The earlier steps and their restart state: from here on this run's own file
+            // is one a further restart can continue.
+            local_err = earlier_steps
+                .iter()
+                .try_for_each(|s| w.append_step(s))
+                .and_then(|()| w.write_restart(&state))
+                .err()
+                .map(|e| e.to_string());
         }
         if let Some(e) = comm::first_error(comm, local_err.take()) {
             return Err(e);

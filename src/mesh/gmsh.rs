@@ -1,5 +1,5 @@
-//! Gmsh meshes (MSH format 4.1, ASCII or binary) read through `mshio`: nodes, and the
-//! elements of each physical group. Bodies take the 8-node hexahedra of a physical volume,
+//! Gmsh meshes (MSH format 4.1, ASCII or binary, read by [`super::msh41`]): nodes by their
+//! tags, and the elements of each physical group. Bodies take the 8-node hexahedra of a physical volume,
 //! side sets the 4-node quadrangles of a physical surface, node sets the nodes of any
 //! physical group. Errors are plain messages naming the file and the group or element; the
 //! scene layer adds its own file and key.
@@ -12,7 +12,7 @@
 
 use crate::fem::hex8::min_jacobian_ratio;
 use crate::math::Vec3;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Gmsh's element type numbers used here.
@@ -85,64 +85,12 @@ impl GmshMesh {
                  save it with `gmsh -save -format msh41` or Mesh.MshFileVersion = 4.1"
             ));
         }
-        let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
-            format!(
-                "{file} is not a readable MSH 4.1 file: {}",
-                parse_error_text(&e, bytes)
-            )
-        })?;
-        let names = physical_names(bytes).map_err(|m| format!("{file}: $PhysicalNames: {m}"))?;
+        let msh = super::msh41::parse(bytes)
+            .map_err(|e| format!("{file} is not a readable MSH 4.1 file: {e}"))?;
+        let nodes: BTreeMap<u64, Vec3> = msh.nodes.into_iter().collect();
+        let names = msh.physical_names;
+        let entity_groups = msh.entity_groups;
 
-        let mut nodes = BTreeMap::new();
-        if let Some(section) = &msh.data.nodes {
-            // mshio keeps the tags of a block only when the file's tags have gaps; without
-            // gaps the tags run from min_node_tag in file order (how Gmsh writes them).
-            let mut next = section.min_node_tag;
-            for block in &section.node_blocks {
-                let mut tags = vec![0u64; block.nodes.len()];
-                match &block.node_tags {
-                    Some(map) => {
-                        for (&tag, &i) in map {
-                            tags[i] = tag;
-                        }
-                    }
-                    None => {
-                        for t in tags.iter_mut() {
-                            *t = next;
-                            next += 1;
-                        }
-                    }
-                }
-                for (tag, n) in tags.into_iter().zip(&block.nodes) {
-                    let x = [n.x, n.y, n.z];
-                    if x.iter().any(|v| !v.is_finite()) {
-                        return Err(format!(
-                            "{file}: node {tag} has a non-finite coordinate {x:?}"
-                        ));
-                    }
-                    if nodes.insert(tag, x).is_some() {
-                        return Err(format!("{file}: node tag {tag} appears twice"));
-                    }
-                }
-            }
-        }
-
-        // Physical tags of each entity, (dim, entity tag) -> physical tags.
-        let mut entity_groups: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
-        if let Some(e) = &msh.data.entities {
-            for p in &e.points {
-                entity_groups.insert((0, p.tag), p.physical_tags.clone());
-            }
-            for c in &e.curves {
-                entity_groups.insert((1, c.tag), c.physical_tags.clone());
-            }
-            for s in &e.surfaces {
-                entity_groups.insert((2, s.tag), s.physical_tags.clone());
-            }
-            for v in &e.volumes {
-                entity_groups.insert((3, v.tag), v.physical_tags.clone());
-            }
-        }
         // Groups: every (dim, tag) an entity names, with its name if $PhysicalNames has one.
         let mut keys: Vec<(i32, i32)> = entity_groups
             .iter()
@@ -164,21 +112,22 @@ impl GmshMesh {
             })
             .collect();
         let mut group_elements: Vec<Vec<GmshElement>> = vec![Vec::new(); groups.len()];
-        if let Some(section) = &msh.data.elements {
-            for block in &section.element_blocks {
-                let Some(tags) = entity_groups.get(&(block.entity_dim, block.entity_tag)) else {
-                    continue;
-                };
-                for t in tags {
-                    let g = keys
-                        .binary_search(&(block.entity_dim, t.abs()))
-                        .expect("every entity's physical tag is a group");
-                    group_elements[g].extend(block.elements.iter().map(|el| GmshElement {
-                        tag: el.element_tag,
-                        kind: block.element_type as i32,
-                        nodes: el.nodes.clone(),
-                    }));
-                }
+        for block in &msh.element_blocks {
+            let Some(tags) = entity_groups.get(&(block.entity_dim, block.entity_tag)) else {
+                continue;
+            };
+            for t in tags {
+                let g = keys
+                    .binary_search(&(block.entity_dim, t.abs()))
+                    .expect("every entity's physical tag is a group");
+                let per = block.nodes_per_element;
+                group_elements[g].extend(block.tags.iter().enumerate().map(|(k, &tag)| {
+                    GmshElement {
+                        tag,
+                        kind: block.element_type,
+                        nodes: block.nodes[k * per..(k + 1) * per].to_vec(),
+                    }
+                }));
             }
         }
         for elements in group_elements.iter_mut() {
@@ -424,77 +373,6 @@ fn format_version(bytes: &[u8]) -> Option<String> {
         return None;
     }
     lines.next()?.split_whitespace().next().map(str::to_string)
-}
-
-/// The `$PhysicalNames` section as (dimension, tag, name). It is text in ASCII and binary
-/// files alike, and comes before any binary data, so the first occurrence is the section.
-/// mshio does not read it.
-fn physical_names(bytes: &[u8]) -> Result<Vec<(i32, i32, String)>, String> {
-    const START: &[u8] = b"$PhysicalNames";
-    let Some(at) = bytes.windows(START.len()).position(|w| w == START) else {
-        return Ok(Vec::new());
-    };
-    let rest = &bytes[at + START.len()..];
-    let end = rest
-        .windows(b"$EndPhysicalNames".len())
-        .position(|w| w == b"$EndPhysicalNames")
-        .ok_or("no $EndPhysicalNames")?;
-    let text = std::str::from_utf8(&rest[..end]).map_err(|_| "not UTF-8 text")?;
-    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
-    let count: usize = lines
-        .next()
-        .and_then(|l| l.parse().ok())
-        .ok_or("expected the number of names")?;
-    let mut out = Vec::with_capacity(count);
-    for line in lines {
-        let mut parts = line.splitn(3, char::is_whitespace);
-        let dim = parts.next().and_then(|s| s.parse::<i32>().ok());
-        let tag = parts.next().and_then(|s| s.parse::<i32>().ok());
-        let name = parts.next().map(str::trim);
-        match (dim, tag, name) {
-            (Some(d), Some(t), Some(n))
-                if (0..=3).contains(&d)
-                    && n.len() >= 2
-                    && n.starts_with('"')
-                    && n.ends_with('"') =>
-            {
-                out.push((d, t, n[1..n.len() - 1].to_string()))
-            }
-            _ => return Err(format!("expected `dim tag \"name\"`, got `{line}`")),
-        }
-    }
-    if out.len() != count {
-        return Err(format!("expected {count} names, found {}", out.len()));
-    }
-    Ok(out)
-}
-
-/// mshio's error as one line: what was being read, outermost first, and where (its own
-/// `Display` appends a hex dump of the rest of the file). Line numbers only mean something in
-/// an ASCII file.
-fn parse_error_text(e: &mshio::MshParserError<&[u8]>, bytes: &[u8]) -> String {
-    let trace = e.filtered_backtrace();
-    let Some((rest, _)) = trace.first() else {
-        return "unknown parse error".into();
-    };
-    let offset = bytes.len() - rest.len();
-    let what: Vec<String> = trace
-        .iter()
-        .rev()
-        .map(|(_, k)| k.to_string().trim_end_matches('.').to_string())
-        .collect();
-    let binary = String::from_utf8_lossy(&bytes[..bytes.len().min(256)])
-        .lines()
-        .nth(1)
-        .and_then(|l| l.split_whitespace().nth(1).map(|t| t != "0"))
-        .unwrap_or(false);
-    let place = if binary {
-        format!("byte {offset}")
-    } else {
-        let line = bytes[..offset].iter().filter(|&&b| b == b'\n').count() + 1;
-        format!("line {line}")
-    };
-    format!("failed reading {} at {place}", what.join(" / "))
 }
 
 #[cfg(test)]

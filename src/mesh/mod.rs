@@ -4,6 +4,7 @@
 pub mod block;
 pub mod gmsh;
 pub mod local;
+pub mod msh41;
 pub mod sets;
 
 use crate::fem::hex8::FACES;

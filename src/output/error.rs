@@ -99,6 +99,62 @@ pub enum OutputError {
     /// Drawing a plot failed.
     #[error("{}: plotting failed: {message}", file.display())]
     Plot { file: PathBuf, message: String },
+
+    /// The output path cannot take a result (an input of the run, not a regular file, an
+    /// existing file that is not a result of this solver, a parent that is not a directory).
+    #[error("{}: not usable as the result file: {message}", file.display())]
+    BadOutput { file: PathBuf, message: String },
+
+    /// Another run writes this result now.
+    #[error(
+        "{}: another run is writing this result ({holder}; lock file {}); wait for it to end or choose another output path",
+        file.display(), lock.display()
+    )]
+    Busy {
+        file: PathBuf,
+        lock: PathBuf,
+        holder: super::lock::LockHolder,
+    },
+
+    /// The file system is full.
+    #[error("{}: no space left on device ({action})", file.display())]
+    NoSpace { file: PathBuf, action: String },
+
+    /// A write failed (a full disk, an I/O error): the run's file was not published.
+    #[error("{first}; nothing was published{}", kept.as_ref().map_or(String::new(), |k| format!(", the steps written before are kept in {}", k.display())))]
+    NotPublished {
+        /// The failure, as its message.
+        first: String,
+        /// The temporary file, when it was kept (readable, with a restart state).
+        kept: Option<PathBuf>,
+    },
+
+    /// Stored data fails its checksum, or a value that can never be written is there.
+    #[error("{}: damaged: {dataset}{}: {message}", file.display(), step.map_or(String::new(), |s| format!(", step {s}")))]
+    Damaged {
+        file: PathBuf,
+        dataset: String,
+        /// The step (row of the per-step datasets, 0-based as `post info` lists them).
+        step: Option<usize>,
+        message: String,
+    },
+}
+
+impl OutputError {
+    /// The exit code a command ends with on this error: 1 when writing failed (a full disk,
+    /// an I/O or library error while writing), 2 for bad input (an unusable output path, a
+    /// result another run writes, a missing, unreadable or damaged file).
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            OutputError::NoSpace { .. }
+            | OutputError::NotPublished { .. }
+            | OutputError::Io { .. }
+            | OutputError::Hdf5 { .. }
+            | OutputError::Plot { .. }
+            | OutputError::NonFinite { .. } => 1,
+            _ => 2,
+        }
+    }
 }
 
 /// Attaches the file and dataset names to an HDF5 library error.
@@ -108,10 +164,26 @@ pub(crate) trait Hdf5Context<T> {
 
 impl<T> Hdf5Context<T> for Result<T, hdf5::Error> {
     fn at(self, file: &std::path::Path, dataset: &str) -> Result<T, OutputError> {
-        self.map_err(|source| OutputError::Hdf5 {
+        self.map_err(|source| super::integrity::classify(file, dataset, source))
+    }
+}
+
+/// Attaches the file and what was being done to a file-system error.
+pub(crate) fn io_error(
+    file: &std::path::Path,
+    action: &str,
+    source: std::io::Error,
+) -> OutputError {
+    if source.raw_os_error() == Some(libc::ENOSPC) {
+        OutputError::NoSpace {
             file: file.to_path_buf(),
-            dataset: dataset.to_string(),
+            action: action.to_string(),
+        }
+    } else {
+        OutputError::Io {
+            file: file.to_path_buf(),
+            action: action.to_string(),
             source,
-        })
+        }
     }
 }

@@ -5,7 +5,11 @@
 use std::path::{Path, PathBuf};
 
 /// Version of the layout below, written as the root attribute `format_version`.
-pub const FORMAT_VERSION: u64 = 1;
+///
+/// 2: every dataset carries a Fletcher-32 checksum, the metadata is in HDF5 1.10's
+/// checksummed format, and the restart state is kept in two slots (`/restart/slot0`,
+/// `/restart/slot1`). 1: no checksums, one restart block (`/restart/state` etc.), still read.
+pub const FORMAT_VERSION: u64 = 2;
 
 pub const COORDINATES: &str = "/mesh/coordinates";
 pub const NODE_IDS: &str = "/mesh/node_ids";
@@ -59,15 +63,34 @@ pub const ATTR_START_TIME: &str = "start_time";
 pub const ATTR_WALL_TIME: &str = "wall_time";
 pub const ATTR_EXIT_STATUS: &str = "exit_status";
 
-/// The state a run resumes from (`solver run --restart`), rewritten at every step written:
-/// `[load step, time, previous step length, reference force floor, rows of /results]`.
-pub const RESTART_STATE: &str = "/restart/state";
-/// Displacement at the restart state and at the step before it, per node.
-pub const RESTART_DISPLACEMENT: &str = "/restart/displacement";
-pub const RESTART_PREVIOUS_DISPLACEMENT: &str = "/restart/previous_displacement";
-/// The active contact constraints and the released (slave, pair) entries, encoded.
-pub const RESTART_CONTACT: &str = "/restart/contact";
-pub const RESTART_RELEASED: &str = "/restart/released";
+/// The group of the state a run resumes from (`solver run --restart`).
+pub const RESTART: &str = "/restart";
+/// The restart state after a written step goes to slot `rows % 2` (rows of `/results`
+/// written), so the slot holding the previous one is never touched while it is written.
+pub fn restart_slot(slot: usize) -> String {
+    format!("{RESTART}/slot{slot}")
+}
+/// Datasets of a slot: `state` = `[load step, time, previous step length, reference force
+/// floor, rows of /results]`, written last; the displacement at that step and at the step
+/// before it, per node; the active contact constraints and the released (slave, pair)
+/// entries, encoded.
+pub const SLOT_STATE: &str = "state";
+pub const SLOT_DISPLACEMENT: &str = "displacement";
+pub const SLOT_PREVIOUS_DISPLACEMENT: &str = "previous_displacement";
+pub const SLOT_CONTACT: &str = "contact";
+pub const SLOT_RELEASED: &str = "released";
+/// The datasets of a slot, the state last (the order they are written in).
+pub const SLOT_DATASETS: [&str; 5] = [
+    SLOT_CONTACT,
+    SLOT_RELEASED,
+    SLOT_DISPLACEMENT,
+    SLOT_PREVIOUS_DISPLACEMENT,
+    SLOT_STATE,
+];
+
+/// The one restart block of a format 1 file (read, never written): its datasets are
+/// `/restart/<name>` with the slot dataset names.
+pub const RESTART_V1_STATE: &str = "/restart/state";
 
 /// The text of the `units` attribute.
 pub const UNITS_NOTE: &str = "consistent units; the scene's";
@@ -157,7 +180,8 @@ pub(crate) fn check_name(name: &str) -> Result<(), String> {
 pub struct ResultPaths {
     /// `<dir>/<stem>.h5`: the complete result, present only after `finish()`.
     pub result: PathBuf,
-    /// `<dir>/<stem>.h5.tmp`: the file while the run writes it.
+    /// `<dir>/<stem>.h5.tmp`: the file while the run writes it (`<dir>/<stem>.h5.2.tmp`,
+    /// ... when that name is taken, see [`super::paths`]).
     pub tmp: PathBuf,
     /// `<dir>/<stem>.failed.h5`: the partial result of a failed run.
     pub failed: PathBuf,
@@ -165,6 +189,8 @@ pub struct ResultPaths {
     pub xdmf: PathBuf,
     /// `<dir>/<stem>.failed.xmf`: XDMF for `failed`.
     pub failed_xdmf: PathBuf,
+    /// `<dir>/<stem>.h5.lock`: held by the run writing `result`.
+    pub lock: PathBuf,
 }
 
 impl ResultPaths {
@@ -174,11 +200,10 @@ impl ResultPaths {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "result".into());
-        let mut tmp = result.as_os_str().to_owned();
-        tmp.push(".tmp");
         ResultPaths {
             result: result.to_path_buf(),
-            tmp: PathBuf::from(tmp),
+            tmp: super::paths::temp_name(result, 1),
+            lock: super::lock::lock_path(result),
             failed: dir.join(format!("{stem}.failed.h5")),
             xdmf: dir.join(format!("{stem}.xmf")),
             failed_xdmf: dir.join(format!("{stem}.failed.xmf")),

@@ -1,18 +1,26 @@
 //! The result file: one HDF5 file per run, written by rank 0 in global node and element
 //! order, plus an XDMF 3 file beside it for ParaView.
 //!
-//! * [`ResultWriter`] creates `<path>.tmp`, appends finished steps (flushing each), and on
-//!   [`ResultWriter::finish`] renames it to `<path>` and writes `<stem>.xmf`; on
-//!   [`ResultWriter::finish_failed`] it renames it to `<stem>.failed.h5` instead.
-//! * [`ResultFile`] reads a result file back.
-//! * [`layout`] names every dataset and attribute; `README-section.md` beside this file
-//!   documents them.
+//! * [`claim_output`] checks an output path before a run (not an input of the run, a regular
+//!   file or a new path, an existing file only when a run of ours wrote it) and locks it.
+//! * [`ResultWriter`] writes a new temporary file, appends finished steps (flushing each),
+//!   and on [`ResultWriter::finish`] checks it and renames it to `<path>` with `<stem>.xmf`;
+//!   on [`ResultWriter::finish_failed`] to `<stem>.failed.h5` instead.
+//! * [`ResultFile`] reads a result file back; every dataset carries checksums
+//!   ([`integrity`]) that every read checks.
+//! * [`layout`] names every dataset and attribute; the README documents them.
 
 mod data;
+mod datasets;
 mod error;
+pub mod integrity;
 pub mod layout;
+pub mod lock;
 mod open;
+pub mod paths;
+mod publish;
 mod reader;
+mod restart;
 mod timestamp;
 mod writer;
 mod xdmf;
@@ -22,6 +30,7 @@ pub use data::{
 };
 pub use error::OutputError;
 pub use layout::ResultPaths;
+pub use paths::{claim_output, leftover_temps, OutputClaim};
 pub use reader::{FileAttributes, NumericData, NumericKind, ResultFile};
 pub use timestamp::{rfc3339_from_unix, rfc3339_now};
 pub use writer::ResultWriter;

@@ -63,9 +63,18 @@ fn retry_lock(mut attempt: impl FnMut() -> hdf5::Result<hdf5::File>) -> hdf5::Re
     }
 }
 
-/// Creates (truncates) `path` for writing.
+/// Creates (truncates) `path` for writing, in the HDF5 1.8 file format (both bounds, so that
+/// a newer library writes it the same way): its superblock and object headers carry
+/// checksums, and every HDF5 since 1.8 reads it (h5py, ParaView). Not the 1.10 format: its
+/// superblock records that a writer has the file open, and a file whose writer was killed
+/// could then not be opened again (to restart from it) without `h5clear`.
 pub(super) fn create(path: &std::path::Path) -> hdf5::Result<hdf5::File> {
-    retry_lock(|| hdf5::File::create(path))
+    use hdf5::file::LibraryVersion::V18;
+    retry_lock(|| {
+        hdf5::File::with_options()
+            .with_fapl(|p| p.libver_bounds(V18, V18))
+            .create(path)
+    })
 }
 
 /// Opens `path` read-only.

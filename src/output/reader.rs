@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use hdf5::types::{TypeDescriptor, VarLenUnicode};
 use hdf5::H5Type;
 
-use super::data::RestartState;
 use super::data::{OutputBody, OutputMesh, StepStats};
 use super::error::{Hdf5Context, OutputError};
+use super::integrity::{at_step, locate};
 use super::layout;
 
 /// The root attributes of a result file.
@@ -117,10 +117,11 @@ impl ResultFile {
         let file = match super::open::open(path) {
             Ok(f) => f,
             Err(e) => {
+                let e = e.to_string();
                 return Err(match has_hdf5_signature(path) {
                     Ok(true) => OutputError::Corrupt {
                         file: path.to_path_buf(),
-                        message: e.to_string(),
+                        message: e,
                     },
                     Ok(false) => file_err("no HDF5 signature".into()),
                     Err(source) => OutputError::Io {
@@ -128,7 +129,7 @@ impl ResultFile {
                         action: "reading the file".into(),
                         source,
                     },
-                })
+                });
             }
         };
         let mut r = ResultFile {
@@ -251,12 +252,22 @@ impl ResultFile {
         }
     }
 
-    fn dataset(&self, name: &str) -> Result<hdf5::Dataset, OutputError> {
-        self.file.dataset(name).map_err(|_| OutputError::Missing {
-            file: self.path.clone(),
-            what: "dataset",
-            name: name.to_string(),
-        })
+    pub(super) fn dataset(&self, name: &str) -> Result<hdf5::Dataset, OutputError> {
+        self.file
+            .dataset(name)
+            .map_err(|e| match super::integrity::classify(&self.path, name, e) {
+                d @ OutputError::Damaged { .. } => d,
+                _ => OutputError::Missing {
+                    file: self.path.clone(),
+                    what: "dataset",
+                    name: name.to_string(),
+                },
+            })
+    }
+
+    /// The open HDF5 file.
+    pub(super) fn hdf5(&self) -> &hdf5::File {
+        &self.file
     }
 
     fn check_step(&self, step: usize) -> Result<(), OutputError> {
@@ -278,10 +289,10 @@ impl ResultFile {
     /// The first `steps` entries of a per-step scalar dataset.
     fn read_steps<T: H5Type + Clone>(&self, name: &str) -> Result<Vec<T>, OutputError> {
         let ds = self.dataset(name)?;
-        let a = ds
-            .read_slice_1d::<T, _>(0..self.steps)
-            .at(&self.path, name)?;
-        Ok(a.iter().cloned().collect())
+        locate(name, 0..self.steps, |rows| {
+            let a = ds.read_slice_1d::<T, _>(rows).at(&self.path, name)?;
+            Ok(a.iter().cloned().collect())
+        })
     }
 
     fn read_step_rows<const N: usize>(
@@ -291,9 +302,11 @@ impl ResultFile {
     ) -> Result<Vec<[f64; N]>, OutputError> {
         self.check_step(step)?;
         let ds = self.dataset(name)?;
-        let a = ds
-            .read_slice_2d::<f64, _>((step, .., ..))
-            .at(&self.path, name)?;
+        let a = at_step(
+            ds.read_slice_2d::<f64, _>((step, .., ..))
+                .at(&self.path, name),
+            step,
+        )?;
         Ok(to_rows(&a.iter().copied().collect::<Vec<_>>()))
     }
 
@@ -304,7 +317,10 @@ impl ResultFile {
     ) -> Result<Vec<T>, OutputError> {
         self.check_step(step)?;
         let ds = self.dataset(name)?;
-        let a = ds.read_slice_1d::<T, _>((step, ..)).at(&self.path, name)?;
+        let a = at_step(
+            ds.read_slice_1d::<T, _>((step, ..)).at(&self.path, name),
+            step,
+        )?;
         Ok(a.iter().cloned().collect())
     }
 
@@ -405,48 +421,6 @@ impl ResultFile {
                 max_penetration: pen[i],
             })
             .collect())
-    }
-
-    /// The state to resume the run from, if the file has one.
-    pub fn restart_state(&self) -> Result<Option<RestartState>, OutputError> {
-        if self.file.dataset(layout::RESTART_STATE).is_err() {
-            return Ok(None);
-        }
-        let p = &self.path;
-        let read = |name: &str| -> Result<Vec<f64>, OutputError> {
-            self.file
-                .dataset(name)
-                .at(p, name)?
-                .read_raw::<f64>()
-                .at(p, name)
-        };
-        let head = read(layout::RESTART_STATE)?;
-        let u = read(layout::RESTART_DISPLACEMENT)?;
-        let up = read(layout::RESTART_PREVIOUS_DISPLACEMENT)?;
-        if head.len() != 5 || u.len() != 3 * self.nodes || up.len() != 3 * self.nodes {
-            return Err(OutputError::Invalid {
-                file: p.clone(),
-                dataset: "/restart".into(),
-                message: format!(
-                    "the restart state has {} header values and {} / {} displacement values for {} nodes",
-                    head.len(),
-                    u.len(),
-                    up.len(),
-                    self.nodes
-                ),
-            });
-        }
-        Ok(Some(RestartState {
-            step: head[0] as u64,
-            time: head[1],
-            dt_prev: head[2],
-            reference_floor: head[3],
-            rows: head[4] as u64,
-            displacement: to_rows(&u),
-            previous_displacement: to_rows(&up),
-            contact: read(layout::RESTART_CONTACT)?,
-            released: read(layout::RESTART_RELEASED)?,
-        }))
     }
 
     /// The owning rank of each element.
@@ -638,22 +612,31 @@ impl ResultFile {
         let p = &self.path;
         match ds.ndim() {
             0 => Ok(vec![ds.read_scalar::<T>().at(p, name)?]),
-            1 => Ok(ds
-                .read_slice_1d::<T, _>(rows)
-                .at(p, name)?
-                .iter()
-                .cloned()
-                .collect()),
-            2 => Ok(ds
-                .read_slice_2d::<T, _>((rows, ..))
-                .at(p, name)?
-                .iter()
-                .cloned()
-                .collect()),
+            1 => locate(name, rows, |r| {
+                Ok(ds
+                    .read_slice_1d::<T, _>(r)
+                    .at(p, name)?
+                    .iter()
+                    .cloned()
+                    .collect())
+            }),
+            2 => locate(name, rows, |r| {
+                Ok(ds
+                    .read_slice_2d::<T, _>((r, ..))
+                    .at(p, name)?
+                    .iter()
+                    .cloned()
+                    .collect())
+            }),
             3 => {
                 let mut out = Vec::new();
                 for i in rows {
-                    let a = ds.read_slice_2d::<T, _>((i, .., ..)).at(p, name)?;
+                    let a = ds.read_slice_2d::<T, _>((i, .., ..)).at(p, name);
+                    let a = if super::integrity::is_per_step(name) {
+                        at_step(a, i)?
+                    } else {
+                        a?
+                    };
                     out.extend(a.iter().cloned());
                 }
                 Ok(out)
@@ -668,7 +651,7 @@ impl ResultFile {
 }
 
 /// Groups a flat row-major vector into rows of `N`.
-fn to_rows<T: Copy + Default, const N: usize>(flat: &[T]) -> Vec<[T; N]> {
+pub(super) fn to_rows<T: Copy + Default, const N: usize>(flat: &[T]) -> Vec<[T; N]> {
     flat.chunks_exact(N)
         .map(|c| {
             let mut row = [T::default(); N];

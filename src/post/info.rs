@@ -8,6 +8,13 @@ use crate::output::{OutputError, ResultFile};
 /// The summary `solver post info` prints.
 pub fn info_text(path: &Path) -> Result<String, OutputError> {
     let f = ResultFile::open(path)?;
+    // Every dataset is read once, so that HDF5 checks every checksum of the file.
+    let verified = f.verify()?;
+    let checksums = if f.has_checksums() {
+        format!("verified ({verified} datasets)")
+    } else {
+        format!("none (format version {})", f.format_version())
+    };
     let attrs = f.attributes()?;
     let mesh = f.mesh()?;
     let time = f.time()?;
@@ -43,6 +50,7 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
     let _ = writeln!(s, "wall time:    {wall}");
     let _ = writeln!(s, "exit status:  {}", attrs.exit_status);
     let _ = writeln!(s, "units:        {}", attrs.units);
+    let _ = writeln!(s, "checksums:    {checksums}");
     let _ = writeln!(s, "nodes:        {}", f.num_nodes());
     let _ = writeln!(s, "elements:     {} in {}", f.num_elements(), bodies);
     let _ = writeln!(

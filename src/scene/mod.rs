@@ -8,4 +8,4 @@ mod validate;
 
 pub use function::PiecewiseLinear;
 pub use types::*;
-pub use validate::{load_scene, load_scene_refined, parse_scene, SceneError};
+pub use validate::{load_scene, load_scene_refined, mesh_files, parse_scene, SceneError};

@@ -13,6 +13,7 @@ use crate::problem::*;
 use std::path::Path;
 
 mod gmsh;
+pub use gmsh::mesh_files;
 use gmsh::{GmshImport, NEEDS_GMSH};
 
 /// A scene that cannot be run, with where and why.

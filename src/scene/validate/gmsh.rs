@@ -21,6 +21,17 @@ pub(super) struct GmshImport {
 pub(super) const NEEDS_GMSH: &str =
     "needs the mesh file: add `[gmsh]` with `file = \"<mesh>.msh\"`";
 
+/// The mesh files a scene reads: its `[gmsh] file`, relative to the scene file `file` (none
+/// when the scene text does not parse or has no `[gmsh]` table).
+pub fn mesh_files(file: &str, text: &str) -> Vec<std::path::PathBuf> {
+    let dir = Path::new(file).parent().unwrap_or(Path::new(""));
+    toml::from_str::<crate::scene::types::SceneFile>(text)
+        .ok()
+        .and_then(|s| s.gmsh)
+        .map(|g| vec![dir.join(g.file)])
+        .unwrap_or_default()
+}
+
 impl Builder {
     /// The scene's Gmsh mesh, or an error at `key` when it has none.
     pub(super) fn needs_gmsh<'a>(

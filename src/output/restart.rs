@@ -1,0 +1,239 @@
+//! The restart state in a result file: written after every written step into one of two
+//! slots, read back (checked) by `solver run --restart`.
+//!
+//! The state after `rows` written steps goes to slot `rows % 2`: the slot of the step before
+//! is never touched while a new state is written, and a slot's small `state` dataset is
+//! written last, after the rest of the slot has been flushed. A run killed at any moment
+//! therefore leaves one complete slot at least (once a first one was written), and the reader
+//! takes the slot whose `state` records more rows.
+
+use std::path::Path;
+
+use super::data::{check_finite, RestartState, StepOutput, StepStats};
+use super::error::{Hdf5Context, OutputError};
+use super::layout;
+use super::reader::{to_rows, ResultFile};
+
+/// Rows per chunk of the restart arrays (each chunk has its own checksum).
+const CHUNK: usize = 1 << 15;
+
+/// The open datasets of one slot, in [`layout::SLOT_DATASETS`] order.
+struct Slot([hdf5::Dataset; 5]);
+
+/// The two slots of the file being written.
+#[derive(Default)]
+pub(super) struct RestartSlots {
+    slots: [Option<Slot>; 2],
+}
+
+fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Slot, OutputError> {
+    let group = layout::restart_slot(k);
+    if file.group(layout::RESTART).is_err() {
+        file.create_group(layout::RESTART).at(p, layout::RESTART)?;
+    }
+    file.create_group(&group).at(p, &group)?;
+    let name = |d: &str| format!("{group}/{d}");
+    let grow = |d: &str| {
+        file.new_dataset::<f64>()
+            .chunk((1024,))
+            .fletcher32()
+            .shape((0..,))
+            .create(name(d).as_str())
+            .at(p, &name(d))
+    };
+    let fixed = |d: &str| {
+        file.new_dataset::<f64>()
+            .chunk((nodes.clamp(1, CHUNK), 3))
+            .fletcher32()
+            .shape((nodes, 3))
+            .create(name(d).as_str())
+            .at(p, &name(d))
+    };
+    let state = file
+        .new_dataset::<f64>()
+        .chunk((5,))
+        .fletcher32()
+        .shape((5,))
+        .create(name(layout::SLOT_STATE).as_str())
+        .at(p, &name(layout::SLOT_STATE))?;
+    Ok(Slot([
+        grow(layout::SLOT_CONTACT)?,
+        grow(layout::SLOT_RELEASED)?,
+        fixed(layout::SLOT_DISPLACEMENT)?,
+        fixed(layout::SLOT_PREVIOUS_DISPLACEMENT)?,
+        state,
+    ]))
+}
+
+impl RestartSlots {
+    /// Writes `r` into slot `r.rows % 2`: the arrays, a flush, then the state, a flush.
+    pub(super) fn write(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        r: &RestartState,
+    ) -> Result<(), OutputError> {
+        let k = (r.rows % 2) as usize;
+        if self.slots[k].is_none() {
+            self.slots[k] = Some(create_slot(file, p, k, r.displacement.len())?);
+        }
+        let Slot([contact, released, u, up, state]) = self.slots[k].as_ref().expect("created");
+        let group = layout::restart_slot(k);
+        let name = |d: &str| format!("{group}/{d}");
+        for (ds, d, v) in [
+            (contact, layout::SLOT_CONTACT, &r.contact),
+            (released, layout::SLOT_RELEASED, &r.released),
+        ] {
+            ds.resize((v.len(),)).at(p, &name(d))?;
+            ds.write_raw(v).at(p, &name(d))?;
+        }
+        for (ds, d, v) in [
+            (u, layout::SLOT_DISPLACEMENT, &r.displacement),
+            (
+                up,
+                layout::SLOT_PREVIOUS_DISPLACEMENT,
+                &r.previous_displacement,
+            ),
+        ] {
+            let flat: Vec<f64> = v.iter().flatten().copied().collect();
+            ds.write_raw(&flat).at(p, &name(d))?;
+        }
+        file.flush().at(p, "/ (flush)")?;
+        let head = [
+            r.step as f64,
+            r.time,
+            r.dt_prev,
+            r.reference_floor,
+            r.rows as f64,
+        ];
+        state.write_raw(&head).at(p, &name(layout::SLOT_STATE))?;
+        file.flush().at(p, "/ (flush)")
+    }
+}
+
+/// A restart value that is not finite: never written, so the file was changed.
+fn non_finite(file: &Path, dataset: &str, values: &[f64]) -> Result<(), OutputError> {
+    check_finite(file, dataset, values, |k| format!("value {k}")).map_err(|e| match e {
+        OutputError::NonFinite {
+            file,
+            dataset,
+            location,
+            value,
+        } => OutputError::Damaged {
+            file,
+            dataset,
+            step: None,
+            message: format!(
+                "{location} is {value}; the solver never writes a non-finite value, so the file was changed"
+            ),
+        },
+        e => e,
+    })
+}
+
+impl ResultFile {
+    fn read_f64(&self, name: &str) -> Result<Vec<f64>, OutputError> {
+        self.dataset(name)?.read_raw::<f64>().at(self.path(), name)
+    }
+
+    /// The group holding the restart state to resume from: the slot whose state records more
+    /// rows (format 2), or `/restart` (format 1); `None` when the file has none.
+    fn restart_group(&self) -> Result<Option<String>, OutputError> {
+        let mut best: Option<(f64, String)> = None;
+        for k in 0..2 {
+            let group = layout::restart_slot(k);
+            let state = format!("{group}/{}", layout::SLOT_STATE);
+            if self.hdf5().link_exists(&state) {
+                let head = self.read_f64(&state)?;
+                let rows = head.get(4).copied().unwrap_or(f64::NAN);
+                if best.as_ref().is_none_or(|(r, _)| rows > *r) {
+                    best = Some((rows, group));
+                }
+            }
+        }
+        if best.is_none() && self.hdf5().link_exists(layout::RESTART_V1_STATE) {
+            return Ok(Some(layout::RESTART.to_string()));
+        }
+        Ok(best.map(|(_, g)| g))
+    }
+
+    /// The state to resume the run from, if the file has one, checked: every checksum, the
+    /// sizes, and every value finite.
+    pub fn restart_state(&self) -> Result<Option<RestartState>, OutputError> {
+        let Some(group) = self.restart_group()? else {
+            return Ok(None);
+        };
+        let p = self.path();
+        let mut v: Vec<Vec<f64>> = Vec::new();
+        for d in layout::SLOT_DATASETS {
+            let name = format!("{group}/{d}");
+            let values = self.read_f64(&name)?;
+            non_finite(p, &name, &values)?;
+            v.push(values);
+        }
+        let [contact, released, u, up, head]: [Vec<f64>; 5] = v.try_into().expect("five datasets");
+        let nodes = self.num_nodes();
+        if head.len() != 5 || u.len() != 3 * nodes || up.len() != 3 * nodes {
+            return Err(OutputError::Invalid {
+                file: p.to_path_buf(),
+                dataset: group,
+                message: format!(
+                    "the restart state has {} header values and {} / {} displacement values for {nodes} nodes",
+                    head.len(),
+                    u.len(),
+                    up.len(),
+                ),
+            });
+        }
+        Ok(Some(RestartState {
+            step: head[0] as u64,
+            time: head[1],
+            dt_prev: head[2],
+            reference_floor: head[3],
+            rows: head[4] as u64,
+            displacement: to_rows(&u),
+            previous_displacement: to_rows(&up),
+            contact,
+            released,
+        }))
+    }
+
+    /// Step `i`'s results, checked as a restart input: every checksum and every value finite
+    /// (a non-finite value is never written, so one is damage).
+    pub fn step_output(
+        &self,
+        i: usize,
+        time: f64,
+        stats: StepStats,
+    ) -> Result<StepOutput, OutputError> {
+        let s = StepOutput {
+            time,
+            displacement: self.displacement(i)?,
+            stress: self.stress(i)?,
+            reaction: self.reaction(i)?,
+            contact_force: self.contact_force(i)?,
+            contact_status: self.contact_status(i)?,
+            contact_gap: self.gap(i)?,
+            stats,
+        };
+        let ids: Vec<u64> = (1..=self.num_nodes() as u64).collect();
+        s.validate(self.path(), &ids, self.num_elements())
+            .map_err(|e| match e {
+                OutputError::NonFinite {
+                    file,
+                    dataset,
+                    location,
+                    value,
+                } => OutputError::Damaged {
+                    file,
+                    dataset,
+                    step: Some(i),
+                    message: format!(
+                        "{location} is {value}; the solver never writes a non-finite value, so the file was changed"
+                    ),
+                },
+                e => e,
+            })?;
+        Ok(s)
+    }
+}
