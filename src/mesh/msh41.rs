@@ -82,6 +82,14 @@ impl<'a> Cursor<'a> {
         format!("{}: {msg}", self.place(at))
     }
 
+    /// Where the next value starts (after blanks, in ASCII).
+    fn here(&mut self) -> usize {
+        if !self.binary {
+            self.skip_space();
+        }
+        self.pos
+    }
+
     fn skip_space(&mut self) {
         while self.pos < self.bytes.len() && self.bytes[self.pos].is_ascii_whitespace() {
             self.pos += 1;
@@ -314,6 +322,7 @@ fn entities(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
 /// `$Nodes`, every tag checked.
 fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     let blocks = c.count("the number of node blocks", 20, 4)?;
+    let total_at = c.here();
     let total = c.count("the number of nodes", 32, 4)?;
     let (min, min_at) = c.size("the smallest node tag")?;
     let (max, _) = c.size("the largest node tag")?;
@@ -331,7 +340,7 @@ fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
             return Err(c.err(at, format!("parametric flag {parametric}; expected 0 or 1")));
         }
         let extra = if parametric == 1 { dim as usize } else { 0 };
-        let (n_at, n) = (c.pos, c.count("the number of nodes in the block", 32, 4)?);
+        let (n_at, n) = (c.here(), c.count("the number of nodes in the block", 32, 4)?);
         if read + n > total {
             return Err(c.err(
                 n_at,
@@ -372,8 +381,8 @@ fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     }
     if read != total {
         return Err(c.err(
-            c.pos,
-            format!("the node blocks hold {read} nodes, the $Nodes header gives {total}"),
+            total_at,
+            format!("the $Nodes header gives {total} nodes, its blocks hold {read}"),
         ));
     }
     if total > 0 && found != (min, max) {
@@ -391,6 +400,7 @@ fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
 /// `$Elements`, every tag and node reference checked.
 fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     let blocks = c.count("the number of element blocks", 20, 4)?;
+    let total_at = c.here();
     let total = c.count("the number of elements", 16, 2)?;
     let (min, _) = c.size("the smallest element tag")?;
     let (max, _) = c.size("the largest element tag")?;
@@ -413,7 +423,7 @@ fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
             }
         };
         let (n_at, n) = (
-            c.pos,
+            c.here(),
             c.count(
                 "the number of elements in the block",
                 8 * (per + 1),
@@ -464,8 +474,8 @@ fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     }
     if read != total {
         return Err(c.err(
-            c.pos,
-            format!("the element blocks hold {read} elements, the $Elements header gives {total}"),
+            total_at,
+            format!("the $Elements header gives {total} elements, its blocks hold {read}"),
         ));
     }
     c.end("Elements")

@@ -121,7 +121,7 @@ pub enum OutputError {
     NoSpace { file: PathBuf, action: String },
 
     /// A write failed (a full disk, an I/O error): the run's file was not published.
-    #[error("{first}; nothing was published{}", kept.as_ref().map_or(String::new(), |k| format!(", the steps written before are kept in {}", k.display())))]
+    #[error("{first}; nothing was published{}", kept.as_ref().map_or(String::new(), |k| format!(", the steps written before are kept in {} (--restart continues from it)", k.display())))]
     NotPublished {
         /// The failure, as its message.
         first: String,

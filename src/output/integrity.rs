@@ -19,9 +19,15 @@ pub(crate) fn classify(file: &Path, dataset: &str, source: hdf5::Error) -> Outpu
         .unwrap_or_else(|| vec![source.to_string()]);
     let any = |needle: &str| frames.iter().any(|f| f.contains(needle));
     if any("errno = 28,") || any("No space left on device") {
+        // `/ (flush)`, `/ (creating the file)`: what was done to the whole file.
+        let action = match dataset.strip_prefix("/ (").and_then(|d| d.strip_suffix(')')) {
+            Some("flush") => "flushing the file".to_string(),
+            Some(what) => what.to_string(),
+            None => format!("writing {dataset}"),
+        };
         OutputError::NoSpace {
             file: file.to_path_buf(),
-            action: format!("writing {dataset}"),
+            action,
         }
     } else if any("checksum") {
         OutputError::Damaged {

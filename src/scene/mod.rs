@@ -3,6 +3,7 @@
 
 mod function;
 pub mod refine;
+mod text;
 mod types;
 mod validate;
 

@@ -47,10 +47,15 @@ pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
 /// `<name>_r<factor>` when the factor is above 1).
 pub fn load_scene_refined(path: &Path, factor: u32) -> Result<Problem, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let bytes = std::fs::read(path).map_err(|e| SceneError {
         file: file.clone(),
         key: String::new(),
         message: format!("cannot read the scene file: {e}"),
+    })?;
+    let text = super::text::utf8_text(bytes).map_err(|message| SceneError {
+        file: file.clone(),
+        key: String::new(),
+        message,
     })?;
     let default_name = path
         .file_stem()
