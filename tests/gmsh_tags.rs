@@ -38,11 +38,17 @@ fn rewrite_nodes(
         out.push(line.to_string());
         i += 1;
         if line == "$Nodes" {
-            let h: Vec<u64> = lines[i].split_whitespace().map(|w| w.parse().unwrap()).collect();
+            let h: Vec<u64> = lines[i]
+                .split_whitespace()
+                .map(|w| w.parse().unwrap())
+                .collect();
             out.push(format!("{} {} {} {}", h[0], h[1], tags(h[2]), tags(h[3])));
             i += 1;
             for _ in 0..h[0] {
-                let b: Vec<usize> = lines[i].split_whitespace().map(|w| w.parse().unwrap()).collect();
+                let b: Vec<usize> = lines[i]
+                    .split_whitespace()
+                    .map(|w| w.parse().unwrap())
+                    .collect();
                 assert_eq!(b[2], 0, "the example has no parametric nodes");
                 out.push(lines[i].to_string());
                 i += 1;
@@ -68,7 +74,10 @@ fn rewrite_nodes(
                 out.push(lines[i].to_string());
                 i += 1;
                 for _ in 0..n {
-                    let w: Vec<u64> = lines[i].split_whitespace().map(|w| w.parse().unwrap()).collect();
+                    let w: Vec<u64> = lines[i]
+                        .split_whitespace()
+                        .map(|w| w.parse().unwrap())
+                        .collect();
                     let mut l = w[0].to_string();
                     for &t in &w[1..] {
                         l += &format!(" {}", tags(t));
@@ -285,7 +294,9 @@ fn malformed_tags_and_counts_are_refused_naming_the_line() {
         println!("{name}: {err}");
         assert_eq!(code, Some(2), "{name}: {err}");
         assert!(
-            err.contains(&format!("{name}.msh is not a readable MSH 4.1 file: {expected}")),
+            err.contains(&format!(
+                "{name}.msh is not a readable MSH 4.1 file: {expected}"
+            )),
             "{name}: {err}"
         );
     }
@@ -326,12 +337,20 @@ fn a_malformed_binary_file_is_refused_naming_the_byte() {
     let mut huge = bytes.clone();
     put(&mut huge, tags - 8, 1 << 60);
     for (name, mesh, expected) in [
-        ("dup", dup, format!("byte {}: node tag {first} appears twice", tags + 8)),
+        (
+            "dup",
+            dup,
+            format!("byte {}: node tag {first} appears twice", tags + 8),
+        ),
         ("zero", zero, format!("byte {}: node tag 0", tags + 8)),
         (
             "huge",
             huge,
-            format!("byte {}: the number of nodes in the block is {}", tags - 8, 1u64 << 60),
+            format!(
+                "byte {}: the number of nodes in the block is {}",
+                tags - 8,
+                1u64 << 60
+            ),
         ),
     ] {
         std::fs::write(d.join(format!("{name}.msh")), &mesh).unwrap();

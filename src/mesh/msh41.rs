@@ -340,7 +340,10 @@ fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
             return Err(c.err(at, format!("parametric flag {parametric}; expected 0 or 1")));
         }
         let extra = if parametric == 1 { dim as usize } else { 0 };
-        let (n_at, n) = (c.here(), c.count("the number of nodes in the block", 32, 4)?);
+        let (n_at, n) = (
+            c.here(),
+            c.count("the number of nodes in the block", 32, 4)?,
+        );
         if read + n > total {
             return Err(c.err(
                 n_at,

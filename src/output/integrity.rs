@@ -20,7 +20,10 @@ pub(crate) fn classify(file: &Path, dataset: &str, source: hdf5::Error) -> Outpu
     let any = |needle: &str| frames.iter().any(|f| f.contains(needle));
     if any("errno = 28,") || any("No space left on device") {
         // `/ (flush)`, `/ (creating the file)`: what was done to the whole file.
-        let action = match dataset.strip_prefix("/ (").and_then(|d| d.strip_suffix(')')) {
+        let action = match dataset
+            .strip_prefix("/ (")
+            .and_then(|d| d.strip_suffix(')'))
+        {
             Some("flush") => "flushing the file".to_string(),
             Some(what) => what.to_string(),
             None => format!("writing {dataset}"),

@@ -163,10 +163,17 @@ impl OutputLock {
                     });
                 }
                 Flock::Busy => {
-                    return Err(LockError::Busy {
-                        lock: path,
-                        holder: previous,
-                    })
+                    // The holder writes its id right after taking the lock: wait for it
+                    // (a tenth of a second at most) to name it.
+                    let mut holder = previous;
+                    for _ in 0..50 {
+                        if holder.pid.is_some() {
+                            break;
+                        }
+                        std::thread::sleep(std::time::Duration::from_millis(2));
+                        holder = read_holder(&mut file).map_err(io)?;
+                    }
+                    return Err(LockError::Busy { lock: path, holder });
                 }
                 Flock::Unsupported => {
                     let ours = previous.host.is_empty() || previous.host == host_name();

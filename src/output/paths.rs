@@ -78,7 +78,13 @@ fn check_parent(result: &Path) -> Result<(), OutputError> {
                     format!("{} is {}, not a directory", dir_shown.display(), kind(&m)),
                 ))
             }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+            // Not there, or under a file (ENOTDIR): the file is found further up.
+            Err(e)
+                if e.kind() == std::io::ErrorKind::NotFound
+                    || e.raw_os_error() == Some(libc::ENOTDIR) =>
+            {
+                continue
+            }
             Err(e) => return Err(bad(result, format!("{}: {e}", dir_shown.display()))),
         }
     }

@@ -131,45 +131,53 @@ fn non_finite(file: &Path, dataset: &str, values: &[f64]) -> Result<(), OutputEr
     })
 }
 
+/// A restart block: its group and the values of its datasets in [`layout::SLOT_DATASETS`]
+/// order.
+type Block = (String, Vec<Vec<f64>>);
+
 impl ResultFile {
     fn read_f64(&self, name: &str) -> Result<Vec<f64>, OutputError> {
         self.dataset(name)?.read_raw::<f64>().at(self.path(), name)
     }
 
-    /// The group holding the restart state to resume from: the slot whose state records more
-    /// rows (format 2), or `/restart` (format 1); `None` when the file has none.
-    fn restart_group(&self) -> Result<Option<String>, OutputError> {
-        let mut best: Option<(f64, String)> = None;
-        for k in 0..2 {
-            let group = layout::restart_slot(k);
+    /// The restart blocks of the file, each read whole (so every checksum is checked): the
+    /// two slots of format 2, or `/restart` of format 1.
+    fn restart_blocks(&self) -> Result<Vec<Block>, OutputError> {
+        let mut groups: Vec<String> = (0..2).map(layout::restart_slot).collect();
+        groups.push(layout::RESTART.to_string());
+        let mut blocks = Vec::new();
+        for group in groups {
             let state = format!("{group}/{}", layout::SLOT_STATE);
-            if self.hdf5().link_exists(&state) {
-                let head = self.read_f64(&state)?;
-                let rows = head.get(4).copied().unwrap_or(f64::NAN);
-                if best.as_ref().is_none_or(|(r, _)| rows > *r) {
-                    best = Some((rows, group));
-                }
+            if !self.hdf5().link_exists(&state) {
+                continue;
+            }
+            let mut values = Vec::new();
+            for d in layout::SLOT_DATASETS {
+                values.push(self.read_f64(&format!("{group}/{d}"))?);
+            }
+            blocks.push((group, values));
+            if blocks.len() == 2 {
+                break;
             }
         }
-        if best.is_none() && self.hdf5().link_exists(layout::RESTART_V1_STATE) {
-            return Ok(Some(layout::RESTART.to_string()));
-        }
-        Ok(best.map(|(_, g)| g))
+        Ok(blocks)
     }
 
-    /// The state to resume the run from, if the file has one, checked: every checksum, the
-    /// sizes, and every value finite.
+    /// The state to resume the run from, if the file has one: the slot whose state records
+    /// more rows. Both slots are read whole, so a checksum that fails in either refuses the
+    /// file; the chosen one must have the right sizes and finite values only.
     pub fn restart_state(&self) -> Result<Option<RestartState>, OutputError> {
-        let Some(group) = self.restart_group()? else {
+        let blocks = self.restart_blocks()?;
+        let rows = |b: &Block| b.1[4].get(4).copied().unwrap_or(f64::NAN);
+        let Some((group, v)) = blocks
+            .into_iter()
+            .reduce(|a, b| if rows(&b) > rows(&a) { b } else { a })
+        else {
             return Ok(None);
         };
         let p = self.path();
-        let mut v: Vec<Vec<f64>> = Vec::new();
-        for d in layout::SLOT_DATASETS {
-            let name = format!("{group}/{d}");
-            let values = self.read_f64(&name)?;
-            non_finite(p, &name, &values)?;
-            v.push(values);
+        for (d, values) in layout::SLOT_DATASETS.iter().zip(&v) {
+            non_finite(p, &format!("{group}/{d}"), values)?;
         }
         let [contact, released, u, up, head]: [Vec<f64>; 5] = v.try_into().expect("five datasets");
         let nodes = self.num_nodes();

@@ -1,0 +1,221 @@
+//! A restart never writes into its input: a restart killed (SIGKILL) at any moment leaves
+//! its input as it was and, once it wrote its first restart state, a file of its own; a
+//! further restart from the newest of the two ends bitwise identical to an uninterrupted run.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+fn solver() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_solver"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("restart-kills-{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The first 30 of stick_slip's 60 steps: 20 steps of loading, then 10 of sliding (about
+/// 0.3 s of one core), so that the kills fall all over the restart.
+fn scene(d: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(format!(
+        "{}/run/scenes/paper/stick_slip.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let three = "segments = [{ end = 1.0, steps = 20 }, { end = 2.0, steps = 20 }, { end = 3.0, steps = 20 }]";
+    assert!(text.contains(three));
+    let two = "segments = [{ end = 1.0, steps = 20 }, { end = 1.5, steps = 10 }]";
+    let path = d.join("stick_slip_30.toml");
+    std::fs::write(&path, text.replace(three, two)).unwrap();
+    path
+}
+
+/// How one trial went.
+#[derive(Debug)]
+enum Outcome {
+    /// Killed; continued from the killed restart's own file.
+    FromOwnFile,
+    /// Killed before its own file held a restart state (`true`: the file was there but
+    /// refused, `false`: not there yet); continued from the input.
+    FromInput(bool),
+    /// The restart had finished before the kill.
+    Finished,
+}
+
+fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> Outcome {
+    let before = std::fs::read(input).unwrap();
+    let out = d.join("cut.h5");
+    let mut child = solver()
+        .args(["-q", "run"])
+        .arg(scene)
+        .arg("--restart")
+        .arg(input)
+        .arg("-o")
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    std::thread::sleep(delay);
+    let _ = child.kill();
+    let status = child.wait().unwrap();
+    assert_eq!(
+        std::fs::read(input).unwrap(),
+        before,
+        "the restart's input is never written"
+    );
+    let outcome = if status.success() {
+        Outcome::Finished
+    } else {
+        // The killed restart's file: the first temporary name its input does not have.
+        let own = d.join("cut.h5.2.tmp");
+        let from_own = own.exists() && {
+            let o = solver()
+                .args(["-q", "run"])
+                .arg(scene)
+                .arg("--restart")
+                .arg(&own)
+                .arg("-o")
+                .arg(&out)
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&o.stderr).trim().to_string();
+            assert!(
+                o.status.success() || o.status.code() == Some(2),
+                "{delay:?}: {err}"
+            );
+            if !o.status.success() {
+                println!("{delay:?}: its own file refused: {err}");
+            }
+            o.status.success()
+        };
+        if from_own {
+            Outcome::FromOwnFile
+        } else {
+            let o = solver()
+                .args(["-q", "run"])
+                .arg(scene)
+                .arg("--restart")
+                .arg(input)
+                .arg("-o")
+                .arg(&out)
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&o.stderr).trim().to_string();
+            assert!(o.status.success(), "{delay:?}: from the input: {err}");
+            Outcome::FromInput(own.exists())
+        }
+    };
+    let cmp = solver()
+        .args(["post", "compare"])
+        .arg(full)
+        .arg(&out)
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&cmp.stdout);
+    assert!(
+        report.contains("result: bitwise identical"),
+        "{delay:?} ({outcome:?}):\n{report}"
+    );
+    outcome
+}
+
+#[test]
+fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
+    let start = Instant::now();
+    let d = dir("setup");
+    let scene = scene(&d);
+    let full = d.join("full.h5");
+    assert!(solver()
+        .args(["-q", "run"])
+        .arg(&scene)
+        .arg("-o")
+        .arg(&full)
+        .status()
+        .unwrap()
+        .success());
+    // The input of every trial: a run killed after step 20 (the end of the loading).
+    let base = d.join("cut.h5");
+    let s = solver()
+        .args(["-q", "run"])
+        .arg(&scene)
+        .arg("-o")
+        .arg(&base)
+        .env("SOLVER_TEST_ABORT_AFTER_STEP", "20")
+        .status()
+        .unwrap();
+    assert!(!s.success());
+    let input = d.join("cut.h5.tmp");
+    assert!(input.exists());
+    // Kills spread over the restart's first half second, 25 ms apart, each trial 0 to 25
+    // ms later than the previous one's slot (a fixed pseudo-random sequence).
+    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+    let delays: Vec<Duration> = (0..20u64)
+        .map(|k| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            Duration::from_micros(25_000 * k + x % 25_000)
+        })
+        .collect();
+    // Two trials at a time, each in a directory of its own with a copy of the input.
+    let outcomes: Vec<(Duration, Outcome)> = std::thread::scope(|s| {
+        let handles: Vec<_> = [0usize, 1]
+            .into_iter()
+            .map(|half| {
+                let (scene, full, input, delays) = (&scene, &full, &input, &delays);
+                s.spawn(move || {
+                    (half..delays.len())
+                        .step_by(2)
+                        .map(|k| {
+                            let t = dir(&format!("trial{k}"));
+                            let copy = t.join("cut.h5.tmp");
+                            std::fs::copy(input, &copy).unwrap();
+                            (delays[k], trial(&t, scene, &copy, full, delays[k]))
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        let mut all: Vec<_> = handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap())
+            .collect();
+        all.sort_by_key(|(d, _)| *d);
+        all
+    });
+    for (delay, outcome) in &outcomes {
+        println!(
+            "killed after {:>5.1} ms: {outcome:?}",
+            delay.as_secs_f64() * 1e3
+        );
+    }
+    let own = outcomes
+        .iter()
+        .filter(|(_, o)| matches!(o, Outcome::FromOwnFile))
+        .count();
+    let input_used = outcomes
+        .iter()
+        .filter(|(_, o)| matches!(o, Outcome::FromInput(_)))
+        .count();
+    let refused = outcomes
+        .iter()
+        .filter(|(_, o)| matches!(o, Outcome::FromInput(true)))
+        .count();
+    let finished = outcomes.len() - own - input_used;
+    println!(
+        "20 kills: {own} continued from the killed restart's own file, {input_used} from the untouched input ({refused} of them with an own file not yet restartable), {finished} had finished; all bitwise identical to the uninterrupted run ({:.1} s)",
+        start.elapsed().as_secs_f64()
+    );
+    // Most kills land inside the restart (it takes about 0.3 s), and a restart that got
+    // past copying the earlier steps leaves a file of its own to continue from.
+    assert!(
+        finished <= 10,
+        "too few kills inside the restart: {finished} had finished"
+    );
+    assert!(
+        own >= 1,
+        "no killed restart left a file of its own to continue from"
+    );
+}
