@@ -25,7 +25,7 @@ fn dir(name: &str) -> PathBuf {
     d
 }
 
-/// A finished result of `capture_release` (contact captured and released, 40 steps).
+/// A finished result of `capture_release` (contact captured and released, 50 steps).
 fn result(d: &Path) -> PathBuf {
     let path = d.join("good.h5");
     let s = solver()
@@ -219,4 +219,89 @@ fn a_nan_in_restart_data_is_refused_when_loaded() {
         err.contains("damaged: /results/reaction, step 5: node 2 (id 3), component 1 is NaN"),
         "{err}"
     );
+}
+
+/// Turns a format 2 file into the layout of format 1: one restart block `/restart/<name>`
+/// (the newest slot's datasets, hard-linked there) and `format_version` 1.
+fn to_format_1(path: &Path) {
+    let f = hdf5::File::open_rw(path).unwrap();
+    let rows = |k: usize| -> f64 {
+        let name = format!("/restart/slot{k}/state");
+        f.dataset(&name)
+            .map_or(-1.0, |d| d.read_raw::<f64>().unwrap()[4])
+    };
+    let newest = if rows(1) > rows(0) { 1 } else { 0 };
+    for name in [
+        "state",
+        "displacement",
+        "previous_displacement",
+        "contact",
+        "released",
+    ] {
+        f.link_hard(
+            &format!("/restart/slot{newest}/{name}"),
+            &format!("/restart/{name}"),
+        )
+        .unwrap();
+    }
+    for k in 0..2 {
+        if f.link_exists(&format!("/restart/slot{k}")) {
+            f.unlink(&format!("/restart/slot{k}")).unwrap();
+        }
+    }
+    f.delete_attr("format_version").unwrap();
+    f.new_attr::<u64>()
+        .shape(())
+        .create("format_version")
+        .unwrap()
+        .write_scalar(&1u64)
+        .unwrap();
+}
+
+#[test]
+fn a_format_1_file_is_still_read_and_restarted_from() {
+    let d = dir("format1");
+    let full = result(&d);
+    // A run killed after step 23 (of 50), in the layout of format 1.
+    let cut = d.join("cut.h5");
+    let s = solver()
+        .args(["-q", "run", &scene("capture_release"), "-o"])
+        .arg(&cut)
+        .env("SOLVER_TEST_ABORT_AFTER_STEP", "23")
+        .status()
+        .unwrap();
+    assert!(!s.success());
+    let old = d.join("old.h5");
+    std::fs::rename(d.join("cut.h5.tmp"), &old).unwrap();
+    to_format_1(&old);
+    let info = solver().args(["post", "info"]).arg(&old).output().unwrap();
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(
+        text.contains("checksums:    none (format version 1)"),
+        "{text}"
+    );
+    let o = solver()
+        .args(["run", &scene("capture_release"), "--restart"])
+        .arg(&old)
+        .arg("-o")
+        .arg(&cut)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("continuing from step 23 "), "{err}");
+    let cmp = solver()
+        .args(["post", "compare"])
+        .arg(&full)
+        .arg(&cut)
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&cmp.stdout);
+    println!("{}", report.lines().last().unwrap_or_default());
+    assert!(report.contains("result: bitwise identical"), "{report}");
 }
