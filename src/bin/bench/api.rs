@@ -1,7 +1,7 @@
 //! The solver library as the bench sees it: every item the bench takes from the `solver`
 //! and `partition` crates is imported here and nowhere else, so that a module moving
-//! inside the library is one line to fix here. The two functions below are the bench's
-//! only ways into a scene: a generated scene text parsed, and its one-rank local mesh.
+//! inside the library is one line to fix here. The two functions below turn a scene text
+//! the bench generated into a problem, and a problem into its one-rank local mesh.
 
 pub use partition::Decomposition;
 pub use solver::comm::SerialComm;
