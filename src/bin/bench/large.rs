@@ -1,0 +1,294 @@
+//! `--large`: the block on block at about 10^6 elements (n = 80) with the two-level
+//! preconditioner, each rank count after a memory check from two pilot sizes. Its section
+//! is merged into the files of an earlier normal run (`report::large`).
+
+use crate::block::{
+    block_case, marginal_bytes, speedup, BlockCase, BLOCK_BASE_N, SOLVER_TIMEOUT_S,
+};
+use crate::machine::{machine, RunInfo};
+use crate::report;
+use crate::runner::process::{memory_available, Limits, MIB};
+use crate::runner::solver::{compare_results, solver_exe, Compare, Precond};
+use crate::stats::Stat;
+use std::path::Path;
+use std::time::Instant;
+
+/// Refinement factor of the large run: n = 80, 2 x 512000 elements.
+pub const LARGE_REFINE: usize = 8;
+/// Refinement factors of the pilot runs whose peak memory predicts the large run's.
+pub const LARGE_PILOT: [usize; 2] = [2, 4];
+/// The large run starts only when ranks x its predicted peak per rank x this fits in the
+/// machine's MemAvailable.
+pub const LARGE_MEMORY_MARGIN: f64 = 1.25;
+/// It is stopped when the machine's MemAvailable falls below this (bytes) ...
+pub const LARGE_MIN_AVAILABLE: f64 = 1024.0 * MIB;
+/// ... or after this long.
+pub const LARGE_TIMEOUT_S: f64 = 6.0 * 3600.0;
+/// Rank counts of `--large` without `--ranks`.
+pub const LARGE_DEFAULT_RANKS: [usize; 1] = [2];
+
+/// The memory check before a large run.
+pub struct MemoryEstimate {
+    /// (n, elements, peak MiB per rank) of the pilot runs.
+    pub pilot: Vec<(usize, usize, f64)>,
+    /// Growth of the peak per element added per rank between the pilots, bytes.
+    pub marginal_bytes: f64,
+    /// Elements of the large run.
+    pub elements: usize,
+    pub predicted_mib_per_rank: f64,
+    pub available_mib: Option<f64>,
+    pub fits: bool,
+}
+
+impl MemoryEstimate {
+    /// From the two pilot runs on `ranks` ranks, against `available_mib`.
+    pub fn new(
+        pilot: &[&BlockCase],
+        ranks: usize,
+        available_mib: Option<f64>,
+    ) -> Result<MemoryEstimate, String> {
+        let [a, b] = pilot else {
+            return Err("the memory estimate needs two pilot runs".into());
+        };
+        let per_rank = |c: &BlockCase| c.elements() as f64 / ranks as f64;
+        let de = per_rank(b) - per_rank(a);
+        let (peak_a, peak_b) = (a.runs.peak_mib.median, b.runs.peak_mib.median);
+        let marginal_bytes = (peak_b - peak_a) * MIB / de;
+        let last_refine = LARGE_PILOT[LARGE_PILOT.len() - 1];
+        let elements = (b.elements() as f64 * (LARGE_REFINE as f64 / last_refine as f64).powi(3))
+            .round() as usize;
+        // Linear in elements per rank through the larger pilot; if the peak did not grow
+        // (a measurement gone wrong), in proportion to it.
+        let predicted_mib_per_rank = if marginal_bytes > 0.0 {
+            peak_b + marginal_bytes * (elements as f64 / ranks as f64 - per_rank(b)) / MIB
+        } else {
+            peak_b * elements as f64 / b.elements() as f64
+        };
+        let fits = available_mib.is_some_and(|avail| {
+            ranks as f64 * predicted_mib_per_rank * LARGE_MEMORY_MARGIN <= avail
+        });
+        Ok(MemoryEstimate {
+            pilot: pilot
+                .iter()
+                .map(|c| (c.n, c.elements(), c.runs.peak_mib.median))
+                .collect(),
+            marginal_bytes,
+            elements,
+            predicted_mib_per_rank,
+            available_mib,
+            fits,
+        })
+    }
+
+    /// The check in one sentence (progress, report and the reason a run did not start).
+    pub fn text(&self, ranks: usize) -> String {
+        let pilot: Vec<String> = self
+            .pilot
+            .iter()
+            .map(|(n, e, p)| format!("n = {n} ({e} elements) {p:.1} MiB"))
+            .collect();
+        format!(
+            "pilot peaks per rank {}; {:.0} B per element added per rank; predicted {:.0} MiB \
+             per rank, {:.0} MiB on {ranks} rank(s), x {LARGE_MEMORY_MARGIN} against {} \
+             available: {}",
+            pilot.join(", "),
+            self.marginal_bytes,
+            self.predicted_mib_per_rank,
+            ranks as f64 * self.predicted_mib_per_rank,
+            self.available_mib
+                .map_or("unknown".to_string(), |m| format!("{m:.0} MiB")),
+            if self.fits { "fits" } else { "does not fit" }
+        )
+    }
+}
+
+/// How the large run on one rank count went.
+pub enum LargeOutcome {
+    Finished(Box<BlockCase>),
+    Failed(String),
+    /// Not started (the pilots failed or the memory does not suffice).
+    NotRun(String),
+}
+
+pub struct LargeRun {
+    pub ranks: usize,
+    pub estimate: Result<MemoryEstimate, String>,
+    pub outcome: LargeOutcome,
+}
+
+impl LargeRun {
+    pub fn finished(&self) -> Option<&BlockCase> {
+        match &self.outcome {
+            LargeOutcome::Finished(c) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// Growth of the peak per rank from the larger pilot to the large run, per element
+    /// added per rank (bytes).
+    pub fn marginal_bytes(&self) -> Option<f64> {
+        let c = self.finished()?;
+        let &(_, e, peak) = self.estimate.as_ref().ok()?.pilot.last()?;
+        marginal_bytes((e, peak), c)
+    }
+}
+
+/// Everything `--large` measured.
+pub struct Large {
+    pub info: RunInfo,
+    pub runs: Vec<LargeRun>,
+    /// The first finished run's result file against the second's.
+    pub compare: Option<Result<Compare, String>>,
+}
+
+impl Large {
+    pub fn finished(&self) -> Vec<&BlockCase> {
+        self.runs.iter().filter_map(LargeRun::finished).collect()
+    }
+
+    /// Speed-up of the fewest ranks over the most, when both finished.
+    pub fn speedup(&self) -> Option<Stat> {
+        let f = self.finished();
+        let a = f.iter().min_by_key(|c| c.ranks)?;
+        let b = f.iter().max_by_key(|c| c.ranks)?;
+        (a.ranks < b.ranks).then(|| speedup(a, b))
+    }
+}
+
+/// The pilots, the memory check and the large run on `ranks` ranks.
+fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
+    let limits = Limits::timeout(SOLVER_TIMEOUT_S);
+    eprintln!(
+        "bench: large, {ranks} rank(s): pilot runs n = {:?} (two-level) for the memory estimate",
+        LARGE_PILOT.map(|f| BLOCK_BASE_N * f)
+    );
+    let pilot: Result<Vec<BlockCase>, String> = LARGE_PILOT
+        .iter()
+        .map(|&f| block_case(exe, dir, f, ranks, Precond::TwoLevel, 1, &limits))
+        .collect();
+    let available = memory_available().map(|m| m / MIB);
+    let estimate =
+        pilot.and_then(|p| MemoryEstimate::new(&p.iter().collect::<Vec<_>>(), ranks, available));
+    let outcome = match &estimate {
+        Err(e) => LargeOutcome::NotRun(format!("memory estimate failed: {e}")),
+        Ok(m) if !m.fits => LargeOutcome::NotRun(format!("not enough memory: {}", m.text(ranks))),
+        Ok(m) => {
+            eprintln!("bench: large, {ranks} rank(s): {}", m.text(ranks));
+            eprintln!(
+                "bench: large, {ranks} rank(s): n = {} ({} elements), two-level; this takes a while",
+                BLOCK_BASE_N * LARGE_REFINE,
+                m.elements
+            );
+            let limits = Limits {
+                timeout_s: LARGE_TIMEOUT_S,
+                rss_limit: None,
+                min_available: Some(LARGE_MIN_AVAILABLE),
+            };
+            match block_case(exe, dir, LARGE_REFINE, ranks, Precond::TwoLevel, 1, &limits) {
+                Ok(c) => LargeOutcome::Finished(Box::new(c)),
+                Err(e) => LargeOutcome::Failed(e),
+            }
+        }
+    };
+    match &outcome {
+        LargeOutcome::Finished(_) => {}
+        LargeOutcome::Failed(why) => eprintln!("bench: large, {ranks} rank(s) failed: {why}"),
+        LargeOutcome::NotRun(why) => eprintln!("bench: large, {ranks} rank(s) not run: {why}"),
+    }
+    LargeRun {
+        ranks,
+        estimate,
+        outcome,
+    }
+}
+
+/// `bench --large`: the large runs, merged into `<out>/results.json` and `<out>/report.md`.
+pub fn run(out: &Path, ranks: &[usize]) -> Result<(), String> {
+    let start = Instant::now();
+    let dir = out.join("large");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let machine = machine();
+    let exe = solver_exe()?;
+    eprintln!(
+        "bench: large block on block (n = {}, two-level) on {ranks:?} rank(s)",
+        BLOCK_BASE_N * LARGE_REFINE
+    );
+    let runs: Vec<LargeRun> = ranks.iter().map(|&r| large_run(&exe, &dir, r)).collect();
+    let finished: Vec<&BlockCase> = runs.iter().filter_map(LargeRun::finished).collect();
+    let compare = match finished.as_slice() {
+        [a, b, ..] => Some(compare_results(&exe, &a.result, &b.result)),
+        _ => None,
+    };
+    let large = Large {
+        info: RunInfo::finish(machine, start),
+        runs,
+        compare,
+    };
+    let section = report::large::markdown(&large, &dir);
+    let (jpath, rpath) = report::large::merge(out, report::large::json(&large), &section)?;
+    println!("{section}");
+    eprintln!("bench: wrote {} and {}", jpath.display(), rpath.display());
+    let failed = large.runs.iter().filter(|r| r.finished().is_none()).count();
+    if failed > 0 {
+        return Err(format!(
+            "{failed} large run(s) did not finish; see the report"
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::fixture::case;
+
+    /// Pilots at n = 20 and 40 on 2 ranks with peaks of 48 and 160 MiB (8000 and 64000
+    /// elements per rank): 112 MiB over 56000 elements, so n = 80 (512000 per rank) needs
+    /// 160 + 112 x 448000 / 56000 = 1056 MiB per rank, 2640 MiB on 2 ranks with the
+    /// margin. Tolerances: a few roundings of numbers of order 1e3.
+    #[test]
+    fn memory_estimate_extrapolates_the_pilots() {
+        let t = Precond::TwoLevel;
+        let (a, b) = (case(20, 2, t, 239, Ok(4.4)), case(40, 2, t, 377, Ok(4.4)));
+        let e = MemoryEstimate::new(&[&a, &b], 2, Some(2700.0)).unwrap();
+        assert_eq!(e.elements, 1_024_000);
+        assert!((e.marginal_bytes - 112.0 * MIB / 56000.0).abs() < 1e-9);
+        assert!((e.predicted_mib_per_rank - 1056.0).abs() < 1e-9);
+        assert!(e.fits);
+        assert!(
+            !MemoryEstimate::new(&[&a, &b], 2, Some(2600.0))
+                .unwrap()
+                .fits
+        );
+        assert!(!MemoryEstimate::new(&[&a, &b], 2, None).unwrap().fits);
+        assert!(e
+            .text(2)
+            .ends_with("x 1.25 against 2700 MiB available: fits"));
+        assert!(MemoryEstimate::new(&[&a], 2, None).is_err());
+    }
+
+    /// A peak that did not grow between the pilots is scaled with the elements instead.
+    #[test]
+    fn memory_estimate_without_growth() {
+        let t = Precond::TwoLevel;
+        let (a, mut b) = (case(20, 2, t, 239, Ok(4.4)), case(40, 2, t, 377, Ok(4.4)));
+        b.runs.peak_mib = a.runs.peak_mib;
+        let e = MemoryEstimate::new(&[&a, &b], 2, Some(1e6)).unwrap();
+        assert_eq!(e.predicted_mib_per_rank, 48.0 * 8.0);
+    }
+
+    /// The marginal bytes of a large run over its larger pilot, per element added per rank.
+    #[test]
+    fn marginal_bytes_of_the_large_run() {
+        let t = Precond::TwoLevel;
+        let (a, b) = (case(20, 2, t, 239, Ok(4.4)), case(40, 2, t, 377, Ok(4.4)));
+        let run = LargeRun {
+            ranks: 2,
+            estimate: MemoryEstimate::new(&[&a, &b], 2, Some(1e6)),
+            outcome: LargeOutcome::Finished(Box::new(case(80, 2, t, 716, Ok(4.4)))),
+        };
+        // 160 -> 1056 MiB from 64000 to 512000 elements per rank.
+        let m = run.marginal_bytes().unwrap();
+        assert!((m - 896.0 * MIB / 448000.0).abs() < 1e-9, "{m}");
+    }
+}

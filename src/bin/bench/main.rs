@@ -1,0 +1,219 @@
+//! `bench`: the performance benchmark (reported, never asserted).
+//!
+//! Measures, on this machine:
+//! 1. STREAM-like memory bandwidth (copy and triad over arrays much larger than the caches)
+//!    (`bandwidth`),
+//! 2. the element kernels (`Assembly::internal_force` and `Assembly::diagonal`) on one
+//!    core for every integration / material combination on a structured cube mesh, with a
+//!    memory-traffic model and the fraction of the measured bandwidth it implies
+//!    (`kernels`),
+//! 3. CG iterations and wall time of a cube compression solved through the library's
+//!    analysis driver (`cube`),
+//! 4. the contact search (`MasterSurface::new`, the BVH of master faces, and
+//!    `MasterSurface::search` of every slave node) on two stacked blocks with non-matching
+//!    meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode) (`search`),
+//! 5. the block-on-block scene (`run/scenes/bench/block_on_block.toml`) refined to n = 10,
+//!    20, 40 elements per edge (n = 10 in quick mode), run by `target/release/solver` under
+//!    `run/mpirun` on 1 and 2 ranks with each preconditioner (`--preconditioner jacobi` and
+//!    `two_level`): CG iterations, contact updates, wall time, peak memory, total contact
+//!    force, the coarse space, the two-level / Jacobi ratios of iterations and time, the
+//!    difference of the contact forces, the 2-rank speed-up and whether the 1- and 2-rank
+//!    result files are bitwise identical; and `solver check --ranks 2, 3` of the largest size
+//!    (the partition) (`block`),
+//! 6. CalculiX (`ccx`, when installed) on the same problem, from an input deck written here,
+//!    on 2 threads within 5 minutes per size: its wall time and total force beside ours
+//!    (`peers::calculix`).
+//!
+//! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
+//! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
+//!
+//! `bench --large [--ranks 2|1|1,2] [--out DIR]` runs only the block on block at n = 80
+//! (about 10^6 elements) with the two-level preconditioner, after a memory estimate from
+//! n = 20 and 40 on the same rank count, and puts it into the same two files as a section
+//! of its own (the other sections are left as they are; a later normal run keeps it)
+//! (`large`).
+//!
+//! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
+//! which the report writers (`report`, one file per section, JSON and Markdown side by
+//! side) read; `runner` runs programs (the solver under `run/mpirun`, with time limits,
+//! peak memory, repeats and its result files); `peers` runs other codes on our problems;
+//! `api` is the only place that names the solver library's modules.
+
+mod api;
+mod bandwidth;
+mod block;
+mod config;
+mod cube;
+mod kernels;
+mod large;
+mod machine;
+mod peers;
+mod report;
+mod results;
+mod runner;
+mod search;
+mod stats;
+mod suite;
+
+use config::Config;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+const USAGE: &str = concat!(
+    "usage: bench [--quick] [--out DIR]\n",
+    "       bench --large [--ranks R[,R]] [--out DIR]\n",
+    "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
+    "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
+    "               a memory check; merged into results.json and report.md as a section of\n",
+    "               its own\n",
+    "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
+    "  --out DIR    where results.json and report.md go (default out/bench)",
+);
+
+/// What the command line asks for.
+#[derive(Debug, PartialEq)]
+enum Mode {
+    Normal { quick: bool },
+    Large { ranks: Vec<usize> },
+}
+
+#[derive(Debug, PartialEq)]
+struct Args {
+    mode: Mode,
+    out: PathBuf,
+}
+
+/// The command line (without the program name); `Ok(None)` asks for the usage. Arguments
+/// are taken in order: the first that is wrong, or `--help`, decides.
+fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, String> {
+    let mut quick = false;
+    let mut large = false;
+    let mut ranks: Option<Vec<usize>> = None;
+    let mut out = PathBuf::from("out/bench");
+    let mut args = args.into_iter();
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--quick" => quick = true,
+            "--large" => large = true,
+            "--ranks" => {
+                let list: Option<Vec<usize>> = args.next().and_then(|v| {
+                    v.split(',')
+                        .map(|r| r.trim().parse().ok().filter(|&r: &usize| r >= 1))
+                        .collect()
+                });
+                match list {
+                    Some(l) if !l.is_empty() => ranks = Some(l),
+                    _ => return Err("--ranks needs rank counts such as 2 or 1,2".into()),
+                }
+            }
+            "--out" => match args.next() {
+                Some(d) => out = PathBuf::from(d),
+                None => return Err("--out needs a directory".into()),
+            },
+            "-h" | "--help" => return Ok(None),
+            other => return Err(format!("unknown argument '{other}'")),
+        }
+    }
+    if large && quick {
+        return Err("--large and --quick do not go together".into());
+    }
+    if ranks.is_some() && !large {
+        return Err("--ranks goes with --large only".into());
+    }
+    let mode = if large {
+        Mode::Large {
+            ranks: ranks.unwrap_or(large::LARGE_DEFAULT_RANKS.to_vec()),
+        }
+    } else {
+        Mode::Normal { quick }
+    };
+    Ok(Some(Args { mode, out }))
+}
+
+/// Exit codes: 0 done, 1 a run failed (the report says which), 2 a bad command line.
+fn main() -> ExitCode {
+    let args = match parse_args(std::env::args().skip(1)) {
+        Ok(Some(args)) => args,
+        Ok(None) => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Err(msg) => {
+            eprintln!("bench: {msg}\n{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    let done = match args.mode {
+        Mode::Large { ranks } => large::run(&args.out, &ranks),
+        Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
+    };
+    match done {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bench: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Option<Args>, String> {
+        parse_args(args.iter().map(|a| a.to_string()))
+    }
+
+    fn normal(quick: bool, out: &str) -> Result<Option<Args>, String> {
+        Ok(Some(Args {
+            mode: Mode::Normal { quick },
+            out: PathBuf::from(out),
+        }))
+    }
+
+    #[test]
+    fn command_lines() {
+        assert_eq!(parse(&[]), normal(false, "out/bench"));
+        assert_eq!(parse(&["--quick", "--out", "d"]), normal(true, "d"));
+        assert_eq!(
+            parse(&["--large"]),
+            Ok(Some(Args {
+                mode: Mode::Large { ranks: vec![2] },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--ranks", "2, 1", "--large"]),
+            Ok(Some(Args {
+                mode: Mode::Large { ranks: vec![2, 1] },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
+        assert_eq!(parse(&["-h"]), Ok(None));
+    }
+
+    #[test]
+    fn bad_command_lines() {
+        let err = |args: &[&str]| parse(args).unwrap_err();
+        assert_eq!(err(&["--bogus", "--help"]), "unknown argument '--bogus'");
+        assert_eq!(
+            err(&["--large", "--quick"]),
+            "--large and --quick do not go together"
+        );
+        assert_eq!(err(&["--ranks", "2"]), "--ranks goes with --large only");
+        for bad in [
+            &["--large", "--ranks"][..],
+            &["--large", "--ranks", "0"],
+            &["--large", "--ranks", "1,x"],
+            &["--large", "--ranks", ""],
+        ] {
+            assert_eq!(
+                err(bad),
+                "--ranks needs rank counts such as 2 or 1,2",
+                "{bad:?}"
+            );
+        }
+        assert_eq!(err(&["--out"]), "--out needs a directory");
+    }
+}

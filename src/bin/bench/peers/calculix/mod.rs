@@ -1,0 +1,18 @@
+//! CalculiX (`ccx`, Debian's calculix-ccx, installed by `run/setup --calculix`).
+//!
+//! - `deck`: an input deck as data (nodes, C3D8 elements, sets, materials, surfaces,
+//!   contact, steps) and its text; nothing in it knows our scenes;
+//! - `scene`: a deck from a scene as the solver loads it (what it cannot translate it
+//!   refuses, naming it);
+//! - `run`: `ccx` on a deck under limits, with repeats and timing;
+//! - `output`: what ccx wrote (.dat totals, its log), read back;
+//! - `block`: the block-on-block problem with CalculiX beside our runs.
+//!
+//! A new problem for CalculiX is a file like `block.rs`: its deck from `scene` (extended
+//! with what the problem needs) or built with `deck`, run by `run`, read by `output`.
+
+pub mod block;
+pub mod deck;
+pub mod output;
+pub mod run;
+pub mod scene;

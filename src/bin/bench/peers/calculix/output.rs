@@ -1,0 +1,119 @@
+//! What ccx wrote, read back: totals of `*NODE PRINT` in the .dat file, and from its log
+//! (standard output) the first error, the Newton iterations and its own run time.
+
+use crate::api::Vec3;
+use crate::runner::log::number_after;
+
+/// The last "total force (fx,fy,fz) for set NAME" of a .dat file.
+pub fn total_force(dat: &str, set: &str) -> Option<Vec3> {
+    let key = format!("total force (fx,fy,fz) for set {set} ");
+    let lines: Vec<&str> = dat.lines().collect();
+    let i = lines.iter().rposition(|l| l.contains(&key))?;
+    let v: Vec<f64> = lines[i + 1..]
+        .iter()
+        .find(|l| !l.trim().is_empty())?
+        .split_whitespace()
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    (v.len() == 3).then(|| [v[0], v[1], v[2]])
+}
+
+/// The first `*ERROR` line of the log: ccx exits with 0 after an input error too, so a
+/// run is judged by its output.
+pub fn error_line(log: &str) -> Option<&str> {
+    log.lines().find(|l| l.contains("*ERROR")).map(str::trim)
+}
+
+/// Newton iterations over the whole run (contact iterations included).
+pub fn newton_iterations(log: &str) -> usize {
+    log.lines()
+        .filter(|l| l.trim_start().starts_with("iteration "))
+        .count()
+}
+
+/// ccx's own "Total CalculiX Time", seconds.
+pub fn total_time(log: &str) -> Option<f64> {
+    number_after(log, "Total CalculiX Time: ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The .dat file of the block on block at n = 10 as CalculiX 2.20 wrote it.
+    const DAT: &str = "
+ total force (fx,fy,fz) for set N_LOWER_BOTTOM and time  0.1000000E+01
+
+       -1.356814E-05  4.374205E+00  1.356814E-05
+
+ total force (fx,fy,fz) for set N_UPPER_TOP and time  0.1000000E+01
+
+        1.356814E-05 -4.374205E+00 -1.356814E-05
+";
+
+    /// The same run's log, shortened (the lines of each iteration kept but one).
+    const LOG: &str = "
+CalculiX Version 2.20, Copyright(C) 1998-2022 Guido Dhondt
+
+ increment 1 attempt 1 
+ increment size= 1.000000e+00
+
+ iteration 1
+
+ Number of contact spring elements=121
+ largest correction to disp= 8.657184e-03 in node 2481 and dof 2
+
+ no convergence
+
+ iteration 2
+
+ no convergence
+
+ iteration 3
+
+ convergence
+
+   plastic data points per material:            0
+
+ Job finished
+
+________________________________________
+
+Total CalculiX Time: 0.626372
+________________________________________
+";
+
+    #[test]
+    fn totals_are_read() {
+        let top = total_force(DAT, "N_UPPER_TOP").unwrap();
+        assert_eq!(top, [1.356814e-5, -4.374205, -1.356814e-5]);
+        let bottom = total_force(DAT, "N_LOWER_BOTTOM").unwrap();
+        assert_eq!(bottom, [-1.356814e-5, 4.374205, 1.356814e-5]);
+        // A set's name is matched whole, not as a prefix.
+        assert!(total_force(DAT, "N_UPPER").is_none());
+        assert!(total_force("", "N_UPPER_TOP").is_none());
+    }
+
+    /// Of several increments' totals the last counts.
+    #[test]
+    fn the_last_total_counts() {
+        let two = format!(
+            "{}\n total force (fx,fy,fz) for set N_UPPER_TOP and time  0.2E+01\n\n 1.0 2.0 3.0\n",
+            DAT
+        );
+        assert_eq!(total_force(&two, "N_UPPER_TOP"), Some([1.0, 2.0, 3.0]));
+    }
+
+    #[test]
+    fn log_is_read() {
+        assert_eq!(newton_iterations(LOG), 3);
+        assert_eq!(total_time(LOG), Some(0.626372));
+        assert_eq!(error_line(LOG), None);
+        let bad = " *ERROR reading *BOUNDARY: node set N_X has not yet been defined.\n";
+        assert_eq!(
+            error_line(&format!("{LOG}{bad}")),
+            Some("*ERROR reading *BOUNDARY: node set N_X has not yet been defined.")
+        );
+        assert_eq!(total_time("Job finished"), None);
+    }
+}
