@@ -139,21 +139,15 @@ fn main() -> ExitCode {
             let output =
                 output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
             // The output is checked and locked before any work (rank 0 writes it).
-            let claimed = comm
-                .is_root()
-                .then(|| claim(&scene, &problem, &output, restart.as_deref(), verbosity));
-            let err = match &claimed {
-                Some(Err(e)) => Some(format!("{}{e}", e.exit_code())),
-                _ => None,
+            let inputs = RunInputs {
+                scene: &scene,
+                problem: &problem,
+                restart: restart.as_deref(),
             };
-            if let Some(e) = solver::comm::first_error(comm, err) {
-                let (code, message) = e.split_at(1);
-                if comm.is_root() {
-                    eprintln!("error: {message}");
-                }
-                return code.parse().unwrap_or(2);
-            }
-            let claimed = claimed.and_then(Result::ok);
+            let claimed = match claim_on_root(comm, &inputs, &output, verbosity) {
+                Ok(c) => c,
+                Err(code) => return code,
+            };
             match run_from(
                 comm,
                 &problem,
@@ -204,20 +198,46 @@ fn main() -> ExitCode {
     }
 }
 
+/// What a run reads: the scene file, the problem made of it, the restart file.
+struct RunInputs<'a> {
+    scene: &'a Path,
+    problem: &'a solver::problem::Problem,
+    restart: Option<&'a Path>,
+}
+
+/// Checks and locks the output path on rank 0 (see [`claim`]); every rank learns the error
+/// and its exit code.
+fn claim_on_root(
+    comm: &dyn Comm,
+    inputs: &RunInputs,
+    output: &Path,
+    verbosity: u8,
+) -> Result<Option<OutputClaim>, u8> {
+    let claimed = comm.is_root().then(|| claim(inputs, output, verbosity));
+    // The exit code travels as the message's first character.
+    let err = match &claimed {
+        Some(Err(e)) => Some(format!("{}{e}", e.exit_code())),
+        _ => None,
+    };
+    if let Some(e) = solver::comm::first_error(comm, err) {
+        let (code, message) = e.split_at(1);
+        if comm.is_root() {
+            eprintln!("error: {message}");
+        }
+        return Err(code.parse().unwrap_or(2));
+    }
+    Ok(claimed.and_then(Result::ok))
+}
+
 /// Checks and locks the output path of a run: not the scene, its mesh or the restart file,
 /// a regular file or a new path, no other run writing it. Notes a stale lock taken over and
 /// the temporary files of earlier runs that did not finish.
-fn claim(
-    scene: &Path,
-    problem: &solver::problem::Problem,
-    output: &Path,
-    restart: Option<&Path>,
-    verbosity: u8,
-) -> Result<OutputClaim, OutputError> {
+fn claim(inputs: &RunInputs, output: &Path, verbosity: u8) -> Result<OutputClaim, OutputError> {
+    let (problem, restart) = (inputs.problem, inputs.restart);
     let meshes = solver::scene::mesh_files(&problem.file, &problem.text);
-    let mut inputs: Vec<(&Path, &str)> = vec![(scene, "the scene file")];
-    inputs.extend(meshes.iter().map(|m| (m.as_path(), "the mesh file")));
-    let claim = claim_output(output, &inputs, restart)?;
+    let mut files: Vec<(&Path, &str)> = vec![(inputs.scene, "the scene file")];
+    files.extend(meshes.iter().map(|m| (m.as_path(), "the mesh file")));
+    let claim = claim_output(output, &files, restart)?;
     if verbosity > 0 {
         if let Some(holder) = claim.stale_lock() {
             eprintln!(

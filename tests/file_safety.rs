@@ -271,97 +271,112 @@ fn output_onto_a_fifo_or_a_device_is_refused() {
     );
 }
 
-#[test]
-fn two_runs_started_together_on_one_output_the_second_is_refused_at_once() {
-    // The first 30 of stick_slip's 60 steps (the last ten slide): about 0.3 s of one core,
-    // so the two runs overlap even on a loaded machine, where the refusal comes within
-    // milliseconds of the start.
-    let d = dir("concurrent");
+/// The first 30 of stick_slip's 60 steps (the last ten slide): about 0.3 s of one core, so
+/// the two runs of a trial overlap even on a loaded machine, where the refusal comes within
+/// milliseconds of the start.
+fn stick_slip_30(d: &Path) -> PathBuf {
     let scene = d.join("stick_slip_30.toml");
     let text = std::fs::read_to_string(repo("run/scenes/paper/stick_slip.toml")).unwrap();
     let three = "segments = [{ end = 1.0, steps = 20 }, { end = 2.0, steps = 20 }, { end = 3.0, steps = 20 }]";
     assert!(text.contains(three));
     let two = "segments = [{ end = 1.0, steps = 20 }, { end = 1.5, steps = 10 }]";
     std::fs::write(&scene, text.replace(three, two)).unwrap();
-    let reference = d.join("reference.h5");
-    assert!(run_to(&scene, &reference, &[]).status.success());
-    let reference = solver::output::ResultFile::open(&reference).unwrap();
-    let last = reference.displacement(29).unwrap();
-    let trials = 20;
-    let trial = |k: usize| {
-        let t = d.join(format!("trial{k}"));
-        std::fs::create_dir_all(&t).unwrap();
-        let out = t.join("r.h5");
-        let spawn = || {
-            solver()
-                .args(["-q", "run"])
-                .arg(&scene)
-                .arg("-o")
-                .arg(&out)
-                .stderr(std::process::Stdio::piped())
-                .spawn()
-                .unwrap()
-        };
-        let mut runs = [spawn(), spawn()];
-        let pids = [runs[0].id(), runs[1].id()];
-        // The order the two exit in.
-        let mut order = Vec::new();
-        while order.len() < 2 {
-            for (i, r) in runs.iter_mut().enumerate() {
-                if !order.iter().any(|(j, _)| *j == i) {
-                    if let Some(s) = r.try_wait().unwrap() {
-                        order.push((i, s.code()));
-                    }
+    scene
+}
+
+/// Starts two runs of `scene` on the output `out` at once; returns (exit code, standard
+/// error, process id) of each, in the order they exit.
+fn race(scene: &Path, out: &Path) -> Vec<(Option<i32>, String, u32)> {
+    use std::io::Read;
+    let spawn = || {
+        solver()
+            .args(["-q", "run"])
+            .arg(scene)
+            .arg("-o")
+            .arg(out)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let mut runs = [spawn(), spawn()];
+    let mut order = Vec::new();
+    while order.len() < 2 {
+        for (i, r) in runs.iter_mut().enumerate() {
+            if !order.iter().any(|(j, _)| *j == i) {
+                if let Some(s) = r.try_wait().unwrap() {
+                    order.push((i, s.code()));
                 }
             }
-            std::thread::sleep(std::time::Duration::from_millis(2));
         }
-        let (first, second) = (order[0], order[1]);
-        let mut msg = String::new();
-        use std::io::Read;
-        runs[first.0]
-            .stderr
-            .take()
-            .unwrap()
-            .read_to_string(&mut msg)
-            .unwrap();
-        assert_eq!(
-            first.1,
-            Some(2),
-            "trial {k}: the refused run exits 2 and first: {msg}"
-        );
-        assert_eq!(second.1, Some(0), "trial {k}: the other completes");
-        let holder = pids[second.0];
-        assert!(
-            msg.contains(&format!(
-                "another run is writing this result (process {holder} "
-            )),
-            "trial {k}: {msg}"
-        );
-        // Complete and readable: every checksum, every step, the reference's last step.
-        let f = solver::output::ResultFile::open(&out).unwrap();
-        assert_eq!(
-            f.attributes().unwrap().exit_status,
-            "completed",
-            "trial {k}"
-        );
-        assert_eq!(f.num_steps(), 30, "trial {k}");
-        f.verify().unwrap();
-        assert!(f.displacement(29).unwrap() == last, "trial {k}");
-        let mut left: Vec<_> = std::fs::read_dir(&t)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        left.sort();
-        assert_eq!(left, ["r.h5", "r.xmf"], "trial {k}");
-        msg.trim().to_string()
-    };
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    order
+        .into_iter()
+        .map(|(i, code)| {
+            let mut msg = String::new();
+            let err = runs[i].stderr.as_mut().unwrap();
+            err.read_to_string(&mut msg).unwrap();
+            (code, msg.trim().to_string(), runs[i].id())
+        })
+        .collect()
+}
+
+/// One trial: the run that exits first was refused (exit 2, naming the other's process),
+/// the other completed a readable result with the reference's last step.
+fn concurrent_trial(d: &Path, scene: &Path, last: &[[f64; 3]], k: usize) -> String {
+    let t = d.join(format!("trial{k}"));
+    std::fs::create_dir_all(&t).unwrap();
+    let out = t.join("r.h5");
+    let ended = race(scene, &out);
+    let ((first, msg, _), (second, _, holder)) = (&ended[0], &ended[1]);
+    assert_eq!(
+        *first,
+        Some(2),
+        "trial {k}: the refused run exits 2 and first: {msg}"
+    );
+    assert_eq!(*second, Some(0), "trial {k}: the other completes");
+    let named = format!("another run is writing this result (process {holder} ");
+    assert!(msg.contains(&named), "trial {k}: {msg}");
+    // Complete and readable: every checksum, every step, the reference's last step.
+    let f = solver::output::ResultFile::open(&out).unwrap();
+    assert_eq!(
+        f.attributes().unwrap().exit_status,
+        "completed",
+        "trial {k}"
+    );
+    assert_eq!(f.num_steps(), 30, "trial {k}");
+    f.verify().unwrap();
+    assert!(f.displacement(29).unwrap() == last, "trial {k}");
+    let mut left: Vec<_> = std::fs::read_dir(&t)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["r.h5", "r.xmf"], "trial {k}");
+    msg.clone()
+}
+
+#[test]
+fn two_runs_started_together_on_one_output_the_second_is_refused_at_once() {
+    let d = dir("concurrent");
+    let scene = stick_slip_30(&d);
+    let reference = d.join("reference.h5");
+    assert!(run_to(&scene, &reference, &[]).status.success());
+    let last = solver::output::ResultFile::open(&reference)
+        .unwrap()
+        .displacement(29)
+        .unwrap();
+    let trials = 20;
     // Two trials at a time (four processes on the machine's two cores).
     let start = std::time::Instant::now();
     let mut messages = Vec::new();
     for pair in (0..trials).collect::<Vec<_>>().chunks(2) {
         let done: Vec<String> = std::thread::scope(|s| {
-            let h: Vec<_> = pair.iter().map(|&k| s.spawn(move || trial(k))).collect();
+            let (d, scene, last) = (&d, &scene, &last);
+            let h: Vec<_> = pair
+                .iter()
+                .map(|&k| s.spawn(move || concurrent_trial(d, scene, last, k)))
+                .collect();
             h.into_iter().map(|h| h.join().unwrap()).collect()
         });
         messages.extend(done);

@@ -194,13 +194,10 @@ fn check(d: &Path, name: &str, mesh: &[u8]) -> (Option<i32>, String) {
     )
 }
 
-#[test]
-fn malformed_tags_and_counts_are_refused_naming_the_line() {
-    let d = dir("malformed");
-    let (code, err) = check(&d, "good", cube_with(1, "$MeshFormat").as_bytes());
-    assert_eq!(code, Some(0), "the unmodified cube is read: {err}");
+/// (name, line of `cube.msh` replaced, its new text, the message expected).
+fn malformed_cases() -> Vec<(&'static str, usize, String, &'static str)> {
     const HUGE: &str = "100000000000000000";
-    let cases: Vec<(&str, usize, String, &str)> = vec![
+    vec![
         ("duplicate_tag", 20, "1".into(), "line 20: node tag 1 appears twice"),
         ("zero_tag", 19, "0".into(), "line 19: node tag 0; node tags start at 1"),
         ("moved_tag", 26, "9".into(), "line 26: node tag 9 is outside the range 1..8"),
@@ -288,7 +285,15 @@ fn malformed_tags_and_counts_are_refused_naming_the_line() {
             "3 1 0 -8".into(),
             "line 18: expected the number of nodes in the block, found `-8`",
         ),
-    ];
+    ]
+}
+
+#[test]
+fn malformed_tags_and_counts_are_refused_naming_the_line() {
+    let d = dir("malformed");
+    let (code, err) = check(&d, "good", cube_with(1, "$MeshFormat").as_bytes());
+    assert_eq!(code, Some(0), "the unmodified cube is read: {err}");
+    let cases = malformed_cases();
     for (name, line, new, expected) in &cases {
         let (code, err) = check(&d, name, cube_with(*line, new).as_bytes());
         println!("{name}: {err}");

@@ -121,6 +121,32 @@ fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> 
     outcome
 }
 
+/// Kills spread over the restart's first half second, 25 ms apart, each 0 to 25 ms into
+/// its slot (a fixed pseudo-random sequence).
+fn kill_delays() -> Vec<Duration> {
+    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+    (0..20u64)
+        .map(|k| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            Duration::from_micros(25_000 * k + x % 25_000)
+        })
+        .collect()
+}
+
+/// Trials continued from the killed restart's own file, from the input, from the input
+/// with an own file that was refused, and restarts that had finished before the kill.
+fn tally(outcomes: &[(Duration, Outcome)]) -> [usize; 4] {
+    let count = |f: &dyn Fn(&Outcome) -> bool| outcomes.iter().filter(|(_, o)| f(o)).count();
+    [
+        count(&|o| matches!(o, Outcome::FromOwnFile)),
+        count(&|o| matches!(o, Outcome::FromInput(_))),
+        count(&|o| matches!(o, Outcome::FromInput(true))),
+        count(&|o| matches!(o, Outcome::Finished)),
+    ]
+}
+
 #[test]
 fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
     let start = Instant::now();
@@ -148,17 +174,7 @@ fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
     assert!(!s.success());
     let input = d.join("cut.h5.tmp");
     assert!(input.exists());
-    // Kills spread over the restart's first half second, 25 ms apart, each trial 0 to 25
-    // ms later than the previous one's slot (a fixed pseudo-random sequence).
-    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-    let delays: Vec<Duration> = (0..20u64)
-        .map(|k| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            Duration::from_micros(25_000 * k + x % 25_000)
-        })
-        .collect();
+    let delays = kill_delays();
     // Two trials at a time, each in a directory of its own with a copy of the input.
     let outcomes: Vec<(Duration, Outcome)> = std::thread::scope(|s| {
         let handles: Vec<_> = [0usize, 1]
@@ -191,19 +207,7 @@ fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
             delay.as_secs_f64() * 1e3
         );
     }
-    let own = outcomes
-        .iter()
-        .filter(|(_, o)| matches!(o, Outcome::FromOwnFile))
-        .count();
-    let input_used = outcomes
-        .iter()
-        .filter(|(_, o)| matches!(o, Outcome::FromInput(_)))
-        .count();
-    let refused = outcomes
-        .iter()
-        .filter(|(_, o)| matches!(o, Outcome::FromInput(true)))
-        .count();
-    let finished = outcomes.len() - own - input_used;
+    let [own, input_used, refused, finished] = tally(&outcomes);
     println!(
         "20 kills: {own} continued from the killed restart's own file, {input_used} from the untouched input ({refused} of them with an own file not yet restartable), {finished} had finished; all bitwise identical to the uninterrupted run ({:.1} s)",
         start.elapsed().as_secs_f64()

@@ -8,7 +8,7 @@
 //! before anything of that size is allocated), a number that does not parse: each an error
 //! naming the line (ASCII) or the byte offset (binary).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use crate::math::Vec3;
 
@@ -400,6 +400,39 @@ fn nodes(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     c.end("Nodes")
 }
 
+/// One element of a block: its tag (in the header's range, not seen before) and its nodes
+/// (each defined in `$Nodes`).
+fn element(
+    c: &mut Cursor,
+    out: &Msh,
+    seen: &mut HashSet<u64>,
+    (min, max): (u64, u64),
+    block: &mut ElementBlock,
+) -> Result<(), String> {
+    let (tag, at) = c.size("an element tag")?;
+    if tag == 0 || tag < min || tag > max {
+        return Err(c.err(
+            at,
+            format!("element tag {tag} is outside the range {min}..{max} the $Elements header gives (tags start at 1)"),
+        ));
+    }
+    if !seen.insert(tag) {
+        return Err(c.err(at, format!("element tag {tag} appears twice")));
+    }
+    for _ in 0..block.nodes_per_element {
+        let (node, at) = c.size("a node tag")?;
+        if !out.nodes.contains_key(&node) {
+            return Err(c.err(
+                at,
+                format!("element {tag} refers to node {node}, which $Nodes does not define"),
+            ));
+        }
+        block.nodes.push(node);
+    }
+    block.tags.push(tag);
+    Ok(())
+}
+
 /// `$Elements`, every tag and node reference checked.
 fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     let blocks = c.count("the number of element blocks", 20, 4)?;
@@ -407,7 +440,7 @@ fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
     let total = c.count("the number of elements", 16, 2)?;
     let (min, _) = c.size("the smallest element tag")?;
     let (max, _) = c.size("the largest element tag")?;
-    let mut seen: HashMap<u64, ()> = HashMap::with_capacity(total);
+    let mut seen = HashSet::with_capacity(total);
     let mut read = 0usize;
     for _ in 0..blocks {
         let (dim, at) = c.int("an element block's entity dimension")?;
@@ -448,29 +481,7 @@ fn elements(c: &mut Cursor, out: &mut Msh) -> Result<(), String> {
             nodes: Vec::with_capacity(n * per),
         };
         for _ in 0..n {
-            let (tag, at) = c.size("an element tag")?;
-            if tag == 0 || tag < min || tag > max {
-                return Err(c.err(
-                    at,
-                    format!("element tag {tag} is outside the range {min}..{max} the $Elements header gives (tags start at 1)"),
-                ));
-            }
-            if seen.insert(tag, ()).is_some() {
-                return Err(c.err(at, format!("element tag {tag} appears twice")));
-            }
-            for _ in 0..per {
-                let (node, at) = c.size("a node tag")?;
-                if !out.nodes.contains_key(&node) {
-                    return Err(c.err(
-                        at,
-                        format!(
-                            "element {tag} refers to node {node}, which $Nodes does not define"
-                        ),
-                    ));
-                }
-                block.nodes.push(node);
-            }
-            block.tags.push(tag);
+            element(c, out, &mut seen, (min, max), &mut block)?;
         }
         read += n;
         out.element_blocks.push(block);
