@@ -410,7 +410,7 @@ $Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
 
     #[test]
     fn sparse_node_tags_are_kept() {
-        // Tags with gaps: mshio keeps a tag map only then; the hexahedron refers to them.
+        // Tags with gaps, not from 1: the hexahedron refers to them by tag.
         let text = cube("10 20 30 40 50 60 70 80")
             .replace(
                 "1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n",
