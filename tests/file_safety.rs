@@ -581,3 +581,55 @@ fn a_full_disk_gives_one_line_exit_1_and_no_result() {
     println!("{failed} sizes full ({at_xmf} of them at the XDMF file), {fits} fitting");
     assert!(failed >= 2 && at_xmf >= 1 && fits >= 1);
 }
+
+/// `solver post plot ... -o target` on the result `r`.
+fn plot_to(r: &Path, target: &Path) -> Output {
+    solver()
+        .args(["post", "plot"])
+        .arg(r)
+        .args(["--quantity", "displacement", "--component", "x"])
+        .args(["--node-set", "right", "--history", "-o"])
+        .arg(target)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_picture_never_replaces_what_is_not_a_picture() {
+    let d = dir("picture");
+    let scene = bar(&d);
+    let r = d.join("r.h5");
+    assert_eq!(run_to(&scene, &r, &[]).status.code(), Some(0));
+    std::fs::write(d.join("notes.png"), "my notes").unwrap();
+    std::fs::create_dir(d.join("dir.png")).unwrap();
+    std::os::unix::fs::symlink(&scene, d.join("link.png")).unwrap();
+    std::fs::hard_link(&r, d.join("r-too.png")).unwrap();
+    let cases = [
+        ("bar.toml", "names no picture format"),
+        ("r.h5", "names no picture format"),
+        ("r.xmf", "names no picture format"),
+        ("notes.png", "is not a picture"),
+        ("dir.png", "a directory"),
+        ("link.png", "a symbolic link"),
+        ("r-too.png", "the result file of this command"),
+        ("notes.png/p.png", "not a directory"),
+    ];
+    for (name, needle) in cases {
+        let before = snapshot(&d);
+        let o = plot_to(&r, &d.join(name));
+        let err = stderr(&o);
+        println!("{name}: {err}");
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(needle), "expected `{needle}` in: {err}");
+        assert!(snapshot(&d) == before, "{name}: the directory changed");
+    }
+    // A new path is written, and a picture of ours is replaced, with no file left beside it.
+    let png = d.join("p.png");
+    for _ in 0..2 {
+        let o = plot_to(&r, &png);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG\r\n\x1a\n"));
+    }
+    let names: Vec<String> = snapshot(&d).into_iter().map(|(n, _)| n).collect();
+    assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
+}

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use super::plot::{fonts_available, number, padded_range};
-use crate::output::{OutputError, OutputMesh, ResultFile};
+use crate::output::{check_picture_output, write_picture, OutputError, OutputMesh, ResultFile};
 
 /// The figures `solver post figure` draws.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,6 +116,8 @@ pub struct Figure {
 
 /// Runs `solver post figure`: reads, draws, and returns a one-line summary.
 pub fn figure_command(args: &FigureArgs) -> Result<String, OutputError> {
+    let inputs = [(args.file.as_path(), "the result file")];
+    check_picture_output(&args.output, &inputs)?;
     let f = ResultFile::open(&args.file)?;
     let fig = figure_data(args.name, &f)?;
     let text = fonts_available();
@@ -125,7 +127,7 @@ pub fn figure_command(args: &FigureArgs) -> Result<String, OutputError> {
              (install fonts-dejavu-core for labels)"
         );
     }
-    render_figure(&fig, &args.output, text)?;
+    write_picture(&args.output, &inputs, |tmp| render_figure(&fig, tmp, text))?;
     let curves: usize = fig.panels.iter().map(|p| p.curves.len()).sum();
     Ok(format!(
         "wrote {}: {} ({} panel{}, {} curve{})",

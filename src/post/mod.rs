@@ -98,6 +98,8 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
             Ok(0)
         }
         PostCommand::Plot(args) => {
+            let inputs = [(args.file.as_path(), "the result file")];
+            crate::output::check_picture_output(&args.output, &inputs)?;
             let data = plot_data(args)?;
             let text = fonts_available();
             if !text {
@@ -106,7 +108,9 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
                      text (install fonts-dejavu-core for labels)"
                 );
             }
-            render_plot(&data, &args.output, text)?;
+            crate::output::write_picture(&args.output, &inputs, |tmp| {
+                render_plot(&data, tmp, text)
+            })?;
             println!(
                 "wrote {} ({} line{}, {} points each)",
                 args.output.display(),
