@@ -628,7 +628,9 @@ fn a_picture_never_replaces_what_is_not_a_picture() {
     for _ in 0..2 {
         let o = plot_to(&r, &png);
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG\r\n\x1a\n"));
+        assert!(std::fs::read(&png)
+            .unwrap()
+            .starts_with(b"\x89PNG\r\n\x1a\n"));
     }
     let names: Vec<String> = snapshot(&d).into_iter().map(|(n, _)| n).collect();
     assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
