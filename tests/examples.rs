@@ -6,9 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
+mod common;
+
+use common::repo;
 
 /// The commands of the first fenced block after `heading`: `\` continuations joined, `#`
 /// comments dropped, the build command skipped (this test's binary is built already).
