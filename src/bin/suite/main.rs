@@ -13,6 +13,9 @@
 //! files), `record` (a run read back from its logs), `facts` (date, commit, machine),
 //! `text` (the reports' number formats and tables).
 //!
+//! Run from the repository's root (the scripts change there first): scenes, `run/mpirun`
+//! and `target/release/solver` are found by relative paths, which the reports quote.
+//!
 //! Environment: `SUITE_STARTED` (seconds since the epoch when the calling script started,
 //! so that budgets and reported times include the build), `PAPER_BUDGET` (510),
 //! `PAPER_RUN_LIMIT` (120), `EXTREME_BUDGET` (540), `EXTREME_RUN_LIMIT` (120).
@@ -82,6 +85,14 @@ fn suite(
 fn run(args: &[String]) -> Result<i32, (i32, String)> {
     let usage = |m: String| (2, format!("{m}\n{USAGE}"));
     let fail = |m: String| (2, m);
+    let help = matches!(args.first().map(String::as_str), Some("-h" | "--help") | None);
+    if !help && !std::path::Path::new("run/scenes").is_dir() {
+        return Err(fail(
+            "suite: run/scenes not found: run from the repository's root (as run/paper, \
+             run/extreme and run/study do)"
+                .into(),
+        ));
+    }
     match args.first().map(String::as_str) {
         Some("paper") => {
             if let Some(a) = args.get(1) {

@@ -114,21 +114,7 @@ pub fn run(suite: &Suite, one_rank: bool) -> Result<i32, String> {
     };
     put("report.md", &ex.write(&facts, &table))?;
     put("summary.md", &format!("{table}\n"))?;
-    println!();
-    println!("{table}");
-    println!();
-    println!(
-        "{} scenes: {} pass, {} end with a diagnosed stop, {} FAIL",
-        scenes.len(),
-        ex.count("pass"),
-        ex.count("diagnosed stop"),
-        ex.count("FAIL")
-    );
-    for (n, v) in scenes.iter().zip(&verdicts) {
-        if v.kind == "FAIL" {
-            println!("FAIL: {n}: {}", v.problems.join("; "));
-        }
-    }
+    print_summary(&ex, &table);
     println!();
     suite.say(&format!(
         "report: {}/report.md; total time {} s",
@@ -136,4 +122,23 @@ pub fn run(suite: &Suite, one_rank: bool) -> Result<i32, String> {
         suite.elapsed()
     ));
     Ok(if ex.count("FAIL") > 0 { 1 } else { 0 })
+}
+
+/// The table, the counts and the failing scenes, on standard output.
+fn print_summary(ex: &report::Extreme, table: &str) {
+    println!();
+    println!("{table}");
+    println!();
+    println!(
+        "{} scenes: {} pass, {} end with a diagnosed stop, {} FAIL",
+        ex.scenes.len(),
+        ex.count("pass"),
+        ex.count("diagnosed stop"),
+        ex.count("FAIL")
+    );
+    for (n, v) in ex.scenes.iter().zip(ex.verdicts) {
+        if v.kind == "FAIL" {
+            println!("FAIL: {n}: {}", v.problems.join("; "));
+        }
+    }
 }

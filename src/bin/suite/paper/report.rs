@@ -172,51 +172,7 @@ impl Paper {
             ));
         }
         d.w("");
-        let Some(v) = &r1.verify else {
-            let why = if r1.verify_error.is_empty() {
-                "no result file"
-            } else {
-                &r1.verify_error
-            };
-            d.w(format!("Not verified: {}\n", code(why)));
-            return;
-        };
-        if !v.checks.is_empty() {
-            d.w("| | check (`solver post verify`) | value | limit |");
-            d.w("|---|---|---|---|");
-            for c in &v.checks {
-                d.w(format!(
-                    "| {} | {} | {} | {} |",
-                    if c.pass { "ok" } else { "**FAIL**" },
-                    cell(&c.name),
-                    num(c.value),
-                    num(c.limit)
-                ));
-            }
-            d.w("");
-        }
-        let other: Vec<&(String, Option<f64>)> = v
-            .reported
-            .iter()
-            .filter(|(k, _)| {
-                ![
-                    "CG iterations (total)",
-                    "contact updates (total)",
-                    "wall time [s]",
-                ]
-                .contains(&k.as_str())
-            })
-            .collect();
-        if !other.is_empty() {
-            d.w("Reported (no limit):\n");
-            for (k, v) in other {
-                d.w(format!("- {k}: {}", num(*v)));
-            }
-            d.w("");
-        }
-        for note in &v.notes {
-            d.w(format!("Note from verify: {note}\n"));
-        }
+        verify_block(d, r1);
     }
 
     /// A figure and its caption, or why it was not drawn.
@@ -230,6 +186,55 @@ impl Paper {
             let log = crate::record::read_trim(&self.out.join("logs").join(format!("{fig}.log")));
             d.w(format!("*{fig}.png was not drawn: {log}*\n"));
         }
+    }
+}
+
+/// The 1-rank result's checks, reported values and notes from `solver post verify`.
+fn verify_block(d: &mut Doc, r1: &super::model::PaperRun) {
+    let Some(v) = &r1.verify else {
+        let why = if r1.verify_error.is_empty() {
+            "no result file"
+        } else {
+            &r1.verify_error
+        };
+        d.w(format!("Not verified: {}\n", code(why)));
+        return;
+    };
+    if !v.checks.is_empty() {
+        d.w("| | check (`solver post verify`) | value | limit |");
+        d.w("|---|---|---|---|");
+        for c in &v.checks {
+            d.w(format!(
+                "| {} | {} | {} | {} |",
+                if c.pass { "ok" } else { "**FAIL**" },
+                cell(&c.name),
+                num(c.value),
+                num(c.limit)
+            ));
+        }
+        d.w("");
+    }
+    let other: Vec<&(String, Option<f64>)> = v
+        .reported
+        .iter()
+        .filter(|(k, _)| {
+            ![
+                "CG iterations (total)",
+                "contact updates (total)",
+                "wall time [s]",
+            ]
+            .contains(&k.as_str())
+        })
+        .collect();
+    if !other.is_empty() {
+        d.w("Reported (no limit):\n");
+        for (k, v) in other {
+            d.w(format!("- {k}: {}", num(*v)));
+        }
+        d.w("");
+    }
+    for note in &v.notes {
+        d.w(format!("Note from verify: {note}\n"));
     }
 }
 
