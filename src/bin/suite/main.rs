@@ -85,7 +85,10 @@ fn suite(
 fn run(args: &[String]) -> Result<i32, (i32, String)> {
     let usage = |m: String| (2, format!("{m}\n{USAGE}"));
     let fail = |m: String| (2, m);
-    let help = matches!(args.first().map(String::as_str), Some("-h" | "--help") | None);
+    let help = matches!(
+        args.first().map(String::as_str),
+        Some("-h" | "--help") | None
+    );
     if !help && !std::path::Path::new("run/scenes").is_dir() {
         return Err(fail(
             "suite: run/scenes not found: run from the repository's root (as run/paper, \
