@@ -5,6 +5,7 @@
 //! (missing or bad file, meshes or shapes that cannot be compared, bad arguments) should be
 //! printed and end the process with exit code 2.
 
+pub mod balance;
 mod compare;
 pub mod figures;
 pub mod hertz;

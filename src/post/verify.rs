@@ -7,6 +7,7 @@
 //! copies (`<scene>_r2`, ...) are checked the same way; node sets stored in the file select
 //! the nodes a check needs.
 
+use super::balance::normal_tangential;
 use super::figures::{body_nodes, section_average, stick_slip_exact};
 use crate::output::{OutputError, OutputMesh, ResultFile};
 use std::path::Path;
@@ -263,11 +264,8 @@ fn bc_stick(
     let f = file.contact_force(k)?;
     let mut worst: f64 = 0.0;
     for (i, fi) in f.iter().enumerate() {
-        let fnorm = fi[0] * n[0] + fi[1] * n[1];
+        let (fnorm, ft) = normal_tangential(*fi, n);
         if fnorm.abs() > 0.0 && mesh.coordinates[i][0] > 1e-9 {
-            let ft =
-                ((fi[0] - fnorm * n[0]).powi(2) + (fi[1] - fnorm * n[1]).powi(2) + fi[2].powi(2))
-                    .sqrt();
             worst = worst.max((ft / fnorm.abs() - phi.tan()).abs());
         }
     }
