@@ -431,8 +431,25 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             ),
         ));
     }
-    let x_label = "x, distance from the loaded end (the paper plots against s = L - x)";
-    let y_label = "cross-section average of u_x";
+    let mut panels = fig6_theory_panels(&averages, x0, x_end);
+    panels.push(fig6_difference_panel(&averages, u_max));
+    Ok(Figure {
+        title: "Figure 6: stick/slip bar; points: 3-D solution, lines: 1-D theory".into(),
+        panels,
+    })
+}
+
+/// The x axis of Figure 6's panels.
+const FIG6_X: &str = "x, distance from the loaded end (the paper plots against s = L - x)";
+
+/// Figure 6's loading and unloading panels: the averages (time's index, time, points)
+/// against the 1-D theory drawn from `x0` to `x_end`.
+fn fig6_theory_panels(
+    averages: &[(usize, f64, Vec<(f64, f64)>)],
+    x0: f64,
+    x_end: f64,
+) -> Vec<Panel> {
+    let (x_label, y_label) = (FIG6_X, "cross-section average of u_x");
     let mut panels = Vec::new();
     for (title, range) in [
         (
@@ -472,7 +489,13 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             });
         }
     }
-    panels.push(Panel {
+    panels
+}
+
+/// Figure 6's last panel: the averages minus the 1-D theory, over u_max.
+fn fig6_difference_panel(averages: &[(usize, f64, Vec<(f64, f64)>)], u_max: f64) -> Panel {
+    let x_label = FIG6_X;
+    Panel {
         title: format!(
             "3-D average minus 1-D theory, over u_max = mu delta L^2 / h^2 = {}",
             number(u_max)
@@ -493,11 +516,7 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             })
             .collect(),
         legend: LegendAt::UpperRight,
-    });
-    Ok(Figure {
-        title: "Figure 6: stick/slip bar; points: 3-D solution, lines: 1-D theory".into(),
-        panels,
-    })
+    }
 }
 
 /// u_x and u_y of the normal smoothing interface against x.
