@@ -439,16 +439,15 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
     })
 }
 
+/// Figure 6's averages: (the time's index, the time, the points).
+type Fig6Averages = [(usize, f64, Vec<(f64, f64)>)];
+
 /// The x axis of Figure 6's panels.
 const FIG6_X: &str = "x, distance from the loaded end (the paper plots against s = L - x)";
 
 /// Figure 6's loading and unloading panels: the averages (time's index, time, points)
 /// against the 1-D theory drawn from `x0` to `x_end`.
-fn fig6_theory_panels(
-    averages: &[(usize, f64, Vec<(f64, f64)>)],
-    x0: f64,
-    x_end: f64,
-) -> Vec<Panel> {
+fn fig6_theory_panels(averages: &Fig6Averages, x0: f64, x_end: f64) -> Vec<Panel> {
     let (x_label, y_label) = (FIG6_X, "cross-section average of u_x");
     let mut panels = Vec::new();
     for (title, range) in [
@@ -493,7 +492,7 @@ fn fig6_theory_panels(
 }
 
 /// Figure 6's last panel: the averages minus the 1-D theory, over u_max.
-fn fig6_difference_panel(averages: &[(usize, f64, Vec<(f64, f64)>)], u_max: f64) -> Panel {
+fn fig6_difference_panel(averages: &Fig6Averages, u_max: f64) -> Panel {
     let x_label = FIG6_X;
     Panel {
         title: format!(
