@@ -89,49 +89,7 @@ impl ResultFile {
     /// consistent shape. Errors say whether the file is missing, not HDF5, truncated or
     /// corrupt, or lacks a dataset.
     pub fn open(path: &Path) -> Result<Self, OutputError> {
-        let file_err = |reason: String| OutputError::NotHdf5 {
-            file: path.to_path_buf(),
-            reason,
-        };
-        let meta = match std::fs::metadata(path) {
-            Ok(m) => m,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(OutputError::NotFound {
-                    file: path.to_path_buf(),
-                })
-            }
-            Err(source) => {
-                return Err(OutputError::Io {
-                    file: path.to_path_buf(),
-                    action: "reading the file".into(),
-                    source,
-                })
-            }
-        };
-        if meta.is_dir() {
-            return Err(file_err("it is a directory".into()));
-        }
-        if meta.len() == 0 {
-            return Err(file_err("the file is empty".into()));
-        }
-        let file = match super::open::open(path) {
-            Ok(f) => f,
-            Err(e) => {
-                let e = e.to_string();
-                return Err(match has_hdf5_signature(path) {
-                    Ok(true) => OutputError::Corrupt {
-                        file: path.to_path_buf(),
-                        message: e,
-                    },
-                    Ok(false) => file_err("no HDF5 signature".into()),
-                    Err(source) => OutputError::Io {
-                        file: path.to_path_buf(),
-                        action: "reading the file".into(),
-                        source,
-                    },
-                });
-            }
-        };
+        let file = open_hdf5(path)?;
         let mut r = ResultFile {
             path: path.to_path_buf(),
             file,
@@ -139,6 +97,14 @@ impl ResultFile {
             nodes: 0,
             elements: 0,
         };
+        r.check_layout()?;
+        Ok(r)
+    }
+
+    /// Every dataset of the format is there with a consistent shape; sets the counts of
+    /// nodes, elements and steps.
+    fn check_layout(&mut self) -> Result<(), OutputError> {
+        let r = self;
         for name in layout::REQUIRED_DATASETS {
             r.dataset(name)?;
         }
@@ -220,7 +186,7 @@ impl ResultFile {
                 ));
             }
         }
-        Ok(r)
+        Ok(())
     }
 
     fn shape_error(&self, name: &str, found: &[usize], expected: &str) -> OutputError {
@@ -659,4 +625,52 @@ pub(super) fn to_rows<T: Copy + Default, const N: usize>(flat: &[T]) -> Vec<[T; 
             row
         })
         .collect()
+}
+
+/// Opens `path` as an HDF5 file, telling a missing file, a directory, an empty file, a file
+/// that is not HDF5 and a truncated or corrupt one apart.
+fn open_hdf5(path: &Path) -> Result<hdf5::File, OutputError> {
+    let file_err = |reason: String| OutputError::NotHdf5 {
+        file: path.to_path_buf(),
+        reason,
+    };
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(OutputError::NotFound {
+                file: path.to_path_buf(),
+            })
+        }
+        Err(source) => {
+            return Err(OutputError::Io {
+                file: path.to_path_buf(),
+                action: "reading the file".into(),
+                source,
+            })
+        }
+    };
+    if meta.is_dir() {
+        return Err(file_err("it is a directory".into()));
+    }
+    if meta.len() == 0 {
+        return Err(file_err("the file is empty".into()));
+    }
+    match super::open::open(path) {
+        Ok(f) => Ok(f),
+        Err(e) => {
+            let e = e.to_string();
+            Err(match has_hdf5_signature(path) {
+                Ok(true) => OutputError::Corrupt {
+                    file: path.to_path_buf(),
+                    message: e,
+                },
+                Ok(false) => file_err("no HDF5 signature".into()),
+                Err(source) => OutputError::Io {
+                    file: path.to_path_buf(),
+                    action: "reading the file".into(),
+                    source,
+                },
+            })
+        }
+    }
 }
