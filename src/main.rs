@@ -11,6 +11,10 @@ use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// An allocation the system refuses ends the run with a one-line error, not an abort.
+#[global_allocator]
+static ALLOCATOR: solver::memory::guard::Guard = solver::memory::guard::Guard;
+
 #[derive(Parser, Debug)]
 #[command(
     name = "solver",

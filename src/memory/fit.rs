@@ -53,14 +53,18 @@ impl Fit {
         let b = self.exceeded.as_ref()?;
         let (c, e) = (&self.counts, &self.estimate);
         let here = need(e, self.ranks_here, b);
+        let machine = if b.shared && self.ranks_here > 1 {
+            format!(" ({} on this machine)", fb(here))
+        } else {
+            String::new()
+        };
         let mut s = format!(
-            "not enough memory: {} elements and {} nodes need an estimated {} per rank on {} rank(s) \
-             ({} on this machine), but {} is available ({})",
+            "not enough memory: {} elements and {} nodes need an estimated {} per rank on {} \
+             rank(s){machine}, but {} is available ({})",
             c.elements,
             c.nodes,
             fb(e.per_rank()),
             e.ranks,
-            fb(here),
             fb(b.bytes),
             b.source
         );

@@ -1,10 +1,12 @@
 //! Memory: the estimate of a run's peak per rank from the scene's counts (`model`), the
 //! memory the machine and the process limits leave (`available`), the decision to refuse a
-//! run that does not fit (`fit`), and allocations that fail with an error rather than an
-//! abort (`reserve`).
+//! run that does not fit (`fit`), allocations that fail with an error rather than an abort
+//! (`reserve`), and the binary's allocator that ends with a one-line error where one still
+//! fails (`guard`).
 
 pub mod available;
 pub mod fit;
+pub mod guard;
 pub mod model;
 pub mod reserve;
 

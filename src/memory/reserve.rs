@@ -13,10 +13,10 @@ impl std::fmt::Display for AllocError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "out of memory: {} needs {} that the system refused (the memory estimate was too low; \
-             run on more ranks or machines)",
-            self.what,
-            super::format_bytes(self.bytes as f64)
+            "out of memory: the system refused {} for {} (the memory estimate was too low; run \
+             on more ranks or machines)",
+            super::format_bytes(self.bytes as f64),
+            self.what
         )
     }
 }
@@ -32,7 +32,7 @@ impl From<AllocError> for String {
 /// An empty vector with room for `n` values, or the error naming `what`.
 pub fn try_with_capacity<T>(n: usize, what: &str) -> Result<Vec<T>, AllocError> {
     let mut v = Vec::new();
-    v.try_reserve_exact(n).map_err(|_| AllocError {
+    super::guard::fallible(|| v.try_reserve_exact(n)).map_err(|_| AllocError {
         what: what.to_string(),
         bytes: n as u128 * std::mem::size_of::<T>() as u128,
     })?;
@@ -55,7 +55,9 @@ mod tests {
         // 2^60 values of 8 bytes exceed any address space: refused, never allocated.
         let e = try_filled(0.0f64, 1 << 60, "the test's vector").unwrap_err();
         assert_eq!(e.bytes, 8u128 << 60);
-        assert!(e.to_string().contains("the test's vector needs 8192.0 PiB"));
+        assert!(e
+            .to_string()
+            .contains("refused 8192.0 PiB for the test's vector"));
         let v = try_filled(1u8, 3, "small").unwrap();
         assert_eq!(v, vec![1, 1, 1]);
     }
