@@ -101,10 +101,12 @@ fn main() -> ExitCode {
         } => with_comm(|comm| {
             let override_ = preconditioner.as_deref().map(preconditioner_of);
             let sized = solver::scene::counts::scene_size(&scene, refine);
+            let mut estimate = None;
             if let Some(size) = &sized {
                 let size = size.clone().with_override(override_);
-                if let Err(code) = memory_gate(comm, &size, force, verbosity) {
-                    return code;
+                match memory_gate(comm, &size, force, verbosity) {
+                    Ok(e) => estimate = Some(e),
+                    Err(code) => return code,
                 }
             }
             let loaded = load_scene_refined(&scene, refine);
@@ -121,8 +123,9 @@ fn main() -> ExitCode {
             }
             if sized.is_none() {
                 let size = solver::scene::counts::problem_size(&problem);
-                if let Err(code) = memory_gate(comm, &size, force, verbosity) {
-                    return code;
+                match memory_gate(comm, &size, force, verbosity) {
+                    Ok(e) => estimate = Some(e),
+                    Err(code) => return code,
                 }
             }
             if let Some(path) = &restart {
@@ -172,11 +175,14 @@ fn main() -> ExitCode {
                         if comm.is_root() && verbosity > 0 {
                             let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
                             eprintln!(
-                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank; results in {}",
+                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank{}; results in {}",
                                 summary.steps.len(),
                                 iters,
                                 summary.wall_time,
                                 summary.peak_memory / (1024.0 * 1024.0),
+                                estimate
+                                    .map(|e| format!(" (estimated {:.1} MiB)", e / (1024.0 * 1024.0)))
+                                    .unwrap_or_default(),
                                 summary
                                     .output
                                     .as_ref()
@@ -250,7 +256,8 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
             solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());
         println!("{}", solver::preflight::fit_line(&fit));
         if let Some(why) = fit.refusal() {
-            println!("memory: {why}");
+            eprintln!("error: {why}");
+            return 2;
         }
     }
     if let Some(n) = ranks {
@@ -267,12 +274,13 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
 
 /// Refuses a run whose memory estimate exceeds what a rank's machine or process may use
 /// (exit 2), or warns and goes on with `--force`; refuses counts beyond the 32-bit ids.
+/// Returns the estimated peak per rank, bytes.
 fn memory_gate(
     comm: &dyn Comm,
     size: &solver::scene::counts::SceneSize,
     force: bool,
     verbosity: u8,
-) -> Result<(), u8> {
+) -> Result<f64, u8> {
     use solver::preflight::Gate;
     let mpi = solver::comm::mpi_comm::launched_by_mpirun();
     let root = comm.is_root();
@@ -299,7 +307,7 @@ fn memory_gate(
             if let (Some(m), true) = (forced, root) {
                 eprintln!("warning: --force: {m}");
             }
-            Ok(())
+            Ok(fit.estimate.per_rank())
         }
     }
 }
