@@ -292,6 +292,24 @@ mod tests {
         assert!(MemoryEstimate::new(&[&a], 2, None).is_err());
     }
 
+    /// The model's estimate of the n = 80 run is the scene's own (2 x 80^3 elements, 2 x
+    /// 81^3 nodes) and is shown beside a measured peak with their difference.
+    #[test]
+    fn model_estimate_beside_the_peak() {
+        let c = solver::memory::Counts {
+            elements: 2 * 80 * 80 * 80,
+            nodes: 2 * 81 * 81 * 81,
+            full_elements: 2 * 80 * 80 * 80,
+            two_level: true,
+        };
+        let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
+        let got = model_estimate_mib(2).unwrap();
+        assert_eq!(got, want);
+        let text = model_text(2, Some(want / 1.1));
+        assert!(text.ends_with("MiB (+10.0%)"), "{text}");
+        assert!(text.starts_with(&format!("memory model {want:.1} MiB per rank")));
+    }
+
     /// A peak that did not grow between the pilots is scaled with the elements instead.
     #[test]
     fn memory_estimate_without_growth() {
