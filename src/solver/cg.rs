@@ -523,7 +523,7 @@ impl Cg {
             }
         }
         if result.is_ok() {
-            cs.factor(kc);
+            result = agree_alloc(comm, cs.factor(kc)).map(|_| ());
         }
         self.coarse = Some(cs);
         result
