@@ -3,12 +3,17 @@
 
 use clap::{Parser, Subcommand};
 use solver::comm::{Comm, MpiComm, SerialComm};
+use solver::memory::available;
 use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
 use solver::run::{run_from, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// An allocation the system refuses ends the run with a one-line error, not an abort.
+#[global_allocator]
+static ALLOCATOR: solver::memory::guard::Guard = solver::memory::guard::Guard;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -48,6 +53,9 @@ enum Command {
         /// CG preconditioner, overriding the scene's `solver.preconditioner`.
         #[arg(long, value_parser = ["auto", "jacobi", "two_level"])]
         preconditioner: Option<String>,
+        /// Run even when the memory estimate exceeds the memory available.
+        #[arg(long)]
+        force: bool,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
@@ -56,8 +64,9 @@ enum Command {
         /// Check the scene refined by this factor.
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
         refine: u32,
-        /// Also show how the mesh splits over this many MPI ranks: elements and nodes
-        /// owned and ghosted per rank, and the master faces each rank would hold.
+        /// Estimate the memory per rank for this many MPI ranks, and show how the mesh
+        /// splits over them: elements and nodes owned and ghosted per rank, and the master
+        /// faces each rank would hold.
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
         ranks: Option<u32>,
     },
@@ -81,32 +90,25 @@ fn main() -> ExitCode {
             scene,
             refine,
             ranks,
-        } => match load_scene_refined(&scene, refine) {
-            Ok(p) => {
-                println!("{}", solver::problem::summary(&p));
-                if let Some(n) = ranks {
-                    match solver::run::decomposition_report(&p, n as usize) {
-                        Ok(text) => print!("{text}"),
-                        Err(e) => {
-                            eprintln!("error: {e}");
-                            return ExitCode::from(2);
-                        }
-                    }
-                }
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(2)
-            }
-        },
+        } => ExitCode::from(check_command(&scene, refine, ranks)),
         Command::Run {
             scene,
             output,
             refine,
             restart,
             preconditioner,
+            force,
         } => with_comm(|comm| {
+            let override_ = preconditioner.as_deref().map(preconditioner_of);
+            let sized = solver::scene::counts::scene_size(&scene, refine);
+            let mut estimate = None;
+            if let Some(size) = &sized {
+                let size = size.clone().with_override(override_);
+                match memory_gate(comm, &size, force, verbosity) {
+                    Ok(e) => estimate = Some(e),
+                    Err(code) => return code,
+                }
+            }
             let loaded = load_scene_refined(&scene, refine);
             let err = loaded.as_ref().err().map(|e| e.to_string());
             if let Some(e) = solver::comm::first_error(comm, err) {
@@ -116,13 +118,15 @@ fn main() -> ExitCode {
                 return 2;
             }
             let mut problem = loaded.expect("every rank loaded the scene");
-            if let Some(p) = preconditioner.as_deref() {
-                use solver::problem::Preconditioner;
-                problem.solver.preconditioner = match p {
-                    "jacobi" => Preconditioner::Jacobi,
-                    "two_level" => Preconditioner::TwoLevel,
-                    _ => Preconditioner::Auto,
-                };
+            if let Some(p) = override_ {
+                problem.solver.preconditioner = p;
+            }
+            if sized.is_none() {
+                let size = solver::scene::counts::problem_size(&problem);
+                match memory_gate(comm, &size, force, verbosity) {
+                    Ok(e) => estimate = Some(e),
+                    Err(code) => return code,
+                }
             }
             if let Some(path) = &restart {
                 let err = comm
@@ -171,11 +175,14 @@ fn main() -> ExitCode {
                         if comm.is_root() && verbosity > 0 {
                             let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
                             eprintln!(
-                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank; results in {}",
+                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank{}; results in {}",
                                 summary.steps.len(),
                                 iters,
                                 summary.wall_time,
                                 summary.peak_memory / (1024.0 * 1024.0),
+                                estimate
+                                    .map(|e| format!(" (estimated {:.1} MiB)", e / (1024.0 * 1024.0)))
+                                    .unwrap_or_default(),
                                 summary
                                     .output
                                     .as_ref()
@@ -195,6 +202,113 @@ fn main() -> ExitCode {
                 }
             }
         }),
+    }
+}
+
+fn preconditioner_of(name: &str) -> solver::problem::Preconditioner {
+    use solver::problem::Preconditioner;
+    match name {
+        "jacobi" => Preconditioner::Jacobi,
+        "two_level" => Preconditioner::TwoLevel,
+        _ => Preconditioner::Auto,
+    }
+}
+
+/// `solver check`: the scene's size and memory estimate from its divisions (before any
+/// mesh is built), then, when its mesh can be built here, the full validation.
+fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
+    let r = ranks.unwrap_or(1) as usize;
+    let sized = solver::scene::counts::scene_size(scene, refine);
+    if let Some(size) = &sized {
+        let c = &size.counts;
+        println!(
+            "{} elements, {} nodes (counted from the divisions)",
+            c.elements, c.nodes
+        );
+        let fit = solver::memory::check_fit(c, r, ranks.is_some(), r, &available::bounds());
+        println!("{}", solver::preflight::fit_line(&fit));
+        // Checked as `solver run` would check it, and the mesh not built when the run
+        // would be refused.
+        if let Some(why) = fit.refusal() {
+            eprintln!("error: {why}");
+            if let Err(e) = size.ids() {
+                eprintln!("error: {e}");
+            }
+            println!("the mesh is not built, so its sets, loads and contacts are not checked");
+            return 2;
+        }
+        if let Err(e) = size.ids() {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    }
+    let p = match load_scene_refined(scene, refine) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    println!("{}", solver::problem::summary(&p));
+    if sized.is_none() {
+        let size = solver::scene::counts::problem_size(&p);
+        let fit =
+            solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());
+        println!("{}", solver::preflight::fit_line(&fit));
+        if let Some(why) = fit.refusal() {
+            eprintln!("error: {why}");
+            return 2;
+        }
+    }
+    if let Some(n) = ranks {
+        match solver::run::decomposition_report(&p, n as usize) {
+            Ok(text) => print!("{text}"),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return 2;
+            }
+        }
+    }
+    0
+}
+
+/// Refuses a run whose memory estimate exceeds what a rank's machine or process may use
+/// (exit 2), or warns and goes on with `--force`; refuses counts beyond the 32-bit ids.
+/// Returns the estimated peak per rank, bytes.
+fn memory_gate(
+    comm: &dyn Comm,
+    size: &solver::scene::counts::SceneSize,
+    force: bool,
+    verbosity: u8,
+) -> Result<f64, u8> {
+    use solver::preflight::Gate;
+    let mpi = solver::comm::mpi_comm::launched_by_mpirun();
+    let root = comm.is_root();
+    match solver::preflight::memory_gate(comm, size, mpi, force) {
+        Gate::Refuse(m) => {
+            if root {
+                eprintln!("error: {m}");
+                if let Err(e) = size.ids() {
+                    eprintln!("error: {e}");
+                }
+            }
+            Err(2)
+        }
+        Gate::Go { fit, forced } => {
+            if let Err(e) = size.ids() {
+                if root {
+                    eprintln!("error: {e}");
+                }
+                return Err(2);
+            }
+            if root && verbosity > 1 {
+                eprintln!("{}", solver::preflight::fit_line(&fit));
+            }
+            if let (Some(m), true) = (forced, root) {
+                eprintln!("warning: --force: {m}");
+            }
+            Ok(fit.estimate.per_rank())
+        }
     }
 }
 

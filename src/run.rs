@@ -486,7 +486,7 @@ pub fn run_from<C: Comm + ?Sized>(
     }
 
     let gather = Gather::new(comm, &local, mesh.num_nodes(), mesh.num_elements());
-    let mut stepper = Stepper::new(comm, problem, &local);
+    let mut stepper = Stepper::new(comm, problem, &local)?;
     log(2, &stepper.coarse_note);
     let mut records = Vec::new();
     let mut first_step = 0;

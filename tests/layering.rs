@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// Bottom to top. Modules of one layer may import each other.
 const LAYERS: &[&[&str]] = &[
-    &["math"],
+    &["math", "memory"],
     &["comm"],
     &["output"],
     &["material"],
@@ -19,7 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["constraints"],
     &["contact"],
     &["solver"],
-    &["run"],
+    &["run", "preflight"],
     &["post"],
 ];
 

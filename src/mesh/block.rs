@@ -4,6 +4,7 @@
 
 use crate::fem::hex8;
 use crate::math::Vec3;
+use crate::memory::{try_with_capacity, AllocError};
 
 /// Node positions and element connectivity (0-based, local to the block).
 pub struct Block {
@@ -26,9 +27,11 @@ pub fn box_corners(min: &Vec3, max: &Vec3) -> [Vec3; 8] {
     c
 }
 
-pub fn generate(corners: &[Vec3; 8], nx: usize, ny: usize, nz: usize) -> Block {
+/// Fails only when the memory for it is refused.
+pub fn generate(corners: &[Vec3; 8], nx: usize, ny: usize, nz: usize) -> Result<Block, AllocError> {
     let node = |i: usize, j: usize, k: usize| -> u32 { ((j * (nx + 1) + i) * (nz + 1) + k) as u32 };
-    let mut coords = Vec::with_capacity((nx + 1) * (ny + 1) * (nz + 1));
+    let mut coords =
+        try_with_capacity((nx + 1) * (ny + 1) * (nz + 1), "a block's node coordinates")?;
     for j in 0..=ny {
         for i in 0..=nx {
             for k in 0..=nz {
@@ -56,7 +59,7 @@ pub fn generate(corners: &[Vec3; 8], nx: usize, ny: usize, nz: usize) -> Block {
             }
         }
     }
-    let mut elements = Vec::with_capacity(nx * ny * nz);
+    let mut elements = try_with_capacity(nx * ny * nz, "a block's element connectivity")?;
     for j in 0..ny {
         for i in 0..nx {
             for k in 0..nz {
@@ -73,7 +76,7 @@ pub fn generate(corners: &[Vec3; 8], nx: usize, ny: usize, nz: usize) -> Block {
             }
         }
     }
-    Block { coords, elements }
+    Ok(Block { coords, elements })
 }
 
 #[cfg(test)]
@@ -84,7 +87,7 @@ mod tests {
     fn paper_numbering_of_a_two_element_block() {
         // Normal-smoothing scene, upper body: [0,2]x[1,2]x[0,1], 2x1x1. With 12 nodes before
         // it, its bottom centre nodes (x = 1, y = 1) are 15 and 16 (1-based).
-        let b = generate(&box_corners(&[0.0, 1.0, 0.0], &[2.0, 2.0, 1.0]), 2, 1, 1);
+        let b = generate(&box_corners(&[0.0, 1.0, 0.0], &[2.0, 2.0, 1.0]), 2, 1, 1).unwrap();
         assert_eq!(b.coords.len(), 12);
         assert_eq!(b.coords[2], [1.0, 1.0, 0.0]);
         assert_eq!(b.coords[3], [1.0, 1.0, 1.0]);

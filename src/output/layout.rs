@@ -80,6 +80,14 @@ pub const SLOT_PREVIOUS_DISPLACEMENT: &str = "previous_displacement";
 pub const SLOT_CONTACT: &str = "contact";
 pub const SLOT_RELEASED: &str = "released";
 /// The datasets of a slot, the state last (the order they are written in).
+/// Layout of the words of the restart slots' `contact` dataset (the contact module's
+/// encoding of an active constraint: how many words, in which order), written as the
+/// attribute `contact_layout` of that dataset. Raise it with every change of that encoding:
+/// `--restart` refuses a file of another layout by name instead of misreading its words.
+/// Files written before the attribute existed have layout 1.
+pub const CONTACT_LAYOUT: u64 = 1;
+pub const ATTR_CONTACT_LAYOUT: &str = "contact_layout";
+
 pub const SLOT_DATASETS: [&str; 5] = [
     SLOT_CONTACT,
     SLOT_RELEASED,

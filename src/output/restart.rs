@@ -56,8 +56,15 @@ fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Sl
         .shape((5,))
         .create(name(layout::SLOT_STATE).as_str())
         .at(p, &name(layout::SLOT_STATE))?;
+    let contact = grow(layout::SLOT_CONTACT)?;
+    super::datasets::set_attr(
+        p,
+        &contact,
+        layout::ATTR_CONTACT_LAYOUT,
+        layout::CONTACT_LAYOUT,
+    )?;
     Ok(Slot([
-        grow(layout::SLOT_CONTACT)?,
+        contact,
         grow(layout::SLOT_RELEASED)?,
         fixed(layout::SLOT_DISPLACEMENT)?,
         fixed(layout::SLOT_PREVIOUS_DISPLACEMENT)?,
@@ -176,6 +183,7 @@ impl ResultFile {
             return Ok(None);
         };
         let p = self.path();
+        self.check_contact_layout(&group)?;
         for (d, values) in layout::SLOT_DATASETS.iter().zip(&v) {
             non_finite(p, &format!("{group}/{d}"), values)?;
         }
@@ -204,6 +212,28 @@ impl ResultFile {
             contact,
             released,
         }))
+    }
+
+    /// Refuses a restart block whose contact words are of another layout than this
+    /// solver's ([`layout::CONTACT_LAYOUT`]; no attribute is layout 1).
+    fn check_contact_layout(&self, group: &str) -> Result<(), OutputError> {
+        let name = format!("{group}/{}", layout::SLOT_CONTACT);
+        let found = match self.dataset(&name)?.attr(layout::ATTR_CONTACT_LAYOUT) {
+            Ok(a) => a.read_scalar::<u64>().at(self.path(), &name)?,
+            Err(_) => 1,
+        };
+        if found == layout::CONTACT_LAYOUT {
+            return Ok(());
+        }
+        Err(OutputError::Invalid {
+            file: self.path().to_path_buf(),
+            dataset: name,
+            message: format!(
+                "the restart state's contact constraints are in layout {found}, this solver reads layout {} \
+                 (the words per contact constraint changed): it cannot continue this run; start it again",
+                layout::CONTACT_LAYOUT
+            ),
+        })
     }
 
     /// Step `i`'s results, checked as a restart input: every checksum and every value finite

@@ -1,6 +1,7 @@
 //! Scene files: TOML, read and validated once, up front. Nothing below this layer looks up
 //! names; it gets indices and resolved numbers.
 
+pub mod counts;
 pub mod refine;
 mod text;
 mod types;

@@ -492,7 +492,8 @@ impl Builder {
             (Some(_), Some(_)) => return Err(self.err(key, "give either `box` or `corners`, not both")),
             (None, None) => return Err(self.err(key, "expected `box = { min = [..], max = [..] }`, `corners = [[x, y, z], ... 8 points]` or `gmsh_volume = \"<physical volume>\"`")),
         };
-        let blk = block::generate(&corners, div[0], div[1], div[2]);
+        let blk = block::generate(&corners, div[0], div[1], div[2])
+            .map_err(|e| self.err(format!("{key}.divisions"), e.to_string()))?;
         for (e, el) in blk.elements.iter().enumerate() {
             let x: [Vec3; 8] = std::array::from_fn(|a| blk.coords[el[a] as usize]);
             let r = min_jacobian_ratio(&x);

@@ -4,6 +4,7 @@
 
 use crate::fem::{element, hex8, ElementFailure, Formulation};
 use crate::math::{Mat3, Vec3, ZERO33};
+use crate::memory::{try_with_capacity, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
 
@@ -34,14 +35,18 @@ pub struct Assembly<'a> {
 }
 
 impl<'a> Assembly<'a> {
-    pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Self {
+    /// Fails only when the memory for the element geometry is refused.
+    pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Result<Self, AllocError> {
         let linear = models.iter().all(|m| !m.material.is_large());
         let needs_gauss = models
             .iter()
             .any(|m| !matches!(m.formulation, Formulation::Mean { .. }));
         let ne = mesh.elements.len();
-        let mut geometry = Vec::with_capacity(ne);
-        let mut gauss = Vec::with_capacity(if needs_gauss { ne } else { 0 });
+        let mut geometry = try_with_capacity(ne, "the element geometry")?;
+        let mut gauss = try_with_capacity(
+            if needs_gauss { ne } else { 0 },
+            "the Gauss-point gradients",
+        )?;
         for e in 0..ne {
             match element::geometry(&mesh.element_coords(e)) {
                 Ok((g, gg)) => {
@@ -58,13 +63,13 @@ impl<'a> Assembly<'a> {
                 }
             }
         }
-        Assembly {
+        Ok(Assembly {
             mesh,
             models,
             linear,
             geometry,
             gauss,
-        }
+        })
     }
 
     #[inline]

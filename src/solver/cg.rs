@@ -12,6 +12,7 @@ use super::loads::Loads;
 use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
 use crate::math::{inverse, matvec, Mat3, Vec3};
+use crate::memory::{try_filled, AllocError};
 
 /// Why a model problem could not be solved. Rank-agreed.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,12 +37,14 @@ pub enum SolveFailure {
         updates: usize,
         detail: String,
     },
+    /// An allocation was refused (on some rank); not retried with a shorter step.
+    OutOfMemory(String),
 }
 
 impl std::fmt::Display for SolveFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            SolveFailure::Element(m) => write!(f, "{m}"),
+            SolveFailure::Element(m) | SolveFailure::OutOfMemory(m) => write!(f, "{m}"),
             SolveFailure::NotConverged { iterations, residual, reference } => {
                 write!(
                     f,
@@ -118,27 +121,28 @@ pub struct Cg {
 }
 
 impl Cg {
-    pub fn new(n: usize) -> Self {
-        let v = || vec![[0.0; 3]; n];
-        Cg {
-            fi: v(),
-            fe: v(),
-            r: v(),
-            r_old: v(),
-            z: v(),
-            p: v(),
-            pu: v(),
-            q: v(),
-            trial: v(),
-            fi_trial: v(),
-            fe_trial: v(),
-            diag: vec![[[0.0; 3]; 3]; n],
-            minv: vec![[[0.0; 3]; 3]; n],
+    /// Fails only when the memory for the vectors is refused.
+    pub fn new(n: usize) -> Result<Self, AllocError> {
+        let v = || try_filled([0.0; 3], n, "the CG vectors");
+        Ok(Cg {
+            fi: v()?,
+            fe: v()?,
+            r: v()?,
+            r_old: v()?,
+            z: v()?,
+            p: v()?,
+            pu: v()?,
+            q: v()?,
+            trial: v()?,
+            fi_trial: v()?,
+            fe_trial: v()?,
+            diag: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
+            minv: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
             coarse: None,
             coarse_work: Vec::new(),
             coarse_stale: true,
             coarse_rows: 0,
-        }
+        })
     }
 
     /// Uses the two-level preconditioner with this coarse space.
@@ -165,6 +169,17 @@ fn agree<C: Comm + ?Sized>(comm: &C, r: Result<(), ElementError>) -> Result<(), 
     match comm::lowest_error(comm, r.err().map(|e| (e.element as i64, e.to_string()))) {
         None => Ok(()),
         Some(m) => Err(SolveFailure::Element(m)),
+    }
+}
+
+/// An allocation every rank made: the value, or on every rank the first rank's refusal.
+/// Collective.
+fn agree_alloc<C: Comm + ?Sized, T>(comm: &C, r: Result<T, AllocError>) -> Result<T, SolveFailure> {
+    let local = r.as_ref().err().map(ToString::to_string);
+    match (r, comm::first_error(comm, local)) {
+        (Ok(v), None) => Ok(v),
+        (_, Some(m)) => Err(SolveFailure::OutOfMemory(m)),
+        (Err(e), None) => Err(SolveFailure::OutOfMemory(e.to_string())),
     }
 }
 
@@ -461,7 +476,13 @@ impl Cg {
         let comm = pb.comm;
         let owned = pb.owned();
         let dim = cs.dim();
-        let mut kc = vec![0.0; dim * dim];
+        let mut kc = match agree_alloc(comm, try_filled(0.0, dim * dim, "the coarse operator")) {
+            Ok(kc) => kc,
+            Err(e) => {
+                self.coarse = Some(cs);
+                return Err(e);
+            }
+        };
         let mut restricted = Vec::new();
         let mut result = Ok(());
         'probes: for c in 0..cs.num_colors() {
@@ -502,7 +523,7 @@ impl Cg {
             }
         }
         if result.is_ok() {
-            cs.factor(kc);
+            result = agree_alloc(comm, cs.factor(kc)).map(|_| ());
         }
         self.coarse = Some(cs);
         result

@@ -20,6 +20,7 @@
 use crate::comm::Comm;
 use crate::constraints::{fetch_plan, Constraints, Plan};
 use crate::math::{matvec, Vec3};
+use crate::memory::{try_filled, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::HashMap;
@@ -335,8 +336,9 @@ impl CoarseSpace {
 
     /// Symmetrises and factors Kc (dense Cholesky; coarse unknowns with no stiffness of
     /// their own, such as the modes of an aggregate held by Dirichlet conditions, are left
-    /// out). Returns the number of unknowns kept.
-    pub fn factor(&mut self, mut kc: Vec<f64>) -> usize {
+    /// out). Returns the number of unknowns kept; fails only when the memory for the
+    /// factor is refused.
+    pub fn factor(&mut self, mut kc: Vec<f64>) -> Result<usize, AllocError> {
         let n = self.dim();
         for i in 0..n {
             for j in 0..i {
@@ -345,10 +347,10 @@ impl CoarseSpace {
                 kc[j * n + i] = s;
             }
         }
-        let f = Factor::new(kc, n);
+        let f = Factor::new(kc, n)?;
         let kept = f.kept.iter().filter(|&&k| k).count();
         self.factor = Some(f);
-        kept
+        Ok(kept)
     }
 
     /// z += Q Kc^-1 Q^T r on the owned nodes. Collective.
@@ -405,9 +407,9 @@ impl Factor {
     /// Row-oriented Cholesky: each entry is a contiguous dot product of two row prefixes.
     /// An unknown whose pivot is lost to cancellation (a mode the earlier ones already
     /// span) or that has no stiffness is dropped.
-    fn new(a: Vec<f64>, n: usize) -> Self {
+    fn new(a: Vec<f64>, n: usize) -> Result<Self, AllocError> {
         let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0, f64::max);
-        let mut l = vec![0.0; n * n];
+        let mut l = try_filled(0.0, n * n, "the coarse operator's factor")?;
         let mut kept = vec![false; n];
         for i in 0..n {
             for j in 0..=i {
@@ -427,7 +429,7 @@ impl Factor {
                 }
             }
         }
-        Factor { n, l, kept }
+        Ok(Factor { n, l, kept })
     }
 
     /// x <- A^-1 x on the kept unknowns (zero on the others).
@@ -487,7 +489,7 @@ mod tests {
             a[5 * 6 + j] = v;
             a[j * 6 + 5] = v;
         }
-        let f = Factor::new(a.clone(), 6);
+        let f = Factor::new(a.clone(), 6).unwrap();
         assert_eq!(f.kept, vec![true, true, true, true, true, false]);
         let x_true = [0.3, -1.2, 0.7, 2.0, -0.5, 0.0];
         let mut x: Vec<f64> = (0..6)

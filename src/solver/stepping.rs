@@ -89,7 +89,23 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
-    pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Self {
+    /// Fails only when the memory for the element geometry or the solver's vectors is
+    /// refused on some rank: every rank then returns that rank's error. Collective.
+    pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Result<Self, String> {
+        let built = Self::build(comm, problem, mesh);
+        let refused = built.as_ref().err().map(ToString::to_string);
+        match (built, crate::comm::first_error(comm, refused)) {
+            (Ok(s), None) => Ok(s),
+            (_, Some(e)) => Err(e),
+            (Err(e), None) => Err(e.to_string()),
+        }
+    }
+
+    fn build(
+        comm: &'a C,
+        problem: &'a Problem,
+        mesh: &'a LocalMesh,
+    ) -> Result<Self, crate::memory::AllocError> {
         let n = mesh.num_nodes();
         use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
         let wanted = match problem.solver.preconditioner {
@@ -116,23 +132,24 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 }
             }
         }
-        Stepper {
+        let zero = |what| crate::memory::try_filled([0.0; 3], n, what);
+        Ok(Stepper {
             comm,
             problem,
             mesh,
-            asm: Assembly::new(mesh, &problem.body_models),
+            asm: Assembly::new(mesh, &problem.body_models)?,
             loads: Loads::new(problem, mesh),
             dirichlet,
             cg: {
-                let mut cg = Cg::new(n);
+                let mut cg = Cg::new(n)?;
                 if let Some(c) = coarse {
                     cg.set_coarse(c);
                 }
                 cg
             },
             coarse_note,
-            u: vec![[0.0; 3]; n],
-            u_prev: vec![[0.0; 3]; n],
+            u: zero("the displacement")?,
+            u_prev: zero("the previous displacement")?,
             time: problem.start_time,
             dt_prev: 0.0,
             reference_floor: 0.0,
@@ -142,7 +159,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             cons: Constraints::none(mesh),
             multipliers: Vec::new(),
             extra: Vec::new(),
-        }
+        })
     }
 
     /// What a restart needs beyond the displacements: (time, last step length, reference
@@ -265,10 +282,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                     self.reference_floor = self.reference_floor.max(outcome.reference);
                 }
                 Err(cause) => {
-                    if use_predictor && self.dt_prev > 0.0 {
+                    // A shorter step needs the same memory: no retry.
+                    let retry = !matches!(cause, SolveFailure::OutOfMemory(_));
+                    if retry && use_predictor && self.dt_prev > 0.0 {
                         // First retry the same step from the last converged state.
                         use_predictor = false;
-                    } else if cutbacks < self.problem.solver.max_cutbacks {
+                    } else if retry && cutbacks < self.problem.solver.max_cutbacks {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {

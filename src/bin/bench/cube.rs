@@ -218,7 +218,7 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
 /// iteration.
 fn force_call(problem: &Problem) -> Result<Stat, String> {
     let local = local_mesh(problem)?;
-    let asm = Assembly::new(&local, &problem.body_models);
+    let asm = Assembly::new(&local, &problem.body_models)?;
     let u = smooth_field(&local.coords);
     let mut f = vec![[0.0; 3]; local.num_nodes()];
     Ok(time_it(5, || {

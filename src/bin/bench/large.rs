@@ -8,7 +8,7 @@ use crate::block::{
 use crate::machine::{machine, RunInfo};
 use crate::report;
 use crate::runner::process::{memory_available, Limits, MIB};
-use crate::runner::solver::{compare_results, solver_exe, Compare, Precond};
+use crate::runner::solver::{compare_results, repo_root, solver_exe, Compare, Precond};
 use crate::stats::Stat;
 use std::path::Path;
 use std::time::Instant;
@@ -102,6 +102,28 @@ impl MemoryEstimate {
     }
 }
 
+/// The memory model's estimate of the large run's peak per rank on `ranks` ranks under
+/// mpirun (what `solver check --refine 8 --ranks R` prints and `solver run` checks), MiB.
+pub fn model_estimate_mib(ranks: usize) -> Option<f64> {
+    use solver::problem::Preconditioner;
+    let scene = repo_root().join(crate::block::BLOCK_SCENE);
+    let size = solver::scene::counts::scene_size(&scene, LARGE_REFINE as u32)?
+        .with_override(Some(Preconditioner::TwoLevel));
+    Some(solver::memory::estimate_run(&size.counts, ranks, true).per_rank() / MIB)
+}
+
+/// The model's estimate beside the measured peak, in one sentence.
+pub fn model_text(ranks: usize, measured_mib: Option<f64>) -> String {
+    match (model_estimate_mib(ranks), measured_mib) {
+        (Some(e), Some(m)) => format!(
+            "memory model {e:.1} MiB per rank, measured peak {m:.1} MiB ({:+.1}%)",
+            100.0 * (e / m - 1.0)
+        ),
+        (Some(e), None) => format!("memory model {e:.1} MiB per rank, no measured peak"),
+        (None, _) => "memory model: the scene's counts could not be read".into(),
+    }
+}
+
 /// How the large run on one rank count went.
 pub enum LargeOutcome {
     Finished(Box<BlockCase>),
@@ -191,7 +213,10 @@ fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
         }
     };
     match &outcome {
-        LargeOutcome::Finished(_) => {}
+        LargeOutcome::Finished(c) => eprintln!(
+            "bench: large, {ranks} rank(s): {}",
+            model_text(ranks, Some(c.runs.peak_mib.median))
+        ),
         LargeOutcome::Failed(why) => eprintln!("bench: large, {ranks} rank(s) failed: {why}"),
         LargeOutcome::NotRun(why) => eprintln!("bench: large, {ranks} rank(s) not run: {why}"),
     }
@@ -265,6 +290,24 @@ mod tests {
             .text(2)
             .ends_with("x 1.25 against 2700 MiB available: fits"));
         assert!(MemoryEstimate::new(&[&a], 2, None).is_err());
+    }
+
+    /// The model's estimate of the n = 80 run is the scene's own (2 x 80^3 elements, 2 x
+    /// 81^3 nodes) and is shown beside a measured peak with their difference.
+    #[test]
+    fn model_estimate_beside_the_peak() {
+        let c = solver::memory::Counts {
+            elements: 2 * 80 * 80 * 80,
+            nodes: 2 * 81 * 81 * 81,
+            full_elements: 2 * 80 * 80 * 80,
+            two_level: true,
+        };
+        let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
+        let got = model_estimate_mib(2).unwrap();
+        assert_eq!(got, want);
+        let text = model_text(2, Some(want / 1.1));
+        assert!(text.ends_with("MiB (+10.0%)"), "{text}");
+        assert!(text.starts_with(&format!("memory model {want:.1} MiB per rank")));
     }
 
     /// A peak that did not grow between the pilots is scaled with the elements instead.

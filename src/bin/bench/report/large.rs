@@ -7,8 +7,8 @@ use super::json::{Rec, J};
 use super::markdown::{cell, dirty, fmt_opt, fmt_steal, identity_text};
 use crate::block::{BLOCK_BASE_N, BLOCK_SCENE};
 use crate::large::{
-    Large, LargeOutcome, LargeRun, MemoryEstimate, LARGE_MEMORY_MARGIN, LARGE_MIN_AVAILABLE,
-    LARGE_PILOT, LARGE_REFINE, LARGE_TIMEOUT_S,
+    model_estimate_mib, model_text, Large, LargeOutcome, LargeRun, MemoryEstimate,
+    LARGE_MEMORY_MARGIN, LARGE_MIN_AVAILABLE, LARGE_PILOT, LARGE_REFINE, LARGE_TIMEOUT_S,
 };
 use crate::results::{EarlierLarge, Results};
 use crate::runner::process::MIB;
@@ -48,7 +48,9 @@ fn estimate_json(e: &MemoryEstimate, ranks: usize) -> J {
 }
 
 fn run_json(r: &LargeRun) -> J {
-    let head = Rec::default().put("ranks", r.ranks);
+    let head = Rec::default()
+        .put("ranks", r.ranks)
+        .put("model_estimate_mib_per_rank", model_estimate_mib(r.ranks));
     let head = match &r.estimate {
         Ok(e) => head.put("memory_check", estimate_json(e, r.ranks)),
         Err(e) => head.put(
@@ -158,6 +160,13 @@ pub fn markdown(l: &Large, dir: &Path) -> String {
             ),
             Err(e) => writeln!(w, "- memory check, {} rank(s): failed: {e}", r.ranks),
         };
+        let measured = r.finished().map(|c| c.runs.peak_mib.median);
+        let _ = writeln!(
+            w,
+            "- {} rank(s): {}",
+            r.ranks,
+            model_text(r.ranks, measured)
+        );
     }
     if let Some(sp) = l.speedup() {
         let _ = writeln!(

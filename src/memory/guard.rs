@@ -1,0 +1,85 @@
+//! The allocator of the `solver` binary: the system's, except that an allocation the
+//! system refuses ends the process with a one-line error and exit code 1 instead of Rust's
+//! abort (a message, a backtrace and signal 6). Allocations made through
+//! [`super::reserve`] are fallible and get their null back instead, to report it as an
+//! error the run handles. The result file written so far stays as its `.tmp` file, which
+//! `--restart` continues.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+thread_local! {
+    /// Set while `reserve` makes a fallible allocation on this thread.
+    static FALLIBLE: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs `f` with this thread's allocation failures returned rather than fatal.
+pub(super) fn fallible<T>(f: impl FnOnce() -> T) -> T {
+    let before = FALLIBLE.with(|c| c.replace(true));
+    let out = f();
+    FALLIBLE.with(|c| c.set(before));
+    out
+}
+
+/// The system allocator with a clean exit when it refuses.
+pub struct Guard;
+
+/// Writes the error without allocating (the allocator just failed) and exits with 1.
+fn refused(size: usize) -> ! {
+    let mut buf = [0u8; 200];
+    let mut n = 0;
+    let mut put = |bytes: &[u8]| {
+        for &b in bytes {
+            if n < buf.len() {
+                buf[n] = b;
+                n += 1;
+            }
+        }
+    };
+    put(b"error: out of memory: an allocation of ");
+    let mut digits = [0u8; 20];
+    let (mut v, mut k) = (size, digits.len());
+    loop {
+        k -= 1;
+        digits[k] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    put(&digits[k..]);
+    put(b" bytes failed (the memory estimate was too low; run on more ranks or machines)\n");
+    // SAFETY: writes `n` initialised bytes of `buf` to standard error, then ends the
+    // process without running destructors or allocating.
+    unsafe {
+        libc::write(2, buf.as_ptr().cast(), n);
+        libc::_exit(1)
+    }
+}
+
+fn check(p: *mut u8, size: usize) -> *mut u8 {
+    if p.is_null() && !FALLIBLE.try_with(Cell::get).unwrap_or(false) {
+        refused(size);
+    }
+    p
+}
+
+// SAFETY: every call is forwarded to the system allocator with the same arguments; only
+// what happens after it refused changes.
+unsafe impl GlobalAlloc for Guard {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        check(System.alloc(layout), layout.size())
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        check(System.alloc_zeroed(layout), layout.size())
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        check(System.realloc(ptr, layout, new_size), new_size)
+    }
+}

@@ -1,0 +1,168 @@
+//! The memory model: the peak resident memory of a rank from the scene's counts alone
+//! (elements, nodes, formulation, preconditioner, ranks), before anything is allocated.
+//!
+//! The byte counts per element and per node are those of the data structures that hold
+//! them (listed at each constant), so a scene whose ratio of nodes to elements or whose
+//! formulation differs from the calibration scene is still counted right. Only the fixed
+//! cost of the runtime (the binary, HDF5, MPI) and the coarse space's aggregate count were
+//! calibrated, against the measured peaks (VmHWM) of the block on block at n = 10, 20, 40 on
+//! 1 and 2 ranks with both preconditioners: the counts then came within -8% .. +14% of
+//! every peak (tests/memory.rs checks 25%; the README's "Memory" section has the table).
+
+/// What the estimate needs to know about a scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub elements: u64,
+    pub nodes: u64,
+    /// Elements of fully integrated bodies (`integration = "full"`, also with
+    /// `mean_dilatation`): their Gauss-point gradients are kept.
+    pub full_elements: u64,
+    /// The two-level preconditioner will be used (its dense coarse operator).
+    pub two_level: bool,
+}
+
+/// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
+/// element part (4) and per-rank element lists (4); rank 0 also the result file's copy of
+/// the mesh (36) and the gathered stress of a step and its write buffer (2 x 48).
+const GLOBAL_PER_ELEMENT: f64 = 32.0 + 4.0 + 4.0 + 4.0 + 36.0 + 96.0;
+/// Coordinates (24), node owner (4) and per-rank node lists (4); on rank 0 the result
+/// file's coordinates (24) and a step's gathered displacement, reaction, contact force
+/// (3 x 24), status and gap (16), each also in a write buffer.
+const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + 2.0 * (72.0 + 16.0);
+// METIS's dual graph of the whole mesh (about 170 bytes per element with its copies) is
+// freed before the rank's share is built, so it is not part of the peak (the 2-rank peaks
+// at n = 40 are 4% and 13% below the counts without it).
+/// The rank's elements: local connectivity (32), global id (4), owned flag (1), body (4),
+/// reference geometry (`Result<Geometry>`, 312) and the step's stress (48).
+const LOCAL_PER_ELEMENT: f64 = 41.0 + 312.0 + 48.0;
+/// Gauss-point gradients of a fully integrated element (`GaussGeometry`).
+const GAUSS_PER_ELEMENT: f64 = 1600.0;
+/// The rank's nodes: coordinates, global id, owner (32); the CG vectors (11 x 24) and the
+/// 3x3 diagonal and its inverse (2 x 72); the displacement and its previous value and the
+/// step's reaction, contact force, status and gap (2 x 24 + 88).
+const LOCAL_PER_NODE: f64 = 32.0 + 264.0 + 144.0 + 48.0 + 88.0;
+/// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (solver::coarse);
+/// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
+const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
+const COARSE_MAX_AGGREGATES: f64 = 400.0;
+/// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
+/// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
+const FIXED_SERIAL: f64 = 20.0 * MIB;
+const FIXED_MPI_ONE_RANK: f64 = 30.0 * MIB;
+const FIXED_MPI_RANKS: f64 = 30.0 * MIB;
+
+const MIB: f64 = 1024.0 * 1024.0;
+
+/// The estimated peak of one rank, in bytes, split by what it is for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    pub ranks: usize,
+    /// The runtime before any mesh.
+    pub fixed: f64,
+    /// What every rank (or rank 0) holds of the whole mesh.
+    pub whole_mesh: f64,
+    /// The rank's share of the mesh, with its ghost layer.
+    pub share: f64,
+    /// The coarse operator of the two-level preconditioner (dense, on every rank).
+    pub coarse: f64,
+}
+
+impl Estimate {
+    /// Peak resident bytes of the largest rank (rank 0).
+    pub fn per_rank(&self) -> f64 {
+        self.fixed + self.whole_mesh + self.share + self.coarse
+    }
+
+    /// All ranks together.
+    pub fn total(&self) -> f64 {
+        self.per_rank() * self.ranks as f64
+    }
+}
+
+/// Elements (or nodes) of one rank's share of `n` over `ranks` ranks, with its ghost layer:
+/// about two faces of a cube of the share.
+fn share_of(n: u64, ranks: usize) -> f64 {
+    let own = n as f64 / ranks as f64;
+    if ranks == 1 {
+        own
+    } else {
+        (own + 2.0 * own.powf(2.0 / 3.0)).min(n as f64)
+    }
+}
+
+/// The estimated peak of the largest rank when the scene runs on `ranks` ranks under
+/// mpirun (`mpi`; a one-rank run without mpirun when not).
+pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
+    let ranks = ranks.max(1);
+    let (e, n) = (c.elements as f64, c.nodes as f64);
+    let whole_mesh = e * GLOBAL_PER_ELEMENT + n * GLOBAL_PER_NODE;
+    let full_share = if c.elements == 0 {
+        0.0
+    } else {
+        c.full_elements as f64 / e
+    };
+    let per_element = LOCAL_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT;
+    let share =
+        share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * LOCAL_PER_NODE;
+    let coarse = if c.two_level {
+        let aggregates = (n / COARSE_NODES_PER_AGGREGATE)
+            .ceil()
+            .clamp(1.0, COARSE_MAX_AGGREGATES);
+        // Dense, 6 rigid-body modes per aggregate. The assembled operator and its Cholesky
+        // factor are both held while it is factored, but not at the run's peak: one of
+        // them is counted (measured: 24.5 MiB more than Jacobi at n = 40, 1500 unknowns).
+        let dim = 6.0 * aggregates;
+        8.0 * dim * dim
+    } else {
+        0.0
+    };
+    Estimate {
+        ranks,
+        fixed: match (mpi, ranks) {
+            (false, _) => FIXED_SERIAL,
+            (true, 1) => FIXED_MPI_ONE_RANK,
+            (true, _) => FIXED_MPI_RANKS,
+        },
+        whole_mesh,
+        share,
+        coarse,
+    }
+}
+
+/// The estimate of a run on `ranks` ranks under mpirun.
+pub fn estimate(c: &Counts, ranks: usize) -> Estimate {
+    estimate_run(c, ranks, true)
+}
+
+/// The fewest ranks, one per machine, whose estimate per rank fits `available` bytes (None
+/// when even one rank per element would not: the whole-mesh data alone is too large).
+pub fn ranks_to_fit(c: &Counts, available: f64) -> Option<usize> {
+    let fits = |r: usize| estimate(c, r).per_rank() <= available;
+    let limit = (c.elements as usize).max(1);
+    if !fits(limit) {
+        return None;
+    }
+    // The estimate falls as ranks grow (the whole-mesh part stays): bisect.
+    let (mut lo, mut hi) = (1usize, limit);
+    if fits(lo) {
+        return Some(lo);
+    }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
+}
+
+/// The most ranks that fit together on one machine with `available` bytes (0 when not
+/// even one).
+pub fn ranks_on_one_machine(c: &Counts, available: f64, asked: usize) -> usize {
+    (1..=asked.max(1))
+        .rev()
+        .find(|&r| estimate(c, r).total() <= available)
+        .unwrap_or(0)
+}

@@ -1,0 +1,139 @@
+//! A scene's size from its file alone: elements and nodes of its generated blocks, counted
+//! from `divisions` without building the mesh, for the memory estimate that comes before
+//! any allocation (`solver check`, `solver run`).
+
+use super::types::{BodyDef, Integration, SceneFile};
+use super::validate::SceneError;
+use crate::fem::Formulation;
+use crate::memory::Counts;
+use crate::problem::{Preconditioner, Problem, TWO_LEVEL_NODES};
+use std::path::Path;
+
+/// Node and element ids are 32-bit, and some sums double them: the mesh may have at most
+/// this many of each (the limit the mesh builder checks too).
+pub const MAX_IDS: u64 = u32::MAX as u64 / 2;
+
+/// What the memory estimate needs of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSize {
+    pub counts: Counts,
+    /// The scene's `solver.preconditioner` (the two-level choice of `counts` follows it).
+    pub preconditioner: Preconditioner,
+    /// Set when the counts exceed the 32-bit ids: the error naming the body's divisions.
+    pub beyond_ids: Option<SceneError>,
+}
+
+impl SceneSize {
+    /// With the preconditioner a run uses instead of the scene's, if any.
+    pub fn with_override(mut self, p: Option<Preconditioner>) -> Self {
+        if let Some(p) = p {
+            self.preconditioner = p;
+            self.counts.two_level = two_level(p, self.counts.nodes);
+        }
+        self
+    }
+
+    /// The id-range error, if any, as a `Result`.
+    pub fn ids(&self) -> Result<(), SceneError> {
+        self.beyond_ids.clone().map_or(Ok(()), Err)
+    }
+}
+
+fn two_level(p: Preconditioner, nodes: u64) -> bool {
+    match p {
+        Preconditioner::TwoLevel => true,
+        Preconditioner::Jacobi => false,
+        Preconditioner::Auto => nodes >= TWO_LEVEL_NODES as u64,
+    }
+}
+
+/// The size of the scene at `path` refined by `factor`, from its generated blocks. None
+/// when the file does not read, parse or refine, or a body's divisions are out of range
+/// (loading the scene then reports that, cheaply and the same way every time), or a body
+/// comes from a Gmsh file (its counts need the mesh read: load the scene and use
+/// [`problem_size`]).
+pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
+    let file = path.display().to_string();
+    let text = super::text::utf8_text(std::fs::read(path).ok()?).ok()?;
+    let text = if factor > 1 {
+        let default_name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().to_string())
+            .unwrap_or_else(|| "scene".into());
+        super::refine::refine_scene_text(&text, factor, &default_name).ok()?
+    } else {
+        text
+    };
+    let raw: SceneFile = toml::from_str(&text).ok()?;
+    let preconditioner = match raw.solver.preconditioner.as_deref() {
+        Some("jacobi") => Preconditioner::Jacobi,
+        Some("two_level") => Preconditioner::TwoLevel,
+        _ => Preconditioner::Auto,
+    };
+    let mut counts = Counts::default();
+    let mut beyond_ids = None;
+    for (i, b) in raw.body.iter().enumerate() {
+        let (e, n) = block_counts(b)?;
+        counts.elements = counts.elements.saturating_add(e);
+        counts.nodes = counts.nodes.saturating_add(n);
+        if b.integration == Integration::Full {
+            counts.full_elements = counts.full_elements.saturating_add(e);
+        }
+        if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
+            beyond_ids = Some(SceneError {
+                file: file.clone(),
+                key: format!("body[{i}].divisions"),
+                message: format!(
+                    "the mesh would have {} elements and {} nodes up to this body, more than the \
+                     {MAX_IDS} the solver's 32-bit ids can number; use fewer divisions",
+                    counts.elements, counts.nodes
+                ),
+            });
+        }
+    }
+    counts.two_level = two_level(preconditioner, counts.nodes);
+    Some(SceneSize {
+        counts,
+        preconditioner,
+        beyond_ids,
+    })
+}
+
+/// (elements, nodes) of a generated block; None for a Gmsh body or divisions that loading
+/// refuses.
+fn block_counts(b: &BodyDef) -> Option<(u64, u64)> {
+    if b.gmsh_volume.is_some() {
+        return None;
+    }
+    let d = b.divisions?;
+    if d.iter().any(|&x| !(1..=10_000).contains(&x)) {
+        return None;
+    }
+    // At most 10^12 elements and (10^4 + 1)^3 nodes per block: no overflow in u64.
+    let elements = d.iter().map(|&x| x as u64).product();
+    let nodes = d.iter().map(|&x| x as u64 + 1).product();
+    Some((elements, nodes))
+}
+
+/// The size of a loaded scene (the only way for Gmsh meshes).
+pub fn problem_size(p: &Problem) -> SceneSize {
+    let m = &p.mesh;
+    let full_elements = m
+        .bodies
+        .iter()
+        .zip(&p.body_models)
+        .filter(|(_, model)| !matches!(model.formulation, Formulation::Mean { .. }))
+        .map(|(b, _)| b.num_elements as u64)
+        .sum();
+    let nodes = m.num_nodes() as u64;
+    SceneSize {
+        counts: Counts {
+            elements: m.num_elements() as u64,
+            nodes,
+            full_elements,
+            two_level: two_level(p.solver.preconditioner, nodes),
+        },
+        preconditioner: p.solver.preconditioner,
+        beyond_ids: None,
+    }
+}

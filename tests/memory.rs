@@ -1,0 +1,202 @@
+//! Scenes too big for the machine: the estimate before any allocation, the refusal with
+//! what would fit, `--force`, and the estimate against measured peaks.
+
+use solver::memory::estimate_run;
+use solver::scene::counts::scene_size;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("solver-memory-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// run/examples/bar.toml with `divisions` replaced.
+fn bar(d: &Path, divisions: [u32; 3]) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("run/examples/bar.toml")).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("divisions"))
+        .expect("bar.toml has divisions");
+    let text = text.replace(line, &format!("divisions = {divisions:?}"));
+    let p = d.join(format!("bar_{}.toml", divisions[0]));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).to_string(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+fn no_abort(o: &Output, what: &str) {
+    let (_, err) = text(o);
+    assert!(
+        o.status.code().is_some(),
+        "{what}: ended by a signal: {err}"
+    );
+    for bad in ["panicked", "backtrace", "memory allocation of"] {
+        assert!(!err.contains(bad), "{what}: '{bad}' in:\n{err}");
+    }
+}
+
+/// 5000^3 elements: `check` prints the counts and the estimate without building the mesh,
+/// `run` exits 2 with the estimate, the memory available and what would fit, and also
+/// names the divisions whose counts exceed the 32-bit ids. Run under a 2 GiB address space
+/// limit, so that building any part of the 10^11-element mesh would fail loudly instead.
+#[test]
+fn a_scene_of_10_to_the_11_elements_is_refused_before_allocating() {
+    let d = dir("huge");
+    let scene = bar(&d, [5000, 5000, 5000]);
+    let limited = |args: &[&str]| {
+        Command::new("prlimit")
+            .arg(format!("--as={}", 2u64 << 30))
+            .arg(env!("CARGO_BIN_EXE_solver"))
+            .args(args)
+            .output()
+            .expect("prlimit runs")
+    };
+    let check = limited(&["check", scene.to_str().unwrap()]);
+    no_abort(&check, "check");
+    let (out, err) = text(&check);
+    assert_eq!(check.status.code(), Some(2), "{out}{err}");
+    assert!(
+        out.contains("125000000000 elements, 125075015001 nodes"),
+        "{out}"
+    );
+    assert!(out.contains("memory: estimated peak"), "{out}");
+    assert!(err.contains("body[0].divisions"), "{err}");
+
+    let h5 = d.join("huge.h5");
+    let run = limited(&["run", scene.to_str().unwrap(), "-o", h5.to_str().unwrap()]);
+    no_abort(&run, "run");
+    let (_, err) = text(&run);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    for needle in [
+        "error: not enough memory: 125000000000 elements",
+        "per rank on 1 rank(s)",
+        "is available (",
+        "no number of ranks fits it",
+        "--force",
+        "body[0].divisions: the mesh would have 125000000000 elements",
+    ] {
+        assert!(err.contains(needle), "'{needle}' not in:\n{err}");
+    }
+    assert!(!h5.exists() && !d.join("huge.h5.tmp").exists());
+}
+
+/// A scene that fits the machine but not an address space limit set for the process
+/// (`prlimit --as`) is refused before it allocates: exit 2 naming the limit. With
+/// `--force` it runs, and the allocation that then fails ends it with a one-line error and
+/// exit 1, not an abort.
+#[test]
+fn an_address_space_limit_refuses_the_run_and_force_runs_it() {
+    let d = dir("prlimit");
+    // 80^3 = 512000 fully integrated elements: about 1.4 GiB (estimate), against 1 GiB of
+    // address space, of which the libraries take part before the scene is read.
+    let scene = bar(&d, [80, 80, 80]);
+    let size = scene_size(&scene, 1).expect("counts from the divisions");
+    let need = estimate_run(&size.counts, 1, false).per_rank();
+    let limit: u64 = 1 << 30;
+    assert!(
+        need > 1.2 * limit as f64,
+        "the scene must need more: {need}"
+    );
+    let h5 = d.join("bar.h5");
+    let run = |force: bool| {
+        let mut c = Command::new("prlimit");
+        c.arg(format!("--as={limit}"))
+            .arg(env!("CARGO_BIN_EXE_solver"))
+            .args(["run", scene.to_str().unwrap(), "-o", h5.to_str().unwrap()]);
+        if force {
+            c.arg("--force");
+        }
+        c.output().expect("prlimit runs")
+    };
+    let refused = run(false);
+    no_abort(&refused, "run");
+    let (_, err) = text(&refused);
+    assert_eq!(refused.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("error: not enough memory: 512000 elements"),
+        "{err}"
+    );
+    assert!(err.contains("(address space limit 1.0 GiB"), "{err}");
+    assert!(err.contains("it would fit on"), "{err}");
+    assert!(!h5.exists());
+
+    let forced = run(true);
+    no_abort(&forced, "run --force");
+    let (_, err) = text(&forced);
+    assert!(err.contains("warning: --force: not enough memory"), "{err}");
+    assert_eq!(forced.status.code(), Some(1), "{err}");
+    assert!(err.contains("error: out of memory"), "{err}");
+    assert!(!h5.exists(), "no result file looking complete");
+}
+
+/// The peak the solver reports ("peak memory X MiB per rank": the largest VmHWM over the
+/// ranks) of the bench's block on block refined by `factor` on `ranks` ranks under mpirun.
+fn measured_peak(d: &Path, factor: u32, ranks: usize) -> f64 {
+    let scene = root().join("run/scenes/bench/block_on_block.toml");
+    let h5 = d.join(format!("n{}_np{ranks}.h5", 10 * factor));
+    let o = Command::new(root().join("run/mpirun"))
+        .args(["-np", &ranks.to_string()])
+        .arg(env!("CARGO_BIN_EXE_solver"))
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "--refine",
+            &factor.to_string(),
+        ])
+        .args(["-o", h5.to_str().unwrap()])
+        .output()
+        .expect("mpirun runs");
+    let (_, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    let at = err.find("peak memory ").expect("done line") + "peak memory ".len();
+    let mib: f64 = err[at..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    mib * 1024.0 * 1024.0
+}
+
+/// The estimate is within 25% of the measured peak for the block on block at n = 10, 20,
+/// 40 (the default preconditioner: Jacobi below 20000 nodes, two-level at n = 40) on 1 and
+/// 2 ranks. 25% is the goal: the estimate decides whether a run may start, and a
+/// quarter of margin either way still tells a run that fits from one that does not by far.
+/// At the calibration the model was within -8% .. +14% of these peaks.
+#[test]
+fn the_estimate_is_within_25_percent_of_the_measured_peak() {
+    let d = dir("peaks");
+    let scene = root().join("run/scenes/bench/block_on_block.toml");
+    let mut lines = Vec::new();
+    let mut worst: f64 = 0.0;
+    for factor in [1, 2, 4] {
+        let size = scene_size(&scene, factor).expect("counts");
+        for ranks in [1, 2] {
+            let est = estimate_run(&size.counts, ranks, true).per_rank();
+            let peak = measured_peak(&d, factor, ranks);
+            let rel = est / peak - 1.0;
+            worst = worst.max(rel.abs());
+            lines.push(format!(
+                "n = {}, {ranks} rank(s): estimate {:.1} MiB, peak {:.1} MiB, {:+.1}%",
+                10 * factor,
+                est / 1048576.0,
+                peak / 1048576.0,
+                100.0 * rel
+            ));
+        }
+    }
+    eprintln!("{}", lines.join("\n"));
+    assert!(worst <= 0.25, "{}", lines.join("\n"));
+}
