@@ -141,11 +141,32 @@ impl ContactState {
         &self.released
     }
 
-    /// Constraint rows of the active constraints whose slave node this rank owns (normal
-    /// first, then the tangents of a sticking node), in the order of `active`.
+    /// Constraint rows of the active constraints whose slave node this rank owns, in the
+    /// order of `active`: every normal first, then the tangents of the sticking nodes. On a
+    /// node with several ties, another pair's normal (like a Dirichlet row, which comes
+    /// before all of them) thus takes precedence over a stick: a tangential row in its span
+    /// is dropped, and the node's motion along the master is then driven, which the update
+    /// judges as slip (see `driven_slip`).
     pub fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
         let mut out = Vec::new();
+        for tangents_pass in [false, true] {
+            self.rows_into(problem, mesh, tangents_pass, &mut out);
+        }
+        out
+    }
+
+    /// The normal rows (`tangents_pass` false) or the stick rows (true) of `rows`.
+    fn rows_into(
+        &self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        tangents_pass: bool,
+        out: &mut Vec<RowSpec>,
+    ) {
         for (k, a) in self.active.iter().enumerate() {
+            if tangents_pass && a.mode != Mode::Stick {
+                continue;
+            }
             let pair = &problem.contacts[a.pair];
             let Some(slave) = mesh.owned_node(a.slave) else {
                 continue;
@@ -162,13 +183,13 @@ impl ContactState {
                 }
             }
             let offset = sub(&problem.mesh.coords[a.slave as usize], &xm);
-            let mut dirs = vec![a.normal];
-            if a.mode == Mode::Stick {
+            let dirs = if tangents_pass {
                 let (t1, t2) = tangents(&a.normal);
-                dirs.push(t1);
-                dirs.push(t2);
-            }
-            for (c, dir) in dirs.into_iter().enumerate() {
+                vec![(1, t1), (2, t2)]
+            } else {
+                vec![(0, a.normal)]
+            };
+            for (c, dir) in dirs {
                 out.push(RowSpec {
                     node: slave,
                     row: Row {
@@ -183,7 +204,6 @@ impl ContactState {
                 });
             }
         }
-        out
     }
 
     /// Friction forces of slipping nodes on slave and master nodes, added to `extra` (on
@@ -395,6 +415,16 @@ impl ContactState {
                         a.secant = measured.map(|d| (a.tangential_force, d));
                         a.mode = Mode::Slip {
                             dir: scale(&a.tangential_force, 1.0 / ft),
+                            magnitude: capacity,
+                        };
+                        changed = true;
+                    } else if let Some(d) = driven_slip(&surfaces[a.pair], problem, mesh, u, a) {
+                        // Prescribed motion (or another tie) moved the node along the master
+                        // from its stick point: it slips, the friction force against the
+                        // slip, whatever force the stick carried (the driving rows took it).
+                        a.secant = measured.map(|m| (scale(&d, -capacity / norm(&d)), m));
+                        a.mode = Mode::Slip {
+                            dir: scale(&d, -1.0 / norm(&d)),
                             magnitude: capacity,
                         };
                         changed = true;
@@ -639,6 +669,29 @@ impl ContactState {
         self.released.sort_unstable();
         self.released.dedup();
     }
+}
+
+/// How far a sticking node sits from its stick point along the master surface, when more
+/// than round-off (on the rank that owns the node). Its tie rows hold it there unless rows
+/// that take precedence (Dirichlet rows, another pair's normal) drive it along the master:
+/// then the node moves relative to the master and Coulomb's law makes it slip.
+fn driven_slip(
+    surface: &super::search::MasterSurface,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    a: &Active,
+) -> Option<Vec3> {
+    let l = mesh.owned_node(a.slave)?;
+    let (now, _) = surface.face_corners(a.face)?;
+    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let mut d = ghost::position(problem, mesh, u, l);
+    for j in 0..4 {
+        d = sub(&d, &scale(&now[j], w[j]));
+    }
+    let d = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
+    let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
+    (norm(&d) > noise).then_some(d)
 }
 
 /// The node's tangential stiffness from two (force held, slip) states of one step: the
