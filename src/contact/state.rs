@@ -6,6 +6,7 @@
 
 use super::ghost;
 use super::search::Interaction;
+use super::slip::{driven_slip, friction_direction, secant_stiffness, SLIP_NOISE};
 use crate::comm::{self, Comm};
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
@@ -22,18 +23,10 @@ const PENETRATION_NOISE: f64 = 1e-10;
 /// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
 const EDGE_HYSTERESIS: f64 = 1e-4;
 
-/// A secant over a change of the slip smaller than this fraction of the slip is not
-/// taken (the solver's error would dominate it); the last estimate is kept.
-const SECANT_MIN: f64 = 1e-7;
-
 /// Slipping nodes' friction forces count as settled once each is within this fraction of
 /// its capacity (the capacity's own change between model problems): the reversal of a
 /// slip is judged from then on.
 const SETTLED: f64 = 1e-8;
-
-/// A slip shorter than this fraction of the face size is round-off: it does not turn the
-/// friction direction.
-const SLIP_NOISE: f64 = 1e-10;
 
 /// Tangential behaviour of an active constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -668,84 +661,6 @@ impl ContactState {
         self.active.sort_by_key(|a| (a.slave, a.pair));
         self.released.sort_unstable();
         self.released.dedup();
-    }
-}
-
-/// How far a sticking node sits from its stick point along the master surface, when more
-/// than round-off (on the rank that owns the node). Its tie rows hold it there unless rows
-/// that take precedence (Dirichlet rows, another pair's normal) drive it along the master:
-/// then the node moves relative to the master and Coulomb's law makes it slip.
-fn driven_slip(
-    surface: &super::search::MasterSurface,
-    problem: &Problem,
-    mesh: &LocalMesh,
-    u: &[Vec3],
-    a: &Active,
-) -> Option<Vec3> {
-    let l = mesh.owned_node(a.slave)?;
-    let (now, _) = surface.face_corners(a.face)?;
-    let w = crate::fem::face::shape(a.s[0], a.s[1]);
-    let mut d = ghost::position(problem, mesh, u, l);
-    for j in 0..4 {
-        d = sub(&d, &scale(&now[j], w[j]));
-    }
-    let d = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
-    let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
-    (norm(&d) > noise).then_some(d)
-}
-
-/// The node's tangential stiffness from two (force held, slip) states of one step: the
-/// force the rest of the structure puts on the node changes with its slip by -K slip, so
-/// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
-/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
-/// positive.
-fn secant_stiffness(
-    previous: Option<(Vec3, Vec3)>,
-    held: Vec3,
-    slip: Vec3,
-    noise: f64,
-) -> Option<f64> {
-    let (f0, d0) = previous?;
-    let dd = sub(&slip, &d0);
-    let length2 = dot(&dd, &dd);
-    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
-        return None;
-    }
-    let k = dot(&sub(&held, &f0), &dd) / length2;
-    (k > 0.0 && k.is_finite()).then_some(k)
-}
-
-/// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
-/// force `held` (along `dir`) and slipped by `slip` this step. The friction force must
-/// oppose the slip; setting it against the measured slip directly overshoots near the onset
-/// of slip (there the slip's direction turns strongly with the friction force's). Instead
-/// the force that would hold the node where the step began is estimated,
-/// g = held - k slip with the secant stiffness k, and the friction force is set along it:
-/// the return mapping of an elastic stick, exact in one update when the node's stiffness
-/// is isotropic, and a contraction for an estimate within a factor of two. Without an
-/// estimate, for a slip of round-off size, or when the friction force would turn by less
-/// than `force_tol` (the force the model problem resolves), the direction is kept.
-fn friction_direction(
-    dir: Vec3,
-    held: Vec3,
-    slip: Vec3,
-    k: f64,
-    noise: f64,
-    force_tol: f64,
-) -> Vec3 {
-    if k <= 0.0 || norm(&slip) <= noise {
-        return dir;
-    }
-    let g = sub(&held, &scale(&slip, k));
-    let length = norm(&g);
-    if !(length > 0.0 && length.is_finite()) {
-        return dir;
-    }
-    let turned = scale(&g, 1.0 / length);
-    if norm(&sub(&turned, &dir)) * norm(&held) <= force_tol {
-        dir
-    } else {
-        turned
     }
 }
 
