@@ -649,18 +649,13 @@ tolerance = {TOL:?}
     )
 }
 
-/// Known limitation, kept as a failing test so it is not forgotten: a slipping node has no
-/// tangential stiffness in the model problem (its friction force is a fixed load; its
-/// direction is updated between model problems). After the Poisson expansion makes every
-/// bottom corner slip radially, the step that adds a small sideways load starts with all
-/// four corners slipping: the block has no tangential support, the model problem is
-/// singular and the run stops ("non-positive curvature ...; body 'block' is not held: ...
-/// (free: translation along x, translation along z, rotation about y)") before any contact
-/// update can re-stick a corner. The fix is the slip-increment enforcement of the algorithm
-/// notes (a slipping node stays tied with its anchor moved by the excess force over a
-/// tangential stiffness), or starting each step with the slipping nodes stuck.
+/// A body held only by slipping nodes: after the Poisson expansion makes every bottom corner
+/// slip radially, the step that adds a small sideways load starts with all four corners
+/// slipping, so with friction forces as fixed loads the block would have no tangential
+/// support and the model problem would be singular. Slipping nodes then carry a tangential
+/// spring in the model problem (`solver::springs`), the contact update re-sticks the corners
+/// that the load unloads, and the step converges.
 #[test]
-#[ignore = "known limitation of the slip treatment; see the comment above"]
 fn coulomb_block_resists_a_small_tangential_load_after_radial_slip() {
     // One element, nu = 0.3: while it is pressed, the bottom's Poisson expansion gives each
     // bottom corner a radial tangential force 0.42 of its normal force, above mu = 0.3, so
@@ -746,4 +741,23 @@ fn frictionless_block_pushed_sideways_cannot_converge() {
         "a block with no equilibrium was reported converged (max |u| = {umax:e}, last reference force {:e} for a load of 1e3)",
         summary.steps.last().map_or(0.0, |r| r.reference)
     );
+}
+
+/// The block held only by slipping nodes (the test above) is kept as a scene file for the
+/// multi-rank runs (mpi-tests/scenes.txt); it must be the scene tested here.
+/// FRICTION_WRITE_SCENES=1 rewrites it.
+#[test]
+fn slipping_corners_scene_file_is_the_tested_scene() {
+    let path = format!(
+        "{}/run/scenes/friction/slipping_corners.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = "# A block whose four corners slip radially, then a small sideways load: held only by\n# slipping nodes when the load starts (tests/contact.rs).\n".to_string()
+        + &free_block_on_plate(1, 0.3, "friction = \"coulomb\"\nmu = 0.3", 20.0)
+            .replace("name = \"free_block_on_plate\"", "name = \"slipping_corners\"");
+    if std::env::var_os("FRICTION_WRITE_SCENES").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    let stored = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(stored == text, "{path} differs from the tested scene");
 }

@@ -7,6 +7,7 @@
 pub mod ghost;
 pub mod project;
 pub mod search;
+pub mod slip;
 pub mod state;
 
 pub use crate::problem::ContactPair;

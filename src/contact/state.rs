@@ -6,6 +6,7 @@
 
 use super::ghost;
 use super::search::Interaction;
+use super::slip::{driven_slip, friction_direction, secant_stiffness, SLIP_NOISE};
 use crate::comm::{self, Comm};
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
@@ -22,18 +23,10 @@ const PENETRATION_NOISE: f64 = 1e-10;
 /// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
 const EDGE_HYSTERESIS: f64 = 1e-4;
 
-/// A secant over a change of the slip smaller than this fraction of the slip is not
-/// taken (the solver's error would dominate it); the last estimate is kept.
-const SECANT_MIN: f64 = 1e-7;
-
 /// Slipping nodes' friction forces count as settled once each is within this fraction of
 /// its capacity (the capacity's own change between model problems): the reversal of a
 /// slip is judged from then on.
 const SETTLED: f64 = 1e-8;
-
-/// A slip shorter than this fraction of the face size is round-off: it does not turn the
-/// friction direction.
-const SLIP_NOISE: f64 = 1e-10;
 
 /// Tangential behaviour of an active constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,11 +134,32 @@ impl ContactState {
         &self.released
     }
 
-    /// Constraint rows of the active constraints whose slave node this rank owns (normal
-    /// first, then the tangents of a sticking node), in the order of `active`.
+    /// Constraint rows of the active constraints whose slave node this rank owns, in the
+    /// order of `active`: every normal first, then the tangents of the sticking nodes. On a
+    /// node with several ties, another pair's normal (like a Dirichlet row, which comes
+    /// before all of them) thus takes precedence over a stick: a tangential row in its span
+    /// is dropped, and the node's motion along the master is then driven, which the update
+    /// judges as slip (see `driven_slip`).
     pub fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
         let mut out = Vec::new();
+        for tangents_pass in [false, true] {
+            self.rows_into(problem, mesh, tangents_pass, &mut out);
+        }
+        out
+    }
+
+    /// The normal rows (`tangents_pass` false) or the stick rows (true) of `rows`.
+    fn rows_into(
+        &self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        tangents_pass: bool,
+        out: &mut Vec<RowSpec>,
+    ) {
         for (k, a) in self.active.iter().enumerate() {
+            if tangents_pass && a.mode != Mode::Stick {
+                continue;
+            }
             let pair = &problem.contacts[a.pair];
             let Some(slave) = mesh.owned_node(a.slave) else {
                 continue;
@@ -162,13 +176,13 @@ impl ContactState {
                 }
             }
             let offset = sub(&problem.mesh.coords[a.slave as usize], &xm);
-            let mut dirs = vec![a.normal];
-            if a.mode == Mode::Stick {
+            let dirs = if tangents_pass {
                 let (t1, t2) = tangents(&a.normal);
-                dirs.push(t1);
-                dirs.push(t2);
-            }
-            for (c, dir) in dirs.into_iter().enumerate() {
+                vec![(1, t1), (2, t2)]
+            } else {
+                vec![(0, a.normal)]
+            };
+            for (c, dir) in dirs {
                 out.push(RowSpec {
                     node: slave,
                     row: Row {
@@ -183,7 +197,6 @@ impl ContactState {
                 });
             }
         }
-        out
     }
 
     /// Friction forces of slipping nodes on slave and master nodes, added to `extra` (on
@@ -395,6 +408,16 @@ impl ContactState {
                         a.secant = measured.map(|d| (a.tangential_force, d));
                         a.mode = Mode::Slip {
                             dir: scale(&a.tangential_force, 1.0 / ft),
+                            magnitude: capacity,
+                        };
+                        changed = true;
+                    } else if let Some(d) = driven_slip(&surfaces[a.pair], problem, mesh, u, a) {
+                        // Prescribed motion (or another tie) moved the node along the master
+                        // from its stick point: it slips, the friction force against the
+                        // slip, whatever force the stick carried (the driving rows took it).
+                        a.secant = measured.map(|m| (scale(&d, -capacity / norm(&d)), m));
+                        a.mode = Mode::Slip {
+                            dir: scale(&d, -1.0 / norm(&d)),
                             magnitude: capacity,
                         };
                         changed = true;
@@ -638,61 +661,6 @@ impl ContactState {
         self.active.sort_by_key(|a| (a.slave, a.pair));
         self.released.sort_unstable();
         self.released.dedup();
-    }
-}
-
-/// The node's tangential stiffness from two (force held, slip) states of one step: the
-/// force the rest of the structure puts on the node changes with its slip by -K slip, so
-/// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
-/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
-/// positive.
-fn secant_stiffness(
-    previous: Option<(Vec3, Vec3)>,
-    held: Vec3,
-    slip: Vec3,
-    noise: f64,
-) -> Option<f64> {
-    let (f0, d0) = previous?;
-    let dd = sub(&slip, &d0);
-    let length2 = dot(&dd, &dd);
-    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
-        return None;
-    }
-    let k = dot(&sub(&held, &f0), &dd) / length2;
-    (k > 0.0 && k.is_finite()).then_some(k)
-}
-
-/// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
-/// force `held` (along `dir`) and slipped by `slip` this step. The friction force must
-/// oppose the slip; setting it against the measured slip directly overshoots near the onset
-/// of slip (there the slip's direction turns strongly with the friction force's). Instead
-/// the force that would hold the node where the step began is estimated,
-/// g = held - k slip with the secant stiffness k, and the friction force is set along it:
-/// the return mapping of an elastic stick, exact in one update when the node's stiffness
-/// is isotropic, and a contraction for an estimate within a factor of two. Without an
-/// estimate, for a slip of round-off size, or when the friction force would turn by less
-/// than `force_tol` (the force the model problem resolves), the direction is kept.
-fn friction_direction(
-    dir: Vec3,
-    held: Vec3,
-    slip: Vec3,
-    k: f64,
-    noise: f64,
-    force_tol: f64,
-) -> Vec3 {
-    if k <= 0.0 || norm(&slip) <= noise {
-        return dir;
-    }
-    let g = sub(&held, &scale(&slip, k));
-    let length = norm(&g);
-    if !(length > 0.0 && length.is_finite()) {
-        return dir;
-    }
-    let turned = scale(&g, 1.0 / length);
-    if norm(&sub(&turned, &dir)) * norm(&held) <= force_tol {
-        dir
-    } else {
-        turned
     }
 }
 

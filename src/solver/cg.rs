@@ -190,6 +190,8 @@ pub struct Problem<'a, C: Comm + ?Sized> {
     pub cons: &'a Constraints,
     /// Forces held fixed during the model problem (friction of slipping contact nodes).
     pub extra: &'a [Vec3],
+    /// Tangential springs of slipping contact nodes (see `springs`).
+    pub springs: &'a [super::springs::Spring],
     pub time: f64,
 }
 
@@ -203,6 +205,7 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
         let r = self.asm.internal_force(u, fi);
         let r = r.and_then(|_| self.loads.external_force(self.asm, self.time, u, fe));
         agree(self.comm, r)?;
+        super::springs::add_forces(self.springs, u, fi);
         if !self.extra.is_empty() {
             for (f, x) in fe.iter_mut().zip(self.extra) {
                 *f = crate::math::add(f, x);
@@ -335,6 +338,7 @@ impl Cg {
 
             if linear {
                 agree(comm, pb.asm.internal_force(&self.pu, &mut self.q))?;
+                super::springs::add_action(pb.springs, &self.pu, &mut self.q);
                 let pkp = comm::dot(comm, &self.pu, &self.q, n);
                 if !(pkp > 0.0) {
                     return Err(SolveFailure::NonPositiveCurvature { iterations: it });
@@ -537,6 +541,7 @@ impl Cg {
         u: &[Vec3],
     ) -> Result<(), SolveFailure> {
         agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
+        super::springs::add_diagonal(pb.springs, &mut self.diag);
         pb.cons.precondition_blocks(pb.comm, &mut self.diag);
         for a in 0..u.len() {
             let m = &self.diag[a];

@@ -4,6 +4,7 @@
 use super::assembly::Assembly;
 use super::cg::{Cg, CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
 use super::loads::Loads;
+use super::springs::Spring;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::state::{ContactCounts, ContactState};
@@ -369,6 +370,8 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             contact.capture(self.comm, self.problem, self.mesh, u);
         }
         let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
+        // Nodal stiffness blocks for the slipping nodes' springs, once per step.
+        let mut diag = Vec::new();
         loop {
             let cons = self.build_constraints(t, contact)?;
             let mut extra = vec![
@@ -381,29 +384,17 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             ];
             contact.friction_forces(self.problem, self.mesh, &mut extra);
             cons.impose(self.comm, self.mesh, u);
+            let (outcome, springs) =
+                self.solve_model(t, u, &cons, &extra, contact, &settings, &mut diag, record)?;
             let pb = ModelProblem {
                 comm: self.comm,
                 asm: &self.asm,
                 loads: &self.loads,
                 cons: &cons,
                 extra: &extra,
+                springs: &springs,
                 time: t,
             };
-            let outcome = self.cg.solve(&pb, u, &settings);
-            let outcome = match outcome {
-                Ok(o) => o,
-                Err(e) => {
-                    if let SolveFailure::NotConverged { iterations, .. }
-                    | SolveFailure::NonPositiveCurvature { iterations }
-                    | SolveFailure::Unbounded { iterations, .. }
-                    | SolveFailure::NonFinite { iterations } = e
-                    {
-                        record.cg_iterations += iterations as u64;
-                    }
-                    return Err(e);
-                }
-            };
-            record.cg_iterations += outcome.iterations as u64;
             // A body that is not held (a mechanism, or a slave body pushed off its master)
             // runs away instead of failing to converge: stop it with that diagnosis.
             let owned = self.mesh.num_owned_nodes;
@@ -495,6 +486,91 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             }
             history.push(signature);
         }
+    }
+}
+
+impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+    /// Solves the model problem at time `t`. A friction force is a load, so a body held
+    /// only by slipping nodes is a mechanism within the model problem: when the supports
+    /// do not hold a body (`support::unheld_bodies`, slipping nodes tied along the normal
+    /// only), or CG finds non-positive curvature, the model problem is solved (again, from
+    /// the same start) with a tangential spring at each slipping node
+    /// (see `springs`). Returns the outcome and the springs it used. Collective: the
+    /// failure and the contact state are the same on every rank.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_model(
+        &mut self,
+        t: f64,
+        u: &mut [Vec3],
+        cons: &Constraints,
+        extra: &[Vec3],
+        contact: &ContactState,
+        settings: &CgSettings,
+        diag: &mut Vec<crate::math::Mat3>,
+        record: &mut StepRecord,
+    ) -> Result<(ModelOutcome, Vec<Spring>), SolveFailure> {
+        let start = has_slip(contact).then(|| u.to_vec());
+        let mut springs = Vec::new();
+        let mut with_springs = false;
+        if start.is_some() && !super::support::unheld_bodies(self.problem, contact).is_empty() {
+            springs = self.slip_springs(contact, u, diag);
+            with_springs = true;
+        }
+        loop {
+            let pb = ModelProblem {
+                comm: self.comm,
+                asm: &self.asm,
+                loads: &self.loads,
+                cons,
+                extra,
+                springs: &springs,
+                time: t,
+            };
+            let e = match self.cg.solve(&pb, u, settings) {
+                Ok(o) => {
+                    record.cg_iterations += o.iterations as u64;
+                    return Ok((o, springs));
+                }
+                Err(e) => e,
+            };
+            if let SolveFailure::NotConverged { iterations, .. }
+            | SolveFailure::NonPositiveCurvature { iterations }
+            | SolveFailure::Unbounded { iterations, .. }
+            | SolveFailure::NonFinite { iterations } = e
+            {
+                record.cg_iterations += iterations as u64;
+            }
+            // (Not a CG that does not converge: a retry costs a whole CG budget, 120000
+            // iterations more for nothing in the extreme suite's drag_deformable; the
+            // support check above finds the mechanisms that show that way.)
+            let mechanism = matches!(e, SolveFailure::NonPositiveCurvature { .. });
+            match &start {
+                Some(u0) if mechanism && !with_springs => {
+                    u.copy_from_slice(u0);
+                    springs = self.slip_springs(contact, u, diag);
+                    with_springs = true;
+                }
+                _ => return Err(e),
+            }
+        }
+    }
+}
+
+impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+    /// The slipping nodes' springs at `u`, with the nodal stiffness blocks computed once
+    /// per step into `diag`.
+    fn slip_springs(
+        &self,
+        contact: &ContactState,
+        u: &[Vec3],
+        diag: &mut Vec<crate::math::Mat3>,
+    ) -> Vec<Spring> {
+        if diag.is_empty() {
+            diag.resize(self.mesh.num_nodes(), [[0.0; 3]; 3]);
+            // An element that fails here fails the model problem too.
+            let _ = self.asm.diagonal(u, diag);
+        }
+        contact.slip_springs(self.mesh, u, diag)
     }
 }
 

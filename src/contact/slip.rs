@@ -1,0 +1,139 @@
+//! The slip of a contact node and the friction it carries: whether prescribed motion drives
+//! a sticking node along its master, the secant estimate of a node's tangential stiffness,
+//! the return mapping that turns a slipping node's friction force against its slip, and the
+//! tangential springs slipping nodes carry in the model problem.
+
+use super::ghost;
+use super::state::{Active, ContactState, Mode};
+use crate::math::{dot, matvec, norm, scale, sub, Mat3, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use crate::solver::springs::Spring;
+
+/// A slip shorter than this fraction of the face size is round-off: it does not turn the
+/// friction direction.
+pub(super) const SLIP_NOISE: f64 = 1e-10;
+
+/// A secant over a change of the slip smaller than this fraction of the slip is not
+/// taken (the solver's error would dominate it); the last estimate is kept.
+const SECANT_MIN: f64 = 1e-7;
+
+/// How far a sticking node sits from its stick point along the master surface, when more
+/// than round-off (on the rank that owns the node). Its tie rows hold it there unless rows
+/// that take precedence (Dirichlet rows, another pair's normal) drive it along the master:
+/// then the node moves relative to the master and Coulomb's law makes it slip.
+pub(super) fn driven_slip(
+    surface: &super::search::MasterSurface,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    a: &Active,
+) -> Option<Vec3> {
+    let l = mesh.owned_node(a.slave)?;
+    let (now, _) = surface.face_corners(a.face)?;
+    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let mut d = ghost::position(problem, mesh, u, l);
+    for j in 0..4 {
+        d = sub(&d, &scale(&now[j], w[j]));
+    }
+    let d = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
+    let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
+    (norm(&d) > noise).then_some(d)
+}
+
+/// The node's tangential stiffness from two (force held, slip) states of one step: the
+/// force the rest of the structure puts on the node changes with its slip by -K slip, so
+/// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
+/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
+/// positive.
+pub(super) fn secant_stiffness(
+    previous: Option<(Vec3, Vec3)>,
+    held: Vec3,
+    slip: Vec3,
+    noise: f64,
+) -> Option<f64> {
+    let (f0, d0) = previous?;
+    let dd = sub(&slip, &d0);
+    let length2 = dot(&dd, &dd);
+    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
+        return None;
+    }
+    let k = dot(&sub(&held, &f0), &dd) / length2;
+    (k > 0.0 && k.is_finite()).then_some(k)
+}
+
+/// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
+/// force `held` (along `dir`) and slipped by `slip` this step. The friction force must
+/// oppose the slip; setting it against the measured slip directly overshoots near the onset
+/// of slip (there the slip's direction turns strongly with the friction force's). Instead
+/// the force that would hold the node where the step began is estimated,
+/// g = held - k slip with the secant stiffness k, and the friction force is set along it:
+/// the return mapping of an elastic stick, exact in one update when the node's stiffness
+/// is isotropic, and a contraction for an estimate within a factor of two. Without an
+/// estimate, for a slip of round-off size, or when the friction force would turn by less
+/// than `force_tol` (the force the model problem resolves), the direction is kept.
+pub(super) fn friction_direction(
+    dir: Vec3,
+    held: Vec3,
+    slip: Vec3,
+    k: f64,
+    noise: f64,
+    force_tol: f64,
+) -> Vec3 {
+    if k <= 0.0 || norm(&slip) <= noise {
+        return dir;
+    }
+    let g = sub(&held, &scale(&slip, k));
+    let length = norm(&g);
+    if !(length > 0.0 && length.is_finite()) {
+        return dir;
+    }
+    let turned = scale(&g, 1.0 / length);
+    if norm(&sub(&turned, &dir)) * norm(&held) <= force_tol {
+        dir
+    } else {
+        turned
+    }
+}
+
+impl ContactState {
+    /// Springs across the friction direction of the slipping nodes this rank owns,
+    /// unstretched at `u`; `diag` holds the structure's nodal diagonal stiffness blocks.
+    pub fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {
+        let mut out = Vec::new();
+        for a in &self.active {
+            let Mode::Slip { dir, .. } = a.mode else {
+                continue;
+            };
+            let Some(l) = mesh.owned_node(a.slave) else {
+                continue;
+            };
+            let n = a.normal;
+            let d = sub(&dir, &scale(&n, dot(&dir, &n)));
+            let length = norm(&d);
+            if !(length > 0.5) {
+                continue;
+            }
+            let d = scale(&d, 1.0 / length);
+            let p: Mat3 = std::array::from_fn(|i| {
+                std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
+            });
+            let nodal = (0..3)
+                .map(|i| dot(&p[i], &matvec(&diag[l], &p[i])))
+                .sum::<f64>()
+                .max(0.0);
+            // The node's own stiffness across the direction. (The consistent tangent,
+            // capacity / |slip|, is unbounded at the start of a step and made the contact
+            // loop wander in the measurements; see the README.)
+            let k = nodal;
+            if k > 0.0 && k.is_finite() {
+                out.push(Spring {
+                    node: l,
+                    k: std::array::from_fn(|i| std::array::from_fn(|j| k * p[i][j])),
+                    anchor: u[l],
+                });
+            }
+        }
+        out
+    }
+}
