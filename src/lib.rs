@@ -16,3 +16,4 @@ pub mod problem;
 pub mod run;
 pub mod scene;
 pub mod solver;
+pub mod springs;

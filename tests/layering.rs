@@ -16,7 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &["mesh"],
     &["problem"],
     &["scene"],
-    &["constraints"],
+    &["constraints", "springs"],
     &["contact"],
     &["solver"],
     &["run", "preflight"],

@@ -8,7 +8,7 @@ use super::state::{Active, ContactState, Mode};
 use crate::math::{dot, matvec, norm, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
-use crate::solver::springs::Spring;
+use crate::springs::Spring;
 
 /// A slip shorter than this fraction of the face size is round-off: it does not turn the
 /// friction direction.

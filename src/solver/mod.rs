@@ -6,7 +6,7 @@ pub mod cg;
 pub mod coarse;
 pub use crate::constraints;
 pub mod loads;
-pub mod springs;
+pub use crate::springs;
 pub mod stepping;
 pub mod support;
 
