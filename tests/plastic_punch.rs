@@ -18,7 +18,7 @@ const SY: f64 = 250.0;
 const A: f64 = 1.0;
 const L: f64 = 6.0;
 
-fn scene(n: usize, depth: f64, steps: usize) -> String {
+fn scene(n: usize, depth: f64, steps: usize, volumetric: &str) -> String {
     let t = L / n as f64;
     format!(
         r#"
@@ -28,7 +28,7 @@ name = "block"
 box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
 divisions = [{n}, {n}, 1]
 material = {{ model = "j2_plastic", E = {E}, nu = {NU}, yield_stress = {SY} }}
-volumetric = "mean_dilatation"
+volumetric = "{volumetric}"
 [[node_set]]
 name = "all"
 box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
@@ -76,8 +76,8 @@ max_iterations = 200000
 
 /// Mean punch pressure after each step (the punch nodes' reaction over the punch area) and
 /// the CG iterations.
-pub fn punch_curve(n: usize, depth: f64, steps: usize) -> (Vec<(f64, f64)>, u64) {
-    let p = common::problem(&scene(n, depth, steps));
+pub fn punch_curve(n: usize, depth: f64, steps: usize, volumetric: &str) -> (Vec<(f64, f64)>, u64) {
+    let p = common::problem(&scene(n, depth, steps, volumetric));
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
@@ -106,7 +106,7 @@ pub fn punch_curve(n: usize, depth: f64, steps: usize) -> (Vec<(f64, f64)>, u64)
 fn curve() {
     let n: usize = std::env::var("PUNCH_N").map_or(24, |v| v.parse().unwrap());
     let depth: f64 = std::env::var("PUNCH_DEPTH").map_or(0.1, |v| v.parse().unwrap());
-    let (c, cg) = punch_curve(n, depth * A, 10);
+    let (c, cg) = punch_curve(n, depth * A, 10, "mean_dilatation");
     for (d, p) in c {
         println!("n = {n}: depth {d:.4}: mean pressure {p:.2}");
     }
@@ -118,7 +118,7 @@ fn flat_punch_approaches_prandtl() {
     let prandtl = (2.0 + std::f64::consts::PI) * SY / 3f64.sqrt();
     let mut last = 0.0;
     for n in [12, 24, 48] {
-        let (curve, cg) = punch_curve(n, 0.06 * A, 12);
+        let (curve, cg) = punch_curve(n, 0.06 * A, 12, "mean_dilatation");
         let pm = curve.last().unwrap().1;
         println!(
             "n = {n}: mean punch pressure at depth {:.3} a: {pm:.2} = {:.4} of Prandtl's {prandtl:.2}; {cg} CG iterations",
@@ -138,8 +138,8 @@ fn flat_punch_approaches_prandtl() {
 #[ignore = "measurement"]
 fn plane_strain_compression_limit() {
     // One element, u_z = 0, compressed in y with x free: sigma_yy -> 2 sigma_y / sqrt(3).
-    let text =
-        scene(1, 0.01, 4).replace(&format!("max = [{A}, {L}, "), &format!("max = [{L}, {L}, "));
+    let text = scene(1, 0.01, 4, "mean_dilatation")
+        .replace(&format!("max = [{A}, {L}, "), &format!("max = [{L}, {L}, "));
     let p = common::problem(&text);
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
@@ -150,4 +150,101 @@ fn plane_strain_compression_limit() {
         let s = st.assembly().owned_stresses(&st.u).unwrap()[0];
         println!("t {t}: stress {s:?}, 2k = {}", 2.0 * SY / 3f64.sqrt());
     }
+}
+
+/// The punch scene (full integration, C3D8's) as a CalculiX deck: the same nodes and
+/// elements (ids = ours, the same corner order), *ELASTIC and *PLASTIC (perfect), the
+/// prescribed displacements ramped over one static step in fixed increments, and the
+/// punch set's total reaction printed at every increment.
+fn calculix_deck(n: usize, depth: f64, steps: usize) -> String {
+    use std::fmt::Write;
+    let p = common::problem(&scene(n, depth, steps, "standard"));
+    let mut w = String::from(
+        "*HEADING\nflat punch, elastic-perfectly plastic, plane strain\n*NODE, NSET=NALL\n",
+    );
+    for (i, x) in p.mesh.coords.iter().enumerate() {
+        let _ = writeln!(w, "{}, {:.12e}, {:.12e}, {:.12e}", i + 1, x[0], x[1], x[2]);
+    }
+    let _ = writeln!(w, "*ELEMENT, TYPE=C3D8, ELSET=EALL");
+    for (e, el) in p.mesh.elements.iter().enumerate() {
+        let ids: Vec<String> = el.iter().map(|&k| (k + 1).to_string()).collect();
+        let _ = writeln!(w, "{}, {}", e + 1, ids.join(", "));
+    }
+    for set in ["x0", "bottom", "right", "punch"] {
+        let _ = writeln!(w, "*NSET, NSET=N{}", set.to_uppercase());
+        for chunk in p.node_set(set).unwrap().nodes.chunks(8) {
+            let ids: Vec<String> = chunk.iter().map(|&k| (k + 1).to_string()).collect();
+            let _ = writeln!(w, "{},", ids.join(", "));
+        }
+    }
+    let _ = writeln!(
+        w,
+        "*MATERIAL, NAME=STEEL\n*ELASTIC\n{E:.6e}, {NU}\n*PLASTIC\n{SY:.6e}, 0.0"
+    );
+    let _ = writeln!(w, "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL");
+    let _ = writeln!(
+        w,
+        "*STEP, INC=10000\n*STATIC, DIRECT\n{:.12e}, 1.0",
+        1.0 / steps as f64
+    );
+    let _ = writeln!(
+        w,
+        "*BOUNDARY\nNALL, 3, 3, 0.0\nNX0, 1, 1, 0.0\nNBOTTOM, 1, 2, 0.0\nNRIGHT, 1, 1, 0.0"
+    );
+    let _ = writeln!(w, "NPUNCH, 2, 2, {:.12e}", -depth);
+    let _ = writeln!(w, "*NODE PRINT, NSET=NPUNCH, TOTALS=ONLY\nRF\n*END STEP");
+    w
+}
+
+/// Every "total force (fx,fy,fz) for set NPUNCH and time t" of a .dat file: (t, fy).
+fn ccx_totals(dat: &str) -> Vec<(f64, f64)> {
+    let lines: Vec<&str> = dat.lines().collect();
+    let mut out = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        if let Some(rest) = l.split("for set NPUNCH and time").nth(1) {
+            let t: f64 = rest.trim().parse().unwrap();
+            let v: Vec<f64> = lines[i + 1..]
+                .iter()
+                .find(|l| !l.trim().is_empty())
+                .unwrap()
+                .split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect();
+            out.push((t, v[1]));
+        }
+    }
+    out
+}
+
+#[test]
+fn flat_punch_beside_calculix() {
+    let (n, depth, steps) = (12, 0.06 * A, 12);
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("plastic-punch-ccx");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("punch.inp"), calculix_deck(n, depth, steps)).unwrap();
+    let out = std::process::Command::new("ccx")
+        .arg("punch")
+        .current_dir(&dir)
+        .output()
+        .expect("ccx (calculix-ccx; run/setup --calculix) runs");
+    let log = String::from_utf8_lossy(&out.stdout);
+    assert!(!log.contains("*ERROR"), "{log}");
+    let dat = std::fs::read_to_string(dir.join("punch.dat")).unwrap();
+    let ccx = ccx_totals(&dat);
+    assert_eq!(ccx.len(), steps, "{dat}");
+    let (ours, _) = punch_curve(n, depth, steps, "standard");
+    let thickness = L / n as f64;
+    let mut worst = 0.0f64;
+    for ((d, p), (t, fy)) in ours.iter().zip(&ccx) {
+        let pc = -fy / (A * thickness);
+        let rel = (p - pc).abs() / pc.abs();
+        worst = worst.max(rel);
+        println!(
+            "depth {d:.4} (ccx time {t:.4}): mean punch pressure ours {p:.3}, CalculiX {pc:.3}, difference {:.3}%",
+            100.0 * rel
+        );
+    }
+    // The issue's acceptance: force-displacement curves within 2 %.
+    assert!(worst < 0.02, "worst difference {worst}");
 }
