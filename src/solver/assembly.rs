@@ -214,7 +214,8 @@ impl<'a> Assembly<'a> {
 
     /// `internal_force` for a field that vanishes on most elements (the coarse space's
     /// probes): an element whose eight displacements are all zero contributes exactly zero
-    /// (no material here carries an initial stress) and is skipped. Adding a zero never
+    /// (no elastic material carries an initial stress; it is used only when every body is
+    /// linear, so never with a plastic body's residual stresses) and is skipped. Adding a zero never
     /// changes a sum, so the result is bitwise that of `internal_force`.
     pub fn internal_force_sparse(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
         self.element_forces(u, f, true)
