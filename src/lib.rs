@@ -2,6 +2,7 @@
 //! master/slave contact and Coulomb friction.
 
 pub mod comm;
+pub mod constraints;
 pub mod contact;
 pub mod fem;
 pub mod material;

@@ -15,7 +15,7 @@ use std::process::ExitCode;
     name = "solver",
     version,
     about = "Quasi-static nonlinear finite element solver for 3-D solids with master/slave contact",
-    after_help = "Examples:\n  solver run run/paper/capture_release.toml\n  run/mpirun -np 2 target/release/solver run scene.toml -o out/scene.h5\n  solver check scene.toml\n  solver post info out/scene.h5\n  solver post compare out/a.h5 out/b.h5"
+    after_help = "Examples:\n  solver check run/scenes/paper/capture_release.toml\n  solver run run/scenes/paper/capture_release.toml\n  run/mpirun -np 2 target/release/solver run run/scenes/paper/capture_release.toml -o out/capture_release-np2.h5\n  solver post info out/capture_release.h5\n  solver post compare out/capture_release.h5 out/capture_release-np2.h5\n  solver post verify out/capture_release.h5"
 )]
 struct Cli {
     /// More output (-v: step details); repeat for more.

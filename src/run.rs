@@ -2,6 +2,7 @@
 //! local mesh, step through time, gather each step's results on rank 0 and write them.
 
 use crate::comm::{self, Comm};
+use crate::constraints::RowKind;
 use crate::contact::state::{ContactState, Mode};
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
@@ -10,7 +11,6 @@ use crate::output::{
     OutputBody, OutputMesh, RestartState, ResultFile, ResultWriter, RunInfo, StepOutput, StepStats,
 };
 use crate::problem::Problem;
-use crate::solver::constraints::RowKind;
 use crate::solver::{StepRecord, Stepper};
 use partition::Decomposition;
 use std::io::IsTerminal;

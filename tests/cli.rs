@@ -1,7 +1,18 @@
 //! The command line on bad input: a clear message naming the file and the key, a non-zero
 //! exit code, never a panic.
 
-use std::process::Command;
+mod common;
+
+use common::{bad_scene, solver};
+
+/// Refused with exit code 2 naming the file and each of `needles`.
+fn expect_error(name: &str, text: &str, needles: &[&str]) {
+    bad_scene::expect_error("cli", name, text, needles);
+}
+
+fn run_bad(name: &str, text: &str) -> (i32, String) {
+    bad_scene::check_and_run("cli", name, text)
+}
 
 const GOOD: &str = r#"
 [[body]]
@@ -19,63 +30,6 @@ value = 0.0
 [time]
 segments = [{ end = 1.0, steps = 1 }]
 "#;
-
-/// Writes `text` to a scene file, runs `solver check` and `solver run` on it.
-fn run_bad(name: &str, text: &str) -> (i32, String) {
-    let dir = std::env::temp_dir().join(format!("solver-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .expect("solver runs");
-    let check_err = String::from_utf8_lossy(&out.stderr).to_string();
-    let run = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args([
-            "-q",
-            "run",
-            path.to_str().unwrap(),
-            "-o",
-            dir.join(format!("{name}.h5")).to_str().unwrap(),
-        ])
-        .output()
-        .expect("solver runs");
-    let run_err = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(
-        out.status.code(),
-        run.status.code(),
-        "check and run disagree on {name}"
-    );
-    if !out.status.success() {
-        assert_eq!(
-            check_err, run_err,
-            "check and run report {name} differently"
-        );
-    }
-    assert!(!run_err.contains("panicked"), "{name}: panic: {run_err}");
-    let code = run.status.code().unwrap_or(-1);
-    if code != 0 {
-        assert!(
-            !dir.join(format!("{name}.h5")).exists(),
-            "{name}: a result file was written for a bad scene"
-        );
-    }
-    (code, run_err)
-}
-
-fn expect_error(name: &str, text: &str, needles: &[&str]) {
-    let (code, err) = run_bad(name, text);
-    println!("{name}: exit {code}: {}", err.trim());
-    assert_eq!(code, 2, "{name}: exit code");
-    assert!(
-        err.contains(&format!("{name}.toml")),
-        "{name}: message does not name the file: {err}"
-    );
-    for n in needles {
-        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
-    }
-}
 
 #[test]
 fn good_scene_passes_check() {
@@ -146,7 +100,7 @@ fn non_numeric_value() {
 
 #[test]
 fn missing_file_and_bad_command_line() {
-    let out = Command::new(env!("CARGO_BIN_EXE_solver"))
+    let out = solver()
         .args(["run", "/nonexistent/scene.toml"])
         .output()
         .unwrap();
@@ -156,10 +110,7 @@ fn missing_file_and_bad_command_line() {
         err.contains("/nonexistent/scene.toml") && err.contains("cannot read"),
         "{err}"
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args(["frobnicate"])
-        .output()
-        .unwrap();
+    let out = solver().args(["frobnicate"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unrecognized subcommand"));
 }
@@ -185,11 +136,7 @@ fn every_shipped_scene_passes_check() {
     found.sort();
     assert!(found.len() >= 14, "only {} scenes found", found.len());
     for p in &found {
-        let out = Command::new(env!("CARGO_BIN_EXE_solver"))
-            .arg("check")
-            .arg(p)
-            .output()
-            .expect("solver runs");
+        let out = solver().arg("check").arg(p).output().expect("solver runs");
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(
             out.status.success(),

@@ -1,7 +1,18 @@
 //! Bad contact input through the command line: `solver check` and `solver run` exit with
 //! code 2 and a message naming the file and the key, never a panic, never a result file.
 
-use std::process::Command;
+mod common;
+
+use common::bad_scene;
+
+/// Refused with exit code 2 naming the file and each of `needles`.
+fn expect_error(name: &str, text: &str, needles: &[&str]) {
+    bad_scene::expect_error("contact-cli", name, text, needles);
+}
+
+fn run_scene(name: &str, text: &str) -> (i32, String) {
+    bad_scene::check_and_run("contact-cli", name, text)
+}
 
 /// Two stacked unit cubes, the lower top the master, the upper bottom the slave.
 const GOOD: &str = r#"
@@ -65,68 +76,6 @@ segments = [{ end = 1.0, steps = 1 }]
 /// The good scene with `keys` (lines) added to its contact table.
 fn with_keys(keys: &str) -> String {
     GOOD.replace("CONTACT_KEYS", keys)
-}
-
-/// Writes `text` to a scene file, runs `solver check` and `solver run` on it.
-fn run_scene(name: &str, text: &str) -> (i32, String) {
-    let dir = std::env::temp_dir().join(format!("solver-contact-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let result = dir.join(format!("{name}.h5"));
-    let check = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .expect("solver runs");
-    let check_err = String::from_utf8_lossy(&check.stderr).to_string();
-    let run = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args([
-            "-q",
-            "run",
-            path.to_str().unwrap(),
-            "-o",
-            result.to_str().unwrap(),
-        ])
-        .output()
-        .expect("solver runs");
-    let run_err = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(
-        check.status.code(),
-        run.status.code(),
-        "check and run disagree on {name}: {check_err} / {run_err}"
-    );
-    if !check.status.success() {
-        assert_eq!(
-            check_err, run_err,
-            "check and run report {name} differently"
-        );
-    }
-    assert!(
-        !check_err.contains("panicked"),
-        "{name}: panic: {check_err}"
-    );
-    assert!(!run_err.contains("panicked"), "{name}: panic: {run_err}");
-    let code = run.status.code().unwrap_or(-1);
-    if code != 0 {
-        assert!(
-            !result.exists(),
-            "{name}: a result file was written for a bad scene"
-        );
-    }
-    (code, run_err)
-}
-
-fn expect_error(name: &str, text: &str, needles: &[&str]) {
-    let (code, err) = run_scene(name, text);
-    println!("{name}: exit {code}: {}", err.trim());
-    assert_eq!(code, 2, "{name}: exit code ({err})");
-    assert!(
-        err.contains(&format!("{name}.toml")),
-        "{name}: message does not name the file: {err}"
-    );
-    for n in needles {
-        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
-    }
 }
 
 #[test]

@@ -10,19 +10,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn solver() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_solver"))
-}
-
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
+mod common;
+use common::{fresh_dir, repo, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("file-safety-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("file-safety-{name}"))
 }
 
 fn is_root() -> bool {
@@ -52,10 +44,6 @@ fn run_to(scene: &Path, out: &Path, extra: &[&str]) -> Output {
         .unwrap()
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).trim().to_string()
-}
-
 /// Every entry of a directory with its bytes (None for what is not a regular file).
 fn snapshot(d: &Path) -> Vec<(String, Option<Vec<u8>>)> {
     let mut v: Vec<_> = std::fs::read_dir(d)
@@ -76,7 +64,7 @@ fn snapshot(d: &Path) -> Vec<(String, Option<Vec<u8>>)> {
 fn refused(d: &Path, scene: &Path, target: &Path, extra: &[&str], needle: &str) {
     let before = snapshot(d);
     let o = run_to(scene, target, extra);
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     println!("{}: {err}", target.display());
     assert_eq!(o.status.code(), Some(2), "{}: {err}", target.display());
     assert!(err.contains(needle), "expected `{needle}` in: {err}");
@@ -245,7 +233,7 @@ fn output_onto_a_fifo_or_a_device_is_refused() {
         .output()
         .expect("running unshare");
     let out = String::from_utf8_lossy(&o.stdout).to_string();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     println!("{out}{err}");
     assert!(o.status.success(), "{out}{err}");
     for t in ["/dev/null", "/dev/full"] {
@@ -402,7 +390,7 @@ fn a_stale_lock_is_taken_over_and_a_held_one_refuses() {
         .arg(&out)
         .output()
         .unwrap();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     assert!(o.status.success(), "{err}");
     assert!(
         err.contains("took over the lock of process 2147483632 on gone, which no longer runs"),
@@ -424,7 +412,7 @@ fn a_stale_lock_is_taken_over_and_a_held_one_refuses() {
     let o = run_to(&scene, &out, &[]);
     let _ = holder.kill();
     let _ = holder.wait();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     println!("{err}");
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("another run is writing this result"), "{err}");
@@ -452,7 +440,7 @@ fn an_earlier_result_is_replaced_only_by_a_complete_one() {
         .arg(&out)
         .output()
         .unwrap();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     println!("{err}");
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(d.join("r.failed.h5").exists() && d.join("r.failed.xmf").exists());
@@ -483,7 +471,7 @@ fn an_earlier_result_is_replaced_only_by_a_complete_one() {
         .arg(&out)
         .output()
         .unwrap();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     assert!(o.status.success(), "{err}");
     assert!(err.contains("runs that did not finish left"), "{err}");
     assert!(err.contains("r.failed.h5 is from an earlier run"), "{err}");
@@ -503,7 +491,7 @@ fn a_scene_that_is_not_utf8_is_refused_with_line_and_column() {
     let scene = d.join("latin1.toml");
     std::fs::write(&scene, bytes).unwrap();
     let o = solver().arg("check").arg(&scene).output().unwrap();
-    let err = stderr(&o);
+    let err = stderr_text(&o);
     println!("{err}");
     assert_eq!(o.status.code(), Some(2));
     assert!(
@@ -531,8 +519,8 @@ fn run_on_tmpfs(mount: &Path, scene: &Path, kib: u64) -> (i32, String, Vec<Strin
         .next()
         .and_then(|l| l.strip_prefix("exit "))
         .and_then(|c| c.parse().ok())
-        .unwrap_or_else(|| panic!("{out} {}", stderr(&o)));
-    (code, stderr(&o), lines.map(str::to_string).collect())
+        .unwrap_or_else(|| panic!("{out} {}", stderr_text(&o)));
+    (code, stderr_text(&o), lines.map(str::to_string).collect())
 }
 
 #[test]
@@ -580,4 +568,58 @@ fn a_full_disk_gives_one_line_exit_1_and_no_result() {
     }
     println!("{failed} sizes full ({at_xmf} of them at the XDMF file), {fits} fitting");
     assert!(failed >= 2 && at_xmf >= 1 && fits >= 1);
+}
+
+/// `solver post plot ... -o target` on the result `r`.
+fn plot_to(r: &Path, target: &Path) -> Output {
+    solver()
+        .args(["post", "plot"])
+        .arg(r)
+        .args(["--quantity", "displacement", "--component", "x"])
+        .args(["--node-set", "right", "--history", "-o"])
+        .arg(target)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_picture_never_replaces_what_is_not_a_picture() {
+    let d = dir("picture");
+    let scene = bar(&d);
+    let r = d.join("r.h5");
+    assert_eq!(run_to(&scene, &r, &[]).status.code(), Some(0));
+    std::fs::write(d.join("notes.png"), "my notes").unwrap();
+    std::fs::create_dir(d.join("dir.png")).unwrap();
+    std::os::unix::fs::symlink(&scene, d.join("link.png")).unwrap();
+    std::fs::hard_link(&r, d.join("r-too.png")).unwrap();
+    let cases = [
+        ("bar.toml", "names no picture format"),
+        ("r.h5", "names no picture format"),
+        ("r.xmf", "names no picture format"),
+        ("notes.png", "is not a picture"),
+        ("dir.png", "a directory"),
+        ("link.png", "a symbolic link"),
+        ("r-too.png", "the result file of this command"),
+        ("notes.png/p.png", "not a directory"),
+    ];
+    for (name, needle) in cases {
+        let before = snapshot(&d);
+        let o = plot_to(&r, &d.join(name));
+        let err = stderr_text(&o);
+        println!("{name}: {err}");
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(needle), "expected `{needle}` in: {err}");
+        assert!(snapshot(&d) == before, "{name}: the directory changed");
+    }
+    // A new path is written, and a picture of ours is replaced, with no file left beside it.
+    let png = d.join("p.png");
+    for _ in 0..2 {
+        let o = plot_to(&r, &png);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr_text(&o));
+        assert!(std::fs::read(&png)
+            .unwrap()
+            .starts_with(b"\x89PNG\r\n\x1a\n"));
+    }
+    let names: Vec<String> = snapshot(&d).into_iter().map(|(n, _)| n).collect();
+    assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
 }

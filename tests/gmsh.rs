@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::repo;
+
 use solver::comm::SerialComm;
 use solver::fem::hex8::min_jacobian_ratio;
 use solver::math::Vec3;
@@ -14,10 +16,6 @@ use solver::run::{run, RunOptions};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
 
 fn fixture(name: &str) -> String {
     repo("tests/fixtures/gmsh").join(name).display().to_string()

@@ -3,23 +3,12 @@
 //! tags or counts are wrong is refused with the line (ASCII) or byte (binary) named.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 mod common;
-
-fn solver() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_solver"))
-}
-
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
-}
+use common::{fresh_dir, repo, solver};
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("gmsh-tags-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("gmsh-tags-{name}"))
 }
 
 /// The ASCII example mesh with every `$Nodes` block rewritten by `edit`, which gets the

@@ -3,33 +3,19 @@
 //! naming the dataset (and the step); a NaN in restart data is refused when it is loaded.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 mod common;
-
-fn solver() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_solver"))
-}
-
-fn scene(name: &str) -> String {
-    format!(
-        "{}/run/scenes/paper/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
+use common::{fresh_dir, paper_scene, solver};
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("integrity-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("integrity-{name}"))
 }
 
 /// A finished result of `capture_release` (contact captured and released, 50 steps).
 fn result(d: &Path) -> PathBuf {
     let path = d.join("good.h5");
     let s = solver()
-        .args(["-q", "run", &scene("capture_release"), "-o"])
+        .args(["-q", "run", &paper_scene("capture_release"), "-o"])
         .arg(&path)
         .status()
         .unwrap();
@@ -122,7 +108,7 @@ fn a_flipped_bit_in_any_per_step_or_restart_dataset_is_refused() {
             run(&["post", "info"], &[&path]),
             run(&["post", "compare"], &[&good, &path]),
             run(
-                &["-q", "run", &scene("capture_release"), "--restart"],
+                &["-q", "run", &paper_scene("capture_release"), "--restart"],
                 &[&path, Path::new("-o"), &out],
             ),
         ];
@@ -187,7 +173,7 @@ fn a_nan_in_restart_data_is_refused_when_loaded() {
         poke(&path, dataset, *at, *value);
         let out = d.join(format!("out_{k}.h5"));
         let (code, err) = run(
-            &["-q", "run", &scene("capture_release"), "--restart"],
+            &["-q", "run", &paper_scene("capture_release"), "--restart"],
             &[&path, Path::new("-o"), &out],
         );
         println!("{dataset}: {err}");
@@ -210,7 +196,7 @@ fn a_nan_in_restart_data_is_refused_when_loaded() {
         ds.write_raw(&v).unwrap();
     }
     let (code, err) = run(
-        &["-q", "run", &scene("capture_release"), "--restart"],
+        &["-q", "run", &paper_scene("capture_release"), "--restart"],
         &[&path, Path::new("-o"), &d.join("out_step.h5")],
     );
     println!("/results/reaction: {err}");
@@ -265,7 +251,7 @@ fn a_format_1_file_is_still_read_and_restarted_from() {
     // A run killed after step 23 (of 50), in the layout of format 1.
     let cut = d.join("cut.h5");
     let s = solver()
-        .args(["-q", "run", &scene("capture_release"), "-o"])
+        .args(["-q", "run", &paper_scene("capture_release"), "-o"])
         .arg(&cut)
         .env("SOLVER_TEST_ABORT_AFTER_STEP", "23")
         .status()
@@ -286,7 +272,7 @@ fn a_format_1_file_is_still_read_and_restarted_from() {
         "{text}"
     );
     let o = solver()
-        .args(["run", &scene("capture_release"), "--restart"])
+        .args(["run", &paper_scene("capture_release"), "--restart"])
         .arg(&old)
         .arg("-o")
         .arg(&cut)

@@ -11,12 +11,11 @@ use solver::output::{
 };
 use solver::post::{self, PostCommand};
 
+mod common;
+
 /// A fresh, empty directory for one test.
 fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("output-tests/{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir(&format!("output-tests/{name}"))
 }
 
 /// Nodes and hexahedra of a structured box of `n` elements, node indices from `first`.

@@ -14,6 +14,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
+mod common;
+
 /// A block pressed onto a wider base, then pushed sideways with Coulomb friction: at the
 /// last step every result array is non-zero, nodes stick and slip, and all six stress
 /// components differ (so a reordered tensor would show).
@@ -194,10 +196,7 @@ fn root() -> &'static Path {
 
 /// A fresh, empty directory for one test.
 fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("paraview-tests/{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir(&format!("paraview-tests/{name}"))
 }
 
 fn succeeds(cmd: &mut Command) -> bool {

@@ -1,25 +1,13 @@
 //! Restart: a run killed after a step and continued with `solver run --restart` ends
 //! bitwise identical to an uninterrupted run; a restart file of another scene is refused.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 
-fn solver() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_solver"))
-}
+mod common;
+use common::{fresh_dir, paper_scene, solver};
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("restart-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn scene(name: &str) -> String {
-    format!(
-        "{}/run/scenes/paper/{name}.toml",
-        env!("CARGO_MANIFEST_DIR")
-    )
+    fresh_dir(&format!("restart-{name}"))
 }
 
 /// Runs the scene uninterrupted, then killed after `kill_after` steps and restarted from
@@ -30,13 +18,13 @@ fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
     let full = d.join("full.h5");
     let cut = d.join("cut.h5");
     let s = solver()
-        .args(["-q", "run", &scene(name), "-o"])
+        .args(["-q", "run", &paper_scene(name), "-o"])
         .arg(&full)
         .status()
         .unwrap();
     assert!(s.success());
     let s = solver()
-        .args(["-q", "run", &scene(name), "-o"])
+        .args(["-q", "run", &paper_scene(name), "-o"])
         .arg(&cut)
         .env("SOLVER_TEST_ABORT_AFTER_STEP", kill_after.to_string())
         .status()
@@ -48,7 +36,7 @@ fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
         "a killed run leaves only the .tmp file"
     );
     let out = solver()
-        .args(["run", &scene(name), "--restart"])
+        .args(["run", &paper_scene(name), "--restart"])
         .arg(&tmp)
         .arg("-o")
         .arg(&cut)
@@ -100,7 +88,7 @@ fn a_restart_file_of_another_scene_is_refused() {
         .unwrap();
     assert!(s.success());
     let out = solver()
-        .args(["run", &scene("capture_release"), "--restart"])
+        .args(["run", &paper_scene("capture_release"), "--restart"])
         .arg(&bar)
         .arg("-o")
         .arg(d.join("x.h5"))

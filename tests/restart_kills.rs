@@ -3,18 +3,13 @@
 //! further restart from the newest of the two ends bitwise identical to an uninterrupted run.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::{Duration, Instant};
 
-fn solver() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_solver"))
-}
+mod common;
+use common::{fresh_dir, solver};
 
 fn dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("restart-kills-{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir(&format!("restart-kills-{name}"))
 }
 
 /// The first 30 of stick_slip's 60 steps: 20 steps of loading, then 10 of sliding (about

@@ -7,10 +7,10 @@
 use super::ghost;
 use super::search::Interaction;
 use crate::comm::{self, Comm};
+use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
-use crate::solver::constraints::{Constraints, Row, RowKind, RowSpec};
 use std::collections::{HashMap, HashSet};
 
 /// A gap more negative than this fraction of the face size is a penetration; closer to

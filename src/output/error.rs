@@ -105,6 +105,11 @@ pub enum OutputError {
     #[error("{}: not usable as the result file: {message}", file.display())]
     BadOutput { file: PathBuf, message: String },
 
+    /// The path given for a picture cannot take it (an input of the command, not a regular
+    /// file, an existing file that is not a picture, an unsupported extension).
+    #[error("{}: not usable as the picture: {message}", file.display())]
+    BadPicture { file: PathBuf, message: String },
+
     /// Another run writes this result now.
     #[error(
         "{}: another run is writing this result ({holder}; lock file {}); wait for it to end or choose another output path",

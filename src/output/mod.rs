@@ -18,6 +18,7 @@ pub mod layout;
 pub mod lock;
 mod open;
 pub mod paths;
+mod picture;
 mod publish;
 mod reader;
 mod restart;
@@ -31,6 +32,7 @@ pub use data::{
 pub use error::OutputError;
 pub use layout::ResultPaths;
 pub use paths::{claim_output, leftover_temps, OutputClaim};
+pub use picture::{check_picture_output, write_picture};
 pub use reader::{FileAttributes, NumericData, NumericKind, ResultFile};
 pub use timestamp::{rfc3339_from_unix, rfc3339_now};
 pub use writer::ResultWriter;

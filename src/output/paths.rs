@@ -37,7 +37,7 @@ fn bad(file: &Path, message: impl Into<String>) -> OutputError {
     }
 }
 
-fn kind(m: &std::fs::Metadata) -> &'static str {
+pub(super) fn kind(m: &std::fs::Metadata) -> &'static str {
     let t = m.file_type();
     if t.is_dir() {
         "a directory"
@@ -59,7 +59,7 @@ fn kind(m: &std::fs::Metadata) -> &'static str {
 }
 
 /// The parent must be a directory, or not exist under an existing directory.
-fn check_parent(result: &Path) -> Result<(), OutputError> {
+pub(super) fn check_parent(result: &Path) -> Result<(), OutputError> {
     if result.file_name().is_none() {
         return Err(bad(result, "the path names no file"));
     }
@@ -91,7 +91,7 @@ fn check_parent(result: &Path) -> Result<(), OutputError> {
     Ok(())
 }
 
-fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
+pub(super) fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
     a.dev() == b.dev() && a.ino() == b.ino()
 }
 
@@ -159,7 +159,7 @@ fn is_result_file(path: &Path) -> Result<(), String> {
     Ok(())
 }
 
-fn head(path: &Path) -> std::io::Result<Vec<u8>> {
+pub(super) fn head(path: &Path) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let mut buf = Vec::new();
     std::fs::File::open(path)?

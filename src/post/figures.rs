@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use super::plot::{fonts_available, number, padded_range};
-use crate::output::{OutputError, OutputMesh, ResultFile};
+use crate::output::{check_picture_output, write_picture, OutputError, OutputMesh, ResultFile};
 
 /// The figures `solver post figure` draws.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,6 +116,8 @@ pub struct Figure {
 
 /// Runs `solver post figure`: reads, draws, and returns a one-line summary.
 pub fn figure_command(args: &FigureArgs) -> Result<String, OutputError> {
+    let inputs = [(args.file.as_path(), "the result file")];
+    check_picture_output(&args.output, &inputs)?;
     let f = ResultFile::open(&args.file)?;
     let fig = figure_data(args.name, &f)?;
     let text = fonts_available();
@@ -125,7 +127,7 @@ pub fn figure_command(args: &FigureArgs) -> Result<String, OutputError> {
              (install fonts-dejavu-core for labels)"
         );
     }
-    render_figure(&fig, &args.output, text)?;
+    write_picture(&args.output, &inputs, |tmp| render_figure(&fig, tmp, text))?;
     let curves: usize = fig.panels.iter().map(|p| p.curves.len()).sum();
     Ok(format!(
         "wrote {}: {} ({} panel{}, {} curve{})",
@@ -429,8 +431,24 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             ),
         ));
     }
-    let x_label = "x, distance from the loaded end (the paper plots against s = L - x)";
-    let y_label = "cross-section average of u_x";
+    let mut panels = fig6_theory_panels(&averages, x0, x_end);
+    panels.push(fig6_difference_panel(&averages, u_max));
+    Ok(Figure {
+        title: "Figure 6: stick/slip bar; points: 3-D solution, lines: 1-D theory".into(),
+        panels,
+    })
+}
+
+/// Figure 6's averages: (the time's index, the time, the points).
+type Fig6Averages = [(usize, f64, Vec<(f64, f64)>)];
+
+/// The x axis of Figure 6's panels.
+const FIG6_X: &str = "x, distance from the loaded end (the paper plots against s = L - x)";
+
+/// Figure 6's loading and unloading panels: the averages (time's index, time, points)
+/// against the 1-D theory drawn from `x0` to `x_end`.
+fn fig6_theory_panels(averages: &Fig6Averages, x0: f64, x_end: f64) -> Vec<Panel> {
+    let (x_label, y_label) = (FIG6_X, "cross-section average of u_x");
     let mut panels = Vec::new();
     for (title, range) in [
         (
@@ -470,7 +488,13 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             });
         }
     }
-    panels.push(Panel {
+    panels
+}
+
+/// Figure 6's last panel: the averages minus the 1-D theory, over u_max.
+fn fig6_difference_panel(averages: &Fig6Averages, u_max: f64) -> Panel {
+    let x_label = FIG6_X;
+    Panel {
         title: format!(
             "3-D average minus 1-D theory, over u_max = mu delta L^2 / h^2 = {}",
             number(u_max)
@@ -491,11 +515,7 @@ fn fig6(f: &ResultFile) -> Result<Figure, OutputError> {
             })
             .collect(),
         legend: LegendAt::UpperRight,
-    });
-    Ok(Figure {
-        title: "Figure 6: stick/slip bar; points: 3-D solution, lines: 1-D theory".into(),
-        panels,
-    })
+    }
 }
 
 /// u_x and u_y of the normal smoothing interface against x.

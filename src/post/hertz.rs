@@ -18,7 +18,7 @@ use super::figures::{render_figure, Curve, Figure, LegendAt, Mark, Panel};
 use super::plot::fonts_available;
 use crate::fem::hex8::FACES;
 use crate::math::{dot, Vec3};
-use crate::output::{OutputError, OutputMesh, ResultFile};
+use crate::output::{check_picture_output, write_picture, OutputError, OutputMesh, ResultFile};
 use crate::scene::{MaterialDef, SceneFile};
 
 /// Arguments of `solver post hertz`.
@@ -256,6 +256,8 @@ fn g(v: f64) -> String {
 
 /// Runs `solver post hertz`: compares, draws, and returns the report.
 pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
+    let inputs = [(args.file.as_path(), "the result file")];
+    check_picture_output(&args.output, &inputs)?;
     let f = ResultFile::open(&args.file)?;
     let c = compare(&f)?;
     let text = fonts_available();
@@ -265,7 +267,9 @@ pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
              (install fonts-dejavu-core for labels)"
         );
     }
-    render_figure(&c.figure(), &args.output, text)?;
+    write_picture(&args.output, &inputs, |tmp| {
+        render_figure(&c.figure(), tmp, text)
+    })?;
     Ok(format!("{}wrote {}", c.render(), args.output.display()))
 }
 

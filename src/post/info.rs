@@ -3,7 +3,7 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use crate::output::{OutputError, ResultFile};
+use crate::output::{FileAttributes, OutputError, OutputMesh, ResultFile, StepStats};
 
 /// The summary `solver post info` prints.
 pub fn info_text(path: &Path) -> Result<String, OutputError> {
@@ -20,6 +20,25 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
     let time = f.time()?;
     let stats = f.stats()?;
     let mut s = String::new();
+    header(&mut s, path, &f, &attrs, &mesh, &checksums);
+    if !time.is_empty() {
+        let _ = writeln!(s);
+        step_table(&mut s, &time, &stats);
+        let _ = writeln!(s);
+        contact_table(&mut s, &stats);
+    }
+    Ok(s)
+}
+
+/// The file, the run and the mesh. Writing to a String cannot fail.
+fn header(
+    s: &mut String,
+    path: &Path,
+    f: &ResultFile,
+    attrs: &FileAttributes,
+    mesh: &OutputMesh,
+    checksums: &str,
+) {
     let wall = attrs.wall_time.map_or_else(
         || "- (run not finished)".to_string(),
         |w| format!("{w:.3} s"),
@@ -41,7 +60,6 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
                 .join(", ")
         }
     };
-    // Writing to a String cannot fail.
     let _ = writeln!(s, "file:         {}", path.display());
     let _ = writeln!(s, "scene:        {}", attrs.scene_name);
     let _ = writeln!(s, "solver:       {}", attrs.solver_version);
@@ -64,71 +82,74 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
         sets(mesh.side_sets.iter().map(|x| &x.0).collect())
     );
     let _ = writeln!(s, "steps:        {}", f.num_steps());
-    if !time.is_empty() {
-        let _ = writeln!(s);
+}
+
+/// Per step: time, CG iterations, contact updates, cut-backs, residual, wall time; totals.
+fn step_table(s: &mut String, time: &[f64], stats: &[StepStats]) {
+    let _ = writeln!(
+        s,
+        "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10}",
+        "step", "time", "CG its", "contact", "cutback", "residual", "wall [s]"
+    );
+    for (i, (t, st)) in time.iter().zip(stats).enumerate() {
         let _ = writeln!(
             s,
-            "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10}",
-            "step", "time", "CG its", "contact", "cutback", "residual", "wall [s]"
+            "{:>5} {:>14.6e} {:>8} {:>8} {:>8} {:>12.4e} {:>10.3}",
+            i, t, st.cg_iterations, st.contact_updates, st.cutbacks, st.residual, st.wall_time
         );
-        for (i, (t, st)) in time.iter().zip(&stats).enumerate() {
-            let _ = writeln!(
-                s,
-                "{:>5} {:>14.6e} {:>8} {:>8} {:>8} {:>12.4e} {:>10.3}",
-                i, t, st.cg_iterations, st.contact_updates, st.cutbacks, st.residual, st.wall_time
-            );
-        }
-        let cg: u64 = stats.iter().map(|st| st.cg_iterations).sum();
-        let wall: f64 = stats.iter().map(|st| st.wall_time).sum();
-        let _ = writeln!(
-            s,
-            "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10.3}",
-            "total",
-            "",
-            cg,
-            stats.iter().map(|st| st.contact_updates).sum::<u64>(),
-            stats.iter().map(|st| st.cutbacks).sum::<u64>(),
-            "",
-            wall
-        );
-        let _ = writeln!(s);
-        let _ = writeln!(
-            s,
-            "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15}",
-            "step", "active", "stick", "slip", "released", "max penetration"
-        );
-        for (i, st) in stats.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
-                i,
-                st.contact_active,
-                st.contact_stick,
-                st.contact_slip,
-                st.contact_released,
-                st.max_penetration
-            );
-        }
+    }
+    let cg: u64 = stats.iter().map(|st| st.cg_iterations).sum();
+    let wall: f64 = stats.iter().map(|st| st.wall_time).sum();
+    let _ = writeln!(
+        s,
+        "{:>5} {:>14} {:>8} {:>8} {:>8} {:>12} {:>10.3}",
+        "total",
+        "",
+        cg,
+        stats.iter().map(|st| st.contact_updates).sum::<u64>(),
+        stats.iter().map(|st| st.cutbacks).sum::<u64>(),
+        "",
+        wall
+    );
+}
+
+/// Per step: the contact counts and the largest penetration; their maxima.
+fn contact_table(s: &mut String, stats: &[StepStats]) {
+    let _ = writeln!(
+        s,
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15}",
+        "step", "active", "stick", "slip", "released", "max penetration"
+    );
+    for (i, st) in stats.iter().enumerate() {
         let _ = writeln!(
             s,
             "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
-            "max",
-            stats.iter().map(|st| st.contact_active).max().unwrap_or(0),
-            stats.iter().map(|st| st.contact_stick).max().unwrap_or(0),
-            stats.iter().map(|st| st.contact_slip).max().unwrap_or(0),
-            stats
-                .iter()
-                .map(|st| st.contact_released)
-                .max()
-                .unwrap_or(0),
-            stats
-                .iter()
-                .map(|st| st.max_penetration)
-                .fold(0.0, f64::max)
+            i,
+            st.contact_active,
+            st.contact_stick,
+            st.contact_slip,
+            st.contact_released,
+            st.max_penetration
         );
         plastic_table(&f, &mut s)?;
     }
-    Ok(s)
+    let _ = writeln!(
+        s,
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
+        "max",
+        stats.iter().map(|st| st.contact_active).max().unwrap_or(0),
+        stats.iter().map(|st| st.contact_stick).max().unwrap_or(0),
+        stats.iter().map(|st| st.contact_slip).max().unwrap_or(0),
+        stats
+            .iter()
+            .map(|st| st.contact_released)
+            .max()
+            .unwrap_or(0),
+        stats
+            .iter()
+            .map(|st| st.max_penetration)
+            .fold(0.0, f64::max)
+    );
 }
 
 /// Per step: the largest element-mean equivalent plastic strain and how many elements have

@@ -5,6 +5,7 @@
 //! (missing or bad file, meshes or shapes that cannot be compared, bad arguments) should be
 //! printed and end the process with exit code 2.
 
+pub mod balance;
 mod compare;
 pub mod figures;
 pub mod hertz;
@@ -98,6 +99,8 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
             Ok(0)
         }
         PostCommand::Plot(args) => {
+            let inputs = [(args.file.as_path(), "the result file")];
+            crate::output::check_picture_output(&args.output, &inputs)?;
             let data = plot_data(args)?;
             let text = fonts_available();
             if !text {
@@ -106,7 +109,9 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
                      text (install fonts-dejavu-core for labels)"
                 );
             }
-            render_plot(&data, &args.output, text)?;
+            crate::output::write_picture(&args.output, &inputs, |tmp| {
+                render_plot(&data, tmp, text)
+            })?;
             println!(
                 "wrote {} ({} line{}, {} points each)",
                 args.output.display(),

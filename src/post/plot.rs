@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-use crate::output::{OutputError, ResultFile};
+use crate::output::{OutputError, OutputMesh, ResultFile};
 
 /// A nodal result quantity.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,43 +192,79 @@ fn nodal_vectors(f: &ResultFile, q: Quantity, step: usize) -> Result<Vec<[f64; 3
     }
 }
 
-/// Reads what a plot shows, without drawing it.
+/// Reads what a plot shows, without drawing it: checks the request, finds the node set's
+/// nodes, then gathers the values through time (`--history`) or along the set.
 pub fn plot_data(args: &PlotArgs) -> Result<PlotData, OutputError> {
     let file = args.file.as_path();
-    let usage = |message: String| OutputError::Usage {
-        file: file.to_path_buf(),
-        message,
-    };
     let f = ResultFile::open(file)?;
-    let q = args.quantity;
-    let c = args.component;
-    if q.is_vector() && c.is_none() {
-        return Err(usage(format!(
-            "--quantity {} needs --component x, y, z or magnitude",
-            q.name()
-        )));
-    }
-    if !q.is_vector() && c.is_some() {
-        return Err(usage(format!(
-            "--quantity {} is a scalar; leave out --component",
-            q.name()
-        )));
-    }
+    check_component(args)?;
     let mesh = f.mesh()?;
+    let nodes = set_nodes(args, &f, &mesh)?;
+    let y_label = match args.component {
+        Some(c) => format!("{} {}", args.quantity.name(), c.name()),
+        None => args.quantity.name().to_string(),
+    };
+    if args.history {
+        history_plot(args, &f, &mesh, &nodes, y_label)
+    } else {
+        along_plot(args, &f, &mesh, &nodes, y_label)
+    }
+}
+
+fn usage(args: &PlotArgs, message: String) -> OutputError {
+    OutputError::Usage {
+        file: args.file.clone(),
+        message,
+    }
+}
+
+/// A vector quantity needs a component, a scalar takes none.
+fn check_component(args: &PlotArgs) -> Result<(), OutputError> {
+    let q = args.quantity;
+    if q.is_vector() && args.component.is_none() {
+        return Err(usage(
+            args,
+            format!(
+                "--quantity {} needs --component x, y, z or magnitude",
+                q.name()
+            ),
+        ));
+    }
+    if !q.is_vector() && args.component.is_some() {
+        return Err(usage(
+            args,
+            format!("--quantity {} is a scalar; leave out --component", q.name()),
+        ));
+    }
+    Ok(())
+}
+
+/// The mesh indices of the node set's nodes, in the set's order.
+fn set_nodes(
+    args: &PlotArgs,
+    f: &ResultFile,
+    mesh: &OutputMesh,
+) -> Result<Vec<usize>, OutputError> {
     let Some(ids) = f.node_set(&args.node_set)? else {
         let names = f.node_set_names()?;
-        return Err(usage(format!(
-            "no node set '{}' (the file has: {})",
-            args.node_set,
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        )));
+        return Err(usage(
+            args,
+            format!(
+                "no node set '{}' (the file has: {})",
+                args.node_set,
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            ),
+        ));
     };
     if ids.is_empty() {
-        return Err(usage(format!("node set '{}' is empty", args.node_set)));
+        return Err(usage(
+            args,
+            format!("node set '{}' is empty", args.node_set),
+        ));
     }
     let index: HashMap<u64, usize> = mesh
         .node_ids
@@ -236,82 +272,87 @@ pub fn plot_data(args: &PlotArgs) -> Result<PlotData, OutputError> {
         .enumerate()
         .map(|(i, &id)| (id, i))
         .collect();
-    let nodes = ids
-        .iter()
+    ids.iter()
         .map(|id| {
             index.get(id).copied().ok_or_else(|| {
-                usage(format!(
-                    "node set '{}' names node id {id}, which the mesh lacks",
-                    args.node_set
-                ))
+                usage(
+                    args,
+                    format!(
+                        "node set '{}' names node id {id}, which the mesh lacks",
+                        args.node_set
+                    ),
+                )
             })
         })
-        .collect::<Result<Vec<usize>, _>>()?;
-    let y_label = match c {
-        Some(c) => format!("{} {}", q.name(), c.name()),
-        None => q.name().to_string(),
-    };
+        .collect()
+}
 
-    if args.history {
-        let time = f.time()?;
-        if time.is_empty() {
-            return Err(usage("the file has no steps to plot".into()));
-        }
-        let mut per_node = vec![Vec::with_capacity(time.len()); nodes.len()];
-        let mut sums = Vec::with_capacity(time.len());
-        for (step, &t) in time.iter().enumerate() {
-            if args.sum && q.is_vector() {
-                let v = nodal_vectors(&f, q, step)?;
-                let mut total = [0.0; 3];
-                for &n in &nodes {
-                    for k in 0..3 {
-                        total[k] += v[n][k];
-                    }
+/// The quantity at the set's nodes through time: one line per node, or their sum.
+fn history_plot(
+    args: &PlotArgs,
+    f: &ResultFile,
+    mesh: &OutputMesh,
+    nodes: &[usize],
+    y_label: String,
+) -> Result<PlotData, OutputError> {
+    let (q, c) = (args.quantity, args.component);
+    let time = f.time()?;
+    if time.is_empty() {
+        return Err(usage(args, "the file has no steps to plot".into()));
+    }
+    let mut per_node = vec![Vec::with_capacity(time.len()); nodes.len()];
+    let mut sums = Vec::with_capacity(time.len());
+    for (step, &t) in time.iter().enumerate() {
+        if args.sum && q.is_vector() {
+            let v = nodal_vectors(f, q, step)?;
+            let mut total = [0.0; 3];
+            for &n in nodes {
+                for k in 0..3 {
+                    total[k] += v[n][k];
                 }
-                sums.push((t, c.unwrap_or(Component::X).of(total)));
+            }
+            sums.push((t, c.unwrap_or(Component::X).of(total)));
+        } else {
+            let v = nodal_values(f, q, c, step)?;
+            if args.sum {
+                sums.push((t, nodes.iter().map(|&n| v[n]).sum()));
             } else {
-                let v = nodal_values(&f, q, c, step)?;
-                if args.sum {
-                    sums.push((t, nodes.iter().map(|&n| v[n]).sum()));
-                } else {
-                    for (line, &n) in per_node.iter_mut().zip(&nodes) {
-                        line.push((t, v[n]));
-                    }
+                for (line, &n) in per_node.iter_mut().zip(nodes) {
+                    line.push((t, v[n]));
                 }
             }
         }
-        let series = if args.sum {
-            vec![Series {
-                label: format!("sum over '{}'", args.node_set),
-                points: sums,
-            }]
-        } else {
-            per_node
-                .into_iter()
-                .zip(&nodes)
-                .map(|(points, &n)| Series {
-                    label: format!("node {}", mesh.node_ids[n]),
-                    points,
-                })
-                .collect()
-        };
-        return Ok(PlotData {
-            title: format!(
-                "{y_label}{} at node set '{}'",
-                if args.sum { " (sum)" } else { "" },
-                args.node_set
-            ),
-            x_label: "time".into(),
-            y_label,
-            series,
-        });
     }
+    let series = if args.sum {
+        vec![Series {
+            label: format!("sum over '{}'", args.node_set),
+            points: sums,
+        }]
+    } else {
+        per_node
+            .into_iter()
+            .zip(nodes)
+            .map(|(points, &n)| Series {
+                label: format!("node {}", mesh.node_ids[n]),
+                points,
+            })
+            .collect()
+    };
+    Ok(PlotData {
+        title: format!(
+            "{y_label}{} at node set '{}'",
+            if args.sum { " (sum)" } else { "" },
+            args.node_set
+        ),
+        x_label: "time".into(),
+        y_label,
+        series,
+    })
+}
 
-    let against = args
-        .against
-        .ok_or_else(|| usage("--against x|y|z|s is needed unless --history is given".into()))?;
-    let steps = parse_steps(file, &args.steps, f.num_steps())?;
-    let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coordinates[n]).collect();
+/// The order of the points along the set and their abscissae: sorted by the chosen
+/// coordinate (then the next two), `s` the arc length along the set's longest extent.
+fn abscissae(coords: &[[f64; 3]], against: Axis) -> (Vec<usize>, Vec<f64>) {
     let axis = match against {
         Axis::X => 0,
         Axis::Y => 1,
@@ -328,7 +369,7 @@ pub fn plot_data(args: &PlotArgs) -> Result<PlotData, OutputError> {
             })
             .unwrap_or(0),
     };
-    let mut order: Vec<usize> = (0..nodes.len()).collect();
+    let mut order: Vec<usize> = (0..coords.len()).collect();
     order.sort_by(|&a, &b| {
         coords[a][axis]
             .total_cmp(&coords[b][axis])
@@ -353,10 +394,30 @@ pub fn plot_data(args: &PlotArgs) -> Result<PlotData, OutputError> {
     } else {
         order.iter().map(|&i| coords[i][axis]).collect()
     };
+    (order, abscissa)
+}
+
+/// The quantity along the set, one line per chosen step.
+fn along_plot(
+    args: &PlotArgs,
+    f: &ResultFile,
+    mesh: &OutputMesh,
+    nodes: &[usize],
+    y_label: String,
+) -> Result<PlotData, OutputError> {
+    let against = args.against.ok_or_else(|| {
+        usage(
+            args,
+            "--against x|y|z|s is needed unless --history is given".into(),
+        )
+    })?;
+    let steps = parse_steps(&args.file, &args.steps, f.num_steps())?;
+    let coords: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coordinates[n]).collect();
+    let (order, abscissa) = abscissae(&coords, against);
     let time = f.time()?;
     let mut series = Vec::new();
     for step in steps {
-        let v = nodal_values(&f, q, c, step)?;
+        let v = nodal_values(f, args.quantity, args.component, step)?;
         series.push(Series {
             label: format!("step {step}, t = {}", number(time[step])),
             points: order

@@ -7,6 +7,7 @@
 //! copies (`<scene>_r2`, ...) are checked the same way; node sets stored in the file select
 //! the nodes a check needs.
 
+use super::balance::normal_tangential;
 use super::figures::{body_nodes, section_average, stick_slip_exact};
 use crate::output::{OutputError, OutputMesh, ResultFile};
 use std::path::Path;
@@ -154,38 +155,12 @@ pub fn verify(file: &ResultFile) -> Result<Verification, OutputError> {
         "bc_interaction" | "bc_interaction_mu037" => bc_stick(file, &mesh, last, &mut v)?,
         "bc_interaction_mu036" => {
             if let Some(k) = last {
-                let st = file.contact_status(k)?;
-                let slipping = st.iter().filter(|&&s| s == 2).count();
-                v.report("slave nodes slipping at the last step", slipping as f64);
-                v.check(
-                    "mu = 0.36 < tan(20 deg): some slave node slips (1 if none)",
-                    (slipping == 0) as u8 as f64,
-                    0.0,
-                );
+                bc_slip(file, k, &mut v)?;
             }
         }
         "bc_interaction_frictionless" => {
             if let Some(k) = last {
-                let u = file.displacement(k)?;
-                let interface = node_set(file, "interface")?;
-                let s0 = interface
-                    .iter()
-                    .copied()
-                    .filter(|&n| mesh.coordinates[n][0].abs() < 1e-12)
-                    .map(|n| u[n][0].abs())
-                    .fold(0.0, f64::max);
-                v.check(
-                    "|U_x(s = 0)| / d (the Dirichlet condition, exactly 0)",
-                    s0 / 2e-3,
-                    1e-14,
-                );
-                let ux_end = interface
-                    .iter()
-                    .copied()
-                    .filter(|&n| (mesh.coordinates[n][0] - 1.0).abs() < 1e-12)
-                    .map(|n| u[n][0])
-                    .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
-                v.report("U_x at the interface's far end (x = 1)", ux_end);
+                bc_frictionless(file, &mesh, k, &mut v)?;
             }
         }
         "normal_smoothing" | "normal_smoothing_off" => {
@@ -209,6 +184,49 @@ pub fn verify(file: &ResultFile) -> Result<Verification, OutputError> {
         _ => {}
     }
     Ok(v)
+}
+
+/// bc_interaction at mu = 0.36: below tan(20 deg) some slave node must slip.
+fn bc_slip(file: &ResultFile, k: usize, v: &mut Verification) -> Result<(), OutputError> {
+    let st = file.contact_status(k)?;
+    let slipping = st.iter().filter(|&&s| s == 2).count();
+    v.report("slave nodes slipping at the last step", slipping as f64);
+    v.check(
+        "mu = 0.36 < tan(20 deg): some slave node slips (1 if none)",
+        (slipping == 0) as u8 as f64,
+        0.0,
+    );
+    Ok(())
+}
+
+/// bc_interaction without friction: the Dirichlet condition at s = 0 holds exactly.
+fn bc_frictionless(
+    file: &ResultFile,
+    mesh: &OutputMesh,
+    k: usize,
+    v: &mut Verification,
+) -> Result<(), OutputError> {
+    let u = file.displacement(k)?;
+    let interface = node_set(file, "interface")?;
+    let s0 = interface
+        .iter()
+        .copied()
+        .filter(|&n| mesh.coordinates[n][0].abs() < 1e-12)
+        .map(|n| u[n][0].abs())
+        .fold(0.0, f64::max);
+    v.check(
+        "|U_x(s = 0)| / d (the Dirichlet condition, exactly 0)",
+        s0 / 2e-3,
+        1e-14,
+    );
+    let ux_end = interface
+        .iter()
+        .copied()
+        .filter(|&n| (mesh.coordinates[n][0] - 1.0).abs() < 1e-12)
+        .map(|n| u[n][0])
+        .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
+    v.report("U_x at the interface's far end (x = 1)", ux_end);
+    Ok(())
 }
 
 fn node_set(file: &ResultFile, name: &str) -> Result<Vec<usize>, OutputError> {
@@ -263,11 +281,8 @@ fn bc_stick(
     let f = file.contact_force(k)?;
     let mut worst: f64 = 0.0;
     for (i, fi) in f.iter().enumerate() {
-        let fnorm = fi[0] * n[0] + fi[1] * n[1];
+        let (fnorm, ft) = normal_tangential(*fi, n);
         if fnorm.abs() > 0.0 && mesh.coordinates[i][0] > 1e-9 {
-            let ft =
-                ((fi[0] - fnorm * n[0]).powi(2) + (fi[1] - fnorm * n[1]).powi(2) + fi[2].powi(2))
-                    .sqrt();
             worst = worst.max((ft / fnorm.abs() - phi.tan()).abs());
         }
     }

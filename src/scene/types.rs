@@ -2,6 +2,8 @@
 
 use serde::Deserialize;
 
+use crate::problem::Kinematics;
+
 #[derive(Deserialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
@@ -31,14 +33,6 @@ pub struct SceneFile {
     pub solver: SolverDef,
     #[serde(default)]
     pub output: OutputDef,
-}
-
-#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Kinematics {
-    #[default]
-    Small,
-    Large,
 }
 
 #[derive(Deserialize, Debug, Clone)]

@@ -876,8 +876,8 @@ impl Builder {
         side_sets: &[SideSet],
         node_sets: &[NodeSet],
         dirichlet: &[Dirichlet],
-    ) -> Result<Vec<crate::contact::ContactPair>, SceneError> {
-        use crate::contact::ContactPair;
+    ) -> Result<Vec<crate::problem::ContactPair>, SceneError> {
+        use crate::problem::ContactPair;
         let mut out: Vec<ContactPair> = Vec::new();
         // Directions fixed by Dirichlet conditions, per node, to find slave bodies that
         // cannot move.

@@ -8,9 +8,9 @@
 
 use super::assembly::{Assembly, ElementError};
 use super::coarse::CoarseSpace;
-use super::constraints::Constraints;
 use super::loads::Loads;
 use crate::comm::{self, Comm};
+use crate::constraints::Constraints;
 use crate::math::{inverse, matvec, Mat3, Vec3};
 
 /// Why a model problem could not be solved. Rank-agreed.

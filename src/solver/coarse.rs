@@ -17,8 +17,8 @@
 //! (values of nodes owned elsewhere are fetched first); every rank factors the same Kc and
 //! solves the same coarse system. Results stay bitwise identical on any number of ranks.
 
-use super::constraints::{fetch_plan, Constraints, Plan};
 use crate::comm::Comm;
+use crate::constraints::{fetch_plan, Constraints, Plan};
 use crate::math::{matvec, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;

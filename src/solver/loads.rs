@@ -6,7 +6,7 @@ use crate::fem::face;
 use crate::math::{add, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
-use crate::scene::{Kinematics, PiecewiseLinear};
+use crate::problem::{Kinematics, PiecewiseLinear};
 
 struct FaceLoad {
     /// (local element, local face), in ascending global order.

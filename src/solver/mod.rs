@@ -4,7 +4,7 @@
 pub mod assembly;
 pub mod cg;
 pub mod coarse;
-pub mod constraints;
+pub use crate::constraints;
 pub mod loads;
 pub mod stepping;
 pub mod support;

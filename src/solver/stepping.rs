@@ -3,9 +3,9 @@
 
 use super::assembly::Assembly;
 use super::cg::{Cg, CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
-use super::constraints::{Constraints, Row, RowKind, RowSpec};
 use super::loads::Loads;
 use crate::comm::Comm;
+use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::state::{ContactCounts, ContactState};
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;

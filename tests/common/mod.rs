@@ -1,6 +1,12 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod bad_scene;
+pub mod paths;
+
+#[allow(unused_imports)]
+pub use paths::{fresh_dir, paper_scene, repo, solver, stderr_text};
+
 use solver::comm::SerialComm;
 use solver::problem::Problem;
 use solver::run::{run, GlobalState, RunOptions, RunSummary};

@@ -5,7 +5,14 @@ use crate::fem::Formulation;
 use crate::material::Material;
 use crate::math::Vec3;
 use crate::mesh::GlobalMesh;
-use crate::scene::{Kinematics, PiecewiseLinear};
+
+mod contact_pair;
+mod function;
+mod kinematics;
+
+pub use contact_pair::ContactPair;
+pub use function::PiecewiseLinear;
+pub use kinematics::Kinematics;
 
 #[derive(Clone, Debug)]
 pub struct BodyModel {
@@ -113,7 +120,7 @@ pub struct Problem {
     pub pressures: Vec<Pressure>,
     pub tractions: Vec<Traction>,
     pub body_forces: Vec<BodyForce>,
-    pub contacts: Vec<crate::contact::ContactPair>,
+    pub contacts: Vec<ContactPair>,
     pub start_time: f64,
     /// End time of every load step, in order.
     pub step_times: Vec<f64>,

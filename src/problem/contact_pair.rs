@@ -1,0 +1,84 @@
+//! The description of a contact pair: master faces, slave nodes and the pair's settings.
+
+use crate::mesh::GlobalMesh;
+
+/// A validated contact pair.
+#[derive(Clone, Debug)]
+pub struct ContactPair {
+    pub name: String,
+    /// (element, local face) of each master face, ascending.
+    pub master_faces: Vec<(u32, u8)>,
+    /// Global node ids of each master face, ordered with an outward normal.
+    pub face_nodes: Vec<[u32; 4]>,
+    /// For each master face and edge k (between corners k and k+1), the master face across
+    /// it and that face's edge index, if any.
+    pub neighbours: Vec<[Option<(u32, u8)>; 4]>,
+    /// Slave nodes, ascending global ids.
+    pub slave_nodes: Vec<u32>,
+    /// Coulomb coefficient; 0 is frictionless.
+    pub mu: f64,
+    pub normal_tolerance: f64,
+    pub tangential_tolerance: f64,
+    pub capture_tolerance: f64,
+    pub smoothing_width: Option<f64>,
+    /// Mean sqrt(area) of the master faces: the length the defaults scale with.
+    pub face_size: f64,
+}
+
+impl ContactPair {
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        name: String,
+        mesh: &GlobalMesh,
+        master_faces: Vec<(u32, u8)>,
+        slave_nodes: Vec<u32>,
+        mu: f64,
+        normal_tolerance: f64,
+        tangential_tolerance: f64,
+        capture_tolerance: f64,
+        smoothing_width: Option<f64>,
+        face_size: f64,
+    ) -> Self {
+        let face_nodes: Vec<[u32; 4]> = master_faces
+            .iter()
+            .map(|&(e, f)| mesh.face_nodes(e, f))
+            .collect();
+        let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> =
+            std::collections::HashMap::new();
+        for (fi, nodes) in face_nodes.iter().enumerate() {
+            for k in 0..4 {
+                let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
+                edges
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((fi as u32, k as u8));
+            }
+        }
+        let neighbours = face_nodes
+            .iter()
+            .enumerate()
+            .map(|(fi, nodes)| {
+                std::array::from_fn(|k| {
+                    let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
+                    edges[&(a.min(b), a.max(b))]
+                        .iter()
+                        .copied()
+                        .find(|&(g, _)| g != fi as u32)
+                })
+            })
+            .collect();
+        ContactPair {
+            name,
+            master_faces,
+            face_nodes,
+            neighbours,
+            slave_nodes,
+            mu,
+            normal_tolerance,
+            tangential_tolerance,
+            capture_tolerance,
+            smoothing_width,
+            face_size,
+        }
+    }
+}

@@ -1,0 +1,36 @@
+//! Paths and processes: the solver binary, files of the repository, a fresh directory per
+//! test, a command's standard error.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The solver binary of this build.
+pub fn solver() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_solver"))
+}
+
+/// A path inside the repository.
+pub fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// The scene file of one of the paper's tests.
+pub fn paper_scene(name: &str) -> String {
+    repo(&format!("run/scenes/paper/{name}.toml"))
+        .display()
+        .to_string()
+}
+
+/// An empty directory `name` under cargo's temporary directory for tests (emptied if an
+/// earlier run left it).
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A command's standard error, trimmed.
+pub fn stderr_text(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).trim().to_string()
+}
