@@ -26,6 +26,7 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
         step_table(&mut s, &time, &stats);
         let _ = writeln!(s);
         contact_table(&mut s, &stats);
+        plastic_table(&f, &mut s)?;
     }
     Ok(s)
 }
@@ -131,7 +132,6 @@ fn contact_table(s: &mut String, stats: &[StepStats]) {
             st.contact_released,
             st.max_penetration
         );
-        plastic_table(&f, &mut s)?;
     }
     let _ = writeln!(
         s,

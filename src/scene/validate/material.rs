@@ -3,7 +3,8 @@
 
 use super::{Builder, SceneError};
 use crate::material::{J2Plastic, LinearElastic, Material, NeoHookean};
-use crate::scene::types::{Kinematics, MaterialDef};
+use crate::problem::Kinematics;
+use crate::scene::types::MaterialDef;
 
 /// Plastic parameters as given: (yield stress, isotropic, kinematic hardening).
 type Plastic = (f64, f64, f64);
