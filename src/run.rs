@@ -17,6 +17,10 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod gather;
+mod plastic;
+use gather::Gather;
+
 #[derive(Clone, Debug)]
 pub struct RunOptions {
     /// Result file; None writes nothing (tests that only need the numbers).
@@ -53,6 +57,8 @@ pub struct GlobalState {
     pub reaction: Vec<Vec3>,
     pub contact_force: Vec<Vec3>,
     pub contact_status: Vec<u8>,
+    /// Per element: equivalent plastic strain (empty without plastic bodies).
+    pub plastic_strain: Vec<f64>,
     /// Active contact constraints at the end (one-rank runs): (slave node, pair, master
     /// body, stick).
     pub constraints: Vec<ActiveConstraint>,
@@ -156,75 +162,6 @@ pub fn output_mesh(problem: &Problem) -> OutputMesh {
     }
 }
 
-/// Gathers the owned entries of a per-node array onto rank 0, in global node order.
-struct Gather {
-    node_ids: Vec<Vec<u64>>,
-    element_ids: Vec<Vec<u64>>,
-    num_nodes: usize,
-    num_elements: usize,
-}
-
-impl Gather {
-    fn new<C: Comm + ?Sized>(
-        comm: &C,
-        mesh: &LocalMesh,
-        num_nodes: usize,
-        num_elements: usize,
-    ) -> Self {
-        let owned: Vec<u64> = mesh.node_global[..mesh.num_owned_nodes]
-            .iter()
-            .map(|&g| g as u64)
-            .collect();
-        let elems: Vec<u64> = mesh
-            .element_global
-            .iter()
-            .zip(&mesh.element_owned)
-            .filter(|(_, &o)| o)
-            .map(|(&g, _)| g as u64)
-            .collect();
-        Gather {
-            node_ids: comm.gather_u64(&owned),
-            element_ids: comm.gather_u64(&elems),
-            num_nodes,
-            num_elements,
-        }
-    }
-
-    fn place<const W: usize, C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        local: &[[f64; W]],
-        ids: &[Vec<u64>],
-        total: usize,
-    ) -> Vec<[f64; W]> {
-        let flat: Vec<f64> = local.iter().flatten().copied().collect();
-        let parts = comm.gather_f64(&flat);
-        if !comm.is_root() {
-            return Vec::new();
-        }
-        let mut out = vec![[0.0; W]; total];
-        for (r, part) in parts.iter().enumerate() {
-            for (k, &g) in ids[r].iter().enumerate() {
-                out[g as usize].copy_from_slice(&part[W * k..W * (k + 1)]);
-            }
-        }
-        out
-    }
-
-    fn nodes<C: Comm + ?Sized>(&self, comm: &C, mesh: &LocalMesh, v: &[Vec3]) -> Vec<Vec3> {
-        self.place(
-            comm,
-            &v[..mesh.num_owned_nodes],
-            &self.node_ids,
-            self.num_nodes,
-        )
-    }
-
-    fn elements<C: Comm + ?Sized>(&self, comm: &C, v: &[[f64; 6]]) -> Vec<[f64; 6]> {
-        self.place(comm, v, &self.element_ids, self.num_elements)
-    }
-}
-
 pub fn run<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
@@ -286,6 +223,14 @@ fn restart_of(file: &ResultFile, path: &Path, problem: &Problem) -> Result<Resta
             file.num_steps()
         ));
     }
+    if state.history.len() != plastic::history_len(problem) {
+        return Err(format!(
+            "{shown}: the restart state's plastic history ({} values) does not fit {} ({} values)",
+            state.history.len(),
+            problem.file,
+            plastic::history_len(problem)
+        ));
+    }
     if ContactState::decode(problem, &state.contact, &state.released).is_none() {
         return Err(format!(
             "{shown}: the restart state's contact constraints do not fit {}",
@@ -304,11 +249,13 @@ fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
         r.rows as f64,
         r.contact.len() as f64,
         r.released.len() as f64,
+        r.history.len() as f64,
     ];
     v.extend(r.displacement.iter().flatten());
     v.extend(r.previous_displacement.iter().flatten());
     v.extend(&r.contact);
     v.extend(&r.released);
+    v.extend(&r.history);
     for s in steps {
         let t = &s.stats;
         v.extend([
@@ -334,8 +281,8 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
-    let (nc, nr) = (v[5] as usize, v[6] as usize);
-    let mut at = 7;
+    let (nc, nr, nh) = (v[5] as usize, v[6] as usize, v[7] as usize);
+    let mut at = 8;
     let mut take = |n: usize| {
         let out = v[at..at + n].to_vec();
         at += n;
@@ -348,7 +295,9 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
     let previous_displacement = rows(take(3 * nodes));
     let contact = take(nc);
     let released = take(nr);
+    let history = take(nh);
     let state = RestartState {
+        history,
         step: v[0] as u64,
         time: v[1],
         dt_prev: v[2],
@@ -497,6 +446,7 @@ pub fn run_from<C: Comm + ?Sized>(
             (state.time, state.dt_prev, state.reference_floor),
             contact,
         );
+        plastic::restore(&mut stepper, problem, &state.history);
         first_step = state.step as usize;
         for (time, s) in earlier {
             let step = problem
@@ -620,6 +570,7 @@ pub fn run_from<C: Comm + ?Sized>(
                             reaction: s.reaction,
                             contact_force: s.contact_force,
                             contact_status: s.contact_status,
+                            plastic_strain: s.plastic_strain,
                             constraints: stepper
                                 .contact
                                 .active
@@ -699,6 +650,7 @@ fn restart_state<C: Comm + ?Sized>(
         previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
         contact,
         released,
+        history: plastic::gather_history(comm, stepper),
     }
 }
 
@@ -783,6 +735,7 @@ fn step_output<C: Comm + ?Sized>(
             .iter()
             .map(|v| v[0])
             .collect(),
+        plastic_strain: plastic::plastic_strain(comm, stepper, gather),
         stats: StepStats {
             cg_iterations: rec.cg_iterations,
             contact_updates: rec.contact_updates,

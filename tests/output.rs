@@ -130,6 +130,7 @@ fn synthetic_step(s: usize, mesh: &OutputMesh) -> StepOutput {
             .collect(),
         contact_status: (0..n).map(|i| ((i + s) % 4) as u8).collect(),
         contact_gap: (0..n).map(|i| 1e-2 * (i as f64) - 1e-3 * sf).collect(),
+        plastic_strain: Vec::new(),
         stats: StepStats {
             cg_iterations: 40 + s as u64,
             contact_updates: s as u64 % 2 + 1,

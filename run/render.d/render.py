@@ -6,6 +6,8 @@ Run by run/render inside ParaView's Python (pvpython, under an X server in memor
 
 For each RESULT.xmf (the XDMF index the solver writes beside RESULT.h5) it writes
     DIR/<name>.von_mises.png  the deformed mesh coloured by the von Mises stress of each element
+    DIR/<name>.plastic_strain.png  (scenes with plastic bodies) the deformed mesh coloured by
+                              the equivalent plastic strain of each element
     DIR/<name>.contact.png    the deformed mesh, translucent, with the slave nodes in contact
                               (status stick or slip) as spheres coloured by the magnitude of
                               their contact force (normal and friction parts together),
@@ -237,6 +239,9 @@ def render_one(xmf, args):
     warp.UpdatePipeline(t)
     warped = servermanager.Fetch(warp)
     vm_values = np.array(dsa.WrapDataObject(warped).CellData["von_mises"]).reshape(-1)
+    plastic = data.GetCellData().GetArray("plastic_strain") is not None
+    eq = (np.array(dsa.WrapDataObject(warped).CellData["plastic_strain"], dtype=np.float64)
+          .reshape(-1) if plastic else None)
     warped_points = np.array(dsa.WrapDataObject(warped).Points, dtype=np.float64)
     wb = warped.GetBounds()
 
@@ -282,6 +287,32 @@ def render_one(xmf, args):
         "max": float(vm_values.max()), "colour_range": [lo, hi], "uniform": widened}
     print(f"render: {png}: von Mises stress {fmt(vm_values.min())} .. {fmt(vm_values.max())}"
           f"{' (uniform)' if widened else ''}, displacement x {fmt(scale)} ({how}), t = {fmt(t)}")
+
+    # 1b. Equivalent plastic strain, per element, when the scene has plastic bodies.
+    if plastic:
+        view = new_view(width, camera, h)
+        d = Show(warp, view)
+        d.Representation = "Surface With Edges"
+        d.EdgeColor = [0.2, 0.2, 0.2]
+        d.ColorArrayName = ["CELLS", "plastic_strain"]
+        lut = GetColorTransferFunction("plastic_strain")
+        lut.ApplyPreset("Inferno (matplotlib)", True)
+        lo, hi, widened = colour_range(float(eq.min()), float(eq.max()))
+        lut.AutomaticRescaleRangeMode = "Never"
+        lut.RescaleTransferFunction(lo, hi)
+        d.LookupTable = lut
+        scalar_bar(view, lut, "equivalent plastic strain")
+        title(view, step_text + "\nequivalent plastic strain of each element (cell array plastic_strain)"
+              + ("\nuniform to 1e-6: colour scale widened to +-1%" if widened else ""))
+        view.ViewTime = t
+        Render(view)
+        png = os.path.join(args.output, f"{name}.plastic_strain.png")
+        SaveScreenshot(png, view, ImageResolution=[width, h])
+        info["pictures"]["plastic_strain"] = {
+            "png": png, "size": [width, h], "min": float(eq.min()), "max": float(eq.max()),
+            "colour_range": [lo, hi], "yielded_elements": int((eq > 0).sum())}
+        print(f"render: {png}: equivalent plastic strain {fmt(eq.min())} .. {fmt(eq.max())},"
+              f" {int((eq > 0).sum())} elements yielded, t = {fmt(t)}")
 
     # 2. Contact: the slave nodes in contact (status stick or slip) as spheres coloured by
     # the magnitude of their contact force, over the translucent mesh; zoomed to them when

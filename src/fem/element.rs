@@ -4,7 +4,7 @@
 //! Lagrangian. Inputs are the reference coordinates and the displacements of the 8 nodes.
 
 use super::hex8::{gradients, GAUSS, NODE_XI};
-use crate::material::Material;
+use crate::material::{Material, PlasticState};
 use crate::math::{det, inverse, Mat3, Vec3, ZERO33};
 
 /// How an element is integrated.
@@ -51,8 +51,8 @@ impl std::fmt::Display for ElementFailure {
 pub struct Geometry {
     /// Volume-averaged gradients (the uniform gradient of Flanagan and Belytschko),
     /// component-major: `bbar[k][a]` = d N_a / d X_k averaged over the element.
-    bbar: [[f64; 8]; 3],
-    volume: f64,
+    pub(super) bbar: [[f64; 8]; 3],
+    pub(super) volume: f64,
     /// volume * sum_a |bbar_a|^2, the scale of the hourglass stiffness.
     vbb: f64,
     /// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a
@@ -66,11 +66,11 @@ pub struct Geometry {
 #[derive(Clone, Debug, Default)]
 pub struct GaussGeometry {
     g: [[[f64; 8]; 3]; 8],
-    wdet: [f64; 8],
+    pub(super) wdet: [f64; 8],
 }
 
 /// A 3x3 matrix at each of the eight Gauss points: `m[i][j][q]`.
-type QMat = [[[f64; 8]; 3]; 3];
+pub(super) type QMat = [[[f64; 8]; 3]; 3];
 const ZERO_Q: QMat = [[[0.0; 8]; 3]; 3];
 
 /// The hourglass base vectors (xi eta, eta zeta, zeta xi, xi eta zeta at the nodes):
@@ -135,14 +135,14 @@ pub fn geometry(x: &[Vec3; 8]) -> Result<(Geometry, GaussGeometry), ElementFailu
 
 impl Geometry {
     #[inline]
-    fn bbar_at(&self, a: usize) -> Vec3 {
+    pub(super) fn bbar_at(&self, a: usize) -> Vec3 {
         [self.bbar[0][a], self.bbar[1][a], self.bbar[2][a]]
     }
 }
 
 /// h_ij = sum_a u_a,i bbar_a,j (the element-mean displacement gradient)
 #[inline]
-fn mean_gradient(u: &[Vec3; 8], geo: &Geometry) -> Mat3 {
+pub(super) fn mean_gradient(u: &[Vec3; 8], geo: &Geometry) -> Mat3 {
     let mut h = ZERO33;
     for a in 0..8 {
         for i in 0..3 {
@@ -156,7 +156,7 @@ fn mean_gradient(u: &[Vec3; 8], geo: &Geometry) -> Mat3 {
 
 /// h_ij(q) = sum_a u_a,i g_a,j(q) at every Gauss point.
 #[inline(always)]
-fn gauss_gradient(u: &[Vec3; 8], gauss: &GaussGeometry) -> QMat {
+pub(super) fn gauss_gradient(u: &[Vec3; 8], gauss: &GaussGeometry) -> QMat {
     let mut h = ZERO_Q;
     for j in 0..3 {
         let mut acc = [[0.0; 8]; 3];
@@ -201,7 +201,7 @@ fn hsum(v: &[f64; 8]) -> f64 {
 }
 
 #[inline(always)]
-fn at(m: &QMat, q: usize) -> Mat3 {
+pub(super) fn at(m: &QMat, q: usize) -> Mat3 {
     std::array::from_fn(|i| std::array::from_fn(|j| m[i][j][q]))
 }
 
@@ -216,7 +216,7 @@ fn put(t: &mut QMat, q: usize, m: &Mat3, w: f64) {
 }
 
 #[inline]
-fn add_identity(h: &Mat3) -> Mat3 {
+pub(super) fn add_identity(h: &Mat3) -> Mat3 {
     let mut f = *h;
     for (i, row) in f.iter_mut().enumerate() {
         row[i] += 1.0;
@@ -225,7 +225,7 @@ fn add_identity(h: &Mat3) -> Mat3 {
 }
 
 #[inline]
-fn sub_identity(f: &Mat3) -> Mat3 {
+pub(super) fn sub_identity(f: &Mat3) -> Mat3 {
     let mut h = *f;
     for (i, row) in h.iter_mut().enumerate() {
         row[i] -= 1.0;
@@ -234,7 +234,7 @@ fn sub_identity(f: &Mat3) -> Mat3 {
 }
 
 #[inline]
-fn scaled(m: &Mat3, s: f64) -> Mat3 {
+pub(super) fn scaled(m: &Mat3, s: f64) -> Mat3 {
     let mut r = *m;
     for row in r.iter_mut() {
         for v in row.iter_mut() {
@@ -245,11 +245,11 @@ fn scaled(m: &Mat3, s: f64) -> Mat3 {
 }
 
 /// F, F^-1 and J at each of the eight Gauss points.
-type Deformation = ([Mat3; 8], [Mat3; 8], [f64; 8]);
+pub(super) type Deformation = ([Mat3; 8], [Mat3; 8], [f64; 8]);
 
 /// F = I + h, F^-1 and J at every Gauss point; fails if J <= 0 at one.
 #[inline]
-fn deformation(h: &QMat) -> Result<Deformation, ElementFailure> {
+pub(super) fn deformation(h: &QMat) -> Result<Deformation, ElementFailure> {
     let mut f = [ZERO33; 8];
     let mut finv = [ZERO33; 8];
     let mut j = [0.0; 8];
@@ -270,7 +270,7 @@ fn deformation(h: &QMat) -> Result<Deformation, ElementFailure> {
 /// hbar_a = (1/(V0 J_bar)) int J F^-T g_a dV0. Using the average (not the centroid value)
 /// keeps the element passing the patch test on distorted meshes.
 #[inline]
-fn mean_dilatation(
+pub(super) fn mean_dilatation(
     geo: &Geometry,
     gauss: &GaussGeometry,
     finv: &[Mat3; 8],
@@ -321,17 +321,29 @@ pub fn internal_force(
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
     let (geo, gauss) = geometry(x)?;
-    internal_force_with(&geo, Some(&gauss), u, mat, form, f)
+    internal_force_with(&geo, Some(&gauss), u, mat, form, &[], f)
+}
+
+/// Stress at stress point `q`: from the committed state when the element has a history
+/// (`hist` holds one state per stress point), history-free otherwise.
+#[inline(always)]
+fn point_stress(mat: &Material, h: &Mat3, hist: &[PlasticState], q: usize) -> Option<Mat3> {
+    match hist.get(q) {
+        Some(old) => mat.update(h, old).map(|r| r.0),
+        None => mat.stress(h),
+    }
 }
 
 /// `internal_force` with the element's reference geometry already computed. `gauss` may
-/// be `None` for `Formulation::Mean` only.
+/// be `None` for `Formulation::Mean` only. `hist` is the committed history of a plastic
+/// element (one state per stress point, see `history::points`), empty otherwise.
 pub fn internal_force_with(
     geo: &Geometry,
     gauss: Option<&GaussGeometry>,
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
+    hist: &[PlasticState],
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
     *f = [[0.0; 3]; 8];
@@ -363,8 +375,7 @@ pub fn internal_force_with(
                 }
                 _ => {
                     for q in 0..8 {
-                        let s = mat
-                            .stress(&at(&h, q))
+                        let s = point_stress(mat, &at(&h, q), hist, q)
                             .ok_or(ElementFailure::InvertedCurrent)?;
                         put(&mut t, q, &s, gauss.wdet[q]);
                     }
@@ -387,7 +398,8 @@ pub fn internal_force_with(
                 for (i, row) in hq.iter_mut().enumerate() {
                     row[i] += shift;
                 }
-                let mut s = mat.stress(&hq).ok_or(ElementFailure::InvertedCurrent)?;
+                let mut s =
+                    point_stress(mat, &hq, hist, q).ok_or(ElementFailure::InvertedCurrent)?;
                 let p3 = (s[0][0] + s[1][1] + s[2][2]) / 3.0;
                 for (i, row) in s.iter_mut().enumerate() {
                     row[i] -= p3;
@@ -412,8 +424,7 @@ pub fn internal_force_with(
             let mut cw = 0.0;
             for q in 0..8 {
                 let ratio = (j0 / jq[q]).cbrt();
-                let p = mat
-                    .stress(&sub_identity(&scaled(&fq[q], ratio)))
+                let p = point_stress(mat, &sub_identity(&scaled(&fq[q], ratio)), hist, q)
                     .ok_or(ElementFailure::InvertedCurrent)?;
                 let mut pf = 0.0;
                 for i in 0..3 {
@@ -441,7 +452,7 @@ pub fn internal_force_with(
             hourglass: coefficient,
         } => {
             let h = mean_gradient(u, geo);
-            let s = mat.stress(&h).ok_or(ElementFailure::InvertedCurrent)?;
+            let s = point_stress(mat, &h, hist, 0).ok_or(ElementFailure::InvertedCurrent)?;
             let (_, mu) = mat.lambda_mu();
             let (hx, k) = hourglass(geo, coefficient, mu);
             // q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a u_a - h hx_alpha, since
@@ -505,27 +516,57 @@ pub fn diagonal_blocks(
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
     let (geo, gauss) = geometry(x)?;
-    diagonal_blocks_with(&geo, Some(&gauss), u, mat, form, d)
+    diagonal_blocks_with(&geo, Some(&gauss), u, mat, form, &[], d)
 }
 
 /// The material tangent at one point, ready to be contracted with gradients:
 /// `sum_JL g_J A_iJkL g_L = c v v^T + mu |g|^2 I` with v = g (linear elasticity,
 /// c = lambda + mu) or v = F^-T g (neo-Hookean, c = mu + lambda - lambda ln J); the same
 /// expressions as `Material::tangent_gg`, with F^-1 and ln J computed once per point.
-struct PointTangent {
+/// For J2 plasticity (consistent tangent, see `J2Plastic::tangent_gg`) c = kappa + mu_t/3,
+/// mu = mu_t and the extra term - cn (n v)(n v)^T; under large kinematics the same form
+/// with v = F^-T g, an approximation that only preconditions.
+pub(super) struct PointTangent {
     finv: Option<Mat3>,
-    c: f64,
+    pub(super) c: f64,
     mu: f64,
+    n: Mat3,
+    cn: f64,
 }
 
 #[inline]
-fn point_tangent(mat: &Material, h: &Mat3) -> PointTangent {
+pub(super) fn point_tangent(mat: &Material, h: &Mat3, old: Option<&PlasticState>) -> PointTangent {
     match mat {
         Material::LinearElastic(m) => PointTangent {
             finv: None,
             c: m.lambda + m.mu,
             mu: m.mu,
+            n: ZERO33,
+            cn: 0.0,
         },
+        Material::J2Plastic(m) => {
+            let virgin = PlasticState::default();
+            let old = old.unwrap_or(&virgin);
+            let (ret, finv) = if m.large {
+                match m.update_large(h, old) {
+                    Some(r) => (r.ret, Some(r.finv)),
+                    None => (
+                        crate::material::Return::ELASTIC,
+                        Some(crate::math::IDENTITY),
+                    ),
+                }
+            } else {
+                (m.update(h, old).2, None)
+            };
+            let (kappa, mu_t, cn) = m.moduli(&ret);
+            PointTangent {
+                finv,
+                c: kappa + mu_t / 3.0,
+                mu: mu_t,
+                n: ret.n,
+                cn,
+            }
+        }
         Material::NeoHookean(m) => {
             let (finv, j) = inverse(&add_identity(h));
             let lnj = if j > 0.0 { j.ln() } else { 0.0 };
@@ -533,6 +574,8 @@ fn point_tangent(mat: &Material, h: &Mat3) -> PointTangent {
                 finv: Some(finv),
                 c: m.mu + m.lambda - m.lambda * lnj,
                 mu: m.mu,
+                n: ZERO33,
+                cn: 0.0,
             }
         }
     }
@@ -540,7 +583,7 @@ fn point_tangent(mat: &Material, h: &Mat3) -> PointTangent {
 
 /// F^-T g: v_i = sum_L Finv_Li g_L
 #[inline(always)]
-fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
+pub(super) fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
     [
         finv[0][0] * g[0] + finv[1][0] * g[1] + finv[2][0] * g[2],
         finv[0][1] * g[0] + finv[1][1] * g[1] + finv[2][1] * g[2],
@@ -550,49 +593,54 @@ fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
 
 /// d += w (c v v^T + mu |g|^2 I)
 #[inline(always)]
-fn add_tangent(d: &mut Mat3, pt: &PointTangent, g: &Vec3, w: f64) {
+pub(super) fn add_tangent(d: &mut Mat3, pt: &PointTangent, g: &Vec3, w: f64) {
     let v = match &pt.finv {
         Some(finv) => finv_t(finv, g),
         None => *g,
     };
     let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    let nv = crate::math::matvec(&pt.n, &v);
     for i in 0..3 {
         for k in 0..3 {
-            d[i][k] += w * (pt.c * v[i] * v[k]);
+            d[i][k] += w * (pt.c * v[i] * v[k] - pt.cn * nv[i] * nv[k]);
         }
         d[i][i] += w * (pt.mu * gg);
     }
 }
 
 #[inline(always)]
-fn g_at(gauss: &GaussGeometry, a: usize, q: usize) -> Vec3 {
+pub(super) fn g_at(gauss: &GaussGeometry, a: usize, q: usize) -> Vec3 {
     [gauss.g[a][0][q], gauss.g[a][1][q], gauss.g[a][2][q]]
 }
 
 /// `diagonal_blocks` with the element's reference geometry already computed. `gauss` may
-/// be `None` for `Formulation::Mean` only.
+/// be `None` for `Formulation::Mean` only; `hist` as in `internal_force_with`.
 pub fn diagonal_blocks_with(
     geo: &Geometry,
     gauss: Option<&GaussGeometry>,
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
+    hist: &[PlasticState],
     d: &mut [Mat3; 8],
 ) -> Result<(), ElementFailure> {
     *d = [ZERO33; 8];
     let (lambda, mu) = mat.lambda_mu();
     let large = mat.is_large();
+    if mat.is_plastic() && matches!(form, Formulation::FullBar) {
+        return super::history::diagonal_blocks_bar(geo, gauss, u, mat, hist, d);
+    }
     match form {
         Formulation::Full => {
             let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
             // The linear elastic tangent does not depend on u.
-            let h = if large {
+            let h = if large || mat.is_plastic() {
                 gauss_gradient(u, gauss)
             } else {
                 ZERO_Q
             };
             for q in 0..8 {
-                let pt = point_tangent(mat, &at(&h, q));
+                let pt = point_tangent(mat, &at(&h, q), hist.get(q));
                 for (a, da) in d.iter_mut().enumerate() {
                     add_tangent(da, &pt, &g_at(gauss, a, q), gauss.wdet[q]);
                 }
@@ -637,7 +685,7 @@ pub fn diagonal_blocks_with(
             hourglass: coefficient,
         } => {
             let h = mean_gradient(u, geo);
-            let pt = point_tangent(mat, &h);
+            let pt = point_tangent(mat, &h, hist.first());
             let (hx, k) = hourglass(geo, coefficient, mu);
             for (a, da) in d.iter_mut().enumerate() {
                 let b = geo.bbar_at(a);
@@ -673,68 +721,34 @@ pub fn average_cauchy(
     form: Formulation,
 ) -> Result<[f64; 6], ElementFailure> {
     let (geo, gauss) = geometry(x)?;
-    average_cauchy_with(&geo, Some(&gauss), u, mat, form)
+    average_cauchy_with(&geo, Some(&gauss), u, mat, form, &[])
 }
 
 /// `average_cauchy` with the element's reference geometry already computed. `gauss` may
-/// be `None` for `Formulation::Mean` only.
+/// be `None` for `Formulation::Mean` only; `hist` as in `internal_force_with`.
 pub fn average_cauchy_with(
     geo: &Geometry,
     gauss: Option<&GaussGeometry>,
     u: &[Vec3; 8],
     mat: &Material,
     form: Formulation,
+    hist: &[PlasticState],
 ) -> Result<[f64; 6], ElementFailure> {
     let mut sum = ZERO33;
     let mut vol = 0.0;
-    let mut add = |h: &Mat3, w: f64| -> Result<(), ElementFailure> {
-        let s = mat.cauchy(h).ok_or(ElementFailure::InvertedCurrent)?;
+    let (h, w, n) = super::history::point_gradients(geo, gauss, u, mat.is_large(), form)?;
+    let virgin = PlasticState::default();
+    for q in 0..n {
+        let s = mat
+            .cauchy_from(&h[q], hist.get(q).unwrap_or(&virgin))
+            .ok_or(ElementFailure::InvertedCurrent)?;
         let jw = if mat.is_large() {
-            w * det(&add_identity(h))
+            w[q] * det(&add_identity(&h[q]))
         } else {
-            w
+            w[q]
         };
         add_scaled(&mut sum, &s, jw);
         vol += jw;
-        Ok(())
-    };
-    let expect = "Gauss-point geometry of a fully integrated element";
-    match form {
-        Formulation::Full => {
-            let gauss = gauss.expect(expect);
-            let h = gauss_gradient(u, gauss);
-            for q in 0..8 {
-                add(&at(&h, q), gauss.wdet[q])?;
-            }
-        }
-        Formulation::FullBar if !mat.is_large() => {
-            let gauss = gauss.expect(expect);
-            let theta_bar: f64 = (0..8)
-                .map(|a| crate::math::dot(&u[a], &geo.bbar_at(a)))
-                .sum();
-            let h = gauss_gradient(u, gauss);
-            for q in 0..8 {
-                let mut hq = at(&h, q);
-                let shift = (theta_bar - (hq[0][0] + hq[1][1] + hq[2][2])) / 3.0;
-                for (i, row) in hq.iter_mut().enumerate() {
-                    row[i] += shift;
-                }
-                add(&hq, gauss.wdet[q])?;
-            }
-        }
-        Formulation::FullBar => {
-            let gauss = gauss.expect(expect);
-            let h = gauss_gradient(u, gauss);
-            let (fq, finv, jq) = deformation(&h)?;
-            let (j0, _) = mean_dilatation(geo, gauss, &finv, &jq);
-            for q in 0..8 {
-                let ratio = (j0 / jq[q]).cbrt();
-                add(&sub_identity(&scaled(&fq[q], ratio)), gauss.wdet[q])?;
-            }
-        }
-        Formulation::Mean { .. } => {
-            add(&mean_gradient(u, geo), geo.volume)?;
-        }
     }
     let s = scaled(&sum, 1.0 / vol);
     let out = crate::math::to_sym6(&s);

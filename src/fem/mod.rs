@@ -4,5 +4,6 @@
 pub mod element;
 pub mod face;
 pub mod hex8;
+pub mod history;
 
 pub use element::{ElementFailure, Formulation};

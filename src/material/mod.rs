@@ -2,9 +2,13 @@
 //! gradient, and the tangent contracted with a shape-function gradient on both sides
 //! (what the nodal block-diagonal preconditioner needs).
 
+mod j2_large;
+mod j2_small;
 mod linear_elastic;
 mod neo_hookean;
 
+pub use j2_large::{sym_eigen, LargeUpdate};
+pub use j2_small::{from_sym6, J2Plastic, PlasticState, Return, STATE_LEN};
 pub use linear_elastic::LinearElastic;
 pub use neo_hookean::NeoHookean;
 
@@ -26,6 +30,10 @@ pub fn lame(e: f64, nu: f64) -> (f64, f64) {
 pub enum Material {
     LinearElastic(LinearElastic),
     NeoHookean(NeoHookean),
+    /// Von Mises plasticity; its response depends on the history of the point, so the
+    /// history-free methods below answer for a virgin point and the element kernels use
+    /// `update` with the committed state.
+    J2Plastic(J2Plastic),
 }
 
 impl Material {
@@ -34,13 +42,52 @@ impl Material {
         match self {
             Material::LinearElastic(m) => (m.lambda, m.mu),
             Material::NeoHookean(m) => (m.lambda, m.mu),
+            Material::J2Plastic(m) => (m.lambda, m.mu),
         }
     }
 
     /// True for models written in the reference configuration with finite strain.
     #[inline]
     pub fn is_large(&self) -> bool {
-        matches!(self, Material::NeoHookean(_))
+        match self {
+            Material::NeoHookean(_) => true,
+            Material::J2Plastic(m) => m.large,
+            Material::LinearElastic(_) => false,
+        }
+    }
+
+    /// True for models with an integration-point history.
+    #[inline]
+    pub fn is_plastic(&self) -> bool {
+        matches!(self, Material::J2Plastic(_))
+    }
+
+    /// Stress at `h` from the committed state `old`, the state a converged step commits and
+    /// the return data; `None` when the deformation is inadmissible. Elastic models return
+    /// a virgin state.
+    #[inline]
+    pub fn update(&self, h: &Mat3, old: &PlasticState) -> Option<(Mat3, PlasticState, Return)> {
+        match self {
+            Material::J2Plastic(m) if m.large => {
+                let r = m.update_large(h, old)?;
+                Some((r.pk1, r.state, r.ret))
+            }
+            Material::J2Plastic(m) => Some(m.update(h, old)),
+            _ => Some((self.stress(h)?, PlasticState::default(), Return::ELASTIC)),
+        }
+    }
+
+    /// Cauchy stress at `h` from the committed state `old`.
+    #[inline]
+    pub fn cauchy_from(&self, h: &Mat3, old: &PlasticState) -> Option<Mat3> {
+        match self {
+            Material::J2Plastic(m) if m.large => {
+                let r = m.update_large(h, old)?;
+                Some(scaled(&r.tau, 1.0 / r.j))
+            }
+            Material::J2Plastic(m) => Some(m.update(h, old).0),
+            _ => self.cauchy(h),
+        }
     }
 
     /// Stress (Cauchy for small kinematics, first Piola-Kirchhoff for large). `None` when
@@ -50,6 +97,7 @@ impl Material {
         match self {
             Material::LinearElastic(m) => Some(m.stress(h)),
             Material::NeoHookean(m) => m.pk1(h),
+            Material::J2Plastic(_) => Some(self.update(h, &PlasticState::default())?.0),
         }
     }
 
@@ -59,6 +107,14 @@ impl Material {
         match self {
             Material::LinearElastic(m) => m.tangent_gg(g),
             Material::NeoHookean(m) => m.tangent_gg(h, g),
+            Material::J2Plastic(m) if !m.large => {
+                m.tangent_gg(&m.update(h, &PlasticState::default()).2, g)
+            }
+            Material::J2Plastic(m) => NeoHookean {
+                lambda: m.lambda,
+                mu: m.mu,
+            }
+            .tangent_gg(h, g),
         }
     }
 
@@ -68,6 +124,11 @@ impl Material {
         match self {
             Material::LinearElastic(m) => Some(m.stress(h)),
             Material::NeoHookean(m) => m.cauchy(h),
+            Material::J2Plastic(_) => self.cauchy_from(h, &PlasticState::default()),
         }
     }
+}
+
+fn scaled(m: &Mat3, s: f64) -> Mat3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[i][j] * s))
 }

@@ -94,6 +94,9 @@ pub struct StepOutput {
     pub contact_status: Vec<u8>,
     /// Per node.
     pub contact_gap: Vec<f64>,
+    /// Per element: the element-mean equivalent plastic strain; empty when no body is
+    /// plastic (then the file has no such dataset).
+    pub plastic_strain: Vec<f64>,
     pub stats: StepStats,
 }
 
@@ -258,6 +261,17 @@ impl StepOutput {
             "nodes",
         )?;
         length(layout::CONTACT_GAP, self.contact_gap.len(), nodes, "nodes")?;
+        if !self.plastic_strain.is_empty() {
+            length(
+                layout::PLASTIC_STRAIN,
+                self.plastic_strain.len(),
+                elements,
+                "elements",
+            )?;
+        }
+        check_finite(file, layout::PLASTIC_STRAIN, &self.plastic_strain, |e| {
+            format!("element {e}")
+        })?;
 
         check_finite(file, layout::TIME, &[self.time], |_| {
             "the step's time".into()
@@ -339,4 +353,7 @@ pub struct RestartState {
     pub contact: Vec<f64>,
     /// Released (slave, pair) entries, encoded by the contact module.
     pub released: Vec<f64>,
+    /// Committed integration-point history of the plastic elements in global element order
+    /// (`STATE_LEN` values per point); empty when no body is plastic.
+    pub history: Vec<f64>,
 }

@@ -32,6 +32,8 @@ pub(super) struct StepDatasets {
     pub(super) contact_slip: hdf5::Dataset,
     pub(super) contact_released: hdf5::Dataset,
     pub(super) max_penetration: hdf5::Dataset,
+    /// Created with the first step that has a plastic strain (scenes with plastic bodies).
+    pub(super) plastic_strain: Option<hdf5::Dataset>,
 }
 
 fn str_value(file: &Path, name: &str, value: &str) -> Result<VarLenUnicode, OutputError> {
@@ -159,6 +161,7 @@ impl StepDatasets {
             contact_slip: step_dataset::<u64>(file, path, layout::STATS_CONTACT_SLIP, &[])?,
             contact_released: step_dataset::<u64>(file, path, layout::STATS_CONTACT_RELEASED, &[])?,
             max_penetration: step_dataset::<f64>(file, path, layout::STATS_MAX_PENETRATION, &[])?,
+            plastic_strain: None,
         })
     }
 }
@@ -200,8 +203,23 @@ pub(super) fn append_rows<const N: usize>(
 impl StepDatasets {
     /// Writes `step` as row `i` of every per-step dataset, the time last (its length is the
     /// number of complete steps).
-    pub(super) fn append(&self, p: &Path, i: usize, step: &StepOutput) -> Result<(), OutputError> {
-        let d = self;
+    pub(super) fn append(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        i: usize,
+        step: &StepOutput,
+    ) -> Result<(), OutputError> {
+        if !step.plastic_strain.is_empty() {
+            if self.plastic_strain.is_none() {
+                let n = step.plastic_strain.len();
+                self.plastic_strain =
+                    Some(step_dataset::<f64>(file, p, layout::PLASTIC_STRAIN, &[n])?);
+            }
+            let ds = self.plastic_strain.as_ref().expect("created");
+            append_per_item(ds, p, layout::PLASTIC_STRAIN, i, &step.plastic_strain)?;
+        }
+        let d = &*self;
         append_rows(
             &d.displacement,
             p,

@@ -32,6 +32,9 @@ pub const REACTION: &str = "/results/reaction";
 pub const CONTACT_FORCE: &str = "/results/contact/force";
 pub const CONTACT_STATUS: &str = "/results/contact/status";
 pub const CONTACT_GAP: &str = "/results/contact/gap";
+/// Element-mean equivalent plastic strain, `[steps, elements]`; present only when a body of
+/// the scene is plastic (zero in the elastic bodies' elements).
+pub const PLASTIC_STRAIN: &str = "/results/plastic_strain";
 
 pub const STATS_CG_ITERATIONS: &str = "/stats/cg_iterations";
 pub const STATS_CONTACT_UPDATES: &str = "/stats/contact_updates";
@@ -79,6 +82,9 @@ pub const SLOT_DISPLACEMENT: &str = "displacement";
 pub const SLOT_PREVIOUS_DISPLACEMENT: &str = "previous_displacement";
 pub const SLOT_CONTACT: &str = "contact";
 pub const SLOT_RELEASED: &str = "released";
+/// Optional dataset of a slot, present when the scene has plastic bodies: the committed
+/// integration-point history (see `RestartState::history`), written before `state`.
+pub const SLOT_HISTORY: &str = "history";
 /// The datasets of a slot, the state last (the order they are written in).
 /// Layout of the words of the restart slots' `contact` dataset (the contact module's
 /// encoding of an active constraint: how many words, in which order), written as the

@@ -78,6 +78,7 @@ impl Closed {
             nodes: self.nodes,
             elements: self.elements,
             times: &self.times,
+            plastic: self.plastic,
         }
         .render();
         let kept = |first: OutputError| OutputError::NotPublished {

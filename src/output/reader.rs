@@ -361,6 +361,16 @@ impl ResultFile {
         self.read_step_values(layout::CONTACT_GAP, step)
     }
 
+    /// Element-mean equivalent plastic strain at `step`, global element order; `None` when
+    /// the scene has no plastic body (the file has no such dataset).
+    pub fn plastic_strain(&self, step: usize) -> Result<Option<Vec<f64>>, OutputError> {
+        if !self.hdf5().link_exists(layout::PLASTIC_STRAIN) {
+            return Ok(None);
+        }
+        self.read_step_values(layout::PLASTIC_STRAIN, step)
+            .map(Some)
+    }
+
     /// The solver statistics of every step.
     pub fn stats(&self) -> Result<Vec<StepStats>, OutputError> {
         let cg = self.read_steps::<u64>(layout::STATS_CG_ITERATIONS)?;

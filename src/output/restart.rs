@@ -105,6 +105,20 @@ impl RestartSlots {
             let flat: Vec<f64> = v.iter().flatten().copied().collect();
             ds.write_raw(&flat).at(p, &name(d))?;
         }
+        if !r.history.is_empty() {
+            let hname = name(layout::SLOT_HISTORY);
+            let ds = match file.dataset(&hname) {
+                Ok(ds) => ds,
+                Err(_) => file
+                    .new_dataset::<f64>()
+                    .chunk((r.history.len().clamp(1, CHUNK),))
+                    .fletcher32()
+                    .shape((r.history.len(),))
+                    .create(hname.as_str())
+                    .at(p, &hname)?,
+            };
+            ds.write_raw(&r.history).at(p, &hname)?;
+        }
         file.flush().at(p, "/ (flush)")?;
         let head = [
             r.step as f64,
@@ -201,7 +215,16 @@ impl ResultFile {
                 ),
             });
         }
+        let hname = format!("{group}/{}", layout::SLOT_HISTORY);
+        let history = if self.hdf5().link_exists(&hname) {
+            let h = self.read_f64(&hname)?;
+            non_finite(p, &hname, &h)?;
+            h
+        } else {
+            Vec::new()
+        };
         Ok(Some(RestartState {
+            history,
             step: head[0] as u64,
             time: head[1],
             dt_prev: head[2],
@@ -252,6 +275,7 @@ impl ResultFile {
             contact_force: self.contact_force(i)?,
             contact_status: self.contact_status(i)?,
             contact_gap: self.gap(i)?,
+            plastic_strain: self.plastic_strain(i)?.unwrap_or_default(),
             stats,
         };
         let ids: Vec<u64> = (1..=self.num_nodes() as u64).collect();

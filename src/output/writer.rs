@@ -203,7 +203,7 @@ impl ResultWriter {
         let i = self.times.len();
         let r = self
             .datasets
-            .append(&p, i, step)
+            .append(&self.file, &p, i, step)
             .and_then(|()| self.file.flush().at(&p, "/ (flush)"));
         self.check(r)?;
         self.times.push(step.time);
@@ -250,6 +250,7 @@ impl ResultWriter {
             _lock,
             ..
         } = self;
+        let plastic = datasets.plastic_strain.is_some();
         drop(datasets);
         drop(restart);
         let closed = written.and_then(|()| file.close().at(&p, "/ (closing the file)"));
@@ -262,6 +263,7 @@ impl ResultWriter {
             times,
             nodes: node_ids.len(),
             elements,
+            plastic,
             _lock,
         })
     }
@@ -292,6 +294,8 @@ pub(super) struct Closed {
     pub(super) times: Vec<f64>,
     pub(super) nodes: usize,
     pub(super) elements: usize,
+    /// The file has a plastic strain dataset.
+    pub(super) plastic: bool,
     /// Held until the file is published.
     pub(super) _lock: OutputLock,
 }

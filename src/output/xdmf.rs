@@ -15,6 +15,8 @@ pub struct XdmfDescription<'a> {
     pub nodes: usize,
     pub elements: usize,
     pub times: &'a [f64],
+    /// The file has `/results/plastic_strain`.
+    pub plastic: bool,
 }
 
 fn escape(s: &str) -> String {
@@ -114,6 +116,16 @@ const ATTRIBUTES: [AttributeSpec; 6] = [
     },
 ];
 
+/// Written when the scene has a plastic body.
+const PLASTIC_STRAIN: AttributeSpec = AttributeSpec {
+    name: "plastic_strain",
+    kind: "Scalar",
+    on_cells: true,
+    components: None,
+    number: Number::F64,
+    dataset: layout::PLASTIC_STRAIN,
+};
+
 fn dims(d: &[usize]) -> String {
     d.iter().map(usize::to_string).collect::<Vec<_>>().join(" ")
 }
@@ -203,6 +215,9 @@ impl XdmfDescription<'_> {
             s += "      </Geometry>\n";
             for a in &ATTRIBUTES {
                 s += &self.attribute(step, a);
+            }
+            if self.plastic {
+                s += &self.attribute(step, &PLASTIC_STRAIN);
             }
             s += "    </Grid>\n";
         }

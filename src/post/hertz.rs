@@ -313,6 +313,9 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
             MaterialDef::LinearElastic { e, nu, .. } | MaterialDef::NeoHookean { e, nu, .. } => {
                 (e, nu)
             }
+            // Hertz's solution is elastic: a plastic body is compared by its elastic
+            // constants, valid while it has not yielded.
+            MaterialDef::J2Plastic { e, nu, .. } => (e, nu),
         })
     };
     let (e1, nu1) = material(&contact.slave)?;

@@ -26,6 +26,7 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
         step_table(&mut s, &time, &stats);
         let _ = writeln!(s);
         contact_table(&mut s, &stats);
+        plastic_table(&f, &mut s)?;
     }
     Ok(s)
 }
@@ -149,4 +150,33 @@ fn contact_table(s: &mut String, stats: &[StepStats]) {
             .map(|st| st.max_penetration)
             .fold(0.0, f64::max)
     );
+}
+
+/// Per step: the largest element-mean equivalent plastic strain and how many elements have
+/// yielded (files of scenes with plastic bodies only).
+fn plastic_table(f: &ResultFile, s: &mut String) -> Result<(), OutputError> {
+    if f.plastic_strain(0)?.is_none() {
+        return Ok(());
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:>5} {:>16} {:>10} {:>16}",
+        "step", "max plastic eps", "yielded", "at element"
+    );
+    for i in 0..f.num_steps() {
+        let e = f.plastic_strain(i)?.unwrap_or_default();
+        let (at, max) = e
+            .iter()
+            .enumerate()
+            .fold((0, 0.0f64), |m, (k, &v)| if v > m.1 { (k, v) } else { m });
+        let yielded = e.iter().filter(|&&v| v > 0.0).count();
+        let id = if max > 0.0 {
+            (at + 1).to_string()
+        } else {
+            "-".to_string()
+        };
+        let _ = writeln!(s, "{:>5} {:>16.6e} {:>10} {:>16}", i, max, yielded, id);
+    }
+    Ok(())
 }

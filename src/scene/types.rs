@@ -89,6 +89,19 @@ pub enum MaterialDef {
         #[serde(default)]
         density: f64,
     },
+    /// Von Mises plasticity with linear isotropic and kinematic hardening.
+    J2Plastic {
+        #[serde(rename = "E")]
+        e: f64,
+        nu: f64,
+        yield_stress: f64,
+        #[serde(default)]
+        isotropic_hardening: f64,
+        #[serde(default)]
+        kinematic_hardening: f64,
+        #[serde(default)]
+        density: f64,
+    },
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]

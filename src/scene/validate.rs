@@ -5,7 +5,6 @@ use super::types::*;
 use super::PiecewiseLinear;
 use crate::fem::hex8::min_jacobian_ratio;
 use crate::fem::Formulation;
-use crate::material::{LinearElastic, Material, NeoHookean};
 use crate::math::{norm, scale, Vec3};
 use crate::mesh::sets::{select_faces, select_nodes, Selector};
 use crate::mesh::{block, Body, GlobalMesh};
@@ -13,6 +12,7 @@ use crate::problem::*;
 use std::path::Path;
 
 mod gmsh;
+mod material;
 pub use gmsh::mesh_files;
 use gmsh::{GmshImport, NEEDS_GMSH};
 
@@ -509,45 +509,6 @@ impl Builder {
             }
         }
         Ok((blk.coords, blk.elements))
-    }
-
-    fn material(
-        &self,
-        key: &str,
-        m: &MaterialDef,
-        kin: Kinematics,
-    ) -> Result<(Material, f64), SceneError> {
-        let (e, nu, density, model) = match m {
-            MaterialDef::LinearElastic { e, nu, density } => (*e, *nu, *density, "linear_elastic"),
-            MaterialDef::NeoHookean { e, nu, density } => (*e, *nu, *density, "neo_hookean"),
-        };
-        if !(e.is_finite() && e > 0.0) {
-            return Err(self.err(
-                format!("{key}.E"),
-                format!("expected Young's modulus > 0, got {e}"),
-            ));
-        }
-        if !(nu.is_finite() && nu > -1.0 && nu < 0.5) {
-            return Err(self.err(
-                format!("{key}.nu"),
-                format!("expected Poisson's ratio in (-1, 0.5), got {nu}"),
-            ));
-        }
-        if !(density.is_finite() && density >= 0.0) {
-            return Err(self.err(
-                format!("{key}.density"),
-                format!("expected a density >= 0, got {density}"),
-            ));
-        }
-        let mat = match (model, kin) {
-            ("linear_elastic", Kinematics::Small) => Material::LinearElastic(LinearElastic::new(e, nu)),
-            ("neo_hookean", Kinematics::Large) => Material::NeoHookean(NeoHookean::new(e, nu)),
-            ("linear_elastic", Kinematics::Large) => {
-                return Err(self.err(format!("{key}.model"), "linear_elastic needs kinematics = \"small\"; use neo_hookean for kinematics = \"large\""))
-            }
-            _ => return Err(self.err(format!("{key}.model"), "neo_hookean needs kinematics = \"large\"")),
-        };
-        Ok((mat, density))
     }
 
     fn selector(

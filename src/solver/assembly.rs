@@ -2,9 +2,10 @@
 //! gathered from and scattered to rank-local nodal arrays. Elements are visited in
 //! ascending global order (see `mesh::local`).
 
-use crate::fem::{element, hex8, ElementFailure, Formulation};
+use crate::fem::{element, hex8, history, ElementFailure, Formulation};
+use crate::material::PlasticState;
 use crate::math::{Mat3, Vec3, ZERO33};
-use crate::memory::{try_with_capacity, AllocError};
+use crate::memory::{try_filled, try_with_capacity, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
 
@@ -32,12 +33,21 @@ pub struct Assembly<'a> {
     /// Gradients at the Gauss points of every local element (1600 bytes each), kept only
     /// when some body is fully integrated (empty when every body uses `Mean`).
     gauss: Vec<element::GaussGeometry>,
+    /// Committed integration-point history of the plastic elements: element `e` owns
+    /// `history[offset[e]..offset[e + 1]]`. Both empty when no body is plastic, so such a
+    /// scene pays nothing. Only `commit` writes it, after a step converges; a step that is
+    /// cut back never touches it.
+    offset: Vec<u32>,
+    history: Vec<PlasticState>,
+    scratch: Vec<PlasticState>,
 }
 
 impl<'a> Assembly<'a> {
-    /// Fails only when the memory for the element geometry is refused.
+    /// Fails only when the memory for the element geometry or the history is refused.
     pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Result<Self, AllocError> {
-        let linear = models.iter().all(|m| !m.material.is_large());
+        let linear = models
+            .iter()
+            .all(|m| !m.material.is_large() && !m.material.is_plastic());
         let needs_gauss = models
             .iter()
             .any(|m| !matches!(m.formulation, Formulation::Mean { .. }));
@@ -63,13 +73,130 @@ impl<'a> Assembly<'a> {
                 }
             }
         }
+        let mut offset = Vec::new();
+        if models.iter().any(|m| m.material.is_plastic()) {
+            offset.push(0u32);
+            let mut n = 0u32;
+            for &b in &mesh.element_body {
+                let m = &models[b as usize];
+                if m.material.is_plastic() {
+                    n += history::points(m.formulation) as u32;
+                }
+                offset.push(n);
+            }
+        }
+        let states = offset.last().copied().unwrap_or(0) as usize;
         Ok(Assembly {
             mesh,
             models,
             linear,
             geometry,
             gauss,
+            offset,
+            history: try_filled(PlasticState::default(), states, "the plastic history")?,
+            scratch: Vec::new(),
         })
+    }
+
+    /// The committed history of local element `e` (empty for an elastic one).
+    #[inline]
+    fn hist(&self, e: usize) -> &[PlasticState] {
+        match self.offset.get(e + 1) {
+            Some(&end) => &self.history[self.offset[e] as usize..end as usize],
+            None => &[],
+        }
+    }
+
+    /// True when some body carries an integration-point history.
+    pub fn has_history(&self) -> bool {
+        !self.offset.is_empty()
+    }
+
+    /// Commits the history of the converged displacements `u` (every local element, ghosts
+    /// too: they see the same displacements as on their owner, so every rank holds the
+    /// same states).
+    pub fn commit(&mut self, u: &[Vec3]) -> Result<(), ElementError> {
+        if self.offset.is_empty() {
+            return Ok(());
+        }
+        let mut new = std::mem::take(&mut self.scratch);
+        new.clone_from(&self.history);
+        for e in 0..self.mesh.elements.len() {
+            let (a, b) = (self.offset[e] as usize, self.offset[e + 1] as usize);
+            if a == b {
+                continue;
+            }
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            let ue = self.gather(e, u);
+            history::update_with(
+                geo,
+                self.gauss.get(e),
+                &ue,
+                &m.material,
+                m.formulation,
+                &self.history[a..b],
+                &mut new[a..b],
+            )
+            .map_err(|k| self.fail(e, k))?;
+        }
+        self.scratch = std::mem::replace(&mut self.history, new);
+        Ok(())
+    }
+
+    /// Element-mean equivalent plastic strain of the owned elements, in local element order
+    /// (zero in elastic bodies); `None` when no body is plastic.
+    pub fn owned_eqps(&self) -> Option<Vec<f64>> {
+        if self.offset.is_empty() {
+            return None;
+        }
+        let mut out = Vec::new();
+        for e in 0..self.mesh.elements.len() {
+            if !self.mesh.element_owned[e] {
+                continue;
+            }
+            let h = self.hist(e);
+            out.push(match (&self.geometry[e], h.is_empty()) {
+                (Ok(geo), false) => {
+                    let m = &self.models[self.mesh.element_body[e] as usize];
+                    history::mean_eqps(geo, self.gauss.get(e), m.formulation, h)
+                }
+                _ => 0.0,
+            });
+        }
+        Some(out)
+    }
+
+    /// The committed states of the owned plastic elements, flattened in local element order
+    /// with each element's global id: what a restart file keeps.
+    pub fn owned_history(&self) -> Vec<(u64, Vec<PlasticState>)> {
+        let mut out = Vec::new();
+        for e in 0..self.mesh.elements.len() {
+            let h = self.hist(e);
+            if self.mesh.element_owned[e] && !h.is_empty() {
+                out.push((self.mesh.element_global[e] as u64, h.to_vec()));
+            }
+        }
+        out
+    }
+
+    /// Sets the committed states of every local plastic element from `lookup` (by global
+    /// element id), as read from a restart file.
+    pub fn set_history(&mut self, lookup: impl Fn(u64) -> Option<Vec<PlasticState>>) {
+        for e in 0..self.mesh.elements.len() {
+            let (a, b) = match self.offset.get(e + 1) {
+                Some(&end) => (self.offset[e] as usize, end as usize),
+                None => return,
+            };
+            if a == b {
+                continue;
+            }
+            if let Some(states) = lookup(self.mesh.element_global[e] as u64) {
+                if states.len() == b - a {
+                    self.history[a..b].copy_from_slice(&states);
+                }
+            }
+        }
     }
 
     #[inline]
@@ -92,7 +219,8 @@ impl<'a> Assembly<'a> {
 
     /// `internal_force` for a field that vanishes on most elements (the coarse space's
     /// probes): an element whose eight displacements are all zero contributes exactly zero
-    /// (no material here carries an initial stress) and is skipped. Adding a zero never
+    /// (no elastic material carries an initial stress; it is used only when every body is
+    /// linear, so never with a plastic body's residual stresses) and is skipped. Adding a zero never
     /// changes a sum, so the result is bitwise that of `internal_force`.
     pub fn internal_force_sparse(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
         self.element_forces(u, f, true)
@@ -117,8 +245,17 @@ impl<'a> Assembly<'a> {
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
             let gauss = self.gauss.get(e);
-            element::internal_force_with(geo, gauss, &ue, &m.material, m.formulation, &mut fe)
-                .map_err(|k| self.fail(e, k))?;
+            let hist = self.hist(e);
+            element::internal_force_with(
+                geo,
+                gauss,
+                &ue,
+                &m.material,
+                m.formulation,
+                hist,
+                &mut fe,
+            )
+            .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 let fa = &mut f[n as usize];
                 fa[0] += fe[a][0];
@@ -138,8 +275,17 @@ impl<'a> Assembly<'a> {
             let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let gauss = self.gauss.get(e);
-            element::diagonal_blocks_with(geo, gauss, &ue, &m.material, m.formulation, &mut de)
-                .map_err(|k| self.fail(e, k))?;
+            let hist = self.hist(e);
+            element::diagonal_blocks_with(
+                geo,
+                gauss,
+                &ue,
+                &m.material,
+                m.formulation,
+                hist,
+                &mut de,
+            )
+            .map_err(|k| self.fail(e, k))?;
             for (a, &n) in self.mesh.elements[e].iter().enumerate() {
                 for i in 0..3 {
                     for k in 0..3 {
@@ -196,6 +342,7 @@ impl<'a> Assembly<'a> {
                     &ue,
                     &m.material,
                     m.formulation,
+                    self.hist(e),
                 )
                 .map_err(|k| self.fail(e, k))?,
             );

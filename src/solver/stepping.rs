@@ -197,6 +197,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         &self.asm
     }
 
+    /// The assembly, to set its committed history from a restart file.
+    pub fn assembly_mut(&mut self) -> &mut Assembly<'a> {
+        &mut self.asm
+    }
+
     /// The constraint set of the last converged state.
     pub fn constraints(&self) -> &Constraints {
         &self.cons
@@ -272,6 +277,18 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             contact.begin_step();
             match self.solve_step(t_new, &mut trial, &mut contact, &mut record) {
                 Ok(outcome) => {
+                    // Integration-point history moves only with a converged increment; a
+                    // failed one leaves it as it was, which is the cut-back's restore.
+                    if let Err(e) = self.asm.commit(&trial) {
+                        return Err(StepFailure {
+                            step,
+                            time: t_new,
+                            target,
+                            cause: SolveFailure::Element(e.to_string()),
+                            cutbacks,
+                            unheld: Vec::new(),
+                        });
+                    }
                     record.residual = outcome.residual;
                     record.reference = outcome.reference;
                     self.u_prev = std::mem::replace(&mut self.u, trial);

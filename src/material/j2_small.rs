@@ -1,0 +1,280 @@
+//! J2 (von Mises) plasticity under small kinematics with linear isotropic and linear
+//! kinematic hardening, integrated by the radial return (backward Euler), and its
+//! consistent (algorithmic) tangent. Simo and Hughes, Computational Inelasticity (1998),
+//! boxes 3.1 and 3.2:
+//!
+//!   f = |s - beta| - sqrt(2/3) (sigma_y + K alpha),
+//!   eps_p' = gamma n, alpha' = sqrt(2/3) gamma, beta' = (2/3) H gamma n,
+//!
+//! with n = (s - beta) / |s - beta|, K the isotropic and H the kinematic modulus. Under
+//! uniaxial stress the yield stress grows at the rate K + H per unit plastic strain.
+
+use crate::math::{Mat3, Vec3, ZERO33};
+
+/// The history of one integration point; all zero in a virgin point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlasticState {
+    /// Plastic strain (small kinematics) or C_p^-1 - I (large kinematics), in the order
+    /// xx yy zz xy yz zx (tensor components, not engineering shears).
+    pub strain: [f64; 6],
+    /// Back stress, same order.
+    pub back: [f64; 6],
+    /// Equivalent plastic strain, the integral of sqrt(2/3) |eps_p'|.
+    pub eqps: f64,
+}
+
+/// Number of f64 one `PlasticState` is stored as (restart files).
+pub const STATE_LEN: usize = 13;
+
+impl PlasticState {
+    pub fn to_array(&self) -> [f64; STATE_LEN] {
+        let mut a = [0.0; STATE_LEN];
+        a[..6].copy_from_slice(&self.strain);
+        a[6..12].copy_from_slice(&self.back);
+        a[12] = self.eqps;
+        a
+    }
+
+    pub fn from_slice(a: &[f64]) -> Self {
+        PlasticState {
+            strain: std::array::from_fn(|i| a[i]),
+            back: std::array::from_fn(|i| a[6 + i]),
+            eqps: a[12],
+        }
+    }
+}
+
+/// Symmetric tensor from the order xx yy zz xy yz zx.
+#[inline]
+pub fn from_sym6(v: &[f64; 6]) -> Mat3 {
+    [[v[0], v[3], v[5]], [v[3], v[1], v[4]], [v[5], v[4], v[2]]]
+}
+
+/// Parameters of the J2 model (both kinematics).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct J2Plastic {
+    pub lambda: f64,
+    pub mu: f64,
+    /// Initial yield stress in uniaxial tension, sigma_y.
+    pub yield_stress: f64,
+    /// Linear isotropic hardening modulus K.
+    pub isotropic: f64,
+    /// Linear kinematic hardening modulus H.
+    pub kinematic: f64,
+    /// Finite strain: the multiplicative split with logarithmic elastic strains
+    /// (see `j2_large`); small strain otherwise.
+    pub large: bool,
+}
+
+/// What the return mapping did at a point, enough for the consistent tangent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Return {
+    /// Plastic multiplier increment (zero when elastic).
+    pub gamma: f64,
+    /// Flow direction n (unit deviatoric tensor); zero when elastic.
+    pub n: Mat3,
+    /// |s_trial - beta_old|.
+    pub xi_norm: f64,
+}
+
+/// Result of the radial return on a trial elastic strain (deviatoric and volumetric parts
+/// handled by the caller's kinematics).
+pub struct Radial {
+    /// Deviatoric stress s (or Kirchhoff deviator under large kinematics).
+    pub s: Mat3,
+    pub ret: Return,
+    pub back: Mat3,
+    pub eqps: f64,
+}
+
+impl Return {
+    /// The return data of an elastic point.
+    pub const ELASTIC: Return = Return {
+        gamma: 0.0,
+        n: ZERO33,
+        xi_norm: 0.0,
+    };
+}
+
+const SQRT_2_3: f64 = 0.816_496_580_927_726;
+
+#[inline]
+fn dev(m: &Mat3) -> (Mat3, f64) {
+    let tr = m[0][0] + m[1][1] + m[2][2];
+    let mut d = *m;
+    for (i, row) in d.iter_mut().enumerate() {
+        row[i] -= tr / 3.0;
+    }
+    (d, tr)
+}
+
+#[inline]
+fn ddot(a: &Mat3, b: &Mat3) -> f64 {
+    let mut s = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            s += a[i][j] * b[i][j];
+        }
+    }
+    s
+}
+
+impl J2Plastic {
+    pub fn new(
+        e: f64,
+        nu: f64,
+        yield_stress: f64,
+        isotropic: f64,
+        kinematic: f64,
+        large: bool,
+    ) -> Self {
+        let (lambda, mu) = super::lame(e, nu);
+        J2Plastic {
+            lambda,
+            mu,
+            yield_stress,
+            isotropic,
+            kinematic,
+            large,
+        }
+    }
+
+    /// Bulk modulus lambda + 2 mu / 3.
+    #[inline]
+    pub fn bulk(&self) -> f64 {
+        self.lambda + 2.0 * self.mu / 3.0
+    }
+
+    /// The radial return from the trial deviatoric stress `s_trial` with the old back
+    /// stress and equivalent plastic strain.
+    #[inline]
+    pub fn radial_return(&self, s_trial: &Mat3, back_old: &Mat3, eqps_old: f64) -> Radial {
+        let mut xi = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                xi[i][j] = s_trial[i][j] - back_old[i][j];
+            }
+        }
+        let xi_norm = ddot(&xi, &xi).sqrt();
+        let radius = SQRT_2_3 * (self.yield_stress + self.isotropic * eqps_old);
+        let f = xi_norm - radius;
+        if !(f > 0.0) {
+            return Radial {
+                s: *s_trial,
+                ret: Return {
+                    gamma: 0.0,
+                    n: ZERO33,
+                    xi_norm,
+                },
+                back: *back_old,
+                eqps: eqps_old,
+            };
+        }
+        let gamma = f / (2.0 * self.mu + 2.0 / 3.0 * (self.isotropic + self.kinematic));
+        let mut n = ZERO33;
+        let mut s = *s_trial;
+        let mut back = *back_old;
+        for i in 0..3 {
+            for j in 0..3 {
+                n[i][j] = xi[i][j] / xi_norm;
+                s[i][j] -= 2.0 * self.mu * gamma * n[i][j];
+                back[i][j] += 2.0 / 3.0 * self.kinematic * gamma * n[i][j];
+            }
+        }
+        Radial {
+            s,
+            ret: Return { gamma, n, xi_norm },
+            back,
+            eqps: eqps_old + SQRT_2_3 * gamma,
+        }
+    }
+
+    /// Small kinematics: the Cauchy stress at the displacement gradient `h` from the
+    /// committed state `old`, the state the step would commit, and the return data.
+    #[inline]
+    pub fn update(&self, h: &Mat3, old: &PlasticState) -> (Mat3, PlasticState, Return) {
+        let mut eps = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                eps[i][j] = 0.5 * (h[i][j] + h[j][i]);
+            }
+        }
+        let (e, tr) = dev(&eps);
+        let ep = from_sym6(&old.strain);
+        let mut s_trial = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                s_trial[i][j] = 2.0 * self.mu * (e[i][j] - ep[i][j]);
+            }
+        }
+        let r = self.radial_return(&s_trial, &from_sym6(&old.back), old.eqps);
+        let mut sigma = r.s;
+        let p = self.bulk() * tr;
+        for (i, row) in sigma.iter_mut().enumerate() {
+            row[i] += p;
+        }
+        let mut ep_new = ep;
+        for i in 0..3 {
+            for j in 0..3 {
+                ep_new[i][j] += r.ret.gamma * r.ret.n[i][j];
+            }
+        }
+        let state = PlasticState {
+            strain: crate::math::to_sym6(&ep_new),
+            back: crate::math::to_sym6(&r.back),
+            eqps: r.eqps,
+        };
+        (sigma, state, r.ret)
+    }
+
+    /// The algorithmic moduli: C = kappa I(x)I + 2 mu theta I_dev - 2 mu theta_bar n(x)n,
+    /// returned as (kappa, mu theta, 2 mu theta_bar).
+    #[inline]
+    pub fn moduli(&self, ret: &Return) -> (f64, f64, f64) {
+        if ret.gamma == 0.0 {
+            return (self.bulk(), self.mu, 0.0);
+        }
+        let theta = 1.0 - 2.0 * self.mu * ret.gamma / ret.xi_norm;
+        let theta_bar =
+            1.0 / (1.0 + (self.isotropic + self.kinematic) / (3.0 * self.mu)) - (1.0 - theta);
+        (self.bulk(), self.mu * theta, 2.0 * self.mu * theta_bar)
+    }
+
+    /// The consistent tangent applied to a displacement-gradient increment: C : sym(dh).
+    pub fn tangent_apply(&self, ret: &Return, dh: &Mat3) -> Mat3 {
+        let (kappa, mu_t, c_n) = self.moduli(ret);
+        let mut de = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                de[i][j] = 0.5 * (dh[i][j] + dh[j][i]);
+            }
+        }
+        let (d, tr) = dev(&de);
+        let nd = ddot(&ret.n, &de);
+        let mut out = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                out[i][j] = 2.0 * mu_t * d[i][j] - c_n * nd * ret.n[i][j];
+            }
+            out[i][i] += kappa * tr;
+        }
+        out
+    }
+
+    /// `sum_jl g_j C_ijkl g_l` for the consistent tangent:
+    /// (kappa + mu_t / 3) g g^T + mu_t |g|^2 I - c_n (n g)(n g)^T.
+    #[inline]
+    pub fn tangent_gg(&self, ret: &Return, g: &Vec3) -> Mat3 {
+        let (kappa, mu_t, c_n) = self.moduli(ret);
+        let ng = crate::math::matvec(&ret.n, g);
+        let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+        let mut k = ZERO33;
+        for i in 0..3 {
+            for m in 0..3 {
+                k[i][m] = (kappa + mu_t / 3.0) * g[i] * g[m] - c_n * ng[i] * ng[m];
+            }
+            k[i][i] += mu_t * gg;
+        }
+        k
+    }
+}

@@ -1,0 +1,110 @@
+//! The integration-point history of plastic bodies in the run's files: the element-mean
+//! equivalent plastic strain of each written step, and the committed states a restart
+//! continues from, both in global element order so that they do not depend on the ranks.
+
+use super::Gather;
+use crate::comm::Comm;
+use crate::fem::history;
+use crate::material::{PlasticState, STATE_LEN};
+use crate::problem::Problem;
+use crate::solver::Stepper;
+
+/// Values the history of `problem` takes in a restart state (0 without plastic bodies).
+pub(super) fn history_len(problem: &Problem) -> usize {
+    problem
+        .mesh
+        .element_body
+        .iter()
+        .map(|&b| {
+            let m = &problem.body_models[b as usize];
+            if m.material.is_plastic() {
+                history::points(m.formulation) * STATE_LEN
+            } else {
+                0
+            }
+        })
+        .sum()
+}
+
+/// The committed history of every plastic element, on rank 0 in global element order
+/// (empty elsewhere and without plastic bodies).
+pub(super) fn gather_history<C: Comm + ?Sized>(comm: &C, stepper: &Stepper<C>) -> Vec<f64> {
+    if !stepper.assembly().has_history() {
+        return Vec::new();
+    }
+    // [global id, points, values...] per owned plastic element.
+    let mut flat = Vec::new();
+    for (g, states) in stepper.assembly().owned_history() {
+        flat.push(g as f64);
+        flat.push(states.len() as f64);
+        for s in &states {
+            flat.extend(s.to_array());
+        }
+    }
+    let parts = comm.gather_f64(&flat);
+    if !comm.is_root() {
+        return Vec::new();
+    }
+    let mut elements: Vec<(u64, &[f64])> = Vec::new();
+    for part in &parts {
+        let mut at = 0;
+        while at < part.len() {
+            let n = part[at + 1] as usize * STATE_LEN;
+            elements.push((part[at] as u64, &part[at + 2..at + 2 + n]));
+            at += 2 + n;
+        }
+    }
+    elements.sort_by_key(|e| e.0);
+    elements.iter().flat_map(|e| e.1.iter().copied()).collect()
+}
+
+/// Sets the stepper's committed history from a restart state's `history` (of length
+/// `history_len`, checked when the state was read).
+pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Problem, flat: &[f64]) {
+    if flat.is_empty() {
+        return;
+    }
+    let mut start = vec![usize::MAX; problem.mesh.num_elements()];
+    let mut at = 0;
+    for (e, &b) in problem.mesh.element_body.iter().enumerate() {
+        let m = &problem.body_models[b as usize];
+        if m.material.is_plastic() {
+            start[e] = at;
+            at += history::points(m.formulation) * STATE_LEN;
+        }
+    }
+    stepper.assembly_mut().set_history(|g| {
+        let e = g as usize;
+        let s = *start.get(e)?;
+        if s == usize::MAX {
+            return None;
+        }
+        let b = problem.mesh.element_body[e] as usize;
+        let n = history::points(problem.body_models[b].formulation);
+        Some(
+            (0..n)
+                .map(|q| PlasticState::from_slice(&flat[s + q * STATE_LEN..]))
+                .collect(),
+        )
+    });
+}
+
+/// The element-mean equivalent plastic strain on rank 0 in global element order; empty
+/// without plastic bodies.
+pub(super) fn plastic_strain<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    gather: &Gather,
+) -> Vec<f64> {
+    match stepper.assembly().owned_eqps() {
+        None => Vec::new(),
+        Some(v) => {
+            let rows: Vec<[f64; 1]> = v.iter().map(|&x| [x]).collect();
+            gather
+                .place(comm, &rows, &gather.element_ids, gather.num_elements)
+                .iter()
+                .map(|r| r[0])
+                .collect()
+        }
+    }
+}
