@@ -50,6 +50,9 @@ pub const EXPECTED_FAILURE: [&str; 1] = ["normal_smoothing_off"];
 /// The Gmsh example, compared with Hertz.
 const EXAMPLE: &str = "cylinder_on_block";
 const EXAMPLE_SCENE: &str = "run/examples/cylinder_on_block.toml";
+/// The plastic example: run on 1 and 2 ranks, compared, drawn.
+pub const PLASTIC_EXAMPLE: &str = "bolted_clamp";
+const PLASTIC_EXAMPLE_SCENE: &str = "run/examples/bolted_clamp.toml";
 
 /// Everything the report is written from.
 pub struct Paper {
@@ -83,6 +86,7 @@ impl Paper {
             .map(|n| pair(n, &format!("{SCENE_DIR}/{n}.toml")))
             .collect();
         runs.push(pair(EXAMPLE, EXAMPLE_SCENE));
+        runs.push(pair(PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE));
         Paper {
             out: out.to_path_buf(),
             scenes,
@@ -111,6 +115,8 @@ pub fn run(suite: &Suite) -> Result<i32, String> {
     }
     suite.run_one(EXAMPLE, 1, Path::new(EXAMPLE_SCENE));
     suite.run_one(EXAMPLE, 2, Path::new(EXAMPLE_SCENE));
+    suite.run_one(PLASTIC_EXAMPLE, 1, Path::new(PLASTIC_EXAMPLE_SCENE));
+    suite.run_one(PLASTIC_EXAMPLE, 2, Path::new(PLASTIC_EXAMPLE_SCENE));
     post::checks(suite, &scenes);
     post::figures(suite);
     post::hertz(suite);

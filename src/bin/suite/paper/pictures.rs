@@ -79,6 +79,21 @@ pub fn captions(name: &str, info: &Value) -> Vec<String> {
             base(&vm["png"])
         ),
     ];
+    let pl = &info["pictures"]["plastic_strain"];
+    if !pl.is_null() {
+        out.push(format!(
+            "![{name}: equivalent plastic strain]({})\n",
+            base(&pl["png"])
+        ));
+        out.push(format!(
+            "*{common}, coloured by the equivalent plastic strain of each element (cell array \
+             `plastic_strain`): {} to {}, {} elements yielded.* (`{}`)\n",
+            num(f(&pl["min"])),
+            num(f(&pl["max"])),
+            pl["yielded_elements"],
+            base(&pl["png"])
+        ));
+    }
     let c = &info["pictures"]["contact"];
     let text = if truthy(&c["nodes_in_contact"]) {
         let zoom = if truthy(&c["zoomed"]) {

@@ -112,6 +112,7 @@ pub fn hertz(suite: &Suite) {
         }
     }
     compare(suite, EXAMPLE);
+    compare(suite, super::PLASTIC_EXAMPLE);
     let text = read(&txt).unwrap_or_default();
     let line = text
         .lines()
@@ -144,6 +145,7 @@ pub fn render(suite: &Suite) {
         let code = run_merged(&mut cmd, &log);
         let _ = std::fs::write(&rc, format!("{code}\n"));
     }
+    render_plastic(suite);
     let text = read(&log).unwrap_or_default();
     let last = text.lines().last().unwrap_or("");
     match read_trim(&rc).as_str() {
@@ -163,4 +165,25 @@ pub fn render(suite: &Suite) {
             log.display()
         )),
     }
+}
+
+/// The plastic example drawn on its own, from an oblique view: seen from the front, its
+/// yielded zone under the bolt head is hidden by the plates' elastic faces.
+fn render_plastic(suite: &Suite) {
+    let logs = suite.logs();
+    let log = logs.join("render_plastic.log");
+    let Some(r) = suite.result_of(super::PLASTIC_EXAMPLE, 1) else {
+        return;
+    };
+    let xmf = PathBuf::from(s(&r).strip_suffix(".h5").unwrap_or(s(&r)).to_string() + ".xmf");
+    if !xmf.is_file() {
+        return;
+    }
+    let mut cmd = Command::new("timeout");
+    cmd.args(["-k", "10", "300", "run/render", "--view", "iso"])
+        .arg(&xmf)
+        .arg("-o")
+        .arg(&suite.out);
+    let code = run_merged(&mut cmd, &log);
+    let _ = std::fs::write(logs.join("render_plastic.rc"), format!("{code}\n"));
 }

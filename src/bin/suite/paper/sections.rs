@@ -152,6 +152,7 @@ impl Paper {
         self.blocks(d, 4);
         self.pictures(d, "multi_constraint", render);
         self.example_section(d, render);
+        self.plastic_section(d, render);
         let known: Vec<&str> = SECTIONS
             .iter()
             .flat_map(|s| s.1.iter().map(|x| x.0))
@@ -268,6 +269,45 @@ impl Paper {
             self.hertz_lines(d, ex1.result.as_deref());
         }
         self.pictures(d, &self.example, render);
+    }
+
+    /// The plastic example: a bolted clamp of two J2 plates with friction.
+    fn plastic_section(&self, d: &mut Doc, render: &Render) {
+        let name = super::PLASTIC_EXAMPLE;
+        let (r1, r2) = self.pair(name);
+        d.w("## Plastic example: a bolted clamp (J2 plasticity with friction)\n");
+        d.w(
+            "Not one of the paper's tests: `run/examples/bolted_clamp.toml` presses a stiff bolt \
+             head onto two elastic-plastic plates (j2_plastic, small kinematics, yield stress 250, \
+             linear isotropic hardening) until the upper plate yields under the head's edges, \
+             then pulls the lower plate along x while the upper plate is held: the plate \
+             interface (Coulomb) first sticks, then slips. A starting point for plastic contact \
+             analyses; no exact answer is checked here (the J2 model is verified in \
+             tests/plastic_*.rs).\n",
+        );
+        if r1.rec.not_run() {
+            d.w(format!("Not run: {}\n", r1.message()));
+            return;
+        }
+        let rc = r1.rec.rc.as_deref().unwrap_or("");
+        let mut line = format!("- 1 rank: exit code {rc}");
+        if let Some(t) = r1.rec.time {
+            line += &format!(", wall time {t:.2} s (process)");
+        }
+        if let Some(steps) = r1.steps() {
+            line += &format!("; {steps} load steps completed");
+        }
+        d.w(format!("{line}."));
+        let wall2 = match r2.rec.time {
+            Some(t) if r2.completed() => format!(" (wall time {t:.2} s)"),
+            _ => String::new(),
+        };
+        d.w(format!(
+            "- 2 ranks: {}{wall2} (`solver post compare`, every dataset, plastic strain and \
+             history included).\n",
+            self.two_ranks(name)
+        ));
+        self.pictures(d, name, render);
     }
 
     fn hertz_lines(&self, d: &mut Doc, result: Option<&str>) {

@@ -275,6 +275,20 @@ impl Paper {
         if two != "bitwise identical" {
             failures.push(format!("{}: 2 ranks: {two}", self.example));
         }
+        let plastic = super::PLASTIC_EXAMPLE;
+        if self.runs.iter().any(|r| r.0 == plastic) {
+            let (p1, _) = self.pair(plastic);
+            if !p1.completed() {
+                failures.push(format!(
+                    "{plastic}: the 1-rank run did not complete: {}",
+                    p1.message()
+                ));
+            }
+            let two = self.two_ranks(plastic);
+            if two != "bitwise identical" {
+                failures.push(format!("{plastic}: 2 ranks: {two}"));
+            }
+        }
         if ex1.completed() && self.hertz_rc != "0" {
             failures.push(format!(
                 "{}: solver post hertz failed (exit {}): {}",
