@@ -274,6 +274,9 @@ impl Paper {
     /// The plastic example: a bolted clamp of two J2 plates with friction.
     fn plastic_section(&self, d: &mut Doc, render: &Render) {
         let name = super::PLASTIC_EXAMPLE;
+        if !self.runs.iter().any(|r| r.0 == name) {
+            return;
+        }
         let (r1, r2) = self.pair(name);
         d.w("## Plastic example: a bolted clamp (J2 plasticity with friction)\n");
         d.w(
