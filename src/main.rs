@@ -75,9 +75,22 @@ enum Command {
     Post(PostCommand),
 }
 
+/// A reader that closes standard output early (`solver post info R.h5 | head`) ends the
+/// process quietly, as it ends other command-line tools, instead of a panic in `println!`.
+/// Only for the commands that use no MPI (whose transports expect SIGPIPE ignored).
+fn default_sigpipe() {
+    // SAFETY: setting a signal's disposition to its default has no preconditions.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let verbosity = if cli.quiet { 0 } else { 1 + cli.verbose };
+    if matches!(cli.command, Command::Post(_) | Command::Check { .. }) {
+        default_sigpipe();
+    }
     match cli.command {
         Command::Post(cmd) => match run_post(&cmd) {
             Ok(code) => ExitCode::from(code as u8),

@@ -153,3 +153,28 @@ fn every_shipped_scene_passes_check() {
         }
     }
 }
+
+/// A reader that closes standard output early (`solver check scene | head -1`) ends the
+/// command quietly by SIGPIPE, as other command-line tools end, not with a panic.
+#[test]
+fn a_closed_standard_output_is_no_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let mut child = solver()
+        .args(["check"])
+        .arg(common::repo("run/scenes/bench/block_on_block.toml"))
+        .args(["--ranks", "2"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(
+        out.status.signal(),
+        Some(libc::SIGPIPE),
+        "{:?}: {err}",
+        out.status
+    );
+}
