@@ -46,7 +46,7 @@ enum Command {
         #[arg(long, value_name = "RESULT.h5")]
         restart: Option<PathBuf>,
         /// CG preconditioner, overriding the scene's `solver.preconditioner`.
-        #[arg(long, value_parser = ["auto", "jacobi", "two_level"])]
+        #[arg(long, value_parser = ["auto", "jacobi", "two_level", "multilevel"])]
         preconditioner: Option<String>,
     },
     /// Validate a scene and print a summary, without solving.
@@ -121,6 +121,7 @@ fn main() -> ExitCode {
                 problem.solver.preconditioner = match p {
                     "jacobi" => Preconditioner::Jacobi,
                     "two_level" => Preconditioner::TwoLevel,
+                    "multilevel" => Preconditioner::Multilevel,
                     _ => Preconditioner::Auto,
                 };
             }

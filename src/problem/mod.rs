@@ -87,6 +87,8 @@ pub enum Preconditioner {
     Jacobi,
     /// Nodal block Jacobi plus a coarse space of aggregate rigid-body modes.
     TwoLevel,
+    /// Smoothed aggregation over several levels (src/solver/multilevel/).
+    Multilevel,
 }
 
 /// Meshes from this many nodes up use the two-level preconditioner by default.

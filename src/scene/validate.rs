@@ -895,10 +895,11 @@ impl Builder {
                 "auto" => Preconditioner::Auto,
                 "jacobi" => Preconditioner::Jacobi,
                 "two_level" => Preconditioner::TwoLevel,
+                "multilevel" => Preconditioner::Multilevel,
                 other => {
                     return Err(self.err(
                         "solver.preconditioner",
-                        format!("expected \"auto\", \"jacobi\" or \"two_level\", got \"{other}\""),
+                        format!("expected \"auto\", \"jacobi\", \"two_level\" or \"multilevel\", got \"{other}\""),
                     ))
                 }
             };

@@ -63,6 +63,55 @@ impl std::fmt::Display for StepFailure {
     }
 }
 
+/// The preconditioner a run uses, with the line that says so: the multilevel one, the
+/// two-level one, or nodal block Jacobi. A preconditioner asked for by name that cannot
+/// be used says why in the line, which starts with "preconditioner: refused" then.
+fn choose_preconditioner<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+) -> (
+    Option<super::coarse::CoarseSpace>,
+    Option<super::multilevel::Multilevel>,
+    String,
+) {
+    use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
+    let nodes = problem.mesh.num_nodes();
+    let degree = super::multilevel::FINE_DEGREE;
+    match problem.solver.preconditioner {
+        Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
+        Preconditioner::Multilevel => {
+            let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+            let note = format!("preconditioner: multilevel; {}", m.summary);
+            (None, Some(m), note)
+        }
+        Preconditioner::TwoLevel | Preconditioner::Auto => {
+            let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
+            if !asked && nodes < TWO_LEVEL_NODES {
+                return (None, None, "preconditioner: nodal block Jacobi".into());
+            }
+            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
+                Ok(c) => {
+                    let note = format!("preconditioner: two-level; {}", c.summary);
+                    (Some(c), None, note)
+                }
+                Err(why) if asked => (
+                    None,
+                    None,
+                    format!(
+                        "preconditioner: refused two_level ({why}); nodal block Jacobi instead"
+                    ),
+                ),
+                Err(why) => (
+                    None,
+                    None,
+                    format!("preconditioner: nodal block Jacobi ({why})"),
+                ),
+            }
+        }
+    }
+}
+
 pub struct Stepper<'a, C: Comm + ?Sized> {
     comm: &'a C,
     problem: &'a Problem,
@@ -91,23 +140,7 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Self {
         let n = mesh.num_nodes();
-        use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
-        let wanted = match problem.solver.preconditioner {
-            Preconditioner::Jacobi => false,
-            Preconditioner::TwoLevel => true,
-            Preconditioner::Auto => problem.mesh.num_nodes() >= TWO_LEVEL_NODES,
-        };
-        let (coarse, coarse_note) = if wanted {
-            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
-                Ok(c) => {
-                    let note = format!("preconditioner: two-level; {}", c.summary);
-                    (Some(c), note)
-                }
-                Err(why) => (None, format!("preconditioner: nodal block Jacobi ({why})")),
-            }
-        } else {
-            (None, "preconditioner: nodal block Jacobi".to_string())
-        };
+        let (coarse, multilevel, coarse_note) = choose_preconditioner(comm, problem, mesh);
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -127,6 +160,9 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 let mut cg = Cg::new(n);
                 if let Some(c) = coarse {
                     cg.set_coarse(c);
+                }
+                if let Some(m) = multilevel {
+                    cg.set_multilevel(m);
                 }
                 cg
             },
@@ -173,6 +209,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         self.dt_prev = dt_prev;
         self.reference_floor = reference_floor;
         self.contact = contact;
+    }
+
+    /// What the multilevel preconditioner's last rebuild made and why, once.
+    pub fn take_rebuild_note(&mut self) -> Option<String> {
+        self.cg.rebuild_note.take()
     }
 
     pub fn assembly(&self) -> &Assembly<'a> {

@@ -4,6 +4,7 @@
 //! built from global data only, so the aggregates are the same on any number of ranks and
 //! follow any mesh, structured or from Gmsh.
 
+use crate::math::Vec3;
 use crate::mesh::GlobalMesh;
 
 /// An undirected graph in CSR form (no self loops, neighbours sorted).
@@ -77,6 +78,71 @@ impl Graph {
             }
         }
         Graph::from_edges(mesh.num_nodes(), &edges)
+    }
+}
+
+/// The edges of a hexahedron (local node pairs, the usual hex8 numbering).
+const HEX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
+impl Graph {
+    /// The edge graph of a hexahedral mesh: two nodes are neighbours when they share an
+    /// element edge (aggregates of a node and these neighbours are about two elements
+    /// wide instead of three).
+    pub fn of_mesh_edges(mesh: &GlobalMesh) -> Self {
+        let mut edges = Vec::with_capacity(mesh.num_elements() * 12);
+        for e in &mesh.elements {
+            for &(a, b) in &HEX_EDGES {
+                edges.push((e[a], e[b]));
+            }
+        }
+        Graph::from_edges(mesh.num_nodes(), &edges)
+    }
+}
+
+impl Graph {
+    /// The strong part of a mesh's node graph: neighbours a, b stay linked when their
+    /// distance is at most `ratio` times the shortest distance from either of them to a
+    /// neighbour. On elements much longer in one direction than in another (a
+    /// one-element-thick plane-strain slab, stretched elements of a graded mesh) the long
+    /// direction is weakly coupled and aggregates do not cross it, so each side gets its
+    /// own rigid-body modes (smoothed aggregation's strength of connection, measured on
+    /// the geometry: the stiffness between two nodes of an element goes like 1/distance^2).
+    pub fn strong(&self, coords: &[Vec3], ratio: f64) -> Graph {
+        let dist = |a: usize, b: usize| {
+            let d = crate::math::sub(&coords[a], &coords[b]);
+            crate::math::dot(&d, &d).sqrt()
+        };
+        let dmin: Vec<f64> = (0..self.len())
+            .map(|a| {
+                self.neighbours(a)
+                    .iter()
+                    .map(|&b| dist(a, b as usize))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        let mut edges = Vec::new();
+        for a in 0..self.len() {
+            for &b in self.neighbours(a) {
+                let b = b as usize;
+                if a < b && dist(a, b) <= ratio * dmin[a].min(dmin[b]) {
+                    edges.push((a as u32, b as u32));
+                }
+            }
+        }
+        Graph::from_edges(self.len(), &edges)
     }
 }
 

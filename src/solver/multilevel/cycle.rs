@@ -65,6 +65,10 @@ pub struct Hierarchy {
     pub sizes: Vec<usize>,
     /// Non-zeros stored per level.
     pub nonzeros: Vec<usize>,
+    /// V-cycles per solve (a stationary iteration from zero: still a fixed symmetric
+    /// operator).
+    sweeps: usize,
+    res: Vec<f64>,
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
@@ -99,7 +103,9 @@ impl Hierarchy {
         mut node_ptr: Vec<usize>,
         mut b: Vec<[f64; MODES]>,
         degree: usize,
+        sweeps: usize,
     ) -> Self {
+        let n1 = a.rows;
         let mut levels = Vec::new();
         let mut sizes = Vec::new();
         let mut nonzeros = Vec::new();
@@ -151,6 +157,8 @@ impl Hierarchy {
             coarsest,
             sizes,
             nonzeros,
+            sweeps: sweeps.max(1),
+            res: vec![0.0; n1],
         }
     }
 
@@ -161,9 +169,21 @@ impl Hierarchy {
             self.coarsest.solve(x);
             return;
         }
-        self.levels[0].b.copy_from_slice(b);
-        cycle(&mut self.levels, &self.coarsest, &mut self.cb);
-        x.copy_from_slice(&self.levels[0].x);
+        x.fill(0.0);
+        for sweep in 0..self.sweeps {
+            if sweep == 0 {
+                self.levels[0].b.copy_from_slice(b);
+            } else {
+                self.levels[0].a.mul_into(x, &mut self.res);
+                for ((bl, bi), ri) in self.levels[0].b.iter_mut().zip(b).zip(&self.res) {
+                    *bl = bi - ri;
+                }
+            }
+            cycle(&mut self.levels, &self.coarsest, &mut self.cb);
+            for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
+                *xi += ci;
+            }
+        }
     }
 }
 
@@ -246,7 +266,7 @@ mod tests {
             let n = a.rows;
             let node_ptr: Vec<usize> = (0..=n).collect();
             let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
-            let mut h = Hierarchy::build(a.clone(), node_ptr, b, 2);
+            let mut h = Hierarchy::build(a.clone(), node_ptr, b, 2, 1);
             assert!(h.sizes.len() >= 2, "{:?}", h.sizes);
             let x_true: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();
             let mut rhs = vec![0.0; n];

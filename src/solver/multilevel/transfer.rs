@@ -13,6 +13,12 @@ use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
 use std::collections::HashMap;
 
+/// Mesh neighbours farther apart than this times the shortest distance from either to a
+/// neighbour are weakly coupled and not aggregated together (Graph::strong). Measured on
+/// the Hertz example x2 (one element thick, graded): 3233 CG iterations with every
+/// neighbour aggregated, 756 with this ratio; cubes (diagonals 1.41 and 1.73) keep all.
+const STRONG_RATIO: f64 = 2.0;
+
 /// Where a node value comes from when an aggregate's coefficients are summed.
 #[derive(Clone, Copy)]
 enum Src {
@@ -57,7 +63,7 @@ impl Transfer {
         mesh: &LocalMesh,
     ) -> Self {
         let n = g.num_nodes();
-        let (agg_of, na) = aggregate(graph, &vec![true; n]);
+        let (agg_of, na) = aggregate(&graph.strong(&g.coords, STRONG_RATIO), &vec![true; n]);
         let mut centre = vec![[0.0; 3]; na];
         let mut count = vec![0usize; na];
         for a in 0..n {
