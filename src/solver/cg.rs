@@ -14,6 +14,12 @@ use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
 use crate::math::{inverse, matvec, Mat3, Vec3};
 
+/// With `preconditioner = "auto"` on meshes below the two-level threshold, CG starts with
+/// block Jacobi and moves to the multilevel preconditioner at this iteration of a model
+/// problem: problems Jacobi solves quickly keep today's path bit for bit, the hard ones
+/// (the Hertz example: 11753 Jacobi iterations, 239 multilevel) pay this once.
+pub const SWITCH_AFTER: usize = 300;
+
 /// Why a model problem could not be solved. Rank-agreed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SolveFailure {
@@ -118,6 +124,9 @@ pub struct Cg {
     coarse_rows: usize,
     /// The multilevel preconditioner, when used.
     multilevel: Option<Multilevel>,
+    /// The multilevel preconditioner waits until a model problem needs SWITCH_AFTER
+    /// iterations.
+    ml_standby: bool,
     /// Contact rows when the multilevel hierarchy was built.
     ml_contact_rows: usize,
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
@@ -147,13 +156,16 @@ impl Cg {
             coarse_rows: 0,
             multilevel: None,
             ml_contact_rows: 0,
+            ml_standby: false,
             rebuild_note: None,
         }
     }
 
-    /// Uses the multilevel preconditioner.
-    pub fn set_multilevel(&mut self, ml: Multilevel) {
+    /// Uses the multilevel preconditioner; with `standby`, only from the SWITCH_AFTER-th
+    /// iteration of a model problem on (the `auto` choice on smaller meshes).
+    pub fn set_multilevel(&mut self, ml: Multilevel, standby: bool) {
         self.multilevel = Some(ml);
+        self.ml_standby = standby;
     }
 
     /// Uses the two-level preconditioner with this coarse space.
@@ -285,8 +297,17 @@ impl Cg {
         let mut restart = true;
         let mut since_true = 0usize;
         for it in 1..=s.max_iterations {
+            if self.ml_standby && it == SWITCH_AFTER {
+                // Block Jacobi is not enough here: from now on the multilevel one.
+                self.ml_standby = false;
+                self.setup_multilevel(pb, u, linear, s)?;
+                if let Some(note) = self.rebuild_note.as_mut() {
+                    *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
+                }
+                restart = true;
+            }
             // z = M^-1 r
-            if let Some(ml) = self.multilevel.as_mut() {
+            if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
                 let mut op = FineOp {
                     pb,
                     linear,
@@ -549,7 +570,7 @@ impl Cg {
         linear: bool,
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
-        let Some(ml) = self.multilevel.as_mut() else {
+        let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
             return Ok(());
         };
         // Contact rows counted apart: a body held only by contact has its rigid modes in

@@ -88,7 +88,13 @@ fn choose_preconditioner<C: Comm + ?Sized>(
         Preconditioner::TwoLevel | Preconditioner::Auto => {
             let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
             if !asked && nodes < TWO_LEVEL_NODES {
-                return (None, None, "preconditioner: nodal block Jacobi".into());
+                let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+                let note = format!(
+                    "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
+                    super::cg::SWITCH_AFTER,
+                    m.summary
+                );
+                return (None, Some(m), note);
             }
             match super::coarse::CoarseSpace::new(comm, problem, mesh) {
                 Ok(c) => {
@@ -141,6 +147,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Self {
         let n = mesh.num_nodes();
         let (coarse, multilevel, coarse_note) = choose_preconditioner(comm, problem, mesh);
+        let standby = problem.solver.preconditioner == crate::problem::Preconditioner::Auto;
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -162,7 +169,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                     cg.set_coarse(c);
                 }
                 if let Some(m) = multilevel {
-                    cg.set_multilevel(m);
+                    cg.set_multilevel(m, standby);
                 }
                 cg
             },

@@ -5,13 +5,13 @@
 //! result on any number of ranks, no communication. Buffers are allocated once, at setup.
 
 use super::aggregation::{aggregate, Graph};
-use super::direct::Dense;
+use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
 use super::sparse::Csr;
 use std::convert::Infallible;
 
-/// Levels with at most this many unknowns are solved directly.
+/// Levels with at most this many unknowns of positive stiffness are solved directly.
 const COARSEST: usize = 900;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
@@ -59,7 +59,7 @@ impl Space for Sparse<'_> {
 
 pub struct Hierarchy {
     levels: Vec<Level>,
-    coarsest: Dense,
+    coarsest: Compressed,
     cb: Vec<f64>,
     /// Unknowns per level, first coarse level first.
     pub sizes: Vec<usize>,
@@ -112,10 +112,10 @@ impl Hierarchy {
         loop {
             sizes.push(a.rows);
             nonzeros.push(a.nnz());
-            if a.rows <= COARSEST {
+            let diag = a.diagonal();
+            if diag.iter().filter(|&&d| d > 0.0).count() <= COARSEST {
                 break;
             }
-            let diag = a.diagonal();
             let dinv: Vec<f64> = diag
                 .iter()
                 .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
@@ -150,7 +150,7 @@ impl Hierarchy {
             node_ptr = tent.node_ptr;
             b = tent.b;
         }
-        let coarsest = Dense::new(&a.to_dense(), a.rows);
+        let coarsest = Compressed::new(&a);
         Hierarchy {
             levels,
             cb: vec![0.0; a.rows],
@@ -179,7 +179,7 @@ impl Hierarchy {
                     *bl = bi - ri;
                 }
             }
-            cycle(&mut self.levels, &self.coarsest, &mut self.cb);
+            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb);
             for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
@@ -188,7 +188,7 @@ impl Hierarchy {
 }
 
 /// levels[0].x = V(levels[0].b).
-fn cycle(levels: &mut [Level], coarsest: &Dense, cb: &mut [f64]) {
+fn cycle(levels: &mut [Level], coarsest: &mut Compressed, cb: &mut [f64]) {
     let (lv, rest) = levels.split_first_mut().expect("a level");
     lv.x.fill(0.0);
     lv.r.copy_from_slice(&lv.b);

@@ -19,6 +19,11 @@ use std::collections::HashMap;
 /// neighbour aggregated, 756 with this ratio; cubes (diagonals 1.41 and 1.73) keep all.
 const STRONG_RATIO: f64 = 2.0;
 
+/// Meshes of at most this many nodes get one aggregate per node: the first coarse level
+/// is then the fine operator itself, factored directly (its rotation modes have no
+/// stiffness and are left out), and CG converges in a few iterations per model problem.
+pub const SINGLETON_NODES: usize = 300;
+
 /// Where a node value comes from when an aggregate's coefficients are summed.
 #[derive(Clone, Copy)]
 enum Src {
@@ -63,7 +68,11 @@ impl Transfer {
         mesh: &LocalMesh,
     ) -> Self {
         let n = g.num_nodes();
-        let (agg_of, na) = aggregate(&graph.strong(&g.coords, STRONG_RATIO), &vec![true; n]);
+        let (agg_of, na) = if n <= SINGLETON_NODES {
+            ((0..n as u32).collect(), n)
+        } else {
+            aggregate(&graph.strong(&g.coords, STRONG_RATIO), &vec![true; n])
+        };
         let mut centre = vec![[0.0; 3]; na];
         let mut count = vec![0usize; na];
         for a in 0..n {
