@@ -51,7 +51,7 @@ enum Command {
         #[arg(long, value_name = "RESULT.h5")]
         restart: Option<PathBuf>,
         /// CG preconditioner, overriding the scene's `solver.preconditioner`.
-        #[arg(long, value_parser = ["auto", "jacobi", "two_level"])]
+        #[arg(long, value_parser = solver::problem::Preconditioner::NAMES)]
         preconditioner: Option<String>,
         /// Run even when the memory estimate exceeds the memory available.
         #[arg(long)]
@@ -220,11 +220,8 @@ fn main() -> ExitCode {
 
 fn preconditioner_of(name: &str) -> solver::problem::Preconditioner {
     use solver::problem::Preconditioner;
-    match name {
-        "jacobi" => Preconditioner::Jacobi,
-        "two_level" => Preconditioner::TwoLevel,
-        _ => Preconditioner::Auto,
-    }
+    // clap accepts only Preconditioner::NAMES.
+    Preconditioner::from_name(name).unwrap_or_default()
 }
 
 /// `solver check`: the scene's size and memory estimate from its divisions (before any

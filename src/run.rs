@@ -436,7 +436,8 @@ pub fn run_from<C: Comm + ?Sized>(
 
     let gather = Gather::new(comm, &local, mesh.num_nodes(), mesh.num_elements());
     let mut stepper = Stepper::new(comm, problem, &local)?;
-    log(2, &stepper.coarse_note);
+    let refused = stepper.coarse_note.starts_with("preconditioner: refused");
+    log(if refused { 1 } else { 2 }, &stepper.coarse_note);
     let mut records = Vec::new();
     let mut first_step = 0;
     if let Some((state, earlier, contact)) = resumed {
@@ -506,7 +507,11 @@ pub fn run_from<C: Comm + ?Sized>(
     }
     for (k, &t) in problem.step_times.iter().enumerate().skip(first_step) {
         let step = k + 1;
-        match stepper.advance(step, t) {
+        let advanced = stepper.advance(step, t);
+        if let Some(note) = stepper.take_rebuild_note() {
+            log(2, &note);
+        }
+        match advanced {
             Ok(rec) => {
                 let mut line = format!(
                     "step {step}/{nsteps}  t = {t:<10.6}  CG {:>6}  residual {:.3e} (reference {:.3e})  cut-backs {}  {:.3} s",

@@ -13,13 +13,17 @@ H = 20;      // block height
 w = 4;       // half-width of the block's finely meshed middle
 r = 0.45*R;  // half-width of the cylinder's inner rectangle (its height too)
 
-nb = 24;     // elements along the cylinder's bottom arc (90 degrees) and inner rectangle
-ns = 6;      // elements along each 45-degree side arc and the rectangle's sides
-nr = 6;      // elements from the inner rectangle out to the arc
-nm = 21;     // elements across the block's middle; odd, so that the cylinder's lowest
-             // node meets the middle of a block face, not an edge between two
-nw = 8;      // elements across each side part of the block
-nv = 10;     // elements through the block's height
+// Refinement factor: every division count below is multiplied by it (run/gmsh/make_examples
+// sets it with -setnumber f N; 1 gives the checked-in mesh).
+DefineConstant[ f = 1 ];
+
+nb = 24*f;   // elements along the cylinder's bottom arc (90 degrees) and inner rectangle
+ns = 6*f;    // elements along each 45-degree side arc and the rectangle's sides
+nr = 6*f;    // elements from the inner rectangle out to the arc
+nm = 21*f + 1 - f%2; // elements across the block's middle; odd, so that the cylinder's
+             // lowest node meets the middle of a block face, not an edge between two
+nw = 8*f;    // elements across each side part of the block
+nv = 10*f;   // elements through the block's height
 
 // Cylinder: centre (0, R), the flat side y = R on top.
 c = R*Sqrt(0.5);

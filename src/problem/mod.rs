@@ -87,6 +87,25 @@ pub enum Preconditioner {
     Jacobi,
     /// Nodal block Jacobi plus a coarse space of aggregate rigid-body modes.
     TwoLevel,
+    /// Smoothed aggregation over several levels (src/solver/multilevel/).
+    Multilevel,
+}
+
+impl Preconditioner {
+    /// The names a scene (`solver.preconditioner`) and the command line (`--preconditioner`)
+    /// use, in that order.
+    pub const NAMES: [&'static str; 4] = ["auto", "jacobi", "two_level", "multilevel"];
+
+    /// The preconditioner of a name of [`Self::NAMES`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "auto" => Some(Preconditioner::Auto),
+            "jacobi" => Some(Preconditioner::Jacobi),
+            "two_level" => Some(Preconditioner::TwoLevel),
+            "multilevel" => Some(Preconditioner::Multilevel),
+            _ => None,
+        }
+    }
 }
 
 /// Meshes from this many nodes up use the two-level preconditioner by default.

@@ -853,17 +853,14 @@ impl Builder {
         }
         if let Some(name) = &s.preconditioner {
             use crate::problem::Preconditioner;
-            out.preconditioner = match name.as_str() {
-                "auto" => Preconditioner::Auto,
-                "jacobi" => Preconditioner::Jacobi,
-                "two_level" => Preconditioner::TwoLevel,
-                other => {
-                    return Err(self.err(
-                        "solver.preconditioner",
-                        format!("expected \"auto\", \"jacobi\" or \"two_level\", got \"{other}\""),
-                    ))
-                }
-            };
+            out.preconditioner = Preconditioner::from_name(name).ok_or_else(|| {
+                self.err(
+                    "solver.preconditioner",
+                    format!(
+                        "expected \"auto\", \"jacobi\", \"two_level\" or \"multilevel\", got \"{name}\""
+                    ),
+                )
+            })?;
         }
         Ok(out)
     }

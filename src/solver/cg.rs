@@ -9,10 +9,17 @@
 use super::assembly::{Assembly, ElementError};
 use super::coarse::CoarseSpace;
 use super::loads::Loads;
+use super::multilevel::{FineOperator, Multilevel};
 use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
 use crate::math::{inverse, matvec, Mat3, Vec3};
 use crate::memory::{try_filled, AllocError};
+
+/// With `preconditioner = "auto"` on meshes below the two-level threshold, CG starts with
+/// block Jacobi and moves to the multilevel preconditioner at this iteration of a model
+/// problem: problems Jacobi solves quickly keep today's path bit for bit, the hard ones
+/// (the Hertz example: 11753 Jacobi iterations, 239 multilevel) pay this once.
+pub const SWITCH_AFTER: usize = 300;
 
 /// Why a model problem could not be solved. Rank-agreed.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,6 +125,15 @@ pub struct Cg {
     coarse_stale: bool,
     /// Constraint rows when the coarse operator was measured.
     coarse_rows: usize,
+    /// The multilevel preconditioner, when used.
+    multilevel: Option<Multilevel>,
+    /// The multilevel preconditioner waits until a model problem needs SWITCH_AFTER
+    /// iterations.
+    ml_standby: bool,
+    /// Contact rows when the multilevel hierarchy was built.
+    ml_contact_rows: usize,
+    /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
+    pub rebuild_note: Option<String>,
 }
 
 impl Cg {
@@ -142,7 +158,18 @@ impl Cg {
             coarse_work: Vec::new(),
             coarse_stale: true,
             coarse_rows: 0,
+            multilevel: None,
+            ml_contact_rows: 0,
+            ml_standby: false,
+            rebuild_note: None,
         })
+    }
+
+    /// Uses the multilevel preconditioner; with `standby`, only from the SWITCH_AFTER-th
+    /// iteration of a model problem on (the `auto` choice on smaller meshes).
+    pub fn set_multilevel(&mut self, ml: Multilevel, standby: bool) {
+        self.multilevel = Some(ml);
+        self.ml_standby = standby;
     }
 
     /// Uses the two-level preconditioner with this coarse space.
@@ -282,14 +309,39 @@ impl Cg {
         }
         self.precondition(pb, u)?;
         self.setup_coarse(pb, u, linear, s)?;
+        self.setup_multilevel(pb, u, linear, s)?;
 
         let mut rz_old = 0.0;
         let mut restart = true;
         let mut since_true = 0usize;
         for it in 1..=s.max_iterations {
+            if self.ml_standby && it == SWITCH_AFTER {
+                // Block Jacobi is not enough here: from now on the multilevel one.
+                self.ml_standby = false;
+                self.setup_multilevel(pb, u, linear, s)?;
+                if let Some(note) = self.rebuild_note.as_mut() {
+                    *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
+                }
+                restart = true;
+            }
             // z = M^-1 r
-            for a in 0..nl {
-                self.z[a] = matvec(&self.minv[a], &self.r[a]);
+            if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
+                let mut op = FineOp {
+                    pb,
+                    linear,
+                    eps_scale: s.length_scale,
+                    u,
+                    fi: &self.fi,
+                    fe: &self.fe,
+                    trial: &mut self.trial,
+                    fi_trial: &mut self.fi_trial,
+                    fe_trial: &mut self.fe_trial,
+                };
+                ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
+            } else {
+                for a in 0..nl {
+                    self.z[a] = matvec(&self.minv[a], &self.r[a]);
+                }
             }
             if let Some(c) = &self.coarse {
                 c.apply(
@@ -533,6 +585,69 @@ impl Cg {
         result
     }
 
+    /// Builds the multilevel hierarchy when it is out of date, by the rule of the coarse
+    /// space (`invalidate_coarse`): first use, the number of constraint rows changed by
+    /// more than a tenth, or a new increment of a nonlinear body.
+    fn setup_multilevel<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
+            return Ok(());
+        };
+        // Contact rows counted apart: a body held only by contact has its rigid modes in
+        // the coarse levels only through them.
+        let mut counts = [0i64; 2];
+        for l in 0..pb.owned() {
+            for (_, row) in pb.cons.rows(l) {
+                let contact = matches!(row.kind, crate::constraints::RowKind::Contact { .. });
+                counts[contact as usize] += 1;
+            }
+        }
+        pb.comm.sum_i64(&mut counts);
+        let rows = (counts[0] + counts[1]) as usize;
+        let contact = counts[1] as usize;
+        let (old, old_contact) = (self.coarse_rows, self.ml_contact_rows);
+        let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
+        let similar = near(rows, old) && near(contact, old_contact);
+        if ml.is_set_up() && similar && (linear || !self.coarse_stale) {
+            return Ok(());
+        }
+        let why = if !ml.is_set_up() {
+            "first use".to_string()
+        } else if !similar {
+            format!("constraint rows {old} -> {rows}, of them contact {old_contact} -> {contact}")
+        } else {
+            "new increment of a nonlinear body".to_string()
+        };
+        self.ml_contact_rows = contact;
+        self.coarse_stale = false;
+        self.coarse_rows = rows;
+        let mut op = FineOp {
+            pb,
+            linear,
+            eps_scale: s.length_scale,
+            u,
+            fi: &self.fi,
+            fe: &self.fe,
+            trial: &mut self.trial,
+            fi_trial: &mut self.fi_trial,
+            fe_trial: &mut self.fe_trial,
+        };
+        let start = std::time::Instant::now();
+        ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
+        self.rebuild_note = Some(format!(
+            "{} (build {}: {why}; {:.3} s)",
+            ml.summary,
+            ml.builds,
+            start.elapsed().as_secs_f64()
+        ));
+        Ok(())
+    }
+
     /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with
     /// d a positive scale so M is invertible, then z = P M^-1 P r.
     fn precondition<C: Comm + ?Sized>(
@@ -566,6 +681,50 @@ impl Cg {
             self.q[a] = crate::math::sub(&self.fe[a], &self.fi[a]);
         }
         pb.cons.reduce(pb.comm, &mut self.q, Some(out));
+    }
+}
+
+/// The constrained fine operator for the multilevel preconditioner: T^T K T x, exact for
+/// linear bodies, a finite difference of the forces at u otherwise.
+struct FineOp<'b, 'a, C: Comm + ?Sized> {
+    pb: &'b Problem<'a, C>,
+    linear: bool,
+    eps_scale: f64,
+    u: &'b [Vec3],
+    fi: &'b [Vec3],
+    fe: &'b [Vec3],
+    trial: &'b mut [Vec3],
+    fi_trial: &'b mut [Vec3],
+    fe_trial: &'b mut [Vec3],
+}
+
+impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
+    type Error = SolveFailure;
+    fn apply(&mut self, x: &mut [Vec3], y: &mut [Vec3]) -> Result<(), SolveFailure> {
+        let (pb, comm) = (self.pb, self.pb.comm);
+        pb.cons.expand(comm, x);
+        pb.asm.mesh.exchange(comm, x);
+        if self.linear {
+            agree(comm, pb.asm.internal_force_sparse(x, y))?;
+        } else {
+            let owned = pb.owned();
+            let eps = 1e-7 * self.eps_scale / max_abs(comm, x, owned).max(f64::MIN_POSITIVE);
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    self.trial[a][i] = self.u[a][i] + eps * x[a][i];
+                }
+            }
+            pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    y[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                        - (self.fi[a][i] - self.fe[a][i]))
+                        / eps;
+                }
+            }
+        }
+        pb.cons.reduce(comm, y, None);
+        Ok(())
     }
 }
 

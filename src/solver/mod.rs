@@ -4,6 +4,7 @@
 pub mod assembly;
 pub mod cg;
 pub mod coarse;
+pub mod multilevel;
 pub use crate::constraints;
 pub mod loads;
 pub use crate::springs;

@@ -64,6 +64,61 @@ impl std::fmt::Display for StepFailure {
     }
 }
 
+/// The preconditioner a run uses, with the line that says so: the multilevel one, the
+/// two-level one, or nodal block Jacobi. A preconditioner asked for by name that cannot
+/// be used says why in the line, which starts with "preconditioner: refused" then.
+fn choose_preconditioner<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+) -> (
+    Option<super::coarse::CoarseSpace>,
+    Option<super::multilevel::Multilevel>,
+    String,
+) {
+    use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
+    let nodes = problem.mesh.num_nodes();
+    let degree = super::multilevel::FINE_DEGREE;
+    match problem.solver.preconditioner {
+        Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
+        Preconditioner::Multilevel => {
+            let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+            let note = format!("preconditioner: multilevel; {}", m.summary);
+            (None, Some(m), note)
+        }
+        Preconditioner::TwoLevel | Preconditioner::Auto => {
+            let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
+            if !asked && nodes < TWO_LEVEL_NODES {
+                let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+                let note = format!(
+                    "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
+                    super::cg::SWITCH_AFTER,
+                    m.summary
+                );
+                return (None, Some(m), note);
+            }
+            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
+                Ok(c) => {
+                    let note = format!("preconditioner: two-level; {}", c.summary);
+                    (Some(c), None, note)
+                }
+                Err(why) if asked => (
+                    None,
+                    None,
+                    format!(
+                        "preconditioner: refused two_level ({why}); nodal block Jacobi instead"
+                    ),
+                ),
+                Err(why) => (
+                    None,
+                    None,
+                    format!("preconditioner: nodal block Jacobi ({why})"),
+                ),
+            }
+        }
+    }
+}
+
 pub struct Stepper<'a, C: Comm + ?Sized> {
     comm: &'a C,
     problem: &'a Problem,
@@ -108,23 +163,8 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         mesh: &'a LocalMesh,
     ) -> Result<Self, crate::memory::AllocError> {
         let n = mesh.num_nodes();
-        use crate::problem::{Preconditioner, TWO_LEVEL_NODES};
-        let wanted = match problem.solver.preconditioner {
-            Preconditioner::Jacobi => false,
-            Preconditioner::TwoLevel => true,
-            Preconditioner::Auto => problem.mesh.num_nodes() >= TWO_LEVEL_NODES,
-        };
-        let (coarse, coarse_note) = if wanted {
-            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
-                Ok(c) => {
-                    let note = format!("preconditioner: two-level; {}", c.summary);
-                    (Some(c), note)
-                }
-                Err(why) => (None, format!("preconditioner: nodal block Jacobi ({why})")),
-            }
-        } else {
-            (None, "preconditioner: nodal block Jacobi".to_string())
-        };
+        let (coarse, multilevel, coarse_note) = choose_preconditioner(comm, problem, mesh);
+        let standby = problem.solver.preconditioner == crate::problem::Preconditioner::Auto;
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -145,6 +185,9 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 let mut cg = Cg::new(n)?;
                 if let Some(c) = coarse {
                     cg.set_coarse(c);
+                }
+                if let Some(m) = multilevel {
+                    cg.set_multilevel(m, standby);
                 }
                 cg
             },
@@ -191,6 +234,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         self.dt_prev = dt_prev;
         self.reference_floor = reference_floor;
         self.contact = contact;
+    }
+
+    /// What the multilevel preconditioner's last rebuild made and why, once.
+    pub fn take_rebuild_note(&mut self) -> Option<String> {
+        self.cg.rebuild_note.take()
     }
 
     pub fn assembly(&self) -> &Assembly<'a> {

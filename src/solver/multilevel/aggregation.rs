@@ -1,0 +1,290 @@
+//! Aggregation: groups of neighbouring nodes (on the fine level) or of neighbouring
+//! aggregates (on the coarse levels) that become one coarse node carrying the rigid-body
+//! modes. Greedy, in index order (Vanek, Mandel and Brezina's three phases), on a graph
+//! built from global data only, so the aggregates are the same on any number of ranks and
+//! follow any mesh, structured or from Gmsh.
+
+use crate::math::Vec3;
+use crate::mesh::GlobalMesh;
+
+/// An undirected graph in CSR form (no self loops, neighbours sorted).
+pub struct Graph {
+    pub ptr: Vec<usize>,
+    pub adj: Vec<u32>,
+}
+
+impl Graph {
+    pub fn len(&self) -> usize {
+        self.ptr.len() - 1
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    #[inline]
+    pub fn neighbours(&self, i: usize) -> &[u32] {
+        &self.adj[self.ptr[i]..self.ptr[i + 1]]
+    }
+
+    /// Builds a graph from a list of edges (both directions are added).
+    pub fn from_edges(n: usize, edges: &[(u32, u32)]) -> Self {
+        let mut count = vec![0usize; n + 1];
+        for &(a, b) in edges {
+            if a != b {
+                count[a as usize + 1] += 1;
+                count[b as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let mut next = count.clone();
+        let mut adj = vec![0u32; count[n]];
+        for &(a, b) in edges {
+            if a != b {
+                adj[next[a as usize]] = b;
+                next[a as usize] += 1;
+                adj[next[b as usize]] = a;
+                next[b as usize] += 1;
+            }
+        }
+        // Sort and remove duplicates row by row.
+        let mut ptr = vec![0usize; n + 1];
+        let mut out = Vec::with_capacity(adj.len());
+        for i in 0..n {
+            let row = &mut adj[count[i]..count[i + 1]];
+            row.sort_unstable();
+            let start = out.len();
+            for &j in row.iter() {
+                if out.len() == start || *out.last().expect("non-empty") != j {
+                    out.push(j);
+                }
+            }
+            ptr[i + 1] = out.len();
+        }
+        Graph { ptr, adj: out }
+    }
+
+    /// The node graph of a hexahedral mesh: two nodes are neighbours when they share an
+    /// element.
+    pub fn of_mesh(mesh: &GlobalMesh) -> Self {
+        let mut edges = Vec::with_capacity(mesh.num_elements() * 28);
+        for e in &mesh.elements {
+            for a in 0..8 {
+                for b in a + 1..8 {
+                    edges.push((e[a], e[b]));
+                }
+            }
+        }
+        Graph::from_edges(mesh.num_nodes(), &edges)
+    }
+}
+
+/// The edges of a hexahedron (local node pairs, the usual hex8 numbering).
+const HEX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
+impl Graph {
+    /// The edge graph of a hexahedral mesh: two nodes are neighbours when they share an
+    /// element edge (aggregates of a node and these neighbours are about two elements
+    /// wide instead of three).
+    pub fn of_mesh_edges(mesh: &GlobalMesh) -> Self {
+        let mut edges = Vec::with_capacity(mesh.num_elements() * 12);
+        for e in &mesh.elements {
+            for &(a, b) in &HEX_EDGES {
+                edges.push((e[a], e[b]));
+            }
+        }
+        Graph::from_edges(mesh.num_nodes(), &edges)
+    }
+}
+
+impl Graph {
+    /// The strong part of a mesh's node graph: neighbours a, b stay linked when their
+    /// distance is at most `ratio` times the shortest distance from either of them to a
+    /// neighbour. On elements much longer in one direction than in another (a
+    /// one-element-thick plane-strain slab, stretched elements of a graded mesh) the long
+    /// direction is weakly coupled and aggregates do not cross it, so each side gets its
+    /// own rigid-body modes (smoothed aggregation's strength of connection, measured on
+    /// the geometry: the stiffness between two nodes of an element goes like 1/distance^2).
+    pub fn strong(&self, coords: &[Vec3], ratio: f64) -> Graph {
+        let dist = |a: usize, b: usize| {
+            let d = crate::math::sub(&coords[a], &coords[b]);
+            crate::math::dot(&d, &d).sqrt()
+        };
+        let dmin: Vec<f64> = (0..self.len())
+            .map(|a| {
+                self.neighbours(a)
+                    .iter()
+                    .map(|&b| dist(a, b as usize))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect();
+        let mut edges = Vec::new();
+        for a in 0..self.len() {
+            for &b in self.neighbours(a) {
+                let b = b as usize;
+                if a < b && dist(a, b) <= ratio * dmin[a].min(dmin[b]) {
+                    edges.push((a as u32, b as u32));
+                }
+            }
+        }
+        Graph::from_edges(self.len(), &edges)
+    }
+}
+
+/// Greedy aggregation of the active nodes of a graph. Phase 1: a node whose active
+/// neighbours are all free starts an aggregate with them (in index order). Phase 2: a node
+/// left over joins the aggregate of its first neighbour aggregated in phase 1. Phase 3:
+/// nodes still left start aggregates with their free neighbours. Returns the aggregate of
+/// every node (u32::MAX for inactive nodes) and the number of aggregates.
+pub fn aggregate(g: &Graph, active: &[bool]) -> (Vec<u32>, usize) {
+    const FREE: u32 = u32::MAX;
+    let n = g.len();
+    let mut agg = vec![FREE; n];
+    let mut count = 0u32;
+    for i in 0..n {
+        if !active[i] || agg[i] != FREE {
+            continue;
+        }
+        let nb = g.neighbours(i);
+        if nb
+            .iter()
+            .all(|&j| !active[j as usize] || agg[j as usize] == FREE)
+        {
+            agg[i] = count;
+            for &j in nb {
+                if active[j as usize] {
+                    agg[j as usize] = count;
+                }
+            }
+            count += 1;
+        }
+    }
+    let phase1 = agg.clone();
+    for i in 0..n {
+        if !active[i] || agg[i] != FREE {
+            continue;
+        }
+        if let Some(&j) = g
+            .neighbours(i)
+            .iter()
+            .find(|&&j| phase1[j as usize] != FREE)
+        {
+            agg[i] = phase1[j as usize];
+        }
+    }
+    for i in 0..n {
+        if !active[i] || agg[i] != FREE {
+            continue;
+        }
+        agg[i] = count;
+        for &j in g.neighbours(i) {
+            if active[j as usize] && agg[j as usize] == FREE {
+                agg[j as usize] = count;
+            }
+        }
+        count += 1;
+    }
+    (agg, count as usize)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The node graph of an nx x ny x nz grid of points with 27-point connectivity.
+    fn grid(nx: usize, ny: usize, nz: usize) -> Graph {
+        let id = |i: usize, j: usize, k: usize| (i + nx * (j + ny * k)) as u32;
+        let mut edges = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    for dk in 0..2 {
+                        for dj in 0..2 {
+                            for di in 0..2 {
+                                let (a, b, c) = (i + di, j + dj, k + dk);
+                                if a < nx && b < ny && c < nz {
+                                    edges.push((id(i, j, k), id(a, b, c)));
+                                }
+                                // The other diagonals of the cell.
+                                if di == 1 && i + 1 < nx && j + dj < ny && k + dk < nz {
+                                    edges.push((id(i + 1, j, k), id(i, j + dj, k + dk)));
+                                }
+                                if dj == 1 && j + 1 < ny && i + di < nx && k + dk < nz {
+                                    edges.push((id(i, j + 1, k), id(i + di, j, k + dk)));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Graph::from_edges(nx * ny * nz, &edges)
+    }
+
+    #[test]
+    fn a_line_is_cut_into_triples() {
+        // A path of 9 nodes: phase 1 gives {0,1} (node 0 and its neighbour), skips 2 (its
+        // neighbour 1 is taken), takes {2,3,4} around 3 and {5,6,7} around 6; phase 2 puts
+        // 8 into 7's aggregate.
+        let edges: Vec<(u32, u32)> = (0..8).map(|i| (i, i + 1)).collect();
+        let g = Graph::from_edges(9, &edges);
+        let (agg, n) = aggregate(&g, &[true; 9]);
+        assert_eq!(n, 3);
+        assert_eq!(agg, vec![0, 0, 1, 1, 1, 2, 2, 2, 2]);
+    }
+
+    #[test]
+    fn every_active_node_is_aggregated_with_a_neighbour() {
+        let g = grid(7, 6, 5);
+        let mut active = vec![true; g.len()];
+        active[10] = false;
+        active[57] = false;
+        let (agg, n) = aggregate(&g, &active);
+        for i in 0..g.len() {
+            if !active[i] {
+                assert_eq!(agg[i], u32::MAX);
+                continue;
+            }
+            assert!((agg[i] as usize) < n);
+            // Every aggregate is connected: each node has a neighbour in its aggregate
+            // unless it is alone.
+            let size = agg.iter().filter(|&&a| a == agg[i]).count();
+            if size > 1 {
+                assert!(g.neighbours(i).iter().any(|&j| agg[j as usize] == agg[i]));
+            }
+        }
+        // 210 nodes in aggregates of up to 27 (one node and its neighbours) and at least
+        // 2 (phase 3 only starts an aggregate around a node whose neighbours are taken,
+        // which phase 2 prevents for nodes next to a phase-1 aggregate).
+        assert!((210 / 27..=105).contains(&n), "{n} aggregates");
+    }
+
+    #[test]
+    fn mesh_graph_links_the_nodes_of_an_element() {
+        let mesh = GlobalMesh {
+            coords: vec![[0.0; 3]; 12],
+            elements: vec![[0, 1, 2, 3, 4, 5, 6, 7], [1, 8, 9, 2, 5, 10, 11, 6]],
+            element_body: vec![0, 0],
+            bodies: Vec::new(),
+        };
+        let g = Graph::of_mesh(&mesh);
+        assert_eq!(g.neighbours(0), &[1, 2, 3, 4, 5, 6, 7]);
+        assert_eq!(g.neighbours(1).len(), 11);
+        assert_eq!(g.neighbours(8), &[1, 2, 5, 6, 9, 10, 11]);
+    }
+}

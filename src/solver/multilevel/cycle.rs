@@ -1,0 +1,305 @@
+//! The coarse levels and their V-cycle: assembled sparse operators A_(l+1) = P^T A_l P
+//! with smoothed-aggregation prolongators, a Chebyshev smoother on each, a dense direct
+//! solve on the coarsest. Every rank holds the whole hierarchy (built from the same data in
+//! the same order) and runs the same cycle on the same coarse vector: bitwise the same
+//! result on any number of ranks, no communication. Buffers are allocated once, at setup.
+
+use super::aggregation::{aggregate, Graph};
+use super::direct::Compressed;
+use super::prolongator::{smooth, tentative, MODES};
+use super::smoother::{hash_value, Chebyshev, Space};
+use super::sparse::Csr;
+use std::convert::Infallible;
+
+/// Levels with at most this many unknowns of positive stiffness are solved directly.
+const COARSEST: usize = 900;
+/// Couplings weaker than this (relative to the diagonal) do not link two nodes.
+const STRENGTH: f64 = 1e-3;
+
+/// One coarse level: its operator, smoother, prolongator to the next and buffers.
+struct Level {
+    a: Csr,
+    dinv: Vec<f64>,
+    cheb: Chebyshev,
+    p: Csr,
+    pt: Csr,
+    b: Vec<f64>,
+    x: Vec<f64>,
+    r: Vec<f64>,
+    d: Vec<f64>,
+    t: Vec<f64>,
+}
+
+/// A sparse level seen by the smoother.
+struct Sparse<'a> {
+    a: &'a Csr,
+    dinv: &'a [f64],
+}
+
+impl Space for Sparse<'_> {
+    type Error = Infallible;
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
+        self.a.mul_into(x, y);
+        Ok(())
+    }
+    fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
+        for ((z, r), d) in z.iter_mut().zip(r).zip(self.dinv) {
+            *z = r * d;
+        }
+    }
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    }
+    fn start(&self, v: &mut [f64]) {
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = hash_value(i as u64);
+        }
+    }
+}
+
+pub struct Hierarchy {
+    levels: Vec<Level>,
+    coarsest: Compressed,
+    cb: Vec<f64>,
+    /// Unknowns per level, first coarse level first.
+    pub sizes: Vec<usize>,
+    /// Non-zeros stored per level.
+    pub nonzeros: Vec<usize>,
+    /// V-cycles per solve (a stationary iteration from zero: still a fixed symmetric
+    /// operator).
+    sweeps: usize,
+    res: Vec<f64>,
+}
+
+/// The node graph of a level: nodes i and j are linked when some entry between their
+/// unknowns is at least STRENGTH times the geometric mean of the two diagonals.
+fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize]) -> (Graph, Vec<bool>) {
+    let nodes = node_ptr.len() - 1;
+    let mut node_of = vec![0u32; a.rows];
+    for i in 0..nodes {
+        node_of[node_ptr[i]..node_ptr[i + 1]].fill(i as u32);
+    }
+    let mut edges = Vec::new();
+    for p in 0..a.rows {
+        let (c, v) = a.row(p);
+        for (&q, &x) in c.iter().zip(v) {
+            let (i, j) = (node_of[p], node_of[q as usize]);
+            if i < j && x.abs() > STRENGTH * (diag[p] * diag[q as usize]).abs().sqrt() {
+                edges.push((i, j));
+            }
+        }
+    }
+    let active = (0..nodes)
+        .map(|i| (node_ptr[i]..node_ptr[i + 1]).any(|p| diag[p] > 0.0))
+        .collect();
+    (Graph::from_edges(nodes, &edges), active)
+}
+
+impl Hierarchy {
+    /// Builds the levels below the first coarse level `a` (unknowns grouped in nodes by
+    /// `node_ptr`, near-nullspace `b`).
+    pub fn build(
+        mut a: Csr,
+        mut node_ptr: Vec<usize>,
+        mut b: Vec<[f64; MODES]>,
+        degree: usize,
+        sweeps: usize,
+    ) -> Self {
+        let n1 = a.rows;
+        let mut levels = Vec::new();
+        let mut sizes = Vec::new();
+        let mut nonzeros = Vec::new();
+        loop {
+            sizes.push(a.rows);
+            nonzeros.push(a.nnz());
+            let diag = a.diagonal();
+            if diag.iter().filter(|&&d| d > 0.0).count() <= COARSEST {
+                break;
+            }
+            let dinv: Vec<f64> = diag
+                .iter()
+                .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
+                .collect();
+            let (graph, active) = strength_graph(&a, &diag, &node_ptr);
+            let (agg, na) = aggregate(&graph, &active);
+            let tent = tentative(&agg, na, &node_ptr, &b);
+            if tent.p.cols * 10 > a.rows * 9 {
+                // Aggregation no longer coarsens: stop here (solved directly).
+                break;
+            }
+            let n = a.rows;
+            let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let mut sp = Sparse { a: &a, dinv: &dinv };
+            let Ok(cheb) = Chebyshev::estimate(&mut sp, degree, &mut v, &mut y, &mut w);
+            let p = smooth(&a, &dinv, cheb.lmax, &tent.p);
+            let pt = p.transpose();
+            let ac = pt.matmul(&a.matmul(&p)).symmetric_part();
+            levels.push(Level {
+                a,
+                dinv,
+                cheb,
+                p,
+                pt,
+                b: vec![0.0; n],
+                x: vec![0.0; n],
+                r: vec![0.0; n],
+                d: vec![0.0; n],
+                t: vec![0.0; n],
+            });
+            a = ac;
+            node_ptr = tent.node_ptr;
+            b = tent.b;
+        }
+        let coarsest = Compressed::new(&a);
+        Hierarchy {
+            levels,
+            cb: vec![0.0; a.rows],
+            coarsest,
+            sizes,
+            nonzeros,
+            sweeps: sweeps.max(1),
+            res: vec![0.0; n1],
+        }
+    }
+
+    /// x = V(b): one V-cycle on the first coarse level (x need not be zero on entry).
+    pub fn solve(&mut self, b: &[f64], x: &mut [f64]) {
+        if self.levels.is_empty() {
+            x.copy_from_slice(b);
+            self.coarsest.solve(x);
+            return;
+        }
+        x.fill(0.0);
+        for sweep in 0..self.sweeps {
+            if sweep == 0 {
+                self.levels[0].b.copy_from_slice(b);
+            } else {
+                self.levels[0].a.mul_into(x, &mut self.res);
+                for ((bl, bi), ri) in self.levels[0].b.iter_mut().zip(b).zip(&self.res) {
+                    *bl = bi - ri;
+                }
+            }
+            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb);
+            for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
+                *xi += ci;
+            }
+        }
+    }
+}
+
+/// levels[0].x = V(levels[0].b).
+fn cycle(levels: &mut [Level], coarsest: &mut Compressed, cb: &mut [f64]) {
+    let (lv, rest) = levels.split_first_mut().expect("a level");
+    lv.x.fill(0.0);
+    lv.r.copy_from_slice(&lv.b);
+    let mut sp = Sparse {
+        a: &lv.a,
+        dinv: &lv.dinv,
+    };
+    let Ok(()) = lv
+        .cheb
+        .smooth(&mut sp, &mut lv.r, &mut lv.x, &mut lv.d, &mut lv.t);
+    lv.a.mul_into(&lv.x, &mut lv.t);
+    for i in 0..lv.r.len() {
+        lv.r[i] = lv.b[i] - lv.t[i];
+    }
+    let xc: &[f64] = match rest.first_mut() {
+        None => {
+            lv.pt.mul_into(&lv.r, cb);
+            coarsest.solve(cb);
+            cb
+        }
+        Some(next) => {
+            lv.pt.mul_into(&lv.r, &mut next.b);
+            cycle(rest, coarsest, cb);
+            &rest[0].x
+        }
+    };
+    lv.p.mul_into(xc, &mut lv.t);
+    for i in 0..lv.x.len() {
+        lv.x[i] += lv.t[i];
+    }
+    lv.a.mul_into(&lv.x, &mut lv.t);
+    for i in 0..lv.r.len() {
+        lv.r[i] = lv.b[i] - lv.t[i];
+    }
+    let Ok(()) = lv
+        .cheb
+        .smooth(&mut sp, &mut lv.r, &mut lv.x, &mut lv.d, &mut lv.t);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 3D 7-point Laplacian on an m^3 grid with Dirichlet boundary, plus a shift.
+    fn laplacian(m: usize) -> Csr {
+        let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
+        let mut t = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    let a = id(i, j, k);
+                    t.push((a, a, 6.0));
+                    for (di, dj, dk) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                        let (x, y, z) = (i + di, j + dj, k + dk);
+                        if x < m && y < m && z < m {
+                            let b = id(x, y, z);
+                            t.push((a, b, -1.0));
+                            t.push((b, a, -1.0));
+                        }
+                    }
+                }
+            }
+        }
+        Csr::from_triplets(m * m * m, m * m * m, t)
+    }
+
+    #[test]
+    fn v_cycle_converges_independently_of_size() {
+        // A scalar problem with the constant as near-nullspace (one unknown per node):
+        // the V-cycle as a stationary iteration must reduce the error by a factor well
+        // below 1 per cycle, about the same on both sizes (the point of the hierarchy).
+        let mut rates = Vec::new();
+        for m in [12usize, 20] {
+            let a = laplacian(m);
+            let n = a.rows;
+            let node_ptr: Vec<usize> = (0..=n).collect();
+            let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
+            let mut h = Hierarchy::build(a.clone(), node_ptr, b, 2, 1);
+            assert!(h.sizes.len() >= 2, "{:?}", h.sizes);
+            let x_true: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();
+            let mut rhs = vec![0.0; n];
+            a.mul_into(&x_true, &mut rhs);
+            let mut x = vec![0.0; n];
+            let (mut r, mut e, mut ax) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let err = |x: &[f64]| -> f64 {
+                x.iter()
+                    .zip(&x_true)
+                    .map(|(a, b)| (a - b).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            };
+            let e0 = err(&x);
+            for _ in 0..10 {
+                a.mul_into(&x, &mut ax);
+                for i in 0..n {
+                    r[i] = rhs[i] - ax[i];
+                }
+                h.solve(&r, &mut e);
+                for i in 0..n {
+                    x[i] += e[i];
+                }
+            }
+            let rate = (err(&x) / e0).powf(0.1);
+            rates.push(rate);
+        }
+        // Measured: 0.552 and 0.554 per cycle (7-point stencil aggregates, degree-2
+        // smoothing). What matters is that the rate does not grow with the size: within
+        // 0.05 of each other, and well below 1.
+        for &r in &rates {
+            assert!(r < 0.6, "{rates:?}");
+        }
+        assert!((rates[0] - rates[1]).abs() < 0.05, "{rates:?}");
+    }
+}

@@ -1,0 +1,268 @@
+//! Compressed sparse row matrices for the coarse levels: products, transposes and
+//! matrix-vector products, each a fixed sequence of floating-point operations (rows in
+//! order, entries of a row in column order), so every rank that builds a coarse level from
+//! the same data gets it bitwise the same.
+
+/// A sparse matrix in CSR form with sorted column indices in every row.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Csr {
+    pub rows: usize,
+    pub cols: usize,
+    pub ptr: Vec<usize>,
+    pub idx: Vec<u32>,
+    pub val: Vec<f64>,
+}
+
+impl Csr {
+    /// Builds a matrix from (row, column, value) triplets; duplicates are summed in the
+    /// order given.
+    pub fn from_triplets(rows: usize, cols: usize, mut t: Vec<(u32, u32, f64)>) -> Self {
+        // A stable sort keeps duplicates in the order given, so their sum is fixed.
+        t.sort_by_key(|&(i, j, _)| (i, j));
+        let mut ptr = vec![0usize; rows + 1];
+        let mut idx = Vec::with_capacity(t.len());
+        let mut val: Vec<f64> = Vec::with_capacity(t.len());
+        let mut last = (u32::MAX, u32::MAX);
+        for (i, j, v) in t {
+            if (i, j) == last {
+                *val.last_mut().expect("a previous entry") += v;
+            } else {
+                idx.push(j);
+                val.push(v);
+                ptr[i as usize + 1] += 1;
+                last = (i, j);
+            }
+        }
+        for i in 0..rows {
+            ptr[i + 1] += ptr[i];
+        }
+        Csr {
+            rows,
+            cols,
+            ptr,
+            idx,
+            val,
+        }
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.val.len()
+    }
+
+    /// The entries of row i.
+    #[inline]
+    pub fn row(&self, i: usize) -> (&[u32], &[f64]) {
+        let r = self.ptr[i]..self.ptr[i + 1];
+        (&self.idx[r.clone()], &self.val[r])
+    }
+
+    /// The diagonal (zero where a row has no diagonal entry).
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.rows)
+            .map(|i| {
+                let (c, v) = self.row(i);
+                c.binary_search(&(i as u32)).map_or(0.0, |k| v[k])
+            })
+            .collect()
+    }
+
+    /// y = A x.
+    pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        for (i, yi) in y.iter_mut().enumerate().take(self.rows) {
+            let (c, v) = self.row(i);
+            let mut s = 0.0;
+            for (&j, &a) in c.iter().zip(v) {
+                s += a * x[j as usize];
+            }
+            *yi = s;
+        }
+    }
+
+    /// y = A^T x (scattered by rows of A, in row order).
+    pub fn mul_transpose_into(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        for (i, &xi) in x.iter().enumerate().take(self.rows) {
+            if xi == 0.0 {
+                continue;
+            }
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                y[j as usize] += a * xi;
+            }
+        }
+    }
+
+    pub fn transpose(&self) -> Csr {
+        let mut count = vec![0usize; self.cols + 1];
+        for &j in &self.idx {
+            count[j as usize + 1] += 1;
+        }
+        for j in 0..self.cols {
+            count[j + 1] += count[j];
+        }
+        let ptr = count.clone();
+        let mut next = count;
+        let mut idx = vec![0u32; self.nnz()];
+        let mut val = vec![0.0; self.nnz()];
+        for i in 0..self.rows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                let k = next[j as usize];
+                idx[k] = i as u32;
+                val[k] = a;
+                next[j as usize] += 1;
+            }
+        }
+        Csr {
+            rows: self.cols,
+            cols: self.rows,
+            ptr,
+            idx,
+            val,
+        }
+    }
+
+    /// A B (Gustavson's row-by-row product; every entry summed in a fixed order).
+    pub fn matmul(&self, b: &Csr) -> Csr {
+        assert_eq!(self.cols, b.rows, "matmul: inner dimensions differ");
+        let mut acc = vec![0.0f64; b.cols];
+        let mut seen = vec![false; b.cols];
+        let mut cols: Vec<u32> = Vec::new();
+        let mut ptr = Vec::with_capacity(self.rows + 1);
+        ptr.push(0);
+        let mut idx = Vec::new();
+        let mut val = Vec::new();
+        for i in 0..self.rows {
+            let (ca, va) = self.row(i);
+            for (&k, &a) in ca.iter().zip(va) {
+                let (cb, vb) = b.row(k as usize);
+                for (&j, &bv) in cb.iter().zip(vb) {
+                    let j = j as usize;
+                    if !seen[j] {
+                        seen[j] = true;
+                        cols.push(j as u32);
+                    }
+                    acc[j] += a * bv;
+                }
+            }
+            cols.sort_unstable();
+            for &j in &cols {
+                idx.push(j);
+                val.push(acc[j as usize]);
+                acc[j as usize] = 0.0;
+                seen[j as usize] = false;
+            }
+            cols.clear();
+            ptr.push(idx.len());
+        }
+        Csr {
+            rows: self.rows,
+            cols: b.cols,
+            ptr,
+            idx,
+            val,
+        }
+    }
+
+    /// (A + A^T) / 2 for a square matrix.
+    pub fn symmetric_part(&self) -> Csr {
+        let t = self.transpose();
+        let mut trip = Vec::with_capacity(2 * self.nnz());
+        for m in [self, &t] {
+            for i in 0..m.rows {
+                let (c, v) = m.row(i);
+                for (&j, &a) in c.iter().zip(v) {
+                    trip.push((i as u32, j, 0.5 * a));
+                }
+            }
+        }
+        Csr::from_triplets(self.rows, self.cols, trip)
+    }
+
+    /// Every entry as a dense row-major matrix (for the coarsest level).
+    pub fn to_dense(&self) -> Vec<f64> {
+        let mut d = vec![0.0; self.rows * self.cols];
+        for i in 0..self.rows {
+            let (c, v) = self.row(i);
+            for (&j, &a) in c.iter().zip(v) {
+                d[i * self.cols + j as usize] = a;
+            }
+        }
+        d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dense_mul(a: &[f64], b: &[f64], n: usize, k: usize, m: usize) -> Vec<f64> {
+        let mut c = vec![0.0; n * m];
+        for i in 0..n {
+            for j in 0..m {
+                for l in 0..k {
+                    c[i * m + j] += a[i * k + l] * b[l * m + j];
+                }
+            }
+        }
+        c
+    }
+
+    fn sample(rows: usize, cols: usize, seed: u32) -> Csr {
+        let mut t = Vec::new();
+        for i in 0..rows {
+            for j in 0..cols {
+                let h = (i as u32 * 31 + j as u32 * 17 + seed * 7) % 5;
+                if h < 2 {
+                    // Small integers: every product and sum below is exact in f64.
+                    t.push((
+                        i as u32,
+                        j as u32,
+                        (h as f64 + 1.0) * if j % 2 == 0 { 1.0 } else { -2.0 },
+                    ));
+                }
+            }
+        }
+        Csr::from_triplets(rows, cols, t)
+    }
+
+    #[test]
+    fn products_match_dense_exactly() {
+        // Integer entries: the sparse and dense products must agree bit for bit.
+        let a = sample(7, 5, 1);
+        let b = sample(5, 6, 2);
+        let c = a.matmul(&b);
+        assert_eq!(
+            c.to_dense(),
+            dense_mul(&a.to_dense(), &b.to_dense(), 7, 5, 6)
+        );
+        let at = a.transpose();
+        let ad = a.to_dense();
+        for i in 0..7 {
+            for j in 0..5 {
+                assert_eq!(at.to_dense()[j * 7 + i], ad[i * 5 + j]);
+            }
+        }
+        let x: Vec<f64> = (0..5).map(|i| i as f64 - 2.0).collect();
+        let mut y = vec![0.0; 7];
+        a.mul_into(&x, &mut y);
+        assert_eq!(y, dense_mul(&ad, &x, 7, 5, 1));
+        let xt: Vec<f64> = (0..7).map(|i| 3.0 - i as f64).collect();
+        let mut yt = vec![0.0; 5];
+        a.mul_transpose_into(&xt, &mut yt);
+        assert_eq!(yt, dense_mul(&at.to_dense(), &xt, 5, 7, 1));
+    }
+
+    #[test]
+    fn triplets_sum_duplicates_and_symmetric_part() {
+        let m = Csr::from_triplets(
+            2,
+            2,
+            vec![(1, 0, 1.0), (0, 1, 3.0), (1, 0, 2.0), (0, 0, 4.0)],
+        );
+        assert_eq!(m.to_dense(), vec![4.0, 3.0, 3.0, 0.0]);
+        let s = Csr::from_triplets(2, 2, vec![(0, 1, 2.0), (1, 0, 4.0)]).symmetric_part();
+        assert_eq!(s.to_dense(), vec![0.0, 3.0, 3.0, 0.0]);
+        assert_eq!(m.diagonal(), vec![4.0, 0.0]);
+    }
+}
