@@ -88,7 +88,12 @@ fn choose_preconditioner<C: Comm + ?Sized>(
         }
         Preconditioner::TwoLevel | Preconditioner::Auto => {
             let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
-            if !asked && nodes < TWO_LEVEL_NODES {
+            // Meshes of at most SINGLETON_NODES nodes keep Jacobi under `auto`: an iteration
+            // costs little there, while a model problem that stalls (a stiffness contrast
+            // below round-off) would pay a factored preconditioner in every one of its
+            // iterations (contrast_stiff_on_soft, 250 nodes: 21 s -> 117 s with the switch).
+            let small = nodes <= super::multilevel::transfer::SINGLETON_NODES;
+            if !asked && !small && nodes < TWO_LEVEL_NODES {
                 let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
                 let note = format!(
                     "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
