@@ -93,7 +93,11 @@ fn choose_preconditioner<C: Comm + ?Sized>(
             // below round-off) would pay a factored preconditioner in every one of its
             // iterations (contrast_stiff_on_soft, 250 nodes: 21 s -> 117 s with the switch).
             let small = nodes <= super::multilevel::transfer::SINGLETON_NODES;
-            if !asked && !small && nodes < TWO_LEVEL_NODES {
+            if !asked && small {
+                let note = format!("preconditioner: nodal block Jacobi ({nodes} nodes)");
+                return (None, None, note);
+            }
+            if !asked && nodes < TWO_LEVEL_NODES {
                 let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
                 let note = format!(
                     "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
