@@ -44,22 +44,37 @@ pub(super) fn driven_slip(
 /// The node's tangential stiffness from two (force held, slip) states of one step: the
 /// force the rest of the structure puts on the node changes with its slip by -K slip, so
 /// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
-/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
+/// When the slip changed by less than SECANT_MIN of itself the quotient is not taken (the
+/// solver's error would dominate it), but the force held still changed by |df| over a slip
+/// change of at most the cutoff: the stiffness is at least |df| / cutoff, and the estimate
+/// `k` is raised to that bound. (A node whose slip prescribed motion sets has an unbounded
+/// stiffness; an estimate frozen below it turns the friction force a little per update
+/// only.) Otherwise `k` is kept when there is no previous state or the quotient is not
 /// positive.
 pub(super) fn secant_stiffness(
     previous: Option<(Vec3, Vec3)>,
     held: Vec3,
     slip: Vec3,
     noise: f64,
-) -> Option<f64> {
-    let (f0, d0) = previous?;
+    k: f64,
+) -> f64 {
+    let Some((f0, d0)) = previous else {
+        return k;
+    };
     let dd = sub(&slip, &d0);
+    let df = sub(&held, &f0);
     let length2 = dot(&dd, &dd);
-    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
-        return None;
+    let cutoff = noise + SECANT_MIN * norm(&slip);
+    if length2.sqrt() <= cutoff {
+        let bound = norm(&df) / cutoff;
+        return if bound.is_finite() { k.max(bound) } else { k };
     }
-    let k = dot(&sub(&held, &f0), &dd) / length2;
-    (k > 0.0 && k.is_finite()).then_some(k)
+    let q = dot(&df, &dd) / length2;
+    if q > 0.0 && q.is_finite() {
+        q
+    } else {
+        k
+    }
 }
 
 /// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
