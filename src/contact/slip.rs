@@ -152,3 +152,51 @@ impl ContactState {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn secant_is_the_rayleigh_quotient_of_a_linear_spring() {
+        // held = 3 slip exactly: the quotient is 3 up to round-off of the subtraction.
+        let k = secant_stiffness(
+            Some(([0.3, 0.0, 0.0], [0.1, 0.0, 0.0])),
+            [0.9, 0.3, 0.0],
+            [0.3, 0.1, 0.0],
+            1e-12,
+            1.0,
+        );
+        assert!((k - 3.0).abs() < 1e-12, "{k}");
+    }
+
+    #[test]
+    fn a_slip_that_does_not_move_bounds_the_stiffness_from_below() {
+        // The slip unchanged (prescribed motion), the force held turned by 0.1: the estimate
+        // is raised to |df| / cutoff = 0.1 / (1e-12 + 1e-7 * 0.5) exactly as computed here.
+        let slip = [0.5, 0.0, 0.0];
+        let cutoff = 1e-12 + SECANT_MIN * 0.5;
+        let k = secant_stiffness(
+            Some(([-1.0, 0.0, 0.0], slip)),
+            [-1.0, 0.1, 0.0],
+            slip,
+            1e-12,
+            2.0,
+        );
+        assert_eq!(k, 0.1 / cutoff);
+        // The force held unchanged as well: nothing is learned, the estimate is kept.
+        let k = secant_stiffness(
+            Some(([-1.0, 0.0, 0.0], slip)),
+            [-1.0, 0.0, 0.0],
+            slip,
+            1e-12,
+            2.0,
+        );
+        assert_eq!(k, 2.0);
+        // No earlier state in the step: kept.
+        assert_eq!(
+            secant_stiffness(None, [1.0, 0.0, 0.0], slip, 1e-12, 2.0),
+            2.0
+        );
+    }
+}
