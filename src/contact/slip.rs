@@ -44,22 +44,37 @@ pub(super) fn driven_slip(
 /// The node's tangential stiffness from two (force held, slip) states of one step: the
 /// force the rest of the structure puts on the node changes with its slip by -K slip, so
 /// the force held changes by K slip; the Rayleigh quotient of that change is the estimate.
-/// None when the slip changed by less than SECANT_MIN of itself or the quotient is not
+/// When the slip changed by less than SECANT_MIN of itself the quotient is not taken (the
+/// solver's error would dominate it), but the force held still changed by |df| over a slip
+/// change of at most the cutoff: the stiffness is at least |df| / cutoff, and the estimate
+/// `k` is raised to that bound. (A node whose slip prescribed motion sets has an unbounded
+/// stiffness; an estimate frozen below it turns the friction force a little per update
+/// only.) Otherwise `k` is kept when there is no previous state or the quotient is not
 /// positive.
 pub(super) fn secant_stiffness(
     previous: Option<(Vec3, Vec3)>,
     held: Vec3,
     slip: Vec3,
     noise: f64,
-) -> Option<f64> {
-    let (f0, d0) = previous?;
+    k: f64,
+) -> f64 {
+    let Some((f0, d0)) = previous else {
+        return k;
+    };
     let dd = sub(&slip, &d0);
+    let df = sub(&held, &f0);
     let length2 = dot(&dd, &dd);
-    if length2.sqrt() <= noise + SECANT_MIN * norm(&slip) {
-        return None;
+    let cutoff = noise + SECANT_MIN * norm(&slip);
+    if length2.sqrt() <= cutoff {
+        let bound = norm(&df) / cutoff;
+        return if bound.is_finite() { k.max(bound) } else { k };
     }
-    let k = dot(&sub(&held, &f0), &dd) / length2;
-    (k > 0.0 && k.is_finite()).then_some(k)
+    let q = dot(&df, &dd) / length2;
+    if q > 0.0 && q.is_finite() {
+        q
+    } else {
+        k
+    }
 }
 
 /// Coulomb's friction direction (unit, on the slave) for a slipping node that held the
@@ -135,5 +150,53 @@ impl ContactState {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn secant_is_the_rayleigh_quotient_of_a_linear_spring() {
+        // held = 3 slip exactly: the quotient is 3 up to round-off of the subtraction.
+        let k = secant_stiffness(
+            Some(([0.3, 0.0, 0.0], [0.1, 0.0, 0.0])),
+            [0.9, 0.3, 0.0],
+            [0.3, 0.1, 0.0],
+            1e-12,
+            1.0,
+        );
+        assert!((k - 3.0).abs() < 1e-12, "{k}");
+    }
+
+    #[test]
+    fn a_slip_that_does_not_move_bounds_the_stiffness_from_below() {
+        // The slip unchanged (prescribed motion), the force held turned by 0.1: the estimate
+        // is raised to |df| / cutoff = 0.1 / (1e-12 + 1e-7 * 0.5) exactly as computed here.
+        let slip = [0.5, 0.0, 0.0];
+        let cutoff = 1e-12 + SECANT_MIN * 0.5;
+        let k = secant_stiffness(
+            Some(([-1.0, 0.0, 0.0], slip)),
+            [-1.0, 0.1, 0.0],
+            slip,
+            1e-12,
+            2.0,
+        );
+        assert_eq!(k, 0.1 / cutoff);
+        // The force held unchanged as well: nothing is learned, the estimate is kept.
+        let k = secant_stiffness(
+            Some(([-1.0, 0.0, 0.0], slip)),
+            [-1.0, 0.0, 0.0],
+            slip,
+            1e-12,
+            2.0,
+        );
+        assert_eq!(k, 2.0);
+        // No earlier state in the step: kept.
+        assert_eq!(
+            secant_stiffness(None, [1.0, 0.0, 0.0], slip, 1e-12, 2.0),
+            2.0
+        );
     }
 }

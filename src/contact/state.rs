@@ -448,7 +448,7 @@ impl ContactState {
                     let held = scale(&dir, magnitude);
                     let noise = SLIP_NOISE * pair.face_size;
                     a.slip_stiffness =
-                        secant_stiffness(a.secant, held, slip, noise).unwrap_or(a.slip_stiffness);
+                        secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
                     a.secant = Some((held, slip));
                     a.mode = Mode::Slip {
                         dir: friction_direction(
