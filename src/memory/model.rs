@@ -19,6 +19,9 @@ pub struct Counts {
     pub full_elements: u64,
     /// The two-level preconditioner will be used (its dense coarse operator).
     pub two_level: bool,
+    /// The multilevel hierarchy will be built (also under `auto` on meshes of 301 to
+    /// 19999 nodes, where it waits for a hard model problem).
+    pub multilevel: bool,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -45,6 +48,11 @@ const LOCAL_PER_NODE: f64 = 32.0 + 264.0 + 144.0 + 48.0 + 88.0;
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
+/// The multilevel hierarchy, held on every rank for the whole mesh: its smoothed
+/// prolongator dominates, a row per unknown (3 per node) with 6 rigid-body modes of each of
+/// the about 8 aggregates the smoothing reaches, a value and a column index (12 bytes)
+/// each. (Measured: 35 MiB more than the model without it at 18522 nodes, 1.98 kB a node.)
+const MULTILEVEL_PER_NODE: f64 = 3.0 * 6.0 * 8.0 * 12.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;
@@ -63,7 +71,8 @@ pub struct Estimate {
     pub whole_mesh: f64,
     /// The rank's share of the mesh, with its ghost layer.
     pub share: f64,
-    /// The coarse operator of the two-level preconditioner (dense, on every rank).
+    /// The coarse operator of the two-level preconditioner (dense, on every rank), or the
+    /// multilevel hierarchy.
     pub coarse: f64,
 }
 
@@ -113,6 +122,8 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         // them is counted (measured: 24.5 MiB more than Jacobi at n = 40, 1500 unknowns).
         let dim = 6.0 * aggregates;
         8.0 * dim * dim
+    } else if c.multilevel {
+        n * MULTILEVEL_PER_NODE
     } else {
         0.0
     };

@@ -29,6 +29,7 @@ impl SceneSize {
         if let Some(p) = p {
             self.preconditioner = p;
             self.counts.two_level = two_level(p, self.counts.nodes);
+            self.counts.multilevel = multilevel(p, self.counts.nodes);
         }
         self
     }
@@ -39,11 +40,20 @@ impl SceneSize {
     }
 }
 
+/// Whether the multilevel hierarchy is built: by name, or under `auto` on meshes above the
+/// size it keeps Jacobi on and below the two-level threshold (solver::stepping).
+fn multilevel(p: Preconditioner, nodes: u64) -> bool {
+    match p {
+        Preconditioner::Multilevel => true,
+        Preconditioner::Auto => nodes > 300 && nodes < TWO_LEVEL_NODES as u64,
+        _ => false,
+    }
+}
+
 fn two_level(p: Preconditioner, nodes: u64) -> bool {
     match p {
-        // The multilevel hierarchy is not modelled yet: counted as the two-level coarse
-        // operator, which underestimates it (see the README's Memory section).
-        Preconditioner::TwoLevel | Preconditioner::Multilevel => true,
+        Preconditioner::TwoLevel => true,
+        Preconditioner::Multilevel => false,
         Preconditioner::Jacobi => false,
         Preconditioner::Auto => nodes >= TWO_LEVEL_NODES as u64,
     }
@@ -95,6 +105,7 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         }
     }
     counts.two_level = two_level(preconditioner, counts.nodes);
+    counts.multilevel = multilevel(preconditioner, counts.nodes);
     Some(SceneSize {
         counts,
         preconditioner,
@@ -135,6 +146,7 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             nodes,
             full_elements,
             two_level: two_level(p.solver.preconditioner, nodes),
+            multilevel: multilevel(p.solver.preconditioner, nodes),
         },
         preconditioner: p.solver.preconditioner,
         beyond_ids: None,

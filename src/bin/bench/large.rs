@@ -301,6 +301,7 @@ mod tests {
             nodes: 2 * 81 * 81 * 81,
             full_elements: 2 * 80 * 80 * 80,
             two_level: true,
+            multilevel: false,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2).unwrap();
