@@ -1,7 +1,9 @@
 //! Scene keys of `j2_plastic`: a bad value is an error naming the file and the key, with a
 //! non-zero exit from `solver check` and `solver run`; a good plastic scene passes.
 
-use std::process::Command;
+mod common;
+
+use common::bad_scene;
 
 const GOOD: &str = r#"
 kinematics = "small"
@@ -21,46 +23,14 @@ value = 0.0
 segments = [{ end = 1.0, steps = 1 }]
 "#;
 
-/// `solver check` and `solver run` on `text`: exit codes (equal) and the messages.
+/// `solver check` and `solver run` on `text`: the exit code (both agree) and the message.
 fn run(name: &str, text: &str) -> (i32, String) {
-    let dir = std::env::temp_dir().join(format!("solver-plastic-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let check = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .expect("solver runs");
-    let out = dir.join(format!("{name}.h5"));
-    let run = Command::new(env!("CARGO_BIN_EXE_solver"))
-        .args([
-            "-q",
-            "run",
-            path.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .expect("solver runs");
-    let err = String::from_utf8_lossy(&run.stderr).to_string();
-    assert_eq!(
-        check.status.code(),
-        run.status.code(),
-        "{name}: check and run disagree"
-    );
-    assert!(!err.contains("panicked"), "{name}: {err}");
-    (run.status.code().unwrap_or(-1), err)
+    bad_scene::check_and_run("plastic-scene", name, text)
 }
 
 fn expect_error(name: &str, text: &str, needles: &[&str]) {
     assert_ne!(text, GOOD, "{name}: the replacement did not apply");
-    let (code, err) = run(name, text);
-    println!("{name}: exit {code}: {}", err.trim());
-    assert_eq!(code, 2, "{name}");
-    assert!(err.contains(&format!("{name}.toml")), "{name}: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
-    }
+    bad_scene::expect_error("plastic-scene", name, text, needles);
 }
 
 #[test]
