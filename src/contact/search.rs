@@ -160,9 +160,40 @@ impl<'a> MasterSurface<'a> {
         self.project_on(k, x).map(|(_, it)| it)
     }
 
+    /// The interaction of a slave node at `x` with the nearest face held, however far
+    /// away: the search of the penetration audit, which must not depend on the search
+    /// tolerances. Ties go to the lowest face index, as in `search`.
+    pub fn nearest(&self, x: &Vec3) -> Option<Interaction> {
+        let candidates: Vec<(f64, Interaction)> = (0..self.faces.len() as u32)
+            .filter_map(|k| self.project_within(k, x, f64::INFINITY, f64::INFINITY))
+            .collect();
+        let nearest = candidates.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+        candidates
+            .into_iter()
+            .filter(|c| c.0 <= nearest + 1e-12 * self.pair.face_size)
+            .min_by_key(|c| c.1.face)
+            .map(|(_, it)| it)
+    }
+
     /// Projection onto one face: (distance to the face, interaction), or None outside the
     /// tolerances.
     fn project_on(&self, k: u32, x: &Vec3) -> Option<(f64, Interaction)> {
+        self.project_within(
+            k,
+            x,
+            self.pair.normal_tolerance,
+            self.pair.tangential_tolerance,
+        )
+    }
+
+    /// Projection onto one face within the given normal and tangential distances.
+    fn project_within(
+        &self,
+        k: u32,
+        x: &Vec3,
+        normal_tolerance: f64,
+        tangential_tolerance: f64,
+    ) -> Option<(f64, Interaction)> {
         let f = self.faces[k as usize];
         let c = &self.corners[k as usize];
         let (s, ok) = closest_point(c, x);
@@ -175,7 +206,7 @@ impl<'a> MasterSurface<'a> {
         let d = sub(x, &xc);
         let gap = dot(&d, &n_face);
         let tangential = norm(&sub(&d, &scale(&n_face, gap)));
-        if gap.abs() > self.pair.normal_tolerance || tangential > self.pair.tangential_tolerance {
+        if gap.abs() > normal_tolerance || tangential > tangential_tolerance {
             return None;
         }
         let n = match self.pair.smoothing_width {

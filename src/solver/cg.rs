@@ -46,6 +46,15 @@ pub enum SolveFailure {
     },
     /// An allocation was refused (on some rank); not retried with a shorter step.
     OutOfMemory(String),
+    /// A slave node stayed inside a master body after gap removal (the penetration audit
+    /// of the equilibrium query).
+    Penetration {
+        /// Global node id, 1-based.
+        node: u64,
+        pair: String,
+        depth: f64,
+        tolerance: f64,
+    },
 }
 
 impl std::fmt::Display for SolveFailure {
@@ -76,6 +85,10 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::ContactNotSettled { updates, detail } => {
                 write!(f, "contact did not settle after {updates} contact updates: {detail}")
             }
+            SolveFailure::Penetration { node, pair, depth, tolerance } => write!(
+                f,
+                "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
+            ),
         }
     }
 }

@@ -151,6 +151,9 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
     extra: Vec<Vec3>,
     /// Which preconditioner the run uses, for the log.
     pub coarse_note: String,
+    /// Depth of the deepest slave node the last step's penetration audit found inside a
+    /// master body (0 when none).
+    audit_depth: f64,
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
@@ -206,6 +209,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             time: problem.start_time,
             dt_prev: 0.0,
             reference_floor: 0.0,
+            audit_depth: 0.0,
             length_scale: problem.mesh.bounding_diagonal(),
             stiffness_scale: stiffness_scale(problem),
             contact: ContactState::default(),
@@ -404,7 +408,9 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 .iter()
                 .map(|&(_, g)| -g)
                 .fold(0.0, f64::max);
-            record.contact.max_penetration = crate::comm::max_f64(self.comm, local);
+            // The deepest of the active nodes' gaps and of the audit's findings.
+            record.contact.max_penetration =
+                crate::comm::max_f64(self.comm, local).max(self.audit_depth);
         }
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
@@ -444,6 +450,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             contact.capture(self.comm, self.problem, self.mesh, u);
         }
         let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
+        let mut recaptured: Vec<(u32, usize)> = Vec::new();
         // Nodal stiffness blocks for the slipping nodes' springs, once per step.
         let mut diag = Vec::new();
         loop {
@@ -486,6 +493,33 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             let mut multipliers = Vec::new();
             self.cg.multipliers(&pb, &mut multipliers);
             let done = !self.problem.contacts.is_empty() && !changed && outcome.iterations == 0;
+            if done {
+                // The penetration audit: a node the search lost inside a master body is
+                // tied back to the master surface (gap removal) and the loop goes on; one
+                // that the step already tied back once fails it, to be cut back.
+                let findings = crate::contact::audit::audit(self.comm, self.problem, self.mesh, u);
+                let deep = crate::contact::audit::too_deep(self.problem, &findings);
+                if let Some(f) = deep
+                    .iter()
+                    .find(|f| recaptured.contains(&(f.slave, f.pair)))
+                {
+                    let pair = &self.problem.contacts[f.pair];
+                    return Err(SolveFailure::Penetration {
+                        node: f.slave as u64 + 1,
+                        pair: pair.name.clone(),
+                        depth: f.depth,
+                        tolerance: pair.capture_tolerance,
+                    });
+                }
+                if !deep.is_empty() {
+                    crate::contact::audit::recapture(contact, self.problem, &deep);
+                    recaptured.extend(deep.iter().map(|f| (f.slave, f.pair)));
+                    changed = true;
+                    updates += 1;
+                    continue;
+                }
+                self.audit_depth = findings.iter().map(|f| f.depth).fold(0.0, f64::max);
+            }
             if self.problem.contacts.is_empty() || done {
                 if !self.problem.contacts.is_empty() {
                     contact.read_forces(self.comm, self.mesh, &cons, &multipliers);

@@ -1,0 +1,359 @@
+//! The penetration audit of the equilibrium query: at the end of a load step every slave
+//! node is tested against the elements of its pair's master bodies in the current
+//! configuration. The test does not depend on the search tolerances, so a node the search
+//! lost (driven deeper than the normal tolerance in one increment, or released while the
+//! master still presses on it) is found inside a master body, with its depth: the distance
+//! to the nearest master face, where gap removal would put it back. Collective; every rank
+//! returns the same findings, in the order (slave node, pair).
+
+use super::ghost::position;
+use super::search::{Interaction, MasterSurface};
+use super::state::{Active, ContactState, Mode};
+use crate::comm::Comm;
+use crate::fem::hex8;
+use crate::math::{inverse, matvec, norm, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Point;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use std::collections::BTreeMap;
+
+/// A slave node found inside a master body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Finding {
+    pub pair: usize,
+    /// Global node id of the slave node.
+    pub slave: u32,
+    /// Distance from the node to the nearest master face.
+    pub depth: f64,
+    /// The node's interaction with that face (gap removal puts it there).
+    pub interaction: Interaction,
+}
+
+/// Whether `p` lies inside the hexahedron with corners `x` (trilinear map, inverted by
+/// Newton's method), its surface included: a node on the surface counts, and its depth
+/// (round-off) then says it does not matter. A degenerate element or a point far outside
+/// gives false.
+pub fn contains(x: &[Vec3; 8], p: &Vec3) -> bool {
+    let mut xi = [0.0f64; 3];
+    for _ in 0..25 {
+        let n = hex8::shape(&xi);
+        let mut r = *p;
+        for (a, &na) in n.iter().enumerate() {
+            for i in 0..3 {
+                r[i] -= na * x[a][i];
+            }
+        }
+        let (jinv, det) = inverse(&hex8::jacobian(x, &hex8::shape_derivatives(&xi)));
+        if !(det.abs() > 0.0) || !det.is_finite() {
+            return false;
+        }
+        let d = matvec(&jinv, &r);
+        for i in 0..3 {
+            xi[i] += d[i];
+        }
+        if xi.iter().any(|v| !(v.abs() <= 3.0)) {
+            return false;
+        }
+        if d.iter().map(|v| v.abs()).sum::<f64>() < 1e-13 {
+            break;
+        }
+    }
+    xi.iter().all(|v| v.abs() <= 1.0)
+}
+
+/// Every slave node inside a master body, with its depth. Collective.
+pub fn audit<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+) -> Vec<Finding> {
+    let slaves = gather_slaves(comm, problem, mesh, u);
+    let mut found: Vec<f64> = Vec::new();
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        let bodies = master_bodies(problem, p);
+        let elements: Vec<usize> = (0..mesh.elements.len())
+            .filter(|&e| mesh.element_owned[e] && bodies.contains(&mesh.element_body[e]))
+            .collect();
+        if elements.is_empty() || pair.slave_nodes.is_empty() {
+            continue;
+        }
+        let corners: Vec<[Vec3; 8]> = elements
+            .iter()
+            .map(|&e| {
+                std::array::from_fn(|a| position(problem, mesh, u, mesh.elements[e][a] as usize))
+            })
+            .collect();
+        let aabbs: Vec<Aabb> = corners.iter().map(bounding_box).collect();
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
+        for (&s, x) in slaves[p].iter() {
+            let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
+            let inside = bvh.intersect_aabb(&probe).any(|k| {
+                let e = elements[k as usize];
+                let own = mesh.elements[e]
+                    .iter()
+                    .any(|&l| mesh.node_global[l as usize] == s);
+                !own && contains(&corners[k as usize], x)
+            });
+            if inside {
+                found.extend([p as f64, s as f64]);
+            }
+        }
+    }
+    let mut found: Vec<(usize, u32)> = comm
+        .all_gather_f64(&found)
+        .iter()
+        .flat_map(|w| {
+            w.chunks_exact(2)
+                .map(|w| (w[0] as usize, w[1] as u32))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    found.sort_unstable_by_key(|&(p, s)| (s, p));
+    found.dedup();
+    if found.is_empty() {
+        return Vec::new();
+    }
+    let surfaces = gather_masters(comm, problem, mesh, u, &found);
+    found
+        .into_iter()
+        .filter_map(|(p, s)| {
+            let x = slaves[p][&s];
+            let surface = surfaces[p].as_ref()?;
+            let it = surface.nearest(&x)?;
+            let xc = surface.point(it.face, &it.s)?;
+            Some(Finding {
+                pair: p,
+                slave: s,
+                depth: norm(&sub(&x, &xc)),
+                interaction: it,
+            })
+        })
+        .collect()
+}
+
+/// The findings deeper than their pair's capture tolerance (at least round-off of the face
+/// size, for a tolerance of zero): the nodes the step must not end with.
+pub fn too_deep(problem: &Problem, findings: &[Finding]) -> Vec<Finding> {
+    findings
+        .iter()
+        .filter(|f| {
+            let pair = &problem.contacts[f.pair];
+            f.depth > pair.capture_tolerance.max(1e-10 * pair.face_size)
+        })
+        .copied()
+        .collect()
+}
+
+/// Gap removal for the nodes found inside a master body: each is tied to the nearest
+/// master face (an active constraint on another face moves there), sticking where the
+/// pair has friction. Every rank holds the same findings and the same active set, so every
+/// rank changes it alike.
+pub fn recapture(state: &mut ContactState, problem: &Problem, findings: &[Finding]) {
+    for f in findings {
+        let it = &f.interaction;
+        if let Some(a) = state
+            .active
+            .iter_mut()
+            .find(|a| a.slave == f.slave && a.pair == f.pair)
+        {
+            a.face = it.face;
+            a.s = it.s;
+            a.normal = it.normal;
+            continue;
+        }
+        state.active.push(Active {
+            pair: f.pair,
+            slave: f.slave,
+            face: it.face,
+            s: it.s,
+            normal: it.normal,
+            mode: if problem.contacts[f.pair].mu > 0.0 {
+                Mode::Stick
+            } else {
+                Mode::Free
+            },
+            normal_force: 0.0,
+            tangential_force: [0.0; 3],
+            slip_stiffness: 0.0,
+            secant: None,
+            start: None,
+            reversals: 0,
+        });
+    }
+    state.active.sort_by_key(|a| (a.slave, a.pair));
+}
+
+/// The bodies that own a pair's master faces.
+fn master_bodies(problem: &Problem, p: usize) -> Vec<u32> {
+    let mut bodies: Vec<u32> = problem.contacts[p]
+        .master_faces
+        .iter()
+        .map(|&(e, _)| problem.mesh.element_body[e as usize])
+        .collect();
+    bodies.sort_unstable();
+    bodies.dedup();
+    bodies
+}
+
+fn bounding_box(x: &[Vec3; 8]) -> Aabb {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in x {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    Aabb::new(
+        Point::new(lo[0], lo[1], lo[2]),
+        Point::new(hi[0], hi[1], hi[2]),
+    )
+}
+
+/// Current positions of every pair's slave nodes, on every rank. Collective.
+fn gather_slaves<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+) -> Vec<BTreeMap<u32, Vec3>> {
+    let mut words = Vec::new();
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        for &s in &pair.slave_nodes {
+            if let Some(l) = mesh.owned_node(s) {
+                let x = position(problem, mesh, u, l);
+                words.extend([p as f64, s as f64, x[0], x[1], x[2]]);
+            }
+        }
+    }
+    let mut out = vec![BTreeMap::new(); problem.contacts.len()];
+    for part in comm.all_gather_f64(&words) {
+        for w in part.chunks_exact(5) {
+            out[w[0] as usize].insert(w[1] as u32, [w[2], w[3], w[4]]);
+        }
+    }
+    out
+}
+
+/// Every master face of the pairs with findings, at the current configuration, on every
+/// rank (None for the other pairs). Collective.
+fn gather_masters<'p, C: Comm + ?Sized>(
+    comm: &C,
+    problem: &'p Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    found: &[(usize, u32)],
+) -> Vec<Option<MasterSurface<'p>>> {
+    let wanted: Vec<bool> = (0..problem.contacts.len())
+        .map(|p| found.iter().any(|f| f.0 == p))
+        .collect();
+    let mut words = Vec::new();
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        if !wanted[p] {
+            continue;
+        }
+        for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
+            if mesh.owned_element(e).is_none() {
+                continue;
+            }
+            words.extend([p as f64, f as f64]);
+            for &n in &pair.face_nodes[f] {
+                let l = mesh
+                    .local_node(n)
+                    .expect("a face node of an owned element is local");
+                words.extend(position(problem, mesh, u, l));
+            }
+        }
+    }
+    let mut faces: Vec<BTreeMap<u32, [Vec3; 4]>> = vec![BTreeMap::new(); problem.contacts.len()];
+    for part in comm.all_gather_f64(&words) {
+        for w in part.chunks_exact(14) {
+            let c = std::array::from_fn(|a| std::array::from_fn(|i| w[2 + 3 * a + i]));
+            faces[w[0] as usize].insert(w[1] as u32, c);
+        }
+    }
+    let small = problem.body_models.iter().all(|m| !m.material.is_large());
+    problem
+        .contacts
+        .iter()
+        .zip(faces)
+        .enumerate()
+        .map(|(p, (pair, faces))| {
+            if !wanted[p] {
+                return None;
+            }
+            let ids: Vec<u32> = faces.keys().copied().collect();
+            let corners: Vec<[Vec3; 4]> = faces.values().copied().collect();
+            let surface = MasterSurface::from_faces(pair, ids.clone(), corners.clone(), corners);
+            Some(if small {
+                let reference = ids
+                    .iter()
+                    .map(|&f| {
+                        let n = &pair.face_nodes[f as usize];
+                        std::array::from_fn(|a| problem.mesh.coords[n[a] as usize])
+                    })
+                    .collect();
+                surface.with_reference_normals(reference)
+            } else {
+                surface
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_cube() -> [Vec3; 8] {
+        [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ]
+    }
+
+    #[test]
+    fn inside_and_outside_a_cube() {
+        let x = unit_cube();
+        assert!(contains(&x, &[0.5, 0.5, 0.5]));
+        assert!(contains(&x, &[0.01, 0.99, 0.5]));
+        assert!(!contains(&x, &[1.01, 0.5, 0.5]));
+        assert!(!contains(&x, &[0.5, -0.01, 0.5]));
+        assert!(!contains(&x, &[5.0, 5.0, 5.0]));
+    }
+
+    #[test]
+    fn inside_a_sheared_twisted_hexahedron() {
+        // A distorted element: the top face shifted and one corner pulled out. The mapped
+        // centre of the reference cube is inside; a point mapped from xi = 1.05 is not.
+        let mut x = unit_cube();
+        for c in x.iter_mut().skip(4) {
+            c[0] += 0.4;
+        }
+        x[6] = [1.7, 1.3, 1.2];
+        let map = |xi: [f64; 3]| {
+            let n = hex8::shape(&xi);
+            let mut p = [0.0; 3];
+            for a in 0..8 {
+                for i in 0..3 {
+                    p[i] += n[a] * x[a][i];
+                }
+            }
+            p
+        };
+        assert!(contains(&x, &map([0.0, 0.0, 0.0])));
+        assert!(contains(&x, &map([0.9, 0.9, 0.9])));
+        assert!(contains(&x, &map([-0.99, 0.5, 0.99])));
+        assert!(!contains(&x, &map([1.05, 0.0, 0.0])));
+        assert!(!contains(&x, &map([0.0, -1.05, 0.5])));
+    }
+}
