@@ -54,6 +54,8 @@ pub enum SolveFailure {
         pair: String,
         depth: f64,
         tolerance: f64,
+        /// Under small kinematics: the message then says that small sliding was exceeded.
+        small_kinematics: bool,
     },
 }
 
@@ -85,10 +87,16 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::ContactNotSettled { updates, detail } => {
                 write!(f, "contact did not settle after {updates} contact updates: {detail}")
             }
-            SolveFailure::Penetration { node, pair, depth, tolerance } => write!(
-                f,
-                "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
-            ),
+            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics } => {
+                write!(
+                    f,
+                    "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
+                )?;
+                if *small_kinematics {
+                    write!(f, "; small sliding was exceeded: under kinematics = \"small\" the master faces keep their reference normals, which holds only while the bodies slide and rotate little; kinematics = \"large\" follows the sliding")?;
+                }
+                Ok(())
+            }
         }
     }
 }

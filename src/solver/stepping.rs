@@ -509,6 +509,11 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         pair: pair.name.clone(),
                         depth: f.depth,
                         tolerance: pair.capture_tolerance,
+                        small_kinematics: self
+                            .problem
+                            .body_models
+                            .iter()
+                            .all(|m| !m.material.is_large()),
                     });
                 }
                 if !deep.is_empty() {
