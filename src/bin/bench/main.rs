@@ -33,6 +33,9 @@
 //! of its own (the other sections are left as they are; a later normal run keeps it)
 //! (`large`).
 //!
+//! `bench --ironing [--out DIR]` runs only the ironing example with CalculiX beside it
+//! (`peers::calculix::ironing`) into `<out>/ironing/`.
+//!
 //! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
 //! which the report writers (`report`, one file per section, JSON and Markdown side by
 //! side) read; `runner` runs programs (the solver under `run/mpirun`, with time limits,
@@ -62,10 +65,13 @@ use std::process::ExitCode;
 const USAGE: &str = concat!(
     "usage: bench [--quick] [--out DIR]\n",
     "       bench --large [--ranks R[,R]] [--out DIR]\n",
+    "       bench --ironing [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
     "               its own\n",
+    "  --ironing    only the ironing example beside CalculiX: die forces, a picture, in\n",
+    "               <out>/ironing/\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
@@ -75,6 +81,7 @@ const USAGE: &str = concat!(
 enum Mode {
     Normal { quick: bool },
     Large { ranks: Vec<usize> },
+    Ironing,
 }
 
 #[derive(Debug, PartialEq)]
@@ -88,6 +95,7 @@ struct Args {
 fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, String> {
     let mut quick = false;
     let mut large = false;
+    let mut ironing = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = args.into_iter();
@@ -95,6 +103,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
         match a.as_str() {
             "--quick" => quick = true,
             "--large" => large = true,
+            "--ironing" => ironing = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -117,10 +126,15 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if large && quick {
         return Err("--large and --quick do not go together".into());
     }
+    if ironing && (large || quick) {
+        return Err("--ironing goes with --out only".into());
+    }
     if ranks.is_some() && !large {
         return Err("--ranks goes with --large only".into());
     }
-    let mode = if large {
+    let mode = if ironing {
+        Mode::Ironing
+    } else if large {
         Mode::Large {
             ranks: ranks.unwrap_or(large::LARGE_DEFAULT_RANKS.to_vec()),
         }
@@ -145,6 +159,7 @@ fn main() -> ExitCode {
     };
     let done = match args.mode {
         Mode::Large { ranks } => large::run(&args.out, &ranks),
+        Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
@@ -188,6 +203,17 @@ mod tests {
                 mode: Mode::Large { ranks: vec![2, 1] },
                 out: PathBuf::from("out/bench"),
             }))
+        );
+        assert_eq!(
+            parse(&["--ironing", "--out", "d"]),
+            Ok(Some(Args {
+                mode: Mode::Ironing,
+                out: PathBuf::from("d"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--ironing", "--large"]),
+            Err("--ironing goes with --out only".into())
         );
         assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
         assert_eq!(parse(&["-h"]), Ok(None));

@@ -38,6 +38,8 @@ pub struct Material {
 pub enum MaterialCard {
     /// `*ELASTIC`: isotropic linear elasticity.
     Elastic { e: f64, nu: f64 },
+    /// `*HYPERELASTIC, NEO HOOKE`: W = C10 (I1bar - 3) + (J - 1)^2 / D1.
+    NeoHooke { c10: f64, d1: f64 },
 }
 
 pub struct NodeSet {
@@ -52,11 +54,15 @@ pub struct Surface {
     pub faces: Vec<(usize, u8)>,
 }
 
-/// `*SURFACE INTERACTION` with a linear pressure-overclosure law.
+/// `*SURFACE INTERACTION` with a linear pressure-overclosure law, and `*FRICTION` when
+/// there is friction.
 pub struct Interaction {
     pub name: String,
     /// Pressure per unit overclosure.
     pub penalty: f64,
+    /// Coulomb coefficient and stick slope (shear stress per unit tangential
+    /// displacement while sticking).
+    pub friction: Option<(f64, f64)>,
 }
 
 pub enum PairType {
@@ -73,6 +79,8 @@ pub struct ContactPair {
 /// `*STEP` ... `*END STEP`.
 pub struct Step {
     pub nlgeom: bool,
+    /// `INC=`: the most increments ccx may take in the step (its default is 100).
+    pub max_increments: usize,
     /// `*STATIC`: initial increment, step period, minimum and maximum increment.
     pub increments: [f64; 4],
     pub boundaries: Vec<Boundary>,
@@ -110,13 +118,19 @@ pub fn name(prefix: &str, name: &str) -> String {
     format!("{prefix}{s}")
 }
 
-/// A real number as Fortran reads it back exactly: the shortest round-trip digits, with a
-/// decimal point in the mantissa (`1e-5` becomes `1.0e-5`).
+/// A real number as Fortran reads it back: the shortest round-trip digits, with a decimal
+/// point in the mantissa (`1e-5` becomes `1.0e-5`); where those take more than the 20
+/// characters ccx reads of a field, 13 significant digits.
 pub fn real(x: f64) -> String {
     let s = format!("{x:?}");
-    match s.find('e') {
+    let s = match s.find('e') {
         Some(i) if !s[..i].contains('.') => format!("{}.0{}", &s[..i], &s[i..]),
         _ => s,
+    };
+    if s.len() <= 20 {
+        s
+    } else {
+        format!("{x:.12e}")
     }
 }
 
@@ -169,6 +183,9 @@ impl Deck {
                 i.name,
                 real(i.penalty)
             );
+            if let Some((mu, slope)) = i.friction {
+                let _ = writeln!(w, "*FRICTION\n{}, {}", real(mu), real(slope));
+            }
         }
         for p in &self.contact_pairs {
             let kind = match p.kind {
@@ -204,6 +221,9 @@ impl Solid {
                 MaterialCard::Elastic { e, nu } => {
                     let _ = writeln!(w, "*ELASTIC\n{}, {}", real(*e), real(*nu));
                 }
+                MaterialCard::NeoHooke { c10, d1 } => {
+                    let _ = writeln!(w, "*HYPERELASTIC, NEO HOOKE\n{}, {}", real(*c10), real(*d1));
+                }
             }
         }
         let _ = writeln!(
@@ -216,7 +236,12 @@ impl Solid {
 
 impl Step {
     fn write(&self, w: &mut String) {
-        let _ = writeln!(w, "*STEP{}", if self.nlgeom { ", NLGEOM" } else { "" });
+        let _ = writeln!(
+            w,
+            "*STEP{}, INC={}",
+            if self.nlgeom { ", NLGEOM" } else { "" },
+            self.max_increments
+        );
         let inc: Vec<String> = self.increments.iter().map(|&x| real(x)).collect();
         let _ = writeln!(w, "*STATIC\n{}", inc.join(", "));
         if !self.boundaries.is_empty() {
@@ -256,6 +281,9 @@ mod tests {
         assert_eq!(real(1e7), "10000000.0");
         assert_eq!(real(2.5e-7), "2.5e-7");
         assert_eq!(real(0.1 + 0.2), "0.30000000000000004");
+        // Longer than a ccx field: 13 significant digits.
+        assert_eq!(real(-2.220446049250313e-16), "-2.220446049250e-16");
+        assert_eq!(real(-1.0 / 3.0), "-0.3333333333333333");
         assert_eq!(name("N_", "upper top-1"), "N_UPPER_TOP_1");
     }
 
@@ -289,7 +317,7 @@ cube
 10000000.0
 *CONTACT PAIR, INTERACTION=I, TYPE=NODE TO SURFACE
 S_TOP, S_TOP
-*STEP, NLGEOM
+*STEP, NLGEOM, INC=100
 *STATIC
 0.1, 1.0, 1.0e-5, 0.5
 *BOUNDARY
@@ -335,6 +363,7 @@ RF
             interactions: vec![Interaction {
                 name: "I".into(),
                 penalty: 1e7,
+                friction: None,
             }],
             contact_pairs: vec![ContactPair {
                 interaction: "I".into(),
@@ -344,6 +373,7 @@ RF
             }],
             steps: vec![Step {
                 nlgeom: true,
+                max_increments: 100,
                 increments: [0.1, 1.0, 1e-5, 0.5],
                 boundaries: vec![Boundary {
                     node_set: "N_TOP".into(),

@@ -6,13 +6,15 @@
 //!   refuses, naming it);
 //! - `run`: `ccx` on a deck under limits, with repeats and timing;
 //! - `output`: what ccx wrote (.dat totals, its log), read back;
-//! - `block`: the block-on-block problem with CalculiX beside our runs.
+//! - `block`: the block-on-block problem with CalculiX beside our runs;
+//! - `ironing`: the ironing example with CalculiX beside our run (`bench --ironing`).
 //!
 //! A new problem for CalculiX is a file like `block.rs`: its deck from `scene` (extended
 //! with what the problem needs) or built with `deck`, run by `run`, read by `output`.
 
 pub mod block;
 pub mod deck;
+pub mod ironing;
 pub mod output;
 pub mod run;
 pub mod scene;

@@ -18,6 +18,36 @@ pub fn total_force(dat: &str, set: &str) -> Option<Vec3> {
     (v.len() == 3).then(|| [v[0], v[1], v[2]])
 }
 
+/// Every "total force (fx,fy,fz) for set NAME and time T" of a .dat file, in order:
+/// (T, force).
+pub fn total_forces(dat: &str, set: &str) -> Vec<(f64, Vec3)> {
+    let key = format!("total force (fx,fy,fz) for set {set} and time");
+    let lines: Vec<&str> = dat.lines().collect();
+    let mut out = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        let Some(t) = l
+            .split(&key)
+            .nth(1)
+            .and_then(|t| t.trim().parse::<f64>().ok())
+        else {
+            continue;
+        };
+        let v: Vec<f64> = lines[i + 1..]
+            .iter()
+            .find(|l| !l.trim().is_empty())
+            .map(|l| {
+                l.split_whitespace()
+                    .filter_map(|x| x.parse().ok())
+                    .collect()
+            })
+            .unwrap_or_default();
+        if v.len() == 3 {
+            out.push((t, [v[0], v[1], v[2]]));
+        }
+    }
+    out
+}
+
 /// The first `*ERROR` line of the log: ccx exits with 0 after an input error too, so a
 /// run is judged by its output.
 pub fn error_line(log: &str) -> Option<&str> {
@@ -115,5 +145,20 @@ ________________________________________
             Some("*ERROR reading *BOUNDARY: node set N_X has not yet been defined.")
         );
         assert_eq!(total_time("Job finished"), None);
+    }
+
+    #[test]
+    fn every_total_is_read_with_its_time() {
+        let two = format!(
+            "{DAT}\n total force (fx,fy,fz) for set N_UPPER_TOP and time  0.2000000E+01\n\n        2.0E+00 -8.5E+00 0.0E+00\n"
+        );
+        assert_eq!(
+            total_forces(&two, "N_UPPER_TOP"),
+            vec![
+                (1.0, [1.356814e-05, -4.374205, -1.356814e-05]),
+                (2.0, [2.0, -8.5, 0.0])
+            ]
+        );
+        assert!(total_forces(&two, "N_OTHER").is_empty());
     }
 }

@@ -1,9 +1,12 @@
 //! A CalculiX deck of a scene as the solver loads it: the same nodes and elements (ids =
-//! our 1-based ids), a linear elastic material per body, the prescribed displacements at
-//! the last step's time applied over one static step (ramped), the contact pair as
-//! frictionless node-to-surface penalty contact, and the total reaction force of every
-//! prescribed node set printed to the .dat file. What a scene holds beyond that is refused
-//! with a message naming it; a new problem extends the translation here.
+//! our 1-based ids), a material per body (linear elastic as *ELASTIC, neo-Hookean as NEO
+//! HOOKE with the same initial shear and bulk moduli), one static step per segment of equal
+//! load steps (NLGEOM under large kinematics) in the scene's increments with the prescribed
+//! displacements at the segment's end, the contact pair as node-to-surface penalty contact
+//! (with Coulomb friction when the pair has it), and the total reaction force of every
+//! prescribed node set printed to the .dat file at every increment. What a scene holds
+//! beyond that is refused with a message naming it; a new problem extends the translation
+//! here.
 
 use super::deck::{
     name, Boundary, ContactPair, Deck, Interaction, Material as CcxMaterial, MaterialCard,
@@ -16,15 +19,17 @@ use crate::api::{Formulation, Kinematics, Material, Problem, HEX8_FACES};
 /// 1-5-6-2 (-y), S4 2-6-7-3 (+x), S5 3-7-8-4 (+y), S6 4-8-5-1 (-x).
 pub const CCX_FACE: [u8; 6] = [3, 4, 5, 6, 1, 2];
 
+/// The stick slope of Coulomb friction (shear stress per unit tangential displacement while
+/// sticking) as a fraction of the normal penalty: a sticking point then moves about
+/// 10 mu times the overclosure before it slips, a few overclosures, small against any slide.
+const STICK_SLOPE: f64 = 0.1;
+
 fn unsupported<T>(what: &str) -> Result<T, String> {
     Err(format!("the CalculiX deck does not support {what}"))
 }
 
 /// The deck of `problem`, contact by a linear pressure-overclosure law of slope `penalty`.
 pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
-    if !matches!(problem.kinematics, Kinematics::Small) {
-        return unsupported("large kinematics");
-    }
     if !problem.pressures.is_empty()
         || !problem.tractions.is_empty()
         || !problem.body_forces.is_empty()
@@ -34,24 +39,34 @@ pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
     let [pair] = problem.contacts.as_slice() else {
         return unsupported("other than one contact pair");
     };
-    if pair.mu != 0.0 {
-        return unsupported("friction");
-    }
+    let large = matches!(problem.kinematics, Kinematics::Large);
     let solids = solids(problem)?;
-    let (node_sets, step) = prescribed(problem)?;
+    let (node_sets, steps) = prescribed(problem, large)?;
     let mut deck = Deck {
         comments: vec![
             format!(
                 "{} written by the solver's bench: C3D8 (2x2x2 Gauss) as the scene's \"full\",",
                 problem.name
             ),
-            "frictionless node-to-surface penalty contact, linear static (no NLGEOM).".into(),
+            format!(
+                "node-to-surface penalty contact{}, {}.",
+                if pair.mu > 0.0 {
+                    " with Coulomb friction"
+                } else {
+                    ", frictionless"
+                },
+                if large {
+                    "NLGEOM"
+                } else {
+                    "linear static (no NLGEOM)"
+                }
+            ),
         ],
         heading: problem.name.clone(),
         nodes: problem.mesh.coords.clone(),
         solids,
         node_sets,
-        steps: vec![step],
+        steps,
         ..Deck::default()
     };
     contact(problem, penalty, &mut deck)?;
@@ -65,15 +80,26 @@ fn solids(problem: &Problem) -> Result<Vec<Solid>, String> {
     let mut solids = Vec::new();
     for (b, body) in mesh.bodies.iter().enumerate() {
         let model = &problem.body_models[b];
-        let Material::LinearElastic(m) = &model.material else {
-            return unsupported("materials other than linear elastic");
+        let card = match &model.material {
+            Material::LinearElastic(m) => {
+                let (lambda, mu) = (m.lambda, m.mu);
+                MaterialCard::Elastic {
+                    e: mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu),
+                    nu: lambda / (2.0 * (lambda + mu)),
+                }
+            }
+            // W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 and ccx's C10 (I1bar - 3) +
+            // (J - 1)^2 / D1 agree to second order in the strain with C10 = mu / 2 and
+            // D1 = 2 / K, K = lambda + 2 mu / 3; they differ at large strain.
+            Material::NeoHookean(m) => MaterialCard::NeoHooke {
+                c10: m.mu / 2.0,
+                d1: 2.0 / (m.lambda + 2.0 * m.mu / 3.0),
+            },
+            _ => return unsupported("materials other than linear elastic and neo-Hookean"),
         };
         if !matches!(model.formulation, Formulation::Full) {
             return unsupported("formulations other than \"full\"");
         }
-        let (lambda, mu) = (m.lambda, m.mu);
-        let e = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
-        let nu = lambda / (2.0 * (lambda + mu));
         let elements = (body.first_element..body.first_element + body.num_elements)
             .map(|k| (k + 1, mesh.elements[k].map(|n| n as usize + 1)))
             .collect();
@@ -82,22 +108,20 @@ fn solids(problem: &Problem) -> Result<Vec<Solid>, String> {
             elements,
             material: CcxMaterial {
                 name: name("M_", &body.name),
-                cards: vec![MaterialCard::Elastic { e, nu }],
+                cards: vec![card],
             },
         });
     }
     Ok(solids)
 }
 
-/// The prescribed node sets and the one step: each prescribed displacement along one axis
-/// at the final time, and the total reaction force of every prescribed set printed.
-fn prescribed(problem: &Problem) -> Result<(Vec<NodeSet>, Step), String> {
-    let t_end = problem
-        .step_times
-        .last()
-        .copied()
-        .ok_or("the scene has no load steps")?;
-    let mut boundaries = Vec::new();
+/// The prescribed node sets and the steps: one per segment of load steps of equal length
+/// (its increments those steps), each prescribed displacement along one axis at the
+/// segment's end (ccx ramps it linearly over the step, as the scene's piecewise-linear
+/// functions do between the segment ends), the total reaction force of every prescribed
+/// set printed at every increment.
+fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>), String> {
+    let mut axes = Vec::new();
     let mut sets: Vec<usize> = Vec::new();
     for dc in &problem.dirichlet {
         let axis = (0..3).find(|&i| {
@@ -107,13 +131,7 @@ fn prescribed(problem: &Problem) -> Result<(Vec<NodeSet>, Step), String> {
         let Some(i) = axis else {
             return unsupported("prescribed directions other than x, y or z");
         };
-        let dof = i as u8 + 1;
-        boundaries.push(Boundary {
-            node_set: name("N_", &problem.node_sets[dc.node_set].name),
-            first: dof,
-            last: dof,
-            value: dc.function.eval(t_end) / dc.direction[i],
-        });
+        axes.push(i);
         if !sets.contains(&dc.node_set) {
             sets.push(dc.node_set);
         }
@@ -128,7 +146,7 @@ fn prescribed(problem: &Problem) -> Result<(Vec<NodeSet>, Step), String> {
             }
         })
         .collect();
-    let node_prints = node_sets
+    let node_prints: Vec<NodePrint> = node_sets
         .iter()
         .map(|s| NodePrint {
             node_set: s.name.clone(),
@@ -136,17 +154,56 @@ fn prescribed(problem: &Problem) -> Result<(Vec<NodeSet>, Step), String> {
             totals_only: true,
         })
         .collect();
-    let step = Step {
-        nlgeom: false,
-        increments: [1.0, 1.0, 1.0e-5, 1.0],
-        boundaries,
-        node_prints,
-    };
-    Ok((node_sets, step))
+    let steps = segments(problem)?
+        .into_iter()
+        .map(|(start, end, dt)| Step {
+            nlgeom: large,
+            max_increments: 10_000,
+            increments: [dt, end - start, 1.0e-5 * (end - start), dt],
+            boundaries: problem
+                .dirichlet
+                .iter()
+                .zip(&axes)
+                .map(|(dc, &i)| Boundary {
+                    node_set: name("N_", &problem.node_sets[dc.node_set].name),
+                    first: i as u8 + 1,
+                    last: i as u8 + 1,
+                    value: dc.function.eval(end) / dc.direction[i],
+                })
+                .collect(),
+            node_prints: node_prints
+                .iter()
+                .map(|p| NodePrint {
+                    node_set: p.node_set.clone(),
+                    variables: p.variables.clone(),
+                    totals_only: p.totals_only,
+                })
+                .collect(),
+        })
+        .collect();
+    Ok((node_sets, steps))
+}
+
+/// The load steps as segments of equal steps: (start, end, step length).
+fn segments(problem: &Problem) -> Result<Vec<(f64, f64, f64)>, String> {
+    let mut out: Vec<(f64, f64, f64)> = Vec::new();
+    let mut t0 = problem.start_time;
+    for &t in &problem.step_times {
+        let dt = t - t0;
+        match out.last_mut() {
+            Some(seg) if (dt - seg.2).abs() <= 1e-9 * dt.abs() => seg.1 = t,
+            _ => out.push((t0, t, dt)),
+        }
+        t0 = t;
+    }
+    if out.is_empty() {
+        return Err("the scene has no load steps".into());
+    }
+    Ok(out)
 }
 
 /// The pair's master faces, the slave faces from the side set whose nodes are the pair's
-/// slave nodes, and frictionless node-to-surface penalty contact between them.
+/// slave nodes, and node-to-surface penalty contact between them.
 fn contact(problem: &Problem, penalty: f64, deck: &mut Deck) -> Result<(), String> {
     let mesh = &problem.mesh;
     let pair = &problem.contacts[0];
@@ -180,11 +237,12 @@ fn contact(problem: &Problem, penalty: f64, deck: &mut Deck) -> Result<(), Strin
         surface("S_SLAVE", &slave_set.faces),
     ];
     deck.interactions = vec![Interaction {
-        name: "FRICTIONLESS".into(),
+        name: "CONTACT".into(),
         penalty,
+        friction: (pair.mu > 0.0).then_some((pair.mu, STICK_SLOPE * penalty)),
     }];
     deck.contact_pairs = vec![ContactPair {
-        interaction: "FRICTIONLESS".into(),
+        interaction: "CONTACT".into(),
         kind: PairType::NodeToSurface,
         slave: "S_SLAVE".into(),
         master: "S_MASTER".into(),
@@ -231,9 +289,10 @@ mod tests {
         assert!(deck.contains("*NODE PRINT, NSET=N_LOWER_BOTTOM, TOTALS=ONLY\nRF\n"));
     }
 
-    /// A scene beyond the translation is refused, naming what it holds.
+    /// Friction becomes *FRICTION (mu and a stick slope a tenth of the penalty); a scene
+    /// beyond the translation is refused, naming what it holds.
     #[test]
-    fn friction_is_refused() {
+    fn friction_and_a_refusal() {
         let text = std::fs::read_to_string(repo_root().join(BLOCK_SCENE)).unwrap();
         let text = text.replacen(
             "friction = \"frictionless\"",
@@ -241,7 +300,47 @@ mod tests {
             1,
         );
         let problem = crate::api::parse(&text).unwrap();
+        let text_of = deck(&problem, 1e7).unwrap().text();
+        assert!(text_of.contains("*FRICTION\n0.3, 1000000.0\n"), "{text_of}");
+        let skew = format!(
+            "{text}\n[[displacement]]\nnode_set = \"{}\"\ndirection = [1.0, 1.0, 0.0]\nvalue = 0.0\n",
+            crate::block::BLOCK_TOP_SET
+        );
+        let problem = crate::api::parse(&skew).unwrap();
         let e = deck(&problem, 1e7).err().unwrap();
-        assert_eq!(e, "the CalculiX deck does not support friction");
+        assert_eq!(
+            e,
+            "the CalculiX deck does not support prescribed directions other than x, y or z"
+        );
+    }
+
+    /// The ironing example: NLGEOM, the slab's neo-Hookean solid as NEO HOOKE, two steps
+    /// (pressing in 5 increments of 0.2, dragging in 30 of 1/30), the die's final position.
+    #[test]
+    fn deck_of_the_ironing_example() {
+        let problem =
+            load_scene_refined(&repo_root().join("run/examples/ironing.toml"), 1).unwrap();
+        let deck = deck(&problem, 2e5).unwrap().text();
+        assert_eq!(
+            deck.matches("*STEP, NLGEOM, INC=10000\n").count(),
+            2,
+            "{deck}"
+        );
+        // E = 1000, nu = 0.3: mu = 384.6..., C10 = mu / 2, K = 833.3..., D1 = 2 / K.
+        let c10 = 1000.0 / (2.0 * 1.3) / 2.0;
+        let d1 = 2.0 / (1000.0 / (3.0 * 0.4));
+        let line = deck
+            .lines()
+            .skip_while(|l| !l.starts_with("*MATERIAL, NAME=M_SLAB"))
+            .nth(2)
+            .unwrap();
+        let v: Vec<f64> = line.split(", ").map(|x| x.parse().unwrap()).collect();
+        assert!(
+            (v[0] - c10).abs() < 1e-12 * c10 && (v[1] - d1).abs() < 1e-12 * d1,
+            "{line}"
+        );
+        assert!(deck.contains("*STATIC\n0.2, 1.0, 1.0e-5, 0.2\n"), "{deck}");
+        assert!(deck.contains("N_DIE, 1, 1, 3.0\n"), "{deck}");
+        assert!(deck.contains("*FRICTION\n0.3, 20000.0\n"), "{deck}");
     }
 }

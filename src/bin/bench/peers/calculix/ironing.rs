@@ -1,0 +1,340 @@
+//! The ironing example (`run/examples/ironing.toml`: a rigid half-cylinder die pressed into
+//! a neo-Hookean slab, then dragged along it with Coulomb friction) run by the solver and
+//! by CalculiX (NLGEOM, node-to-surface penalty contact with friction, the deck from
+//! `scene`): the die's horizontal and vertical force against the slide distance for both
+//! codes in one picture, their means over steady sliding and the differences.
+//! `bench --ironing [--out DIR]` writes `<out>/ironing/`: `report.md`, `results.json`,
+//! `forces.png`, the deck and both codes' outputs.
+
+use super::output::total_forces;
+use super::run::{version, Job, Outcome};
+use super::{deck::name, scene};
+use crate::api::{load_scene_refined, Problem, ResultFile, Vec3};
+use crate::runner::solver::{repo_root, solver_exe};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+pub const IRONING_SCENE: &str = "run/examples/ironing.toml";
+/// The die's node set: every node prescribed, its total reaction is the die force.
+pub const DIE_SET: &str = "die";
+/// Slope of ccx's pressure-overclosure law: with contact pressures of about 250 the
+/// overclosure is about 1.2e-3, 0.6% of the 0.2 the die is pressed in (a penalty of 5e4
+/// gives a vertical force 0.9% lower, one of 1e6 does not converge).
+pub const IRONING_PENALTY: f64 = 2e5;
+/// Steady sliding: the second half of the drag (t from 1.5 to 2 of the scene), after the
+/// slab ahead of the die has bulged.
+pub const STEADY_FROM: f64 = 1.5;
+
+/// A die force history: (time, total reaction of the die).
+pub type Curve = Vec<(f64, Vec3)>;
+
+pub struct Ironing {
+    pub ours: Curve,
+    pub ours_wall: f64,
+    /// CalculiX's history and wall time, or why there is none.
+    pub ccx: Result<(Curve, f64), String>,
+    pub ccx_version: Option<String>,
+    /// The die's horizontal displacement as a function of time (the slide distance).
+    pub slide: Vec<(f64, f64)>,
+}
+
+/// Median (F_x, |F_y|) over steady sliding. The median, not the mean: CalculiX's force
+/// dips (to about 0.7 of its steady value) at the increments where its node-to-surface
+/// contact elements are regenerated, a few in each slab element the die passes; the mean
+/// takes those dips in (its vertical force comes out 4% low), the median does not.
+pub fn steady(curve: &Curve) -> Option<(f64, f64)> {
+    let fx = median(steady_values(curve, |f| f[0]))?;
+    let fy = median(steady_values(curve, |f| f[1].abs()))?;
+    Some((fx, fy))
+}
+
+/// Mean (F_x, |F_y|) over steady sliding, for the report beside the median.
+pub fn steady_mean(curve: &Curve) -> Option<(f64, f64)> {
+    let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+    Some((
+        mean(steady_values(curve, |f| f[0]))?,
+        mean(steady_values(curve, |f| f[1].abs()))?,
+    ))
+}
+
+fn steady_values(curve: &Curve, of: impl Fn(&Vec3) -> f64) -> Vec<f64> {
+    curve
+        .iter()
+        .filter(|(t, _)| *t > STEADY_FROM + 1e-9)
+        .map(|(_, f)| of(f))
+        .collect()
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    })
+}
+
+/// Runs both codes into `<out>/ironing/` and writes the report there.
+pub fn run(out: &Path) -> Result<Ironing, String> {
+    let dir = report_dir(out);
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let scene_path = repo_root().join(IRONING_SCENE);
+    let problem = load_scene_refined(&scene_path, 1).map_err(|e| e.to_string())?;
+    let die = problem
+        .node_set(DIE_SET)
+        .ok_or_else(|| format!("{IRONING_SCENE} has no node set '{DIE_SET}'"))?
+        .nodes
+        .clone();
+    let (ours, ours_wall) = ours(&scene_path, &dir, &die)?;
+    let ccx_version = version();
+    let ccx = match &ccx_version {
+        None => Err("CalculiX not available (no ccx on PATH; `run/setup --calculix`)".into()),
+        Some(_) => calculix(&problem, &dir),
+    };
+    let ironing = Ironing {
+        ours,
+        ours_wall,
+        ccx,
+        ccx_version,
+        slide: slide(&problem),
+    };
+    plot(&ironing, &dir.join("forces.png"))?;
+    let (md, json) = (markdown(&ironing), json(&ironing));
+    std::fs::write(dir.join("report.md"), &md).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("results.json"), json).map_err(|e| e.to_string())?;
+    println!("{md}");
+    Ok(ironing)
+}
+
+/// Our run of the example, and the die force at every step from its result file.
+fn ours(scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
+    let h5 = dir.join("ours.h5");
+    let _ = std::fs::remove_file(&h5);
+    let start = Instant::now();
+    let o = std::process::Command::new(solver_exe()?)
+        .args(["-q", "run"])
+        .arg(scene)
+        .arg("-o")
+        .arg(&h5)
+        .output()
+        .map_err(|e| format!("cannot start the solver: {e}"))?;
+    let wall = start.elapsed().as_secs_f64();
+    if !o.status.success() {
+        return Err(format!(
+            "the solver failed on {IRONING_SCENE}: {}",
+            String::from_utf8_lossy(&o.stderr).trim()
+        ));
+    }
+    let f = ResultFile::open(&h5).map_err(|e| e.to_string())?;
+    let times = f.time().map_err(|e| e.to_string())?;
+    let mut curve = Vec::new();
+    for (k, &t) in times.iter().enumerate() {
+        let r = f.reaction(k).map_err(|e| e.to_string())?;
+        let mut sum = [0.0; 3];
+        for &n in die {
+            for i in 0..3 {
+                sum[i] += r[n as usize][i];
+            }
+        }
+        curve.push((t, sum));
+    }
+    Ok((curve, wall))
+}
+
+/// CalculiX on the deck of the example, the die's total reaction at every increment.
+fn calculix(problem: &Problem, dir: &Path) -> Result<(Curve, f64), String> {
+    let job = Job {
+        dir: dir.join("calculix"),
+        name: "ironing".into(),
+        threads: 2,
+        timeout_s: 600.0,
+    };
+    job.write_deck(&scene::deck(problem, IRONING_PENALTY)?)?;
+    let set = name("N_", DIE_SET);
+    match job.run_repeated(1, |o| Ok(total_forces(&o.dat, &set)))? {
+        Outcome::Finished { timed, values } => Ok((values, timed.wall.median)),
+        Outcome::Stopped(why) | Outcome::Failed(why) | Outcome::Skipped(why) => Err(why),
+    }
+}
+
+/// The die's prescribed x displacement at the breakpoints of its function.
+fn slide(problem: &Problem) -> Vec<(f64, f64)> {
+    let set = problem.node_sets.iter().position(|s| s.name == DIE_SET);
+    problem
+        .dirichlet
+        .iter()
+        .find(|d| Some(d.node_set) == set && d.direction[0] == 1.0)
+        .map(|d| {
+            let mut t = problem.start_time;
+            let mut out = vec![(t, d.function.eval(t))];
+            for &s in &problem.step_times {
+                t = s;
+                out.push((t, d.function.eval(t)));
+            }
+            out
+        })
+        .unwrap_or_default()
+}
+
+/// Slide distance at time `t`, linear between the step ends.
+fn slide_at(slide: &[(f64, f64)], t: f64) -> f64 {
+    for w in slide.windows(2) {
+        if t <= w[1].0 {
+            let a = (t - w[0].0) / (w[1].0 - w[0].0);
+            return w[0].1 + a * (w[1].1 - w[0].1);
+        }
+    }
+    slide.last().map_or(0.0, |s| s.1)
+}
+
+fn plot(ir: &Ironing, path: &Path) -> Result<(), String> {
+    let series = |c: &Curve, i: usize| -> Vec<(f64, f64)> {
+        c.iter()
+            .filter(|(t, _)| *t >= 1.0)
+            .map(|(t, f)| (slide_at(&ir.slide, *t), if i == 0 { f[0] } else { -f[1] }))
+            .collect()
+    };
+    let mut lines = vec![
+        ("ours: F_x", series(&ir.ours, 0), RED),
+        ("ours: -F_y", series(&ir.ours, 1), BLUE),
+    ];
+    if let Ok((c, _)) = &ir.ccx {
+        lines.push(("CalculiX: F_x", series(c, 0), RGBColor(240, 150, 0)));
+        lines.push(("CalculiX: -F_y", series(c, 1), RGBColor(0, 160, 200)));
+    }
+    let xmax = lines
+        .iter()
+        .flat_map(|l| l.1.iter().map(|p| p.0))
+        .fold(0.0, f64::max);
+    let ymax = lines
+        .iter()
+        .flat_map(|l| l.1.iter().map(|p| p.1))
+        .fold(0.0, f64::max);
+    let root = BitMapBackend::new(path, (1000, 650)).into_drawing_area();
+    let e = |e: &dyn std::fmt::Display| format!("cannot draw {}: {e}", path.display());
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "ironing: die force against slide distance",
+            ("sans-serif", 24),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..xmax.max(1e-9), 0.0..1.1 * ymax.max(1e-9))
+        .map_err(|x| e(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc("slide distance (die u_x)")
+        .y_desc("die force")
+        .draw()
+        .map_err(|x| e(&x))?;
+    for (label, pts, colour) in lines {
+        chart
+            .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
+            .map_err(|x| e(&x))?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE)
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::MiddleRight)
+        .draw()
+        .map_err(|x| e(&x))?;
+    root.present().map_err(|x| e(&x))
+}
+
+fn percent(ours: f64, peer: f64) -> f64 {
+    100.0 * (ours - peer) / peer.abs()
+}
+
+fn markdown(ir: &Ironing) -> String {
+    let mut w = String::from("## Ironing: the solver beside CalculiX\n\n");
+    let _ = writeln!(
+        w,
+        "`{IRONING_SCENE}` (a rigid half-cylinder die pressed 0.2 into a neo-Hookean slab, then dragged 3.0 along it, Coulomb mu = 0.3): the die's force over steady sliding (t > {STEADY_FROM}), median and mean. CalculiX {}: NLGEOM, NEO HOOKE with the same initial moduli, node-to-surface penalty contact (slope {IRONING_PENALTY:e}) with friction, the scene's increments (it cuts some). Picture: `forces.png`.\n",
+        ir.ccx_version.as_deref().unwrap_or("(not run)")
+    );
+    let _ = writeln!(
+        w,
+        "| code | points | F_x median | abs(F_y) median | F_x / abs(F_y) | F_x mean | abs(F_y) mean | wall (s) |"
+    );
+    let _ = writeln!(w, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    let row = |w: &mut String, code: &str, c: &Curve, wall: f64| {
+        if let (Some((fx, fy)), Some((mx, my))) = (steady(c), steady_mean(c)) {
+            let n = steady_values(c, |f| f[0]).len();
+            let _ = writeln!(
+                w,
+                "| {code} | {n} | {fx:.4} | {fy:.4} | {:.4} | {mx:.4} | {my:.4} | {wall:.1} |",
+                fx / fy
+            );
+        }
+    };
+    row(&mut w, "ours", &ir.ours, ir.ours_wall);
+    match &ir.ccx {
+        Ok((c, wall)) => {
+            row(&mut w, "CalculiX", c, *wall);
+            if let (Some(a), Some(b)) = (steady(&ir.ours), steady(c)) {
+                let _ = writeln!(
+                    w,
+                    "\nDifference of the medians (ours - CalculiX) / CalculiX: F_x {:+.2}%, F_y {:+.2}%.",
+                    percent(a.0, b.0),
+                    percent(a.1, b.1)
+                );
+            }
+        }
+        Err(why) => {
+            let _ = writeln!(w, "\nCalculiX: {why}");
+        }
+    }
+    w
+}
+
+fn json(ir: &Ironing) -> String {
+    let curve = |c: &Curve| -> Vec<serde_json::Value> {
+        c.iter()
+            .map(|(t, f)| serde_json::json!({"time": t, "slide": slide_at(&ir.slide, *t), "force": f}))
+            .collect()
+    };
+    let steady_of = |c: &Curve| {
+        steady(c).zip(steady_mean(c)).map(|((fx, fy), (mx, my))| {
+            serde_json::json!({"fx_median": fx, "abs_fy_median": fy, "fx_mean": mx, "abs_fy_mean": my})
+        })
+    };
+    let ccx = match &ir.ccx {
+        Ok((c, wall)) => serde_json::json!({
+            "version": ir.ccx_version,
+            "wall_s": wall,
+            "steady": steady_of(c),
+            "curve": curve(c),
+        }),
+        Err(why) => serde_json::json!({"error": why}),
+    };
+    let diff = match (&ir.ccx, steady(&ir.ours)) {
+        (Ok((c, _)), Some(a)) => steady(c).map(|b| {
+            serde_json::json!({"fx_median_percent": percent(a.0, b.0), "abs_fy_median_percent": percent(a.1, b.1)})
+        }),
+        _ => None,
+    };
+    let v = serde_json::json!({
+        "scene": IRONING_SCENE,
+        "steady_from": STEADY_FROM,
+        "ours": {"wall_s": ir.ours_wall, "steady": steady_of(&ir.ours), "curve": curve(&ir.ours)},
+        "calculix": ccx,
+        "difference": diff,
+    });
+    serde_json::to_string_pretty(&v).unwrap_or_default()
+}
+
+/// Where `bench --ironing` writes.
+pub fn report_dir(out: &Path) -> PathBuf {
+    out.join("ironing")
+}

@@ -1,0 +1,147 @@
+//! Large sliding under large deformation: the ironing example (run/examples/ironing.toml, a
+//! rigid half-cylinder die pressed into a neo-Hookean slab and dragged 12 slab elements
+//! along it with Coulomb friction mu = 0.3), run as written (30 drag steps) and with ten
+//! times the drag steps. Checked at every step: the run completes, contact is held (no
+//! step ends with no slave node in contact while the die is pressed in), no slave node ends
+//! deeper in the die than the capture tolerance (the penetration audit's measure), the
+//! die's vertical force never drops below half its steady value while it slides, and its
+//! horizontal force is at least mu times the vertical one during steady sliding.
+//!
+//! Tolerances. The last three are inequalities of the physics, asserted without slack:
+//! each slipping node carries mu times its normal force along the slip (to the solver's
+//! residual, 1e-10 of the reference force), so the friction alone gives F_x = mu |F_y| on a
+//! flat contact; the die's curved front adds the ploughing of the slab's bulge, so F_x /
+//! |F_y| exceeds mu (0.318 measured at 30 drag steps). "Steady" is the second half of the
+//! drag, after the slab ahead of the die has bulged. Half the steady vertical force is the
+//! bound the issue names: a lost contact drops it to zero.
+
+mod common;
+
+use common::{fresh_dir, problem, repo};
+use solver::output::ResultFile;
+
+fn check(drag_steps: usize) {
+    let path = repo("run/examples/ironing.toml");
+    let text = std::fs::read_to_string(&path).expect("the example is in the repository");
+    let text = text.replace(
+        "{ end = 2.0, steps = 30 }",
+        &format!("{{ end = 2.0, steps = {drag_steps} }}"),
+    );
+    assert!(text.contains(&format!("steps = {drag_steps} }}")));
+    let text = text.replace(
+        "../gmsh/ironing.msh",
+        &repo("run/gmsh/ironing.msh").display().to_string(),
+    );
+    let p = problem(&text);
+    let mu = p.contacts[0].mu;
+    let capture = p.contacts[0].capture_tolerance;
+    let die = p
+        .node_sets
+        .iter()
+        .find(|s| s.name == "die")
+        .expect("node set die")
+        .nodes
+        .clone();
+    let out = fresh_dir(&format!("ironing_{drag_steps}")).join("ironing.h5");
+    let (summary, _) = solver::run::run(
+        &solver::comm::SerialComm,
+        &p,
+        &solver::run::RunOptions {
+            output: Some(out.clone()),
+            verbosity: 0,
+        },
+    )
+    .expect("run starts");
+    assert!(
+        summary.failure.is_none(),
+        "{drag_steps} drag steps: {:?}",
+        summary.failure
+    );
+    let f = ResultFile::open(&out).expect("result file");
+    let times = f.time().unwrap();
+    let stats = f.stats().unwrap();
+    let mut forces = Vec::new();
+    for (k, (&t, s)) in times.iter().zip(&stats).enumerate() {
+        assert!(
+            s.contact_active > 0,
+            "step {} (t = {t}): no slave node in contact",
+            k + 1
+        );
+        assert!(
+            s.max_penetration <= capture,
+            "step {} (t = {t}): a slave node {:.3e} inside the die",
+            k + 1,
+            s.max_penetration
+        );
+        let r = f.reaction(k).unwrap();
+        let sum = die.iter().fold([0.0; 2], |a, &n| {
+            [a[0] + r[n as usize][0], a[1] + r[n as usize][1]]
+        });
+        forces.push((t, sum));
+    }
+    let steady: Vec<[f64; 2]> = forces
+        .iter()
+        .filter(|(t, _)| *t > 1.5)
+        .map(|f| f.1)
+        .collect();
+    assert!(steady.len() >= 10);
+    let fy_steady = steady.iter().map(|f| f[1].abs()).sum::<f64>() / steady.len() as f64;
+    for (t, f) in forces.iter().filter(|(t, _)| *t > 1.0) {
+        assert!(
+            f[1].abs() >= 0.5 * fy_steady,
+            "t = {t}: vertical die force {} below half the steady {fy_steady}",
+            f[1]
+        );
+    }
+    for f in &steady {
+        assert!(
+            f[0] >= mu * f[1].abs(),
+            "steady sliding: F_x = {} < mu |F_y| = {}",
+            f[0],
+            mu * f[1].abs()
+        );
+    }
+    let ratio = steady.iter().map(|f| f[0] / f[1].abs()).sum::<f64>() / steady.len() as f64;
+    eprintln!(
+        "ironing, {drag_steps} drag steps: steady |F_y| = {fy_steady:.4}, F_x / |F_y| = {ratio:.4} (mu = {mu})"
+    );
+}
+
+#[test]
+fn ironing_thirty_drag_steps() {
+    check(30);
+}
+
+#[test]
+fn ironing_three_hundred_drag_steps() {
+    check(300);
+}
+
+/// The example beside CalculiX (`bench --ironing`: NLGEOM, NEO HOOKE with the same initial
+/// moduli, node-to-surface penalty contact with friction, the deck written by the bench):
+/// the die's horizontal and vertical force during steady sliding (medians over the second
+/// half of the drag) within 5% of CalculiX's, the issue's bound. What separates the two is
+/// of that order at most: the two neo-Hookean energies agree to second order in the strain
+/// only (the slab's strains reach about 0.2), the penalty lets the die 0.6% deeper into the
+/// slab, and ccx's node-to-surface contact differs from ours in how a node's force is
+/// spread over the face. Measured: F_x +0.5%, F_y -0.1%.
+#[test]
+fn ironing_beside_calculix() {
+    let out = fresh_dir("ironing-bench");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_bench"))
+        .args(["--ironing", "--out"])
+        .arg(&out)
+        .status()
+        .expect("bench runs");
+    assert!(status.success(), "bench --ironing failed");
+    let text = std::fs::read_to_string(out.join("ironing/results.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let diff = &v["difference"];
+    for key in ["fx_median_percent", "abs_fy_median_percent"] {
+        let d = diff[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no {key} in {text}"));
+        assert!(d.abs() <= 5.0, "{key} = {d}%");
+    }
+    assert!(out.join("ironing/forces.png").exists());
+}
