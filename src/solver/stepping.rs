@@ -13,6 +13,8 @@ use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::time::Instant;
 
+mod control;
+
 /// What one load step did.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StepRecord {
@@ -307,7 +309,9 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         })
     }
 
-    /// Advances to `target` (the end of load step `step`, 1-based), cutting back as needed.
+    /// Advances to `target` (the end of load step `step`, 1-based), cutting back as needed:
+    /// predict, solve the increment (the control-contact loop), then accept it or retry
+    /// (without the predictor, then halved) until the cut-backs run out.
     pub fn advance(&mut self, step: usize, target: f64) -> Result<StepRecord, StepFailure> {
         let start = Instant::now();
         let mut record = StepRecord {
@@ -325,40 +329,23 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                 self.time + dt
             };
             let h = t_new - self.time;
-            let mut trial = self.u.clone();
-            if use_predictor && self.dt_prev > 0.0 {
-                let ratio = h / self.dt_prev;
-                for (a, v) in trial.iter_mut().enumerate() {
-                    for i in 0..3 {
-                        v[i] += ratio * (self.u[a][i] - self.u_prev[a][i]);
-                    }
-                }
-            }
+            let mut trial = self.predict(h, use_predictor);
             let mut contact = self.contact.clone();
             contact.begin_step();
+            let fail = |cause, unheld| StepFailure {
+                step,
+                time: t_new,
+                target,
+                cause,
+                cutbacks,
+                unheld,
+            };
             match self.solve_step(t_new, &mut trial, &mut contact, &mut record) {
                 Ok(outcome) => {
-                    // Integration-point history moves only with a converged increment; a
-                    // failed one leaves it as it was, which is the cut-back's restore.
-                    if let Err(e) = self.asm.commit(&trial) {
-                        return Err(StepFailure {
-                            step,
-                            time: t_new,
-                            target,
-                            cause: SolveFailure::Element(e.to_string()),
-                            cutbacks,
-                            unheld: Vec::new(),
-                        });
-                    }
+                    self.accept(t_new, trial, contact, &outcome)
+                        .map_err(|e| fail(SolveFailure::Element(e), Vec::new()))?;
                     record.residual = outcome.residual;
                     record.reference = outcome.reference;
-                    self.u_prev = std::mem::replace(&mut self.u, trial);
-                    self.dt_prev = h;
-                    self.time = t_new;
-                    self.contact = contact;
-                    // Later steps are judged against at least the largest force seen so
-                    // far, so a step that unloads to zero does not chase round-off.
-                    self.reference_floor = self.reference_floor.max(outcome.reference);
                 }
                 Err(cause) => {
                     // A shorter step needs the same memory: no retry.
@@ -370,235 +357,89 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {
-                        // A singular model problem (a body its supports no longer hold, e.g.
-                        // a slave body pushed off its master) shows as one of these.
-                        let unheld = match &cause {
-                            SolveFailure::NotConverged {
-                                residual,
-                                reference,
-                                ..
-                            } if *residual >= 1e-8 * reference => {
-                                super::support::unheld_bodies(self.problem, &contact)
-                            }
-                            SolveFailure::NonPositiveCurvature { .. }
-                            | SolveFailure::NonFinite { .. }
-                            | SolveFailure::Unbounded { .. } => {
-                                super::support::unheld_bodies(self.problem, &contact)
-                            }
-                            _ => Vec::new(),
-                        };
-                        return Err(StepFailure {
-                            step,
-                            time: t_new,
-                            target,
-                            cause,
-                            cutbacks,
-                            unheld,
-                        });
+                        let unheld = self.unheld_after(&cause, &contact);
+                        return Err(fail(cause, unheld));
                     }
                 }
             }
         }
         record.cutbacks = cutbacks as u64;
         record.contact = self.contact.counts();
-        if !self.problem.contacts.is_empty() {
-            let local = self
-                .contact
-                .gaps(self.comm, self.problem, self.mesh, &self.u)
-                .iter()
-                .map(|&(_, g)| -g)
-                .fold(0.0, f64::max);
-            // The deepest of the active nodes' gaps and of the audit's findings.
-            record.contact.max_penetration =
-                crate::comm::max_f64(self.comm, local).max(self.audit_depth);
-        }
+        record.contact.max_penetration = self.max_penetration();
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
     }
 
-    /// The control-contact loop at one time: model problem, contact update, until the set
-    /// is unchanged and equilibrium holds.
-    fn solve_step(
+    /// The start of an increment of length `h`: the last converged displacement, moved on
+    /// along the last increment's (scaled) when the predictor is used.
+    fn predict(&self, h: f64, use_predictor: bool) -> Vec<Vec3> {
+        let mut trial = self.u.clone();
+        if use_predictor && self.dt_prev > 0.0 {
+            let ratio = h / self.dt_prev;
+            for (a, v) in trial.iter_mut().enumerate() {
+                for i in 0..3 {
+                    v[i] += ratio * (self.u[a][i] - self.u_prev[a][i]);
+                }
+            }
+        }
+        trial
+    }
+
+    /// Takes a converged increment to `t_new`. Integration-point history moves only with a
+    /// converged increment; a failed one leaves it as it was, which is the cut-back's
+    /// restore.
+    fn accept(
         &mut self,
-        t: f64,
-        u: &mut [Vec3],
-        contact: &mut ContactState,
-        record: &mut StepRecord,
-    ) -> Result<ModelOutcome, SolveFailure> {
-        let settings = CgSettings {
-            tolerance: self.problem.solver.tolerance,
-            max_iterations: self.problem.solver.max_iterations,
-            reference_floor: self.reference_floor,
-            length_scale: self.length_scale,
-            // Over the whole scene, not this rank's nodes: every rank judges alike.
-            stiffness_floor: self.stiffness_scale
-                * self
-                    .problem
-                    .dirichlet
-                    .iter()
-                    .filter(|bc| !self.problem.node_sets[bc.node_set].nodes.is_empty())
-                    .map(|bc| bc.function.eval(t).abs())
-                    .fold(0.0, f64::max),
-        };
-        let mut changed = true;
-        let mut updates = 0usize;
-        self.cg.invalidate_coarse();
-        if !self.problem.contacts.is_empty() {
-            // Gap removal at the predicted configuration, before the first model problem.
-            let cons = self.build_constraints(t, contact)?;
-            cons.impose(self.comm, self.mesh, u);
-            contact.capture(self.comm, self.problem, self.mesh, u);
+        t_new: f64,
+        trial: Vec<Vec3>,
+        contact: ContactState,
+        outcome: &ModelOutcome,
+    ) -> Result<(), String> {
+        self.asm.commit(&trial).map_err(|e| e.to_string())?;
+        self.u_prev = std::mem::replace(&mut self.u, trial);
+        self.dt_prev = t_new - self.time;
+        self.time = t_new;
+        self.contact = contact;
+        // Later steps are judged against at least the largest force seen so far, so a
+        // step that unloads to zero does not chase round-off.
+        self.reference_floor = self.reference_floor.max(outcome.reference);
+        Ok(())
+    }
+
+    /// The bodies the supports of a failed increment did not hold, when the failure is one
+    /// a singular model problem shows as (a body its supports no longer hold, e.g. a slave
+    /// body pushed off its master).
+    fn unheld_after(&self, cause: &SolveFailure, contact: &ContactState) -> Vec<String> {
+        match cause {
+            SolveFailure::NotConverged {
+                residual,
+                reference,
+                ..
+            } if *residual >= 1e-8 * reference => {
+                super::support::unheld_bodies(self.problem, contact)
+            }
+            SolveFailure::NonPositiveCurvature { .. }
+            | SolveFailure::NonFinite { .. }
+            | SolveFailure::Unbounded { .. } => {
+                super::support::unheld_bodies(self.problem, contact)
+            }
+            _ => Vec::new(),
         }
-        let mut history: Vec<Vec<(u32, usize, u32, u8)>> = Vec::new();
-        let mut recaptured: Vec<(u32, usize)> = Vec::new();
-        // Nodal stiffness blocks for the slipping nodes' springs, once per step.
-        let mut diag = Vec::new();
-        loop {
-            let cons = self.build_constraints(t, contact)?;
-            let mut extra = vec![
-                [0.0; 3];
-                if has_slip(contact) {
-                    self.mesh.num_nodes()
-                } else {
-                    0
-                }
-            ];
-            contact.friction_forces(self.problem, self.mesh, &mut extra);
-            cons.impose(self.comm, self.mesh, u);
-            let (outcome, springs) =
-                self.solve_model(t, u, &cons, &extra, contact, &settings, &mut diag, record)?;
-            let pb = ModelProblem {
-                comm: self.comm,
-                asm: &self.asm,
-                loads: &self.loads,
-                cons: &cons,
-                extra: &extra,
-                springs: &springs,
-                time: t,
-            };
-            // A body that is not held (a mechanism, or a slave body pushed off its master)
-            // runs away instead of failing to converge: stop it with that diagnosis.
-            let owned = self.mesh.num_owned_nodes;
-            let umax = u[..owned]
-                .iter()
-                .flatten()
-                .fold(0.0f64, |m, v| m.max(v.abs()));
-            let umax = crate::comm::max_f64(self.comm, umax);
-            if !(umax <= 1e3 * self.length_scale) {
-                return Err(SolveFailure::Unbounded {
-                    iterations: outcome.iterations,
-                    max_displacement: umax,
-                });
-            }
-            let mut multipliers = Vec::new();
-            self.cg.multipliers(&pb, &mut multipliers);
-            let done = !self.problem.contacts.is_empty() && !changed && outcome.iterations == 0;
-            if done {
-                // The penetration audit: a node the search lost inside a master body is
-                // tied back to the master surface (gap removal) and the loop goes on; one
-                // that the step already tied back once fails it, to be cut back.
-                let findings = crate::contact::audit::audit(self.comm, self.problem, self.mesh, u);
-                let deep = crate::contact::audit::too_deep(self.problem, &findings);
-                if let Some(f) = deep
-                    .iter()
-                    .find(|f| recaptured.contains(&(f.slave, f.pair)))
-                {
-                    let pair = &self.problem.contacts[f.pair];
-                    return Err(SolveFailure::Penetration {
-                        node: f.slave as u64 + 1,
-                        pair: pair.name.clone(),
-                        depth: f.depth,
-                        tolerance: pair.capture_tolerance,
-                        small_kinematics: self
-                            .problem
-                            .body_models
-                            .iter()
-                            .all(|m| !m.material.is_large()),
-                    });
-                }
-                if !deep.is_empty() {
-                    crate::contact::audit::recapture(contact, self.problem, &deep);
-                    recaptured.extend(deep.iter().map(|f| (f.slave, f.pair)));
-                    changed = true;
-                    updates += 1;
-                    continue;
-                }
-                self.audit_depth = findings.iter().map(|f| f.depth).fold(0.0, f64::max);
-            }
-            if self.problem.contacts.is_empty() || done {
-                if !self.problem.contacts.is_empty() {
-                    contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
-                }
-                self.cons = cons;
-                self.multipliers = multipliers;
-                self.extra = extra;
-                record.contact_updates = updates as u64;
-                return Ok(outcome);
-            }
-            if updates >= self.problem.solver.max_contact_updates {
-                let detail = match history.len() {
-                    n if n >= 2 && history[n - 1] != history[n - 2] => format!(
-                        "the update limit was reached; still changing: {}",
-                        cycling_nodes(&history[n - 2], &history[n - 1])
-                    ),
-                    _ => {
-                        "the update limit was reached while the contact forces were still changing"
-                            .to_string()
-                    }
-                };
-                return Err(SolveFailure::ContactNotSettled { updates, detail });
-            }
-            contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
-            let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
-            changed = contact.update(self.comm, self.problem, self.mesh, u, &self.u, force_tol);
-            updates += 1;
-            if std::env::var_os("SOLVER_DEBUG_CONTACT").is_some() && self.comm.is_root() {
-                eprintln!(
-                    "t = {t}: update {updates}: changed {changed}, CG {} iterations",
-                    outcome.iterations
-                );
-                for a in &contact.active {
-                    eprintln!(
-                        "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}",
-                        a.slave + 1,
-                        a.pair,
-                        a.face,
-                        a.s,
-                        a.normal,
-                        a.mode,
-                        a.normal_force,
-                        a.tangential_force
-                    );
-                }
-                eprintln!("  released {:?}", contact.released());
-            }
-            let signature: Vec<(u32, usize, u32, u8)> = contact
-                .active
-                .iter()
-                .map(|a| {
-                    (
-                        a.slave,
-                        a.pair,
-                        a.face,
-                        matches!(a.mode, crate::contact::state::Mode::Stick) as u8,
-                    )
-                })
-                .collect();
-            // A state that comes back once (a node that slips, sticks, slips again while the
-            // friction forces settle) is not yet a cycle; one that alternates twice is.
-            let n = history.len();
-            if n >= 3
-                && history[n - 2] == signature
-                && history[n - 1] != signature
-                && history[n - 3] == history[n - 1]
-            {
-                return Err(SolveFailure::ContactNotSettled {
-                    updates,
-                    detail: cycling_detail(&history[history.len() - 1], &signature),
-                });
-            }
-            history.push(signature);
+    }
+
+    /// The deepest of the active nodes' gaps and of the penetration audit's findings at
+    /// the converged state (0 without contact).
+    fn max_penetration(&self) -> f64 {
+        if self.problem.contacts.is_empty() {
+            return 0.0;
         }
+        let local = self
+            .contact
+            .gaps(self.comm, self.problem, self.mesh, &self.u)
+            .iter()
+            .map(|&(_, g)| -g)
+            .fold(0.0, f64::max);
+        crate::comm::max_f64(self.comm, local).max(self.audit_depth)
     }
 }
 
@@ -710,30 +551,4 @@ fn has_slip(contact: &ContactState) -> bool {
         .active
         .iter()
         .any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
-}
-
-/// Names the nodes whose constraints differ between two states.
-fn cycling_nodes(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
-    let mut nodes: Vec<u32> = a
-        .iter()
-        .filter(|x| !b.contains(x))
-        .chain(b.iter().filter(|x| !a.contains(x)))
-        .map(|x| x.0 + 1)
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    let shown: Vec<String> = nodes.iter().take(8).map(|n| n.to_string()).collect();
-    format!(
-        "slave node{} {}{} (between master faces, in and out of contact, or stick and slip)",
-        if nodes.len() == 1 { "" } else { "s" },
-        shown.join(", "),
-        if nodes.len() > 8 { ", ..." } else { "" }
-    )
-}
-
-fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
-    format!(
-        "the constraint set cycles between two states: {}; normal smoothing may help",
-        cycling_nodes(a, b)
-    )
 }

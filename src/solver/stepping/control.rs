@@ -1,0 +1,307 @@
+//! The control-contact loop of one increment (the paper's multilevel "control contact"):
+//! gap removal at the predicted configuration; then, in turn, the constraint set frozen
+//! while CG solves the model problem, and a contact update (release, Coulomb stick and
+//! slip, search and capture); until the update changes nothing and the model problem
+//! needs no iteration (the equilibrium query), closed by the penetration audit.
+
+use super::{has_slip, StepRecord, Stepper};
+use crate::comm::Comm;
+use crate::constraints::Constraints;
+use crate::contact::audit;
+use crate::contact::state::{ContactState, Mode};
+use crate::math::Vec3;
+use crate::solver::cg::{CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
+use crate::solver::springs::Spring;
+
+/// A constraint set as the loop compares them: (slave, pair, face, sticking) per constraint.
+type Signature = Vec<(u32, usize, u32, u8)>;
+
+/// What the loop remembers across its updates.
+#[derive(Default)]
+struct Watch {
+    updates: usize,
+    /// The constraint set after each update, to tell a cycle.
+    history: Vec<Signature>,
+    /// Nodes the penetration audit tied back in this increment.
+    recaptured: Vec<(u32, usize)>,
+}
+
+impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+    /// The control-contact loop at time `t`, from the predicted displacement `u`.
+    pub(super) fn solve_step(
+        &mut self,
+        t: f64,
+        u: &mut [Vec3],
+        contact: &mut ContactState,
+        record: &mut StepRecord,
+    ) -> Result<ModelOutcome, SolveFailure> {
+        let settings = self.cg_settings(t);
+        let contacts = !self.problem.contacts.is_empty();
+        self.cg.invalidate_coarse();
+        if contacts {
+            self.remove_gaps(t, u, contact)?;
+        }
+        let mut watch = Watch::default();
+        let mut changed = true;
+        // Nodal stiffness blocks for the slipping nodes' springs, once per step.
+        let mut diag = Vec::new();
+        loop {
+            let (cons, extra) = self.freeze(t, u, contact)?;
+            let (outcome, springs) =
+                self.solve_model(t, u, &cons, &extra, contact, &settings, &mut diag, record)?;
+            self.check_bounded(u, outcome.iterations)?;
+            let multipliers = self.row_multipliers(t, &cons, &extra, &springs);
+            let settled = contacts && !changed && outcome.iterations == 0;
+            if settled && self.audit(u, contact, &mut watch)? {
+                changed = true;
+                continue;
+            }
+            if !contacts || settled {
+                if contacts {
+                    contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
+                }
+                self.cons = cons;
+                self.multipliers = multipliers;
+                self.extra = extra;
+                record.contact_updates = watch.updates as u64;
+                return Ok(outcome);
+            }
+            if watch.updates >= self.problem.solver.max_contact_updates {
+                return Err(watch.limit_reached());
+            }
+            contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
+            let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
+            changed = contact.update(self.comm, self.problem, self.mesh, u, &self.u, force_tol);
+            watch.updates += 1;
+            self.debug_contact(t, watch.updates, changed, outcome.iterations, contact);
+            watch.record(contact)?;
+        }
+    }
+
+    /// CG's settings at time `t`.
+    fn cg_settings(&self, t: f64) -> CgSettings {
+        CgSettings {
+            tolerance: self.problem.solver.tolerance,
+            max_iterations: self.problem.solver.max_iterations,
+            reference_floor: self.reference_floor,
+            length_scale: self.length_scale,
+            // Over the whole scene, not this rank's nodes: every rank judges alike.
+            stiffness_floor: self.stiffness_scale
+                * self
+                    .problem
+                    .dirichlet
+                    .iter()
+                    .filter(|bc| !self.problem.node_sets[bc.node_set].nodes.is_empty())
+                    .map(|bc| bc.function.eval(t).abs())
+                    .fold(0.0, f64::max),
+        }
+    }
+
+    /// Gap removal at the predicted configuration, before the first model problem.
+    fn remove_gaps(
+        &mut self,
+        t: f64,
+        u: &mut [Vec3],
+        contact: &mut ContactState,
+    ) -> Result<(), SolveFailure> {
+        let cons = self.build_constraints(t, contact)?;
+        cons.impose(self.comm, self.mesh, u);
+        contact.capture(self.comm, self.problem, self.mesh, u);
+        Ok(())
+    }
+
+    /// Freezes the constraint set: its rows (imposed on `u`) and the slipping nodes'
+    /// friction forces, a load of the model problem.
+    fn freeze(
+        &mut self,
+        t: f64,
+        u: &mut [Vec3],
+        contact: &ContactState,
+    ) -> Result<(Constraints, Vec<Vec3>), SolveFailure> {
+        let cons = self.build_constraints(t, contact)?;
+        let n = if has_slip(contact) {
+            self.mesh.num_nodes()
+        } else {
+            0
+        };
+        let mut extra = vec![[0.0; 3]; n];
+        contact.friction_forces(self.problem, self.mesh, &mut extra);
+        cons.impose(self.comm, self.mesh, u);
+        Ok((cons, extra))
+    }
+
+    /// A body that is not held (a mechanism, or a slave body pushed off its master) runs
+    /// away instead of failing to converge: stop it with that diagnosis.
+    fn check_bounded(&self, u: &[Vec3], iterations: usize) -> Result<(), SolveFailure> {
+        let owned = self.mesh.num_owned_nodes;
+        let umax = u[..owned]
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let umax = crate::comm::max_f64(self.comm, umax);
+        if !(umax <= 1e3 * self.length_scale) {
+            return Err(SolveFailure::Unbounded {
+                iterations,
+                max_displacement: umax,
+            });
+        }
+        Ok(())
+    }
+
+    /// The constraint rows' multipliers (the forces they carry) of the model problem.
+    fn row_multipliers(
+        &mut self,
+        t: f64,
+        cons: &Constraints,
+        extra: &[Vec3],
+        springs: &[Spring],
+    ) -> Vec<f64> {
+        let pb = ModelProblem {
+            comm: self.comm,
+            asm: &self.asm,
+            loads: &self.loads,
+            cons,
+            extra,
+            springs,
+            time: t,
+        };
+        let mut multipliers = Vec::new();
+        self.cg.multipliers(&pb, &mut multipliers);
+        multipliers
+    }
+
+    /// The penetration audit: a node the search lost inside a master body is tied back to
+    /// the master surface (gap removal) and the loop goes on (true); one that the step
+    /// already tied back once fails it, to be cut back. Records the deepest finding.
+    fn audit(
+        &mut self,
+        u: &[Vec3],
+        contact: &mut ContactState,
+        watch: &mut Watch,
+    ) -> Result<bool, SolveFailure> {
+        let findings = audit::audit(self.comm, self.problem, self.mesh, u);
+        let deep = audit::too_deep(self.problem, &findings);
+        if let Some(f) = deep
+            .iter()
+            .find(|f| watch.recaptured.contains(&(f.slave, f.pair)))
+        {
+            let pair = &self.problem.contacts[f.pair];
+            return Err(SolveFailure::Penetration {
+                node: f.slave as u64 + 1,
+                pair: pair.name.clone(),
+                depth: f.depth,
+                tolerance: pair.capture_tolerance,
+                small_kinematics: self
+                    .problem
+                    .body_models
+                    .iter()
+                    .all(|m| !m.material.is_large()),
+            });
+        }
+        if !deep.is_empty() {
+            audit::recapture(contact, self.problem, &deep);
+            watch
+                .recaptured
+                .extend(deep.iter().map(|f| (f.slave, f.pair)));
+            watch.updates += 1;
+            return Ok(true);
+        }
+        self.audit_depth = findings.iter().map(|f| f.depth).fold(0.0, f64::max);
+        Ok(false)
+    }
+
+    /// The active set after an update, on standard error, when SOLVER_DEBUG_CONTACT is set.
+    fn debug_contact(
+        &self,
+        t: f64,
+        update: usize,
+        changed: bool,
+        iterations: usize,
+        contact: &ContactState,
+    ) {
+        if std::env::var_os("SOLVER_DEBUG_CONTACT").is_none() || !self.comm.is_root() {
+            return;
+        }
+        eprintln!("t = {t}: update {update}: changed {changed}, CG {iterations} iterations");
+        for a in &contact.active {
+            eprintln!(
+                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}",
+                a.slave + 1,
+                a.pair,
+                a.face,
+                a.s,
+                a.normal,
+                a.mode,
+                a.normal_force,
+                a.tangential_force
+            );
+        }
+        eprintln!("  released {:?}", contact.released());
+    }
+}
+
+impl Watch {
+    /// Records the set after an update. A state that comes back once (a node that slips,
+    /// sticks, slips again while the friction forces settle) is not yet a cycle; one that
+    /// alternates twice is.
+    fn record(&mut self, contact: &ContactState) -> Result<(), SolveFailure> {
+        let signature: Signature = contact
+            .active
+            .iter()
+            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
+            .collect();
+        let h = &self.history;
+        let n = h.len();
+        if n >= 3 && h[n - 2] == signature && h[n - 1] != signature && h[n - 3] == h[n - 1] {
+            return Err(SolveFailure::ContactNotSettled {
+                updates: self.updates,
+                detail: cycling_detail(&h[n - 1], &signature),
+            });
+        }
+        self.history.push(signature);
+        Ok(())
+    }
+
+    /// The failure at the update limit, naming what still changes.
+    fn limit_reached(&self) -> SolveFailure {
+        let h = &self.history;
+        let detail = match h.len() {
+            n if n >= 2 && h[n - 1] != h[n - 2] => format!(
+                "the update limit was reached; still changing: {}",
+                cycling_nodes(&h[n - 2], &h[n - 1])
+            ),
+            _ => "the update limit was reached while the contact forces were still changing"
+                .to_string(),
+        };
+        SolveFailure::ContactNotSettled {
+            updates: self.updates,
+            detail,
+        }
+    }
+}
+
+/// Names the nodes whose constraints differ between two states.
+fn cycling_nodes(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
+    let mut nodes: Vec<u32> = a
+        .iter()
+        .filter(|x| !b.contains(x))
+        .chain(b.iter().filter(|x| !a.contains(x)))
+        .map(|x| x.0 + 1)
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let shown: Vec<String> = nodes.iter().take(8).map(|n| n.to_string()).collect();
+    format!(
+        "slave node{} {}{} (between master faces, in and out of contact, or stick and slip)",
+        if nodes.len() == 1 { "" } else { "s" },
+        shown.join(", "),
+        if nodes.len() > 8 { ", ..." } else { "" }
+    )
+}
+
+fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> String {
+    format!(
+        "the constraint set cycles between two states: {}; normal smoothing may help",
+        cycling_nodes(a, b)
+    )
+}
