@@ -1,0 +1,464 @@
+//! The analysis driver, phase by phase: set up (partition the mesh, build this rank's
+//! part, read an earlier run to continue, open the result file, build the stepper), step
+//! through time (advance, report, write the step and its restart state), finish the file.
+
+use super::gather::Gather;
+use super::restart::{self, Continued};
+use super::{
+    output_mesh, peak_memory, plastic, step_output, ActiveConstraint, GlobalState, RunOptions,
+    RunSummary,
+};
+use crate::comm::{self, Comm};
+use crate::contact::state::Mode;
+use crate::mesh::local::LocalMesh;
+use crate::output::{ResultWriter, RunInfo, StepOutput};
+use crate::problem::Problem;
+use crate::solver::{StepRecord, Stepper};
+use partition::Decomposition;
+use std::io::IsTerminal;
+use std::path::Path;
+use std::time::Instant;
+
+/// Messages of rank 0 at a verbosity.
+struct Log {
+    root: bool,
+    verbosity: u8,
+}
+
+impl Log {
+    fn at(&self, level: u8, msg: &str) {
+        if self.root && self.verbosity >= level {
+            eprintln!("{msg}");
+        }
+    }
+}
+
+/// Where the run is: the records of the steps done, the first step this run takes, and
+/// the rows its result file holds.
+struct Progress {
+    records: Vec<StepRecord>,
+    first_step: usize,
+    rows_written: u64,
+    started: Instant,
+}
+
+/// Runs the scene, continuing from the last step an earlier run of it recorded in
+/// `restart` when given: the result is then bitwise the one of an uninterrupted run.
+pub fn run_from<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    opts: &RunOptions,
+    restart: Option<&Path>,
+) -> Result<(RunSummary, GlobalState), String> {
+    let log = Log {
+        root: comm.is_root(),
+        verbosity: opts.verbosity,
+    };
+    let mut progress = Progress {
+        records: Vec::new(),
+        first_step: 0,
+        rows_written: 0,
+        started: Instant::now(),
+    };
+    let (decomposition, local) = partition(comm, problem, &log)?;
+    let continued = match restart {
+        Some(path) => Some(restart::resume(comm, problem, path)?),
+        None => None,
+    };
+    let mut writer = open_writer(comm, problem, opts, &decomposition)?;
+    let gather = Gather::new(
+        comm,
+        &local,
+        problem.mesh.num_nodes(),
+        problem.mesh.num_elements(),
+    );
+    let mut stepper = Stepper::new(comm, problem, &local)?;
+    let refused = stepper.coarse_note.starts_with("preconditioner: refused");
+    log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
+    if let Some(c) = continued {
+        continue_from(
+            comm,
+            problem,
+            &mut stepper,
+            writer.as_mut(),
+            c,
+            &mut progress,
+        )?;
+        log.at(
+            1,
+            &format!(
+                "continuing from step {} (t = {}) of {}",
+                progress.first_step,
+                stepper.time,
+                restart.map(|p| p.display().to_string()).unwrap_or_default()
+            ),
+        );
+    }
+    let (failure, state) = step_through(
+        comm,
+        problem,
+        opts,
+        &log,
+        &mut stepper,
+        (&gather, &local),
+        writer.as_mut(),
+        &mut progress,
+    );
+    let wall_time = progress.started.elapsed().as_secs_f64();
+    let peak_memory = comm::max_f64(comm, peak_memory().unwrap_or(0.0));
+    let output = finish(comm, writer, &failure, wall_time)?;
+    Ok((
+        RunSummary {
+            steps: progress.records,
+            wall_time,
+            output,
+            failure,
+            peak_memory,
+        },
+        state,
+    ))
+}
+
+/// The decomposition over the ranks and this rank's part of the mesh.
+fn partition<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    log: &Log,
+) -> Result<(Decomposition, LocalMesh), String> {
+    let mesh = &problem.mesh;
+    let decomposition = Decomposition::partition(mesh.num_nodes(), &mesh.elements, comm.size())
+        .map_err(|e| {
+            format!(
+                "{}: cannot partition the mesh over {} ranks: {e}",
+                problem.file,
+                comm.size()
+            )
+        })?;
+    let local = LocalMesh::new(mesh, &decomposition, comm.rank());
+    log.at(
+        1,
+        &format!(
+            "{}: {} bodies, {} elements, {} nodes, {} steps, {} rank(s)",
+            problem.name,
+            mesh.bodies.len(),
+            mesh.num_elements(),
+            mesh.num_nodes(),
+            problem.step_times.len(),
+            comm.size()
+        ),
+    );
+    if comm.size() > 1 {
+        log.at(2, &format!("{}", decomposition.stats()));
+    }
+    Ok((decomposition, local))
+}
+
+/// The result file, on rank 0 when an output is asked for (creating its directory).
+/// Collective: an error on rank 0 is every rank's.
+fn open_writer<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    opts: &RunOptions,
+    decomposition: &Decomposition,
+) -> Result<Option<ResultWriter>, String> {
+    let mut writer = None;
+    let mut local_err = None;
+    if let Some(path) = opts.output.as_ref().filter(|_| comm.is_root()) {
+        let info = RunInfo {
+            solver_version: env!("CARGO_PKG_VERSION").to_string(),
+            ranks: comm.size() as u64,
+            scene_text: problem.text.clone(),
+            scene_name: problem.name.clone(),
+            start_time: crate::output::rfc3339_now(),
+            element_rank: decomposition.element_part().to_vec(),
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if let Err(e) = std::fs::create_dir_all(dir) {
+                local_err = Some(format!(
+                    "{}: cannot create the output directory: {e}",
+                    dir.display()
+                ));
+            }
+        }
+        if local_err.is_none() {
+            match ResultWriter::create(path, &info, &output_mesh(problem)) {
+                Ok(w) => writer = Some(w),
+                Err(e) => local_err = Some(e.to_string()),
+            }
+        }
+    }
+    match comm::first_error(comm, local_err) {
+        Some(e) => Err(e),
+        None => Ok(writer),
+    }
+}
+
+/// Restores the stepper to the earlier run's last written step, takes its records, and
+/// copies its steps and restart state into this run's file, which a further restart can
+/// then continue from. Collective.
+fn continue_from<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    stepper: &mut Stepper<C>,
+    writer: Option<&mut ResultWriter>,
+    c: Continued,
+    progress: &mut Progress,
+) -> Result<(), String> {
+    let state = &c.state;
+    stepper.restore(
+        &state.displacement,
+        &state.previous_displacement,
+        (state.time, state.dt_prev, state.reference_floor),
+        c.contact,
+    );
+    plastic::restore(stepper, problem, &state.history);
+    progress.first_step = state.step as usize;
+    progress.rows_written = c.steps.len() as u64;
+    for (time, s) in c.records {
+        let step = problem
+            .step_times
+            .iter()
+            .position(|&t| t == time)
+            .map_or(0, |k| k + 1);
+        progress.records.push(StepRecord {
+            step,
+            time,
+            cg_iterations: s.cg_iterations,
+            contact_updates: s.contact_updates,
+            residual: s.residual,
+            cutbacks: s.cutbacks,
+            wall_time: s.wall_time,
+            ..Default::default()
+        });
+    }
+    let local_err = writer.and_then(|w| {
+        c.steps
+            .iter()
+            .try_for_each(|s| w.append_step(s))
+            .and_then(|()| w.write_restart(state))
+            .err()
+            .map(|e| e.to_string())
+    });
+    match comm::first_error(comm, local_err) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Every remaining load step: advance, report, write. Returns the failure that stopped
+/// the run, if any, and the final state (after the last step).
+#[allow(clippy::too_many_arguments)]
+fn step_through<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    opts: &RunOptions,
+    log: &Log,
+    stepper: &mut Stepper<C>,
+    (gather, local): (&Gather, &LocalMesh),
+    mut writer: Option<&mut ResultWriter>,
+    progress: &mut Progress,
+) -> (Option<String>, GlobalState) {
+    let nsteps = problem.step_times.len();
+    let bar = progress_bar(log, nsteps, progress.first_step);
+    let mut state = GlobalState::default();
+    let mut failure = None;
+    for (k, &t) in problem
+        .step_times
+        .iter()
+        .enumerate()
+        .skip(progress.first_step)
+    {
+        let step = k + 1;
+        let advanced = stepper.advance(step, t);
+        if let Some(note) = stepper.take_rebuild_note() {
+            log.at(2, &note);
+        }
+        let rec = match advanced {
+            Ok(rec) => rec,
+            Err(f) => {
+                failure = Some(format!("{}: {f}", problem.file));
+                break;
+            }
+        };
+        report_step(problem, opts, log, bar.as_ref(), progress, step, t, &rec);
+        progress.records.push(rec);
+        let last = step == nsteps;
+        let write = opts.output.is_some() && (step % problem.output_every == 0 || last);
+        if !(write || last) {
+            continue;
+        }
+        let (s, err) = step_output(comm, problem, stepper, gather, local, rec);
+        if let Some(e) = comm::first_error(comm, err) {
+            failure = Some(e);
+            break;
+        }
+        if let Err(e) = write_step(
+            comm,
+            stepper,
+            (gather, local),
+            writer.as_deref_mut(),
+            progress,
+            step,
+            write,
+            &s,
+        ) {
+            failure = Some(e);
+            break;
+        }
+        // Test hook: die here as a killed run would (the restart test).
+        if std::env::var("SOLVER_TEST_ABORT_AFTER_STEP").ok() == Some(step.to_string()) {
+            std::process::abort();
+        }
+        if last {
+            state = final_state(problem, stepper, s);
+        }
+    }
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    (failure, state)
+}
+
+/// A progress bar on a terminal at verbosity 1 and above (rank 0).
+fn progress_bar(log: &Log, nsteps: usize, first: usize) -> Option<indicatif::ProgressBar> {
+    (log.root && log.verbosity >= 1 && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(nsteps as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:30} step {pos}/{len}  {msg}  [{elapsed} elapsed, ~{eta} left]",
+            )
+            .expect("a valid progress template"),
+        );
+        bar.set_position(first as u64);
+        bar
+    })
+}
+
+/// The step's line (or the progress bar's message): CG, residual, cut-backs, time, the
+/// contact counts, the time left at the pace so far.
+#[allow(clippy::too_many_arguments)]
+fn report_step(
+    problem: &Problem,
+    opts: &RunOptions,
+    log: &Log,
+    bar: Option<&indicatif::ProgressBar>,
+    progress: &Progress,
+    step: usize,
+    t: f64,
+    rec: &StepRecord,
+) {
+    let nsteps = problem.step_times.len();
+    let mut line = format!(
+        "step {step}/{nsteps}  t = {t:<10.6}  CG {:>6}  residual {:.3e} (reference {:.3e})  cut-backs {}  {:.3} s",
+        rec.cg_iterations, rec.residual, rec.reference, rec.cutbacks, rec.wall_time
+    );
+    if !problem.contacts.is_empty() {
+        let c = rec.contact;
+        line += &format!(
+            "  contact updates {}, in contact {} (stick {}, slip {}), released {}, max penetration {:.2e}",
+            rec.contact_updates, c.active, c.stick, c.slip, c.released, c.max_penetration
+        );
+    }
+    // Time left, from the pace of the steps this run has done so far.
+    let done = (step - progress.first_step) as f64;
+    let left = (nsteps - step) as f64 * progress.started.elapsed().as_secs_f64() / done;
+    line += &format!("  ~{left:.0} s left");
+    match bar {
+        Some(bar) => {
+            bar.set_message(format!("t = {t:.4}  CG {}", rec.cg_iterations));
+            bar.inc(1);
+            if opts.verbosity >= 2 {
+                bar.println(&line);
+            }
+        }
+        None => log.at(1, &line),
+    }
+}
+
+/// Appends the step to the result file (when `write`) with the restart state after it.
+/// Collective: an error on rank 0 is every rank's.
+#[allow(clippy::too_many_arguments)]
+fn write_step<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    (gather, local): (&Gather, &LocalMesh),
+    mut writer: Option<&mut ResultWriter>,
+    progress: &mut Progress,
+    step: usize,
+    write: bool,
+    s: &StepOutput,
+) -> Result<(), String> {
+    let mut local_err = None;
+    if let Some(w) = writer.as_deref_mut().filter(|_| write && comm.is_root()) {
+        local_err = w.append_step(s).err().map(|e| e.to_string());
+    }
+    if write {
+        progress.rows_written += 1;
+        let r = restart::restart_state(comm, stepper, gather, local, step, progress.rows_written);
+        if let Some(w) = writer.filter(|_| local_err.is_none()) {
+            local_err = w.write_restart(&r).err().map(|e| e.to_string());
+        }
+    }
+    match comm::first_error(comm, local_err) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// The state after the last step, as `run` returns it.
+fn final_state<C: Comm + ?Sized>(
+    problem: &Problem,
+    stepper: &Stepper<C>,
+    s: StepOutput,
+) -> GlobalState {
+    GlobalState {
+        displacement: s.displacement,
+        stress: s.stress,
+        reaction: s.reaction,
+        contact_force: s.contact_force,
+        contact_status: s.contact_status,
+        plastic_strain: s.plastic_strain,
+        constraints: stepper
+            .contact
+            .active
+            .iter()
+            .map(|a| {
+                let pair = &problem.contacts[a.pair];
+                let (e, _) = pair.master_faces[a.face as usize];
+                ActiveConstraint {
+                    slave: a.slave,
+                    pair: a.pair,
+                    master_body: problem.mesh.element_body[e as usize] as usize,
+                    stick: a.mode == Mode::Stick,
+                    normal: a.normal,
+                    normal_force: a.normal_force,
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Closes the result file: complete, or marked failed with the message. Collective.
+fn finish<C: Comm + ?Sized>(
+    comm: &C,
+    writer: Option<ResultWriter>,
+    failure: &Option<String>,
+    wall_time: f64,
+) -> Result<Option<std::path::PathBuf>, String> {
+    let mut output = None;
+    let mut local_err = None;
+    if let Some(w) = writer {
+        let r = match failure {
+            None => w.finish(wall_time),
+            Some(m) => w.finish_failed(wall_time, m),
+        };
+        match r {
+            Ok(p) => output = Some(p),
+            Err(e) => local_err = Some(e.to_string()),
+        }
+    }
+    match comm::first_error(comm, local_err) {
+        Some(e) => Err(e),
+        None => Ok(output),
+    }
+}

@@ -1,0 +1,249 @@
+//! Restart: the state a result file keeps after each written step (displacements, the
+//! contact constraints, the plastic history, the step records), read back and checked
+//! against the scene, and sent from rank 0 to every rank.
+
+use super::gather::Gather;
+use super::plastic;
+use crate::comm::{self, Comm};
+use crate::contact::state::ContactState;
+use crate::math::Vec3;
+use crate::mesh::local::LocalMesh;
+use crate::output::{RestartState, ResultFile, StepOutput, StepStats};
+use crate::problem::Problem;
+use crate::solver::Stepper;
+use std::path::Path;
+
+/// An earlier run to continue, as every rank holds it: its restart state, the records of
+/// its steps, the contact state decoded, and (rank 0 only) its step results.
+pub(super) struct Continued {
+    pub(super) state: RestartState,
+    pub(super) records: Vec<(f64, StepStats)>,
+    pub(super) contact: ContactState,
+    pub(super) steps: Vec<StepOutput>,
+}
+
+/// Reads the earlier run on rank 0 (before this run's file can replace it) and sends its
+/// state to every rank. Collective.
+pub(super) fn resume<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    path: &Path,
+) -> Result<Continued, String> {
+    let mut bytes = Vec::new();
+    let mut steps = Vec::new();
+    let mut local_err = None;
+    if comm.is_root() {
+        match read_restart(path, problem) {
+            Ok(r) => {
+                bytes = encode_restart(&r.state, &r.steps);
+                steps = r.steps;
+            }
+            Err(e) => local_err = Some(e),
+        }
+    }
+    if let Some(e) = comm::first_error(comm, local_err) {
+        return Err(e);
+    }
+    comm.broadcast_bytes(0, &mut bytes);
+    let (state, records) = decode_restart(&bytes, problem.mesh.num_nodes());
+    let contact =
+        ContactState::decode(problem, &state.contact, &state.released).ok_or_else(|| {
+            format!(
+                "{}: the restart state's contact constraints do not fit {}",
+                path.display(),
+                problem.file
+            )
+        })?;
+    Ok(Continued {
+        state,
+        records,
+        contact,
+        steps,
+    })
+}
+
+/// The steps an earlier run finished, read from its result file on rank 0.
+struct Resumed {
+    state: RestartState,
+    /// The earlier file's step results (rank 0 only).
+    steps: Vec<StepOutput>,
+}
+
+/// Checks that a result file holds a restart state this scene can continue from: every
+/// checksum of what a restart reads, and every value finite.
+pub fn check_restart(path: &Path, problem: &Problem) -> Result<(), String> {
+    read_restart(path, problem).map(|_| ())
+}
+
+/// Reads the restart state and the finished steps of an earlier run of the same scene.
+fn read_restart(path: &Path, problem: &Problem) -> Result<Resumed, String> {
+    let file = ResultFile::open(path).map_err(|e| e.to_string())?;
+    let state = restart_of(&file, path, problem)?;
+    let stats = file.stats().map_err(|e| e.to_string())?;
+    let times = file.time().map_err(|e| e.to_string())?;
+    let steps = (0..state.rows as usize)
+        .map(|i| file.step_output(i, times[i], stats[i]))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    Ok(Resumed { state, steps })
+}
+
+fn restart_of(file: &ResultFile, path: &Path, problem: &Problem) -> Result<RestartState, String> {
+    let shown = path.display();
+    let attrs = file.attributes().map_err(|e| e.to_string())?;
+    if attrs.scene_text != problem.text {
+        return Err(format!(
+            "{shown}: written by a different scene (or refinement) than {}; a restart continues the same scene",
+            problem.file
+        ));
+    }
+    let state = file
+        .restart_state()
+        .map_err(|e| e.to_string())?
+        .ok_or_else(|| format!("{shown}: holds no restart state (no step was written)"))?;
+    let step = state.step as usize;
+    if step == 0
+        || step > problem.step_times.len()
+        || problem.step_times[step - 1] != state.time
+        || state.rows as usize > file.num_steps()
+    {
+        return Err(format!(
+            "{shown}: the restart state (step {step}, t = {}, {} rows) does not fit the scene's {} steps and the file's {} rows",
+            state.time,
+            state.rows,
+            problem.step_times.len(),
+            file.num_steps()
+        ));
+    }
+    if state.history.len() != plastic::history_len(problem) {
+        return Err(format!(
+            "{shown}: the restart state's plastic history ({} values) does not fit {} ({} values)",
+            state.history.len(),
+            problem.file,
+            plastic::history_len(problem)
+        ));
+    }
+    if ContactState::decode(problem, &state.contact, &state.released).is_none() {
+        return Err(format!(
+            "{shown}: the restart state's contact constraints do not fit {}",
+            problem.file
+        ));
+    }
+    Ok(state)
+}
+
+fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
+    let mut v = vec![
+        r.step as f64,
+        r.time,
+        r.dt_prev,
+        r.reference_floor,
+        r.rows as f64,
+        r.contact.len() as f64,
+        r.released.len() as f64,
+        r.history.len() as f64,
+    ];
+    v.extend(r.displacement.iter().flatten());
+    v.extend(r.previous_displacement.iter().flatten());
+    v.extend(&r.contact);
+    v.extend(&r.released);
+    v.extend(&r.history);
+    for s in steps {
+        let t = &s.stats;
+        v.extend([
+            s.time,
+            t.cg_iterations as f64,
+            t.contact_updates as f64,
+            t.residual,
+            t.wall_time,
+            t.cutbacks as f64,
+            t.contact_active as f64,
+            t.contact_stick as f64,
+            t.contact_slip as f64,
+            t.contact_released as f64,
+            t.max_penetration,
+        ]);
+    }
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// The restart state and the earlier steps' records, as every rank receives them.
+fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepStats)>) {
+    let v: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
+    let (nc, nr, nh) = (v[5] as usize, v[6] as usize, v[7] as usize);
+    let mut at = 8;
+    let mut take = |n: usize| {
+        let out = v[at..at + n].to_vec();
+        at += n;
+        out
+    };
+    let rows = |flat: Vec<f64>| -> Vec<Vec3> {
+        flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+    };
+    let displacement = rows(take(3 * nodes));
+    let previous_displacement = rows(take(3 * nodes));
+    let contact = take(nc);
+    let released = take(nr);
+    let history = take(nh);
+    let state = RestartState {
+        history,
+        step: v[0] as u64,
+        time: v[1],
+        dt_prev: v[2],
+        reference_floor: v[3],
+        rows: v[4] as u64,
+        displacement,
+        previous_displacement,
+        contact,
+        released,
+    };
+    let records = v[at..]
+        .chunks_exact(11)
+        .map(|w| {
+            (
+                w[0],
+                StepStats {
+                    cg_iterations: w[1] as u64,
+                    contact_updates: w[2] as u64,
+                    residual: w[3],
+                    wall_time: w[4],
+                    cutbacks: w[5] as u64,
+                    contact_active: w[6] as u64,
+                    contact_stick: w[7] as u64,
+                    contact_slip: w[8] as u64,
+                    contact_released: w[9] as u64,
+                    max_penetration: w[10],
+                },
+            )
+        })
+        .collect();
+    (state, records)
+}
+
+/// The state to resume from after `step` (complete on rank 0).
+pub(super) fn restart_state<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    gather: &Gather,
+    local: &LocalMesh,
+    step: usize,
+    rows: u64,
+) -> RestartState {
+    let (time, dt_prev, reference_floor) = stepper.scalars();
+    let (contact, released) = stepper.contact.encode();
+    RestartState {
+        step: step as u64,
+        time,
+        dt_prev,
+        reference_floor,
+        rows,
+        displacement: gather.nodes(comm, local, &stepper.u),
+        previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
+        contact,
+        released,
+        history: plastic::gather_history(comm, stepper),
+    }
+}
