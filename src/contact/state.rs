@@ -335,8 +335,18 @@ impl ContactState {
         start: &[Vec3],
         force_tol: f64,
     ) -> bool {
+        let mut changed = self.release_tensile(force_tol);
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
+        changed |= self.coulomb(problem, mesh, u, start, &surfaces, force_tol);
+        changed |= self.search(problem, mesh, u, &surfaces);
+        self.share(comm, mesh);
+        comm::any(comm, changed)
+    }
+
+    /// Release: a node whose contact force is tensile (beyond `force_tol`) leaves the set
+    /// and is not pulled back in by the capture tolerance in this step.
+    fn release_tensile(&mut self, force_tol: f64) -> bool {
         let mut changed = false;
-        // Release: a tensile contact force.
         let mut kept = Vec::with_capacity(self.active.len());
         for a in self.active.drain(..) {
             if a.normal_force < -force_tol {
@@ -349,7 +359,21 @@ impl ContactState {
             }
         }
         self.active = kept;
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
+        changed
+    }
+
+    /// Coulomb's law for every constraint after a model problem: stick, onset of slip,
+    /// driven slip, the reversal of slip, and the friction direction of a slipping node.
+    /// Returns whether a constraint changed mode.
+    fn coulomb(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        start: &[Vec3],
+        surfaces: &[super::search::MasterSurface],
+        force_tol: f64,
+    ) -> bool {
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
         // node that moved against its friction force sticks again. A node whose slip has
         // already reversed once in this step (and slipped again) has its next reversal
@@ -365,105 +389,45 @@ impl ContactState {
             }
             _ => true,
         });
-        // A sticking node whose tangential force exceeds its capacity starts to slip.
-        let exceeds = |a: &Active| {
-            let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
-            let ft = norm(&a.tangential_force);
-            ft > capacity * (1.0 + 1e-9) && ft > force_tol
-        };
         let onset = self
             .active
             .iter()
-            .any(|a| a.mode == Mode::Stick && exceeds(a));
+            .any(|a| a.mode == Mode::Stick && exceeds(a, problem.contacts[a.pair].mu, force_tol));
         let judge_reversal = slipping_settled && !onset;
+        let mut changed = false;
         for a in self.active.iter_mut() {
-            let pair = &problem.contacts[a.pair];
-            let mu = pair.mu;
-            let capacity = mu * a.normal_force.max(0.0);
-            // The slip since the start of the step, relative to the master point. The face
-            // is held unless the node has moved beyond the ghosting margin of its face (a
-            // body running away); then the search below releases it, and the slip test has
-            // nothing to measure against.
-            let slip = || -> Option<Vec3> {
-                let l = mesh.owned_node(a.slave)?;
-                let (now, then) = surfaces[a.pair].face_corners(a.face)?;
-                let w = crate::fem::face::shape(a.s[0], a.s[1]);
-                let mut d = sub(&u[l], &start[l]);
-                for j in 0..4 {
-                    d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
-                }
-                Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
-            };
+            let surface = &surfaces[a.pair];
             let measured = match a.mode {
                 Mode::Free => None,
-                _ => slip(),
+                _ => step_slip(a, mesh, u, start, surface),
             };
-            match a.mode {
-                Mode::Free => {}
-                Mode::Stick => {
-                    let ft = norm(&a.tangential_force);
-                    if exceeds(a) {
-                        // The onset: the friction force takes the direction of the force
-                        // the stick constraint carried (the slip it releases goes that way).
-                        a.secant = measured.map(|d| (a.tangential_force, d));
-                        a.mode = Mode::Slip {
-                            dir: scale(&a.tangential_force, 1.0 / ft),
-                            magnitude: capacity,
-                        };
-                        changed = true;
-                    } else if let Some(d) = driven_slip(&surfaces[a.pair], problem, mesh, u, a) {
-                        // Prescribed motion (or another tie) moved the node along the master
-                        // from its stick point: it slips, the friction force against the
-                        // slip, whatever force the stick carried (the driving rows took it).
-                        a.secant = measured.map(|m| (scale(&d, -capacity / norm(&d)), m));
-                        a.mode = Mode::Slip {
-                            dir: scale(&d, -1.0 / norm(&d)),
-                            magnitude: capacity,
-                        };
-                        changed = true;
+            changed |= match a.mode {
+                Mode::Free => false,
+                Mode::Stick => judge_stick(a, problem, mesh, u, surface, measured, force_tol),
+                Mode::Slip { dir, magnitude } => match measured {
+                    Some(slip) => {
+                        let pair = &problem.contacts[a.pair];
+                        judge_slip(a, pair, (dir, magnitude), slip, judge_reversal, force_tol)
                     }
-                }
-                Mode::Slip { dir, magnitude } => {
-                    let Some(slip) = measured else {
-                        continue;
-                    };
-                    // A node that moved along its friction force has reversed: it does not
-                    // slip in this step (the step's slip is one vector, against the friction
-                    // force, or zero), so it sticks where the step found it. (Sticking where
-                    // the last model problem left it would keep a slide made under a
-                    // friction force still being settled, e.g. the last step's.)
-                    if (a.reversals == 0 || judge_reversal)
-                        && dot(&slip, &dir) > 1e-12 * pair.face_size
-                    {
-                        a.reversals += 1;
-                        a.mode = Mode::Stick;
-                        a.secant = None;
-                        if let Some((face, s)) = a.start {
-                            a.face = face;
-                            a.s = s;
-                        }
-                        changed = true;
-                        continue;
-                    }
-                    let held = scale(&dir, magnitude);
-                    let noise = SLIP_NOISE * pair.face_size;
-                    a.slip_stiffness =
-                        secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
-                    a.secant = Some((held, slip));
-                    a.mode = Mode::Slip {
-                        dir: friction_direction(
-                            dir,
-                            held,
-                            slip,
-                            a.slip_stiffness,
-                            noise,
-                            force_tol,
-                        ),
-                        magnitude: capacity,
-                    };
-                }
-            }
+                    None => false,
+                },
+            };
         }
+        changed
+    }
+
+    /// The search from the current configuration, for the owned slave nodes: a node in
+    /// contact keeps or moves its contact point (or is released when it slid out of the
+    /// search tolerances); a node not in contact that penetrates, or touches within the
+    /// capture tolerance, is captured. Returns whether the set changed.
+    fn search(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        surfaces: &[super::search::MasterSurface],
+    ) -> bool {
+        let mut changed = false;
         // Search from the current configuration, for the owned slave nodes.
         let mut index: HashMap<(u32, usize), usize> = HashMap::new();
         for (k, a) in self.active.iter().enumerate() {
@@ -536,8 +500,7 @@ impl ContactState {
             !gone[k - 1]
         });
         self.active.extend(added);
-        self.share(comm, mesh);
-        comm::any(comm, changed)
+        changed
     }
 
     /// Signed gap of every slave node this rank owns (None where the search finds no master
@@ -717,6 +680,108 @@ fn decode(w: &[f64]) -> Active {
         start: (w[25] != 0.0).then_some((w[26] as u32, [w[27], w[28]])),
         reversals: w[29] as u32,
     }
+}
+
+/// Whether a sticking node's tangential force exceeds its capacity mu |f_n| (beyond
+/// round-off and the force tolerance): it starts to slip.
+fn exceeds(a: &Active, mu: f64, force_tol: f64) -> bool {
+    let capacity = mu * a.normal_force.max(0.0);
+    let ft = norm(&a.tangential_force);
+    ft > capacity * (1.0 + 1e-9) && ft > force_tol
+}
+
+/// The slip since the start of the step, relative to the master point. The face is held
+/// unless the node has moved beyond the ghosting margin of its face (a body running
+/// away); then the search releases it, and the slip test has nothing to measure against.
+fn step_slip(
+    a: &Active,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    start: &[Vec3],
+    surface: &super::search::MasterSurface,
+) -> Option<Vec3> {
+    let l = mesh.owned_node(a.slave)?;
+    let (now, then) = surface.face_corners(a.face)?;
+    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let mut d = sub(&u[l], &start[l]);
+    for j in 0..4 {
+        d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
+    }
+    Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
+}
+
+/// A sticking node: the onset of slip, or slip driven by prescribed motion. Returns
+/// whether it starts to slip.
+fn judge_stick(
+    a: &mut Active,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    surface: &super::search::MasterSurface,
+    measured: Option<Vec3>,
+    force_tol: f64,
+) -> bool {
+    let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
+    let ft = norm(&a.tangential_force);
+    if exceeds(a, problem.contacts[a.pair].mu, force_tol) {
+        // The onset: the friction force takes the direction of the force the stick
+        // constraint carried (the slip it releases goes that way).
+        a.secant = measured.map(|d| (a.tangential_force, d));
+        a.mode = Mode::Slip {
+            dir: scale(&a.tangential_force, 1.0 / ft),
+            magnitude: capacity,
+        };
+        return true;
+    }
+    if let Some(d) = driven_slip(surface, problem, mesh, u, a) {
+        // Prescribed motion (or another tie) moved the node along the master from its
+        // stick point: it slips, the friction force against the slip, whatever force the
+        // stick carried (the driving rows took it).
+        a.secant = measured.map(|m| (scale(&d, -capacity / norm(&d)), m));
+        a.mode = Mode::Slip {
+            dir: scale(&d, -1.0 / norm(&d)),
+            magnitude: capacity,
+        };
+        return true;
+    }
+    false
+}
+
+/// A slipping node with the step's slip `slip`: the reversal of slip (it sticks again),
+/// or the friction force's new direction (a return mapping with the node's secant
+/// stiffness) at the capacity of the last model problem. Returns whether it sticks again.
+fn judge_slip(
+    a: &mut Active,
+    pair: &crate::problem::ContactPair,
+    (dir, magnitude): (Vec3, f64),
+    slip: Vec3,
+    judge_reversal: bool,
+    force_tol: f64,
+) -> bool {
+    let capacity = pair.mu * a.normal_force.max(0.0);
+    // A node that moved along its friction force has reversed: it does not slip in this
+    // step (the step's slip is one vector, against the friction force, or zero), so it
+    // sticks where the step found it. (Sticking where the last model problem left it would
+    // keep a slide made under a friction force still being settled, e.g. the last step's.)
+    if (a.reversals == 0 || judge_reversal) && dot(&slip, &dir) > 1e-12 * pair.face_size {
+        a.reversals += 1;
+        a.mode = Mode::Stick;
+        a.secant = None;
+        if let Some((face, s)) = a.start {
+            a.face = face;
+            a.s = s;
+        }
+        return true;
+    }
+    let held = scale(&dir, magnitude);
+    let noise = SLIP_NOISE * pair.face_size;
+    a.slip_stiffness = secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
+    a.secant = Some((held, slip));
+    a.mode = Mode::Slip {
+        dir: friction_direction(dir, held, slip, a.slip_stiffness, noise, force_tol),
+        magnitude: capacity,
+    };
+    false
 }
 
 fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
