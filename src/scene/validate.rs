@@ -13,6 +13,7 @@ use std::path::Path;
 
 mod contacts;
 mod gmsh;
+mod loads;
 mod material;
 mod sets;
 pub use gmsh::mesh_files;
@@ -166,165 +167,10 @@ impl Builder {
         let node_sets = self.node_sets(&raw, &mesh, gmsh.as_ref(), diag)?;
         let side_sets = self.side_sets(&raw, &mesh, gmsh.as_ref(), &boundary, diag)?;
 
-        let node_set_index = |key: &str, name: &str| -> Result<usize, SceneError> {
-            node_sets
-                .iter()
-                .position(|s| s.name == name)
-                .ok_or_else(|| {
-                    self.err(
-                        key,
-                        format!(
-                            "no node set named '{name}' (defined: {})",
-                            list(node_sets.iter().map(|s| &s.name))
-                        ),
-                    )
-                })
-        };
-        let side_set_index = |key: &str, name: &str| -> Result<usize, SceneError> {
-            side_sets
-                .iter()
-                .position(|s| s.name == name)
-                .ok_or_else(|| {
-                    self.err(
-                        key,
-                        format!(
-                            "no side set named '{name}' (defined: {})",
-                            list(side_sets.iter().map(|s| &s.name))
-                        ),
-                    )
-                })
-        };
-
-        let mut dirichlet = Vec::new();
-        for (i, d) in raw.displacement.iter().enumerate() {
-            let key = format!("displacement[{i}]");
-            let set = node_set_index(&format!("{key}.node_set"), &d.node_set)?;
-            let function = self.function(&key, d.value, &d.function)?;
-            let directions: Vec<Vec3> = match (&d.components, &d.direction) {
-                (Some(c), None) => {
-                    if c.is_empty() {
-                        return Err(self.err(
-                            format!("{key}.components"),
-                            "expected one or more of \"x\", \"y\", \"z\"",
-                        ));
-                    }
-                    let mut dirs = Vec::new();
-                    for s in c {
-                        let axis = match s.as_str() {
-                            "x" => 0,
-                            "y" => 1,
-                            "z" => 2,
-                            _ => {
-                                return Err(self.err(
-                                    format!("{key}.components"),
-                                    format!("expected \"x\", \"y\" or \"z\", got \"{s}\""),
-                                ))
-                            }
-                        };
-                        let mut v = [0.0; 3];
-                        v[axis] = 1.0;
-                        if dirs.contains(&v) {
-                            return Err(self.err(
-                                format!("{key}.components"),
-                                format!("component \"{s}\" given twice"),
-                            ));
-                        }
-                        dirs.push(v);
-                    }
-                    dirs
-                }
-                (None, Some(v)) => {
-                    let v = self.finite3(&format!("{key}.direction"), v)?;
-                    let n = norm(&v);
-                    if !(n > 0.0) {
-                        return Err(
-                            self.err(format!("{key}.direction"), "expected a non-zero vector")
-                        );
-                    }
-                    vec![scale(&v, 1.0 / n)]
-                }
-                (Some(_), Some(_)) => {
-                    return Err(self.err(&key, "give either `components` or `direction`, not both"))
-                }
-                (None, None) => {
-                    return Err(self.err(
-                        &key,
-                        "expected `components = [\"x\", ...]` or `direction = [a, b, c]`",
-                    ))
-                }
-            };
-            for direction in directions {
-                dirichlet.push(Dirichlet {
-                    node_set: set,
-                    direction,
-                    function: function.clone(),
-                });
-            }
-        }
-
-        let mut pressures = Vec::new();
-        for (i, p) in raw.pressure.iter().enumerate() {
-            let key = format!("pressure[{i}]");
-            let side_set = side_set_index(&format!("{key}.side_set"), &p.side_set)?;
-            pressures.push(Pressure {
-                side_set,
-                function: self.function(&key, p.value, &p.function)?,
-            });
-        }
-        let mut tractions = Vec::new();
-        for (i, t) in raw.traction.iter().enumerate() {
-            let key = format!("traction[{i}]");
-            let side_set = side_set_index(&format!("{key}.side_set"), &t.side_set)?;
-            let vector = self.finite3(&format!("{key}.vector"), &t.vector)?;
-            let function = match &t.function {
-                Some(p) => self.points(&format!("{key}.function"), p)?,
-                None => PiecewiseLinear::constant(1.0),
-            };
-            tractions.push(Traction {
-                side_set,
-                vector,
-                function,
-            });
-        }
-        let mut body_forces = Vec::new();
-        for (i, b) in raw.body_force.iter().enumerate() {
-            let key = format!("body_force[{i}]");
-            let body = mesh
-                .bodies
-                .iter()
-                .position(|x| x.name == b.body)
-                .ok_or_else(|| {
-                    self.err(
-                        format!("{key}.body"),
-                        format!(
-                            "no body named '{}' (defined: {})",
-                            b.body,
-                            list(mesh.bodies.iter().map(|x| &x.name))
-                        ),
-                    )
-                })?;
-            let a = self.finite3(&format!("{key}.acceleration"), &b.acceleration)?;
-            let density = body_models[body].density;
-            if !(density > 0.0) {
-                return Err(self.err(
-                    format!("{key}.body"),
-                    format!(
-                        "body '{}' needs a material density > 0 for a body force",
-                        b.body
-                    ),
-                ));
-            }
-            let function = match &b.function {
-                Some(p) => self.points(&format!("{key}.function"), p)?,
-                None => PiecewiseLinear::constant(1.0),
-            };
-            body_forces.push(BodyForce {
-                body,
-                force_density: scale(&a, density),
-                function,
-            });
-        }
-
+        let dirichlet = self.displacements(&raw, &node_sets)?;
+        let pressures = self.pressures(&raw, &side_sets)?;
+        let tractions = self.tractions(&raw, &side_sets)?;
+        let body_forces = self.body_forces(&raw, &mesh, &body_models)?;
         let contacts = self.contacts(&raw, &mesh, &side_sets, &node_sets, &dirichlet)?;
         let (start_time, step_times) = self.time(&raw.time)?;
         let solver = self.solver(&raw.solver)?;
