@@ -112,110 +112,143 @@ fn main() -> ExitCode {
             preconditioner,
             force,
         } => with_comm(|comm| {
-            let override_ = preconditioner.as_deref().map(preconditioner_of);
-            let sized = solver::scene::counts::scene_size(&scene, refine);
-            let mut estimate = None;
-            if let Some(size) = &sized {
-                let size = size.clone().with_override(override_);
-                match memory_gate(comm, &size, force, verbosity) {
-                    Ok(e) => estimate = Some(e),
-                    Err(code) => return code,
-                }
-            }
-            let loaded = load_scene_refined(&scene, refine);
-            let err = loaded.as_ref().err().map(|e| e.to_string());
-            if let Some(e) = solver::comm::first_error(comm, err) {
-                if comm.is_root() {
-                    eprintln!("error: {e}");
-                }
-                return 2;
-            }
-            let mut problem = loaded.expect("every rank loaded the scene");
-            if let Some(p) = override_ {
-                problem.solver.preconditioner = p;
-            }
-            if sized.is_none() {
-                let size = solver::scene::counts::problem_size(&problem);
-                match memory_gate(comm, &size, force, verbosity) {
-                    Ok(e) => estimate = Some(e),
-                    Err(code) => return code,
-                }
-            }
-            if let Some(path) = &restart {
-                let err = comm
-                    .is_root()
-                    .then(|| solver::run::check_restart(path, &problem).err())
-                    .flatten();
-                if let Some(e) = solver::comm::first_error(comm, err) {
-                    if comm.is_root() {
-                        eprintln!("error: {e}");
-                    }
-                    return 2;
-                }
-            }
-            let output =
-                output.unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
-            // The output is checked and locked before any work (rank 0 writes it).
-            let inputs = RunInputs {
+            let args = RunArgs {
                 scene: &scene,
-                problem: &problem,
+                output,
+                refine,
                 restart: restart.as_deref(),
+                preconditioner: preconditioner.as_deref().map(preconditioner_of),
+                force,
+                verbosity,
             };
-            let claimed = match claim_on_root(comm, &inputs, &output, verbosity) {
-                Ok(c) => c,
-                Err(code) => return code,
-            };
-            match run_from(
-                comm,
-                &problem,
-                &RunOptions {
-                    output: Some(output),
-                    verbosity,
-                },
-                restart.as_deref(),
-            ) {
-                Ok((summary, _)) => {
-                    if let Some(f) = &summary.failure {
-                        if comm.is_root() {
-                            eprintln!("error: {f}");
-                            if let Some(p) = &summary.output {
-                                eprintln!("the completed steps are in {}", p.display());
-                            }
-                            earlier_run_note(claimed.as_ref().map(|c| &c.paths.result));
-                        }
-                        1
-                    } else {
-                        if comm.is_root() && verbosity > 0 {
-                            let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
-                            eprintln!(
-                                "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank{}; results in {}",
-                                summary.steps.len(),
-                                iters,
-                                summary.wall_time,
-                                summary.peak_memory / (1024.0 * 1024.0),
-                                estimate
-                                    .map(|e| format!(" (estimated {:.1} MiB)", e / (1024.0 * 1024.0)))
-                                    .unwrap_or_default(),
-                                summary
-                                    .output
-                                    .as_ref()
-                                    .map(|p| p.display().to_string())
-                                    .unwrap_or_default()
-                            );
-                            earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
-                        }
-                        0
-                    }
-                }
-                Err(e) => {
-                    if comm.is_root() {
-                        eprintln!("error: {e}");
-                    }
-                    1
-                }
-            }
+            run_command(comm, &args)
         }),
     }
+}
+
+/// `solver run`'s arguments.
+struct RunArgs<'a> {
+    scene: &'a Path,
+    output: Option<PathBuf>,
+    refine: u32,
+    restart: Option<&'a Path>,
+    preconditioner: Option<solver::problem::Preconditioner>,
+    force: bool,
+    verbosity: u8,
+}
+
+/// `solver run`: the memory check (before the mesh is built when the counts allow), the
+/// scene, the restart file, the output claimed, the run, and its summary. Returns the exit
+/// code: 0 done, 1 the run failed, 2 bad input or too big.
+fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
+    let (problem, estimate) = match prepare(comm, args) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
+    // The output is checked and locked before any work (rank 0 writes it).
+    let inputs = RunInputs {
+        scene: args.scene,
+        problem: &problem,
+        restart: args.restart,
+    };
+    let claimed = match claim_on_root(comm, &inputs, &output, args.verbosity) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let opts = RunOptions {
+        output: Some(output),
+        verbosity: args.verbosity,
+    };
+    match run_from(comm, &problem, &opts, args.restart) {
+        Ok((summary, _)) if summary.failure.is_some() => {
+            if comm.is_root() {
+                eprintln!("error: {}", summary.failure.as_deref().unwrap_or_default());
+                if let Some(p) = &summary.output {
+                    eprintln!("the completed steps are in {}", p.display());
+                }
+                earlier_run_note(claimed.as_ref().map(|c| &c.paths.result));
+            }
+            1
+        }
+        Ok((summary, _)) => {
+            if comm.is_root() && args.verbosity > 0 {
+                eprintln!("{}", done_line(&summary, estimate));
+                earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
+            }
+            0
+        }
+        Err(e) => {
+            if comm.is_root() {
+                eprintln!("error: {e}");
+            }
+            1
+        }
+    }
+}
+
+/// The memory check, the scene loaded on every rank (with the preconditioner asked for)
+/// and the restart file checked; the estimate of the peak memory per rank. An error is
+/// printed on rank 0 and given as the exit code.
+fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem, Option<f64>), u8> {
+    let sized = solver::scene::counts::scene_size(args.scene, args.refine);
+    let mut estimate = None;
+    if let Some(size) = &sized {
+        let size = size.clone().with_override(args.preconditioner);
+        estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
+    }
+    let loaded = load_scene_refined(args.scene, args.refine);
+    let err = loaded.as_ref().err().map(|e| e.to_string());
+    if let Some(e) = solver::comm::first_error(comm, err) {
+        if comm.is_root() {
+            eprintln!("error: {e}");
+        }
+        return Err(2);
+    }
+    let mut problem = loaded.expect("every rank loaded the scene");
+    if let Some(p) = args.preconditioner {
+        problem.solver.preconditioner = p;
+    }
+    if sized.is_none() {
+        let size = solver::scene::counts::problem_size(&problem);
+        estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
+    }
+    if let Some(path) = args.restart {
+        let err = comm
+            .is_root()
+            .then(|| solver::run::check_restart(path, &problem).err())
+            .flatten();
+        if let Some(e) = solver::comm::first_error(comm, err) {
+            if comm.is_root() {
+                eprintln!("error: {e}");
+            }
+            return Err(2);
+        }
+    }
+    Ok((problem, estimate))
+}
+
+/// The closing line of a completed run.
+fn done_line(summary: &solver::run::RunSummary, estimate: Option<f64>) -> String {
+    let iters: u64 = summary.steps.iter().map(|s| s.cg_iterations).sum();
+    format!(
+        "done: {} steps, {} CG iterations, {:.3} s, peak memory {:.1} MiB per rank{}; results in {}",
+        summary.steps.len(),
+        iters,
+        summary.wall_time,
+        summary.peak_memory / (1024.0 * 1024.0),
+        estimate
+            .map(|e| format!(" (estimated {:.1} MiB)", e / (1024.0 * 1024.0)))
+            .unwrap_or_default(),
+        summary
+            .output
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default()
+    )
 }
 
 fn preconditioner_of(name: &str) -> solver::problem::Preconditioner {
