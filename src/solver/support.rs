@@ -26,6 +26,35 @@ const FREE: f64 = 1e-10;
 /// the same on every rank (it reads only replicated data).
 pub fn unheld_bodies(problem: &Problem, contact: &ContactState) -> Vec<String> {
     let mesh = &problem.mesh;
+    let rows = support_rows(problem, contact);
+    let mut out = Vec::new();
+    for (b, body) in mesh.bodies.iter().enumerate() {
+        if body.num_nodes == 0 {
+            continue;
+        }
+        let nodes = &mesh.coords[body.first_node..body.first_node + body.num_nodes];
+        let eig = SymmetricEigen::new(support_gram(nodes, &rows[b]));
+        let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
+        let free: Vec<usize> = (0..6)
+            .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
+            .collect();
+        if free.is_empty() {
+            continue;
+        }
+        out.push(format!(
+            "body '{}' is not held: its prescribed displacements and contact ties block {} of its 6 rigid-body motions (free: {})",
+            body.name,
+            6 - free.len(),
+            free_motions(&eig, &free).join(", ")
+        ));
+    }
+    out
+}
+
+/// The supports of each body: (point, direction) of every prescribed direction and of
+/// every contact tie (on the slave's body and on the master's).
+fn support_rows(problem: &Problem, contact: &ContactState) -> Vec<Vec<(Vec3, Vec3)>> {
+    let mesh = &problem.mesh;
     let body_of = |g: usize| {
         mesh.bodies
             .iter()
@@ -52,82 +81,71 @@ pub fn unheld_bodies(problem: &Problem, contact: &ContactState) -> Vec<String> {
             rows[b].extend(dirs.iter().map(|&d| (x, d)));
         }
     }
-    let mut out = Vec::new();
-    for (b, body) in mesh.bodies.iter().enumerate() {
-        if body.num_nodes == 0 {
-            continue;
+    rows
+}
+
+/// The Gram matrix of a body's supports as rigid-body motions (direction, and moment
+/// about the body's centre with lever arms scaled by the body's size).
+fn support_gram(nodes: &[Vec3], rows: &[(Vec3, Vec3)]) -> Matrix6<f64> {
+    let n = nodes.len() as f64;
+    let mut centre = [0.0; 3];
+    for x in nodes {
+        for i in 0..3 {
+            centre[i] += x[i] / n;
         }
-        let nodes = &mesh.coords[body.first_node..body.first_node + body.num_nodes];
-        let n = nodes.len() as f64;
-        let mut centre = [0.0; 3];
-        for x in nodes {
-            for i in 0..3 {
-                centre[i] += x[i] / n;
-            }
-        }
-        let size = nodes
-            .iter()
-            .map(|x| {
-                (0..3)
-                    .map(|i| (x[i] - centre[i]).powi(2))
-                    .sum::<f64>()
-                    .sqrt()
-            })
-            .fold(0.0, f64::max)
-            .max(f64::MIN_POSITIVE);
-        let mut gram = Matrix6::<f64>::zeros();
-        for (x, c) in &rows[b] {
-            let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);
-            let m = cross(&arm, c);
-            let r = Vector6::new(c[0], c[1], c[2], m[0], m[1], m[2]);
-            gram += r * r.transpose();
-        }
-        let eig = SymmetricEigen::new(gram);
-        let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
-        let free: Vec<usize> = (0..6)
-            .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
-            .collect();
-        if free.is_empty() {
-            continue;
-        }
-        // The free motions as a projector (the eigenvectors of a repeated zero eigenvalue
-        // are any basis of its space): first the axis motions lying wholly in it, then the
-        // rest of the space, described by its basis vectors.
-        let mut projector = Matrix6::<f64>::zeros();
-        for &k in &free {
-            let v = eig.eigenvectors.column(k).into_owned();
-            projector += v * v.transpose();
-        }
-        const AXIS: [&str; 6] = [
-            "translation along x",
-            "translation along y",
-            "translation along z",
-            "rotation about x",
-            "rotation about y",
-            "rotation about z",
-        ];
-        let mut motions: Vec<String> = Vec::new();
-        for (i, name) in AXIS.iter().enumerate() {
-            if projector[(i, i)] >= 1.0 - 1e-8 {
-                motions.push(name.to_string());
-                let e = Vector6::from_fn(|r, _| if r == i { 1.0 } else { 0.0 });
-                projector -= e * e.transpose();
-            }
-        }
-        let rest = SymmetricEigen::new(projector);
-        let mut order: Vec<usize> = (0..6).filter(|&k| rest.eigenvalues[k] > 0.5).collect();
-        order.sort_by(|&i, &j| rest.eigenvalues[j].total_cmp(&rest.eigenvalues[i]));
-        for k in order {
-            motions.push(describe(&rest.eigenvectors.column(k).into_owned()));
-        }
-        out.push(format!(
-            "body '{}' is not held: its prescribed displacements and contact ties block {} of its 6 rigid-body motions (free: {})",
-            body.name,
-            6 - free.len(),
-            motions.join(", ")
-        ));
     }
-    out
+    let size = nodes
+        .iter()
+        .map(|x| {
+            (0..3)
+                .map(|i| (x[i] - centre[i]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut gram = Matrix6::<f64>::zeros();
+    for (x, c) in rows {
+        let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);
+        let m = cross(&arm, c);
+        let r = Vector6::new(c[0], c[1], c[2], m[0], m[1], m[2]);
+        gram += r * r.transpose();
+    }
+    gram
+}
+
+/// The free motions (eigenvectors `free` of the Gram matrix) named: as a projector (the
+/// eigenvectors of a repeated zero eigenvalue are any basis of its space), first the axis
+/// motions lying wholly in it, then the rest of the space, described by its basis vectors.
+fn free_motions(eig: &SymmetricEigen<f64, nalgebra::U6>, free: &[usize]) -> Vec<String> {
+    let mut projector = Matrix6::<f64>::zeros();
+    for &k in free {
+        let v = eig.eigenvectors.column(k).into_owned();
+        projector += v * v.transpose();
+    }
+    const AXIS: [&str; 6] = [
+        "translation along x",
+        "translation along y",
+        "translation along z",
+        "rotation about x",
+        "rotation about y",
+        "rotation about z",
+    ];
+    let mut motions: Vec<String> = Vec::new();
+    for (i, name) in AXIS.iter().enumerate() {
+        if projector[(i, i)] >= 1.0 - 1e-8 {
+            motions.push(name.to_string());
+            let e = Vector6::from_fn(|r, _| if r == i { 1.0 } else { 0.0 });
+            projector -= e * e.transpose();
+        }
+    }
+    let rest = SymmetricEigen::new(projector);
+    let mut order: Vec<usize> = (0..6).filter(|&k| rest.eigenvalues[k] > 0.5).collect();
+    order.sort_by(|&i, &j| rest.eigenvalues[j].total_cmp(&rest.eigenvalues[i]));
+    for k in order {
+        motions.push(describe(&rest.eigenvectors.column(k).into_owned()));
+    }
+    motions
 }
 
 /// "translation along (a, b, c)" or "rotation about (a, b, c)" (rotations about the body's
