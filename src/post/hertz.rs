@@ -273,7 +273,9 @@ pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
     Ok(format!("{}wrote {}", c.render(), args.output.display()))
 }
 
-/// The comparison at the last step of a result file.
+/// The comparison at the last step of a result file: the pair's contact modulus, the
+/// slave nodes' tributary areas, the cylinder they lie on, the resultant contact force,
+/// then the pressure profile against Hertz's.
 pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
     let usage = |message: String| OutputError::Usage {
         file: f.path().to_path_buf(),
@@ -293,6 +295,7 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         )));
     };
     let mesh = f.mesh()?;
+    let elements = element_table(&mesh);
     let faces = |name: &str| -> Result<&Vec<(u64, u8)>, OutputError> {
         mesh.side_sets
             .iter()
@@ -300,81 +303,22 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
             .map(|s| &s.1)
             .ok_or_else(|| usage(format!("the file has no side set '{name}'")))
     };
-    let elements = element_table(&mesh);
     let material = |set: &str| -> Result<(f64, f64), OutputError> {
         let body = side_set_body(&elements, faces(set)?)
             .ok_or_else(|| usage(format!("side set '{set}' is not on exactly one body")))?;
-        let def = scene
-            .body
-            .iter()
-            .find(|b| b.name == body)
-            .ok_or_else(|| usage(format!("the scene has no body '{body}'")))?;
-        Ok(match def.material {
-            MaterialDef::LinearElastic { e, nu, .. } | MaterialDef::NeoHookean { e, nu, .. } => {
-                (e, nu)
-            }
-            // Hertz's solution is elastic: a plastic body is compared by its elastic
-            // constants, valid while it has not yielded.
-            MaterialDef::J2Plastic { e, nu, .. } => (e, nu),
-        })
+        elastic_constants(&scene, body)
+            .ok_or_else(|| usage(format!("the scene has no body '{body}'")))
     };
     let (e1, nu1) = material(&contact.slave)?;
     let (e2, nu2) = material(&contact.master)?;
     let e_star = contact_modulus(e1, nu1, e2, nu2);
-
-    // Slave nodes and their tributary areas.
-    let mut area: HashMap<usize, f64> = HashMap::new();
-    for &(id, face) in faces(&contact.slave)? {
-        let conn = elements
-            .get(&id)
-            .ok_or_else(|| usage(format!("side set names element {id}, which the mesh lacks")))?
-            .1;
-        let nodes = FACES[face as usize].map(|a| conn[a] as usize);
-        let x: [Vec3; 4] = nodes.map(|n| mesh.coordinates[n]);
-        let quarter = crate::fem::face::area(&x) / 4.0;
-        for n in nodes {
-            *area.entry(n).or_insert(0.0) += quarter;
-        }
-    }
+    let area = tributary_areas(&mesh, &elements, faces(&contact.slave)?).map_err(usage)?;
     let mut slave: Vec<usize> = area.keys().copied().collect();
     slave.sort_unstable();
-
-    let plane: Vec<[f64; 2]> = slave
-        .iter()
-        .map(|&n| [mesh.coordinates[n][0], mesh.coordinates[n][1]])
-        .collect();
-    let (centre, radius, off) = fit_circle(&plane)
-        .ok_or_else(|| usage("the slave nodes do not lie on a circle about a z axis".into()))?;
-    if off > 1e-3 * radius {
-        return Err(usage(format!(
-            "the slave surface '{}' is not a cylinder about a z axis (a node lies {off:.3e} off the best circle of radius {radius:.4e})",
-            contact.slave
-        )));
-    }
-    let zs = slave.iter().map(|&n| mesh.coordinates[n][2]);
-    let length = zs.clone().fold(f64::NEG_INFINITY, f64::max) - zs.fold(f64::INFINITY, f64::min);
-    if !(length > 0.0) {
-        return Err(usage("the slave surface has no length along z".into()));
-    }
-
+    let (centre, radius, length) = cylinder(&mesh, &slave, &contact.slave).map_err(usage)?;
     let force = f.contact_force(steps - 1)?;
     let status = f.contact_status(steps - 1)?;
-    let mut total = [0.0; 3];
-    for &n in &slave {
-        for i in 0..3 {
-            total[i] += force[n][i];
-        }
-    }
-    let magnitude = crate::math::norm(&total);
-    if !(magnitude > 0.0) {
-        return Err(usage("there is no contact force at the last step".into()));
-    }
-    let normal = total.map(|v| v / magnitude);
-    if normal[2].abs() > 1e-6 {
-        return Err(usage(format!(
-            "the resultant contact force {total:?} is not perpendicular to the cylinder's axis (z)"
-        )));
-    }
+    let (normal, magnitude) = resultant(&force, &slave).map_err(usage)?;
     let across = [normal[1], -normal[0], 0.0];
     let position = |n: usize| {
         let x = mesh.coordinates[n];
@@ -382,7 +326,6 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
     };
     let load_per_length = magnitude / length;
     let hertz = HertzLine::new(load_per_length, radius, e_star);
-
     let mut nodes: Vec<(f64, f64)> = slave
         .iter()
         .map(|&n| (position(n), dot(&force[n], &normal) / area[&n]))
@@ -393,14 +336,6 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         .filter(|&&n| status[n] == 1 || status[n] == 2)
         .map(|&n| position(n).abs())
         .fold(0.0, f64::max);
-    let mut distinct: Vec<f64> = nodes.iter().map(|n| n.0.abs()).collect();
-    distinct.sort_by(f64::total_cmp);
-    distinct.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * radius);
-    let spacing = match distinct.as_slice() {
-        [a, b, ..] if *a <= 1e-9 * radius => *b,
-        [a, b, ..] => a + b,
-        _ => 0.0,
-    };
     let peak = nodes.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
     let window: Vec<f64> = nodes
         .iter()
@@ -419,12 +354,105 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         e_star,
         load_per_length,
         hertz,
+        spacing: spacing(&nodes, radius),
         nodes,
         contact_edge,
-        spacing,
         peak,
         rms_error,
     })
+}
+
+/// E and nu of a body of the scene. Hertz's solution is elastic: a plastic body is
+/// compared by its elastic constants, valid while it has not yielded.
+fn elastic_constants(scene: &SceneFile, body: &str) -> Option<(f64, f64)> {
+    let def = scene.body.iter().find(|b| b.name == body)?;
+    Some(match def.material {
+        MaterialDef::LinearElastic { e, nu, .. } | MaterialDef::NeoHookean { e, nu, .. } => (e, nu),
+        MaterialDef::J2Plastic { e, nu, .. } => (e, nu),
+    })
+}
+
+/// Each slave node's tributary area: a quarter of each of its faces.
+fn tributary_areas(
+    mesh: &OutputMesh,
+    elements: &HashMap<u64, (&str, [u64; 8])>,
+    faces: &[(u64, u8)],
+) -> Result<HashMap<usize, f64>, String> {
+    let mut area: HashMap<usize, f64> = HashMap::new();
+    for &(id, face) in faces {
+        let conn = elements
+            .get(&id)
+            .ok_or_else(|| format!("side set names element {id}, which the mesh lacks"))?
+            .1;
+        let nodes = FACES[face as usize].map(|a| conn[a] as usize);
+        let x: [Vec3; 4] = nodes.map(|n| mesh.coordinates[n]);
+        let quarter = crate::fem::face::area(&x) / 4.0;
+        for n in nodes {
+            *area.entry(n).or_insert(0.0) += quarter;
+        }
+    }
+    Ok(area)
+}
+
+/// The circle about a z axis the slave nodes lie on, and the cylinder's length along z:
+/// (centre, radius, length).
+fn cylinder(
+    mesh: &OutputMesh,
+    slave: &[usize],
+    name: &str,
+) -> Result<([f64; 2], f64, f64), String> {
+    let plane: Vec<[f64; 2]> = slave
+        .iter()
+        .map(|&n| [mesh.coordinates[n][0], mesh.coordinates[n][1]])
+        .collect();
+    let (centre, radius, off) = fit_circle(&plane)
+        .ok_or_else(|| "the slave nodes do not lie on a circle about a z axis".to_string())?;
+    if off > 1e-3 * radius {
+        return Err(format!(
+            "the slave surface '{name}' is not a cylinder about a z axis (a node lies {off:.3e} off the best circle of radius {radius:.4e})"
+        ));
+    }
+    let zs = slave.iter().map(|&n| mesh.coordinates[n][2]);
+    let length = zs.clone().fold(f64::NEG_INFINITY, f64::max) - zs.fold(f64::INFINITY, f64::min);
+    if !(length > 0.0) {
+        return Err("the slave surface has no length along z".into());
+    }
+    Ok((centre, radius, length))
+}
+
+/// The direction and magnitude of the total contact force on the slave nodes, which must
+/// be perpendicular to the cylinder's axis.
+fn resultant(force: &[Vec3], slave: &[usize]) -> Result<(Vec3, f64), String> {
+    let mut total = [0.0; 3];
+    for &n in slave {
+        for i in 0..3 {
+            total[i] += force[n][i];
+        }
+    }
+    let magnitude = crate::math::norm(&total);
+    if !(magnitude > 0.0) {
+        return Err("there is no contact force at the last step".into());
+    }
+    let normal = total.map(|v| v / magnitude);
+    if normal[2].abs() > 1e-6 {
+        return Err(format!(
+            "the resultant contact force {total:?} is not perpendicular to the cylinder's axis (z)"
+        ));
+    }
+    Ok((normal, magnitude))
+}
+
+/// The node spacing at the contact's centre (between the two nodes nearest it, or from
+/// a node on it to the next).
+fn spacing(nodes: &[(f64, f64)], radius: f64) -> f64 {
+    let mut distinct: Vec<f64> = nodes.iter().map(|n| n.0.abs()).collect();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * radius);
+    match distinct.as_slice() {
+        [a, b, ..] if *a <= 1e-9 * radius => *b,
+        [a, b, ..] => a + b,
+        _ => 0.0,
+    }
 }
 
 /// Element id -> (body name, connectivity).
