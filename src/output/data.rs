@@ -228,7 +228,13 @@ impl StepOutput {
         node_ids: &[u64],
         elements: usize,
     ) -> Result<(), OutputError> {
-        let nodes = node_ids.len();
+        self.check_lengths(file, node_ids.len(), elements)?;
+        self.check_values(file, node_ids)?;
+        self.check_stats(file)
+    }
+
+    /// Every dataset has a value per node or per element.
+    fn check_lengths(&self, file: &Path, nodes: usize, elements: usize) -> Result<(), OutputError> {
         let length = |dataset: &str, found: usize, expected: usize, what: &str| {
             if found == expected {
                 Ok(())
@@ -269,6 +275,11 @@ impl StepOutput {
                 "elements",
             )?;
         }
+        Ok(())
+    }
+
+    /// Every value finite, every contact status one of 0..3 (named by node and its id).
+    fn check_values(&self, file: &Path, node_ids: &[u64]) -> Result<(), OutputError> {
         check_finite(file, layout::PLASTIC_STRAIN, &self.plastic_strain, |e| {
             format!("element {e}")
         })?;
@@ -306,6 +317,11 @@ impl StepOutput {
                 ),
             });
         }
+        Ok(())
+    }
+
+    /// The step's statistics finite, the penetration not negative.
+    fn check_stats(&self, file: &Path) -> Result<(), OutputError> {
         check_finite(file, layout::STATS_RESIDUAL, &[self.stats.residual], |_| {
             "the step's residual".into()
         })?;
