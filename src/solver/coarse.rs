@@ -74,7 +74,8 @@ fn modes(d: &Vec3) -> [Vec3; MODES] {
 
 impl CoarseSpace {
     /// Builds the aggregates and the summation plan (collective), or says why a coarse
-    /// space is not used for this mesh.
+    /// space is not used for this mesh: the cell size, the aggregates (cell and body), their
+    /// colours and neighbours, their centres, and which rank sums each.
     pub fn new<C: Comm + ?Sized>(
         comm: &C,
         problem: &Problem,
@@ -82,55 +83,8 @@ impl CoarseSpace {
     ) -> Result<Self, String> {
         let g = &problem.mesh;
         let n = g.num_nodes();
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for x in &g.coords {
-            for i in 0..3 {
-                lo[i] = lo[i].min(x[i]);
-                hi[i] = hi[i].max(x[i]);
-            }
-        }
-        // Cell size: about NODES_PER_SIDE nodes per aggregate side, and wide enough that
-        // everything one node couples to (its elements, a contact tie and the slave's own
-        // elements) lies in its cell or the next one.
-        let mut span = 0.0f64;
-        for e in 0..g.num_elements() {
-            let x = g.element_coords(e);
-            for i in 0..3 {
-                let (a, b) = x
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
-                        (a.min(p[i]), b.max(p[i]))
-                    });
-                span = span.max(b - a);
-            }
-        }
-        let reach = problem
-            .contacts
-            .iter()
-            .map(|c| c.normal_tolerance.max(c.tangential_tolerance))
-            .fold(0.0, f64::max);
-        let volume: f64 = (0..3).map(|i| (hi[i] - lo[i]).max(span)).product();
-        let per_node = volume / n as f64;
-        let target = (per_node * NODES_PER_SIDE.powi(3)).cbrt();
-        let mut h = target.max(2.0 * span + reach);
-        let key_of = |x: &Vec3, h: f64| -> [u32; 3] {
-            std::array::from_fn(|i| ((x[i] - lo[i]) / h).floor().max(0.0) as u32)
-        };
-        // Grow H until there are few enough aggregates.
-        let mut keys: Vec<([u32; 3], u32)>;
-        loop {
-            keys = (0..n)
-                .map(|a| (key_of(&g.coords[a], h), node_body(problem, a)))
-                .collect();
-            let mut distinct = keys.clone();
-            distinct.sort_unstable();
-            distinct.dedup();
-            if distinct.len() <= MAX_AGGREGATES {
-                break;
-            }
-            h *= 1.25;
-        }
+        let (lo, hi) = bounding_box(&g.coords);
+        let (keys, h) = aggregate_keys(problem, &lo, &hi);
         let mut list = keys.clone();
         list.sort_unstable_by_key(|&(c, b)| (c[2], c[1], c[0], b));
         list.dedup();
@@ -140,67 +94,10 @@ impl CoarseSpace {
             .map(|(k, &key)| (key, k as u32))
             .collect();
         let na = list.len();
-        // Colour: the cell's place in a 3 x 3 x 3 pattern, and the body's slot among the
-        // bodies of its cell.
-        let mut slot = vec![0u16; na];
-        for k in 1..na {
-            if list[k].0 == list[k - 1].0 {
-                slot[k] = slot[k - 1] + 1;
-            }
-        }
-        let slots = slot.iter().copied().max().unwrap_or(0) as usize + 1;
-        if slots > 2 {
-            return Err(format!(
-                "{slots} bodies share one coarse cell (the coarse space handles two)"
-            ));
-        }
-        let pattern = |c: &[u32; 3]| (c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3)) as u16;
-        let num_colors = 27 * slots;
-        let color: Vec<u16> = (0..na)
-            .map(|k| pattern(&list[k].0) + 27 * slot[k])
-            .collect();
-        let mut neighbour = vec![u32::MAX; na * num_colors];
-        for (k, (c, _)) in list.iter().enumerate() {
-            for dz in -1i64..=1 {
-                for dy in -1i64..=1 {
-                    for dx in -1i64..=1 {
-                        let m = [c[0] as i64 + dx, c[1] as i64 + dy, c[2] as i64 + dz];
-                        if m.iter().any(|&v| v < 0) {
-                            continue;
-                        }
-                        let cell = [m[0] as u32, m[1] as u32, m[2] as u32];
-                        for (j, &(cj, _)) in
-                            list.iter()
-                                .enumerate()
-                                .skip(list.partition_point(|&(cc, _)| {
-                                    (cc[2], cc[1], cc[0]) < (cell[2], cell[1], cell[0])
-                                }))
-                        {
-                            if cj != cell {
-                                break;
-                            }
-                            neighbour[k * num_colors + color[j] as usize] = j as u32;
-                        }
-                    }
-                }
-            }
-        }
-        // Centres: mean of each aggregate's nodes, summed in global node order.
-        let mut centre = vec![[0.0; 3]; na];
-        let mut count = vec![0usize; na];
+        let (color, num_colors) = colours(&list)?;
+        let neighbour = neighbours(&list, &color, num_colors);
         let agg: Vec<u32> = keys.iter().map(|k| index[k]).collect();
-        for a in 0..n {
-            let k = agg[a] as usize;
-            for i in 0..3 {
-                centre[k][i] += g.coords[a][i];
-            }
-            count[k] += 1;
-        }
-        for k in 0..na {
-            for i in 0..3 {
-                centre[k][i] /= count[k] as f64;
-            }
-        }
+        let centre = centres(&g.coords, &agg, na);
         let offset = |a: usize| -> Vec3 {
             let k = agg[a] as usize;
             std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / h)
@@ -459,6 +356,135 @@ impl Factor {
             x[i] = s / l[i * n + i];
         }
     }
+}
+
+/// The box around every node.
+fn bounding_box(coords: &[Vec3]) -> (Vec3, Vec3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in coords {
+        for i in 0..3 {
+            lo[i] = lo[i].min(x[i]);
+            hi[i] = hi[i].max(x[i]);
+        }
+    }
+    (lo, hi)
+}
+
+/// Each node's aggregate key (its cell, its body) and the cell size. The cell size: about
+/// NODES_PER_SIDE nodes per aggregate side, and wide enough that everything one node
+/// couples to (its elements, a contact tie and the slave's own elements) lies in its cell
+/// or the next one; grown until there are few enough aggregates.
+fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u32)>, f64) {
+    let g = &problem.mesh;
+    let n = g.num_nodes();
+    let mut span = 0.0f64;
+    for e in 0..g.num_elements() {
+        let x = g.element_coords(e);
+        for i in 0..3 {
+            let (a, b) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p[i]), b.max(p[i]))
+                });
+            span = span.max(b - a);
+        }
+    }
+    let reach = problem
+        .contacts
+        .iter()
+        .map(|c| c.normal_tolerance.max(c.tangential_tolerance))
+        .fold(0.0, f64::max);
+    let volume: f64 = (0..3).map(|i| (hi[i] - lo[i]).max(span)).product();
+    let per_node = volume / n as f64;
+    let target = (per_node * NODES_PER_SIDE.powi(3)).cbrt();
+    let mut h = target.max(2.0 * span + reach);
+    let key_of = |x: &Vec3, h: f64| -> [u32; 3] {
+        std::array::from_fn(|i| ((x[i] - lo[i]) / h).floor().max(0.0) as u32)
+    };
+    loop {
+        let keys: Vec<([u32; 3], u32)> = (0..n)
+            .map(|a| (key_of(&g.coords[a], h), node_body(problem, a)))
+            .collect();
+        let mut distinct = keys.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        if distinct.len() <= MAX_AGGREGATES {
+            return (keys, h);
+        }
+        h *= 1.25;
+    }
+}
+
+/// Colour of each aggregate (of `list`, sorted by cell): the cell's place in a 3 x 3 x 3
+/// pattern, and the body's slot among the bodies of its cell; and the number of colours.
+fn colours(list: &[([u32; 3], u32)]) -> Result<(Vec<u16>, usize), String> {
+    let na = list.len();
+    let mut slot = vec![0u16; na];
+    for k in 1..na {
+        if list[k].0 == list[k - 1].0 {
+            slot[k] = slot[k - 1] + 1;
+        }
+    }
+    let slots = slot.iter().copied().max().unwrap_or(0) as usize + 1;
+    if slots > 2 {
+        return Err(format!(
+            "{slots} bodies share one coarse cell (the coarse space handles two)"
+        ));
+    }
+    let pattern = |c: &[u32; 3]| (c[0] % 3 + 3 * (c[1] % 3) + 9 * (c[2] % 3)) as u16;
+    let color = (0..na)
+        .map(|k| pattern(&list[k].0) + 27 * slot[k])
+        .collect();
+    Ok((color, 27 * slots))
+}
+
+/// For each aggregate and colour, the neighbouring aggregate of that colour (in its cell
+/// or the 26 around it), u32::MAX when none.
+fn neighbours(list: &[([u32; 3], u32)], color: &[u16], num_colors: usize) -> Vec<u32> {
+    let mut neighbour = vec![u32::MAX; list.len() * num_colors];
+    for (k, (c, _)) in list.iter().enumerate() {
+        for dz in -1i64..=1 {
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    let m = [c[0] as i64 + dx, c[1] as i64 + dy, c[2] as i64 + dz];
+                    if m.iter().any(|&v| v < 0) {
+                        continue;
+                    }
+                    let cell = [m[0] as u32, m[1] as u32, m[2] as u32];
+                    let first = list.partition_point(|&(cc, _)| {
+                        (cc[2], cc[1], cc[0]) < (cell[2], cell[1], cell[0])
+                    });
+                    for (j, &(cj, _)) in list.iter().enumerate().skip(first) {
+                        if cj != cell {
+                            break;
+                        }
+                        neighbour[k * num_colors + color[j] as usize] = j as u32;
+                    }
+                }
+            }
+        }
+    }
+    neighbour
+}
+
+/// Centres: the mean of each aggregate's nodes, summed in global node order.
+fn centres(coords: &[Vec3], agg: &[u32], na: usize) -> Vec<Vec3> {
+    let mut centre = vec![[0.0; 3]; na];
+    let mut count = vec![0usize; na];
+    for (a, x) in coords.iter().enumerate() {
+        let k = agg[a] as usize;
+        for i in 0..3 {
+            centre[k][i] += x[i];
+        }
+        count[k] += 1;
+    }
+    for k in 0..na {
+        for i in 0..3 {
+            centre[k][i] /= count[k] as f64;
+        }
+    }
+    centre
 }
 
 #[cfg(test)]
