@@ -5,6 +5,7 @@
 //! the equilibrium query, Coulomb stick/slip).
 
 pub mod audit;
+pub mod coulomb;
 pub mod ghost;
 pub mod project;
 pub mod search;

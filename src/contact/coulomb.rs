@@ -1,0 +1,112 @@
+//! Coulomb's law for one contact constraint after a model problem: the onset of slip of
+//! a sticking node, slip driven by prescribed motion, the reversal of slip, and the
+//! friction force's direction (a return mapping with the node's secant stiffness).
+
+use super::search::MasterSurface;
+use super::slip::{driven_slip, friction_direction, secant_stiffness, SLIP_NOISE};
+use super::state::{Active, Mode};
+use crate::math::{dot, norm, scale, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+
+/// Whether a sticking node's tangential force exceeds its capacity mu |f_n| (beyond
+/// round-off and the force tolerance): it starts to slip.
+pub(super) fn exceeds(a: &Active, mu: f64, force_tol: f64) -> bool {
+    let capacity = mu * a.normal_force.max(0.0);
+    let ft = norm(&a.tangential_force);
+    ft > capacity * (1.0 + 1e-9) && ft > force_tol
+}
+
+/// The slip since the start of the step, relative to the master point. The face is held
+/// unless the node has moved beyond the ghosting margin of its face (a body running
+/// away); then the search releases it, and the slip test has nothing to measure against.
+pub(super) fn step_slip(
+    a: &Active,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    start: &[Vec3],
+    surface: &MasterSurface,
+) -> Option<Vec3> {
+    let l = mesh.owned_node(a.slave)?;
+    let (now, then) = surface.face_corners(a.face)?;
+    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let mut d = sub(&u[l], &start[l]);
+    for j in 0..4 {
+        d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
+    }
+    Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
+}
+
+/// A sticking node: the onset of slip, or slip driven by prescribed motion. Returns
+/// whether it starts to slip.
+pub(super) fn judge_stick(
+    a: &mut Active,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    surface: &MasterSurface,
+    measured: Option<Vec3>,
+    force_tol: f64,
+) -> bool {
+    let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
+    let ft = norm(&a.tangential_force);
+    if exceeds(a, problem.contacts[a.pair].mu, force_tol) {
+        // The onset: the friction force takes the direction of the force the stick
+        // constraint carried (the slip it releases goes that way).
+        a.secant = measured.map(|d| (a.tangential_force, d));
+        a.mode = Mode::Slip {
+            dir: scale(&a.tangential_force, 1.0 / ft),
+            magnitude: capacity,
+        };
+        return true;
+    }
+    if let Some(d) = driven_slip(surface, problem, mesh, u, a) {
+        // Prescribed motion (or another tie) moved the node along the master from its
+        // stick point: it slips, the friction force against the slip, whatever force the
+        // stick carried (the driving rows took it).
+        a.secant = measured.map(|m| (scale(&d, -capacity / norm(&d)), m));
+        a.mode = Mode::Slip {
+            dir: scale(&d, -1.0 / norm(&d)),
+            magnitude: capacity,
+        };
+        return true;
+    }
+    false
+}
+
+/// A slipping node with the step's slip `slip`: the reversal of slip (it sticks again),
+/// or the friction force's new direction (a return mapping with the node's secant
+/// stiffness) at the capacity of the last model problem. Returns whether it sticks again.
+pub(super) fn judge_slip(
+    a: &mut Active,
+    pair: &crate::problem::ContactPair,
+    (dir, magnitude): (Vec3, f64),
+    slip: Vec3,
+    judge_reversal: bool,
+    force_tol: f64,
+) -> bool {
+    let capacity = pair.mu * a.normal_force.max(0.0);
+    // A node that moved along its friction force has reversed: it does not slip in this
+    // step (the step's slip is one vector, against the friction force, or zero), so it
+    // sticks where the step found it. (Sticking where the last model problem left it would
+    // keep a slide made under a friction force still being settled, e.g. the last step's.)
+    if (a.reversals == 0 || judge_reversal) && dot(&slip, &dir) > 1e-12 * pair.face_size {
+        a.reversals += 1;
+        a.mode = Mode::Stick;
+        a.secant = None;
+        if let Some((face, s)) = a.start {
+            a.face = face;
+            a.s = s;
+        }
+        return true;
+    }
+    let held = scale(&dir, magnitude);
+    let noise = SLIP_NOISE * pair.face_size;
+    a.slip_stiffness = secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
+    a.secant = Some((held, slip));
+    a.mode = Mode::Slip {
+        dir: friction_direction(dir, held, slip, a.slip_stiffness, noise, force_tol),
+        magnitude: capacity,
+    };
+    false
+}
