@@ -297,6 +297,37 @@ fn residual<C: Comm + ?Sized>(
     cons.reduce(comm, r, None);
 }
 
+/// Where a CG solve stands between iterations.
+struct Progress {
+    /// Norm of the residual and the force it is measured against.
+    rnorm: f64,
+    refv: f64,
+    /// The smallest reference force (a round-off floor).
+    floor: f64,
+    /// r.z of the previous iteration.
+    rz_old: f64,
+    /// The next direction is the preconditioned residual (beta = 0).
+    restart: bool,
+    /// Linear iterations since the residual was last recomputed from the forces.
+    since_true: usize,
+}
+
+impl Progress {
+    #[inline]
+    fn converged(&self, s: &CgSettings) -> bool {
+        self.rnorm <= s.tolerance * self.refv
+    }
+
+    #[inline]
+    fn outcome(&self, iterations: usize) -> ModelOutcome {
+        ModelOutcome {
+            iterations,
+            residual: self.rnorm,
+            reference: self.refv,
+        }
+    }
+}
+
 impl Cg {
     /// Solves the model problem in place; `u` must satisfy the constraints on entry.
     pub fn solve<C: Comm + ?Sized>(
@@ -305,202 +336,275 @@ impl Cg {
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
-        let comm = pb.comm;
-        let n = pb.owned();
-        let nl = u.len();
         let linear = pb.asm.linear && !pb.loads.is_follower();
-        pb.forces(u, &mut self.fi, &mut self.fe)?;
-        residual(comm, pb.cons, &self.fi, &self.fe, &mut self.r);
-        let (mut rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-        // The prescribed motion's force scale enters only at round-off level: a residual
-        // within 1e3 eps of it cannot be resolved further (a body moving rigidly with its
-        // supports loads nothing), but it must not loosen the tolerance on real loads.
-        let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
-        let floor = |_: &[Vec3]| s.reference_floor.max(roundoff);
-        let mut refv = reference.max(floor(u));
-        if !rnorm.is_finite() {
-            return Err(SolveFailure::NonFinite { iterations: 0 });
-        }
-        if rnorm <= s.tolerance * refv {
-            return Ok(ModelOutcome {
-                iterations: 0,
-                residual: rnorm,
-                reference: refv,
-            });
+        let mut st = self.initial_residual(pb, u, s)?;
+        if st.converged(s) {
+            return Ok(st.outcome(0));
         }
         self.precondition(pb, u)?;
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
 
-        let mut rz_old = 0.0;
-        let mut restart = true;
-        let mut since_true = 0usize;
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == SWITCH_AFTER {
-                // Block Jacobi is not enough here: from now on the multilevel one.
-                self.ml_standby = false;
-                self.setup_multilevel(pb, u, linear, s)?;
-                if let Some(note) = self.rebuild_note.as_mut() {
-                    *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
-                }
-                restart = true;
+                self.switch_to_multilevel(pb, u, linear, s)?;
+                st.restart = true;
             }
-            // z = M^-1 r
-            if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
-                let mut op = FineOp {
-                    pb,
-                    linear,
-                    eps_scale: s.length_scale,
-                    u,
-                    fi: &self.fi,
-                    fe: &self.fe,
-                    trial: &mut self.trial,
-                    fi_trial: &mut self.fi_trial,
-                    fe_trial: &mut self.fe_trial,
-                };
-                ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
-            } else {
-                for a in 0..nl {
-                    self.z[a] = matvec(&self.minv[a], &self.r[a]);
-                }
-            }
-            if let Some(c) = &self.coarse {
-                c.apply(
-                    comm,
-                    pb.cons,
-                    n,
-                    &self.r,
-                    &mut self.z,
-                    &mut self.coarse_work,
-                );
-            }
-            let rz = comm::dot(comm, &self.r, &self.z, n);
-            let beta = if restart || rz_old == 0.0 {
-                0.0
-            } else if linear {
-                rz / rz_old
-            } else {
-                let zr_old = comm::dot(comm, &self.z, &self.r_old, n);
-                ((rz - zr_old) / rz_old).max(0.0)
-            };
-            for a in 0..nl {
-                for i in 0..3 {
-                    self.p[a][i] = self.z[a][i] + beta * self.p[a][i];
-                }
-            }
-            let mut rp = comm::dot(comm, &self.r, &self.p, n);
-            if !(rp > 0.0) {
-                self.p.copy_from_slice(&self.z);
-                rp = rz;
-            }
-            if !(rp > 0.0) {
+            self.apply_preconditioner(pb, u, linear, s)?;
+            let Some(rp) = self.update_direction(pb, linear, &mut st, u.len()) else {
                 // The preconditioned residual vanished: the residual is at round-off level.
-                return Ok(ModelOutcome {
-                    iterations: it - 1,
-                    residual: rnorm,
-                    reference: refv,
-                });
-            }
-            restart = false;
-            rz_old = rz;
-            self.r_old.copy_from_slice(&self.r);
-            // The search direction in the free variables, mapped to all displacements.
-            self.pu.copy_from_slice(&self.p);
-            pb.cons.expand(comm, &mut self.pu);
-            pb.asm.mesh.exchange(comm, &mut self.pu);
-
+                return Ok(st.outcome(it - 1));
+            };
             if linear {
-                agree(comm, pb.asm.internal_force(&self.pu, &mut self.q))?;
-                super::springs::add_action(pb.springs, &self.pu, &mut self.q);
-                let pkp = comm::dot(comm, &self.pu, &self.q, n);
-                if !(pkp > 0.0) {
-                    return Err(SolveFailure::NonPositiveCurvature { iterations: it });
-                }
-                let alpha = rp / pkp;
-                for a in 0..nl {
-                    for i in 0..3 {
-                        u[a][i] += alpha * self.pu[a][i];
-                    }
-                }
-                pb.cons.reduce(comm, &mut self.q, None);
-                for a in 0..nl {
-                    for i in 0..3 {
-                        self.r[a][i] -= alpha * self.q[a][i];
-                    }
-                }
-                since_true += 1;
-                rnorm = comm::norm(comm, &self.r, n);
-                let maybe_done = rnorm <= s.tolerance * refv;
-                if maybe_done || since_true >= 50 {
-                    // Replace the recurrence by the true residual.
-                    pb.forces(u, &mut self.fi, &mut self.fe)?;
-                    residual(comm, pb.cons, &self.fi, &self.fe, &mut self.r);
-                    let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-                    rnorm = rn;
-                    refv = reference.max(floor(u));
-                    since_true = 0;
-                    restart = !maybe_done;
-                }
+                self.linear_step(pb, u, rp, it, s, &mut st)?;
             } else {
-                let pmax = max_abs(comm, &self.pu, n).max(f64::MIN_POSITIVE);
-                let eps = 1e-7 * s.length_scale / pmax;
-                for a in 0..nl {
-                    for i in 0..3 {
-                        self.trial[a][i] = u[a][i] + eps * self.pu[a][i];
-                    }
-                }
-                pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
-                for a in 0..nl {
-                    for i in 0..3 {
-                        self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
-                            - (self.fi[a][i] - self.fe[a][i]))
-                            / eps;
-                    }
-                }
-                let pkp = comm::dot(comm, &self.pu, &self.q, n);
-                if !(pkp > 0.0) {
-                    return Err(SolveFailure::NonPositiveCurvature { iterations: it });
-                }
-                let mut alpha = rp / pkp;
-                // Accept the Newton step along p, halving it if an element inverts, then one
-                // secant correction when the directional residual is far from zero.
-                for attempt in 0..12 {
-                    match self.try_step(pb, u, alpha) {
-                        Ok(()) => break,
-                        Err(e) if attempt == 11 => return Err(e),
-                        Err(_) => alpha *= 0.5,
-                    }
-                }
-                let s1 = comm::dot(comm, &self.r, &self.p, n);
-                if s1.abs() > 0.25 * rp {
-                    // try_step leaves the state untouched when the corrected point fails.
-                    let a2 = (alpha * rp / (rp - s1)).clamp(0.1 * alpha, 4.0 * alpha);
-                    let _ = self.try_step(pb, u, a2 - alpha);
-                }
-                let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
-                rnorm = rn;
-                refv = reference.max(floor(u));
-                if it % 100 == 0 {
-                    self.precondition(pb, u)?;
-                    restart = true;
-                }
+                self.nonlinear_step(pb, u, rp, it, s, &mut st)?;
             }
-            if !rnorm.is_finite() {
+            if !st.rnorm.is_finite() {
                 return Err(SolveFailure::NonFinite { iterations: it });
             }
-            if rnorm <= s.tolerance * refv {
-                return Ok(ModelOutcome {
-                    iterations: it,
-                    residual: rnorm,
-                    reference: refv,
-                });
+            if st.converged(s) {
+                return Ok(st.outcome(it));
             }
         }
         Err(SolveFailure::NotConverged {
             iterations: s.max_iterations,
-            residual: rnorm,
-            reference: refv,
+            residual: st.rnorm,
+            reference: st.refv,
         })
+    }
+
+    /// Forces and residual at the starting point.
+    fn initial_residual<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        s: &CgSettings,
+    ) -> Result<Progress, SolveFailure> {
+        pb.forces(u, &mut self.fi, &mut self.fe)?;
+        residual(pb.comm, pb.cons, &self.fi, &self.fe, &mut self.r);
+        let (rnorm, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+        // The prescribed motion's force scale enters only at round-off level: a residual
+        // within 1e3 eps of it cannot be resolved further (a body moving rigidly with its
+        // supports loads nothing), but it must not loosen the tolerance on real loads.
+        let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
+        let floor = s.reference_floor.max(roundoff);
+        if !rnorm.is_finite() {
+            return Err(SolveFailure::NonFinite { iterations: 0 });
+        }
+        Ok(Progress {
+            rnorm,
+            refv: reference.max(floor),
+            floor,
+            rz_old: 0.0,
+            restart: true,
+            since_true: 0,
+        })
+    }
+
+    /// Block Jacobi is not enough here: from now on the multilevel preconditioner.
+    fn switch_to_multilevel<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        self.ml_standby = false;
+        self.setup_multilevel(pb, u, linear, s)?;
+        if let Some(note) = self.rebuild_note.as_mut() {
+            *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
+        }
+        Ok(())
+    }
+
+    /// z = M^-1 r (multilevel or block Jacobi, then the coarse correction).
+    #[inline]
+    fn apply_preconditioner<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let comm = pb.comm;
+        if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
+            let mut op = FineOp {
+                pb,
+                linear,
+                eps_scale: s.length_scale,
+                u,
+                fi: &self.fi,
+                fe: &self.fe,
+                trial: &mut self.trial,
+                fi_trial: &mut self.fi_trial,
+                fe_trial: &mut self.fe_trial,
+            };
+            ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
+        } else {
+            for a in 0..u.len() {
+                self.z[a] = matvec(&self.minv[a], &self.r[a]);
+            }
+        }
+        if let Some(c) = &self.coarse {
+            c.apply(
+                comm,
+                pb.cons,
+                pb.owned(),
+                &self.r,
+                &mut self.z,
+                &mut self.coarse_work,
+            );
+        }
+        Ok(())
+    }
+
+    /// The new search direction p (Fletcher-Reeves when linear, Polak-Ribiere+ otherwise)
+    /// and its expansion to all displacements in `pu`; returns r.p, or None when the
+    /// preconditioned residual vanished.
+    #[inline]
+    fn update_direction<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        linear: bool,
+        st: &mut Progress,
+        nl: usize,
+    ) -> Option<f64> {
+        let (comm, n) = (pb.comm, pb.owned());
+        let rz = comm::dot(comm, &self.r, &self.z, n);
+        let beta = if st.restart || st.rz_old == 0.0 {
+            0.0
+        } else if linear {
+            rz / st.rz_old
+        } else {
+            let zr_old = comm::dot(comm, &self.z, &self.r_old, n);
+            ((rz - zr_old) / st.rz_old).max(0.0)
+        };
+        for a in 0..nl {
+            for i in 0..3 {
+                self.p[a][i] = self.z[a][i] + beta * self.p[a][i];
+            }
+        }
+        let mut rp = comm::dot(comm, &self.r, &self.p, n);
+        if !(rp > 0.0) {
+            self.p.copy_from_slice(&self.z);
+            rp = rz;
+        }
+        if !(rp > 0.0) {
+            return None;
+        }
+        st.restart = false;
+        st.rz_old = rz;
+        self.r_old.copy_from_slice(&self.r);
+        // The search direction in the free variables, mapped to all displacements.
+        self.pu.copy_from_slice(&self.p);
+        pb.cons.expand(comm, &mut self.pu);
+        pb.asm.mesh.exchange(comm, &mut self.pu);
+        Some(rp)
+    }
+
+    /// Linear PCG step: exact curvature p.K p, recurrence for the residual, replaced by the
+    /// true residual every 50 iterations and before convergence is accepted.
+    #[inline]
+    fn linear_step<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        rp: f64,
+        it: usize,
+        s: &CgSettings,
+        st: &mut Progress,
+    ) -> Result<(), SolveFailure> {
+        let (comm, n) = (pb.comm, pb.owned());
+        agree(comm, pb.asm.internal_force(&self.pu, &mut self.q))?;
+        super::springs::add_action(pb.springs, &self.pu, &mut self.q);
+        let pkp = comm::dot(comm, &self.pu, &self.q, n);
+        if !(pkp > 0.0) {
+            return Err(SolveFailure::NonPositiveCurvature { iterations: it });
+        }
+        let alpha = rp / pkp;
+        let nl = u.len();
+        for a in 0..nl {
+            for i in 0..3 {
+                u[a][i] += alpha * self.pu[a][i];
+            }
+        }
+        pb.cons.reduce(comm, &mut self.q, None);
+        for a in 0..nl {
+            for i in 0..3 {
+                self.r[a][i] -= alpha * self.q[a][i];
+            }
+        }
+        st.since_true += 1;
+        st.rnorm = comm::norm(comm, &self.r, n);
+        let maybe_done = st.converged(s);
+        if maybe_done || st.since_true >= 50 {
+            // Replace the recurrence by the true residual.
+            pb.forces(u, &mut self.fi, &mut self.fe)?;
+            residual(comm, pb.cons, &self.fi, &self.fe, &mut self.r);
+            let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+            st.rnorm = rn;
+            st.refv = reference.max(st.floor);
+            st.since_true = 0;
+            st.restart = !maybe_done;
+        }
+        Ok(())
+    }
+
+    /// Nonlinear step: curvature from a finite-difference probe, the Newton step along p
+    /// (halved while an element inverts), then one secant correction when the directional
+    /// residual is far from zero; block Jacobi is rebuilt every 100 iterations.
+    fn nonlinear_step<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        rp: f64,
+        it: usize,
+        s: &CgSettings,
+        st: &mut Progress,
+    ) -> Result<(), SolveFailure> {
+        let (comm, n) = (pb.comm, pb.owned());
+        let pmax = max_abs(comm, &self.pu, n).max(f64::MIN_POSITIVE);
+        let eps = 1e-7 * s.length_scale / pmax;
+        for a in 0..u.len() {
+            for i in 0..3 {
+                self.trial[a][i] = u[a][i] + eps * self.pu[a][i];
+            }
+        }
+        pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+        for a in 0..u.len() {
+            for i in 0..3 {
+                self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                    - (self.fi[a][i] - self.fe[a][i]))
+                    / eps;
+            }
+        }
+        let pkp = comm::dot(comm, &self.pu, &self.q, n);
+        if !(pkp > 0.0) {
+            return Err(SolveFailure::NonPositiveCurvature { iterations: it });
+        }
+        let mut alpha = rp / pkp;
+        for attempt in 0..12 {
+            match self.try_step(pb, u, alpha) {
+                Ok(()) => break,
+                Err(e) if attempt == 11 => return Err(e),
+                Err(_) => alpha *= 0.5,
+            }
+        }
+        let s1 = comm::dot(comm, &self.r, &self.p, n);
+        if s1.abs() > 0.25 * rp {
+            // try_step leaves the state untouched when the corrected point fails.
+            let a2 = (alpha * rp / (rp - s1)).clamp(0.1 * alpha, 4.0 * alpha);
+            let _ = self.try_step(pb, u, a2 - alpha);
+        }
+        let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
+        st.rnorm = rn;
+        st.refv = reference.max(st.floor);
+        if it % 100 == 0 {
+            self.precondition(pb, u)?;
+            st.restart = true;
+        }
+        Ok(())
     }
 
     /// u += alpha p with forces and residual at the new point; on an element failure u is
