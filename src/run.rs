@@ -2,22 +2,20 @@
 //! local mesh, step through time, gather each step's results on rank 0 and write them.
 
 use crate::comm::Comm;
-use crate::constraints::RowKind;
-use crate::contact::state::Mode;
 use crate::math::Vec3;
-use crate::mesh::local::LocalMesh;
-use crate::output::contact_status;
-use crate::output::{OutputBody, OutputMesh, StepOutput, StepStats};
+use crate::output::{OutputBody, OutputMesh};
 use crate::problem::Problem;
-use crate::solver::{StepRecord, Stepper};
+use crate::solver::StepRecord;
 use partition::Decomposition;
 use std::path::PathBuf;
 
 mod driver;
+mod fields;
 mod gather;
 mod plastic;
 mod restart;
 pub use driver::run_from;
+use fields::step_output;
 use gather::Gather;
 pub use restart::check_restart;
 
@@ -168,102 +166,4 @@ pub fn run<C: Comm + ?Sized>(
     opts: &RunOptions,
 ) -> Result<(RunSummary, GlobalState), String> {
     run_from(comm, problem, opts, None)
-}
-
-fn step_output<C: Comm + ?Sized>(
-    comm: &C,
-    problem: &Problem,
-    stepper: &Stepper<C>,
-    gather: &Gather,
-    local: &LocalMesh,
-    rec: StepRecord,
-) -> (StepOutput, Option<String>) {
-    let (stress, err) = match stepper.assembly().owned_stresses(&stepper.u) {
-        Ok(s) => (s, None),
-        Err(e) => (Vec::new(), Some(e.to_string())),
-    };
-    // Constraint forces from the row multipliers: Dirichlet rows give reactions, contact
-    // rows the contact force on the slave node.
-    let cons = stepper.constraints();
-    let mult = stepper.multipliers();
-    let mut reaction = vec![[0.0; 3]; local.num_owned_nodes];
-    let mut contact_force = vec![[0.0; 3]; local.num_owned_nodes];
-    for a in 0..local.num_owned_nodes {
-        for (i, row) in cons.rows(a) {
-            let target = match row.kind {
-                RowKind::Dirichlet(_) => &mut reaction[a],
-                RowKind::Contact { .. } => &mut contact_force[a],
-            };
-            for d in 0..3 {
-                target[d] += mult[i] * row.dir[d];
-            }
-        }
-    }
-    // Status and gap of the slave nodes this rank owns.
-    let mut status = vec![[0.0; 1]; local.num_owned_nodes];
-    let mut gap = vec![[0.0; 1]; local.num_owned_nodes];
-    if !stepper.contact.active.is_empty()
-        || !stepper.contact.released().is_empty()
-        || !problem.contacts.is_empty()
-    {
-        for &(s, _) in stepper.contact.released() {
-            if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
-                status[l][0] = contact_status::RELEASED as f64;
-            }
-        }
-        for a in &stepper.contact.active {
-            if let Some(l) = local
-                .local_node(a.slave)
-                .filter(|&l| l < local.num_owned_nodes)
-            {
-                // A slipping node's friction force is applied as a load, not by a row.
-                if let Mode::Slip { dir, magnitude } = a.mode {
-                    for d in 0..3 {
-                        contact_force[l][d] += magnitude * dir[d];
-                    }
-                }
-                status[l][0] = match a.mode {
-                    Mode::Stick => contact_status::STICK,
-                    _ => contact_status::SLIP,
-                } as f64;
-            }
-        }
-        for (s, g) in stepper.contact.gaps(comm, problem, local, &stepper.u) {
-            if let Some(l) = local.local_node(s).filter(|&l| l < local.num_owned_nodes) {
-                gap[l][0] = g;
-            }
-        }
-    }
-    let n = gather.num_nodes;
-    let out = StepOutput {
-        time: rec.time,
-        displacement: gather.nodes(comm, local, &stepper.u),
-        stress: gather.elements(comm, &stress),
-        reaction: gather.nodes(comm, local, &reaction),
-        contact_force: gather.nodes(comm, local, &contact_force),
-        contact_status: gather
-            .place(comm, &status, &gather.node_ids, n)
-            .iter()
-            .map(|v| v[0] as u8)
-            .collect(),
-        contact_gap: gather
-            .place(comm, &gap, &gather.node_ids, n)
-            .iter()
-            .map(|v| v[0])
-            .collect(),
-        plastic_strain: plastic::plastic_strain(comm, stepper, gather),
-        stats: StepStats {
-            cg_iterations: rec.cg_iterations,
-            contact_updates: rec.contact_updates,
-            residual: rec.residual,
-            wall_time: rec.wall_time,
-            cutbacks: rec.cutbacks,
-            contact_active: rec.contact.active,
-            contact_stick: rec.contact.stick,
-            contact_slip: rec.contact.slip,
-            contact_released: rec.contact.released,
-            max_penetration: rec.contact.max_penetration,
-        },
-    };
-    (out, err)
 }

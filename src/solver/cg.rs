@@ -600,7 +600,7 @@ impl Cg {
         let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
         st.rnorm = rn;
         st.refv = reference.max(st.floor);
-        if it % 100 == 0 {
+        if it.is_multiple_of(100) {
             self.precondition(pb, u)?;
             st.restart = true;
         }
