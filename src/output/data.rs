@@ -116,14 +116,17 @@ impl OutputMesh {
 
     /// Checks the mesh is consistent enough to be written and read back.
     pub(crate) fn validate(&self, file: &Path) -> Result<(), OutputError> {
-        let invalid = |dataset: &str, message: String| OutputError::Invalid {
-            file: file.to_path_buf(),
-            dataset: dataset.to_string(),
-            message,
-        };
+        self.validate_nodes(file)?;
+        self.validate_bodies(file)?;
+        self.validate_sets(file)
+    }
+
+    /// One id per node, finite coordinates.
+    fn validate_nodes(&self, file: &Path) -> Result<(), OutputError> {
         let nodes = self.coordinates.len();
         if self.node_ids.len() != nodes {
             return Err(invalid(
+                file,
                 layout::NODE_IDS,
                 format!("{} node ids for {} nodes", self.node_ids.len(), nodes),
             ));
@@ -133,25 +136,30 @@ impl OutputMesh {
                 format!("node {i} (id {}), component {k}", self.node_ids[i])
             })?;
         }
+        Ok(())
+    }
+
+    /// Distinct, allowed body names; one id per element; node indices in range.
+    fn validate_bodies(&self, file: &Path) -> Result<(), OutputError> {
+        let nodes = self.coordinates.len();
         let mut seen = std::collections::HashSet::new();
         for body in &self.bodies {
-            layout::check_name(&body.name)
-                .map_err(|m| invalid(&format!("/mesh/{}", body.name), m))?;
+            let ds = format!("/mesh/{}", body.name);
+            layout::check_name(&body.name).map_err(|m| invalid(file, &ds, m))?;
             if layout::RESERVED_MESH_NAMES.contains(&body.name.as_str()) {
                 return Err(invalid(
-                    &format!("/mesh/{}", body.name),
+                    file,
+                    &ds,
                     format!("body name '{}' is reserved in /mesh", body.name),
                 ));
             }
             if !seen.insert(body.name.as_str()) {
-                return Err(invalid(
-                    &format!("/mesh/{}", body.name),
-                    "two bodies have this name".into(),
-                ));
+                return Err(invalid(file, &ds, "two bodies have this name".into()));
             }
             let conn = layout::body_connectivity(&body.name);
             if body.element_ids.len() != body.connectivity.len() {
                 return Err(invalid(
+                    file,
                     &layout::body_element_ids(&body.name),
                     format!(
                         "{} element ids for {} elements",
@@ -163,6 +171,7 @@ impl OutputMesh {
             for (e, hex) in body.connectivity.iter().enumerate() {
                 if let Some(&n) = hex.iter().find(|&&n| n as usize >= nodes) {
                     return Err(invalid(
+                        file,
                         &conn,
                         format!(
                             "element {e} refers to node index {n}, but there are {nodes} nodes"
@@ -171,6 +180,11 @@ impl OutputMesh {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Distinct, allowed set names; local faces 0..5.
+    fn validate_sets(&self, file: &Path) -> Result<(), OutputError> {
         for (kind, names) in [
             (
                 layout::NODE_SETS,
@@ -184,21 +198,31 @@ impl OutputMesh {
             let mut seen = std::collections::HashSet::new();
             for name in names {
                 let ds = format!("{kind}/{name}");
-                layout::check_name(name).map_err(|m| invalid(&ds, m))?;
+                layout::check_name(name).map_err(|m| invalid(file, &ds, m))?;
                 if !seen.insert(name) {
-                    return Err(invalid(&ds, "two sets have this name".into()));
+                    return Err(invalid(file, &ds, "two sets have this name".into()));
                 }
             }
         }
         for (name, faces) in &self.side_sets {
             if let Some((e, f)) = faces.iter().find(|(_, f)| *f > 5) {
                 return Err(invalid(
+                    file,
                     &format!("{}/{name}", layout::SIDE_SETS),
                     format!("element {e} has local face {f}, expected 0..5"),
                 ));
             }
         }
         Ok(())
+    }
+}
+
+/// A dataset of `file` that cannot be written or read as it is.
+fn invalid(file: &Path, dataset: &str, message: String) -> OutputError {
+    OutputError::Invalid {
+        file: file.to_path_buf(),
+        dataset: dataset.to_string(),
+        message,
     }
 }
 

@@ -233,64 +233,9 @@ pub fn compare_files(a: &Path, b: &Path, tol: f64) -> Result<CompareReport, Outp
     let mut problems = Vec::new();
     let mut datasets = Vec::new();
     for name in names_a.intersection(&names_b) {
-        let (ka, kb) = (fa.numeric_kind(name)?, fb.numeric_kind(name)?);
-        if ka.is_none() && kb.is_none() {
-            continue;
+        if let Some(d) = compare_dataset(&fa, &fb, name, tol, &mut problems)? {
+            datasets.push(d);
         }
-        let (sa, sb) = (fa.shape(name)?, fb.shape(name)?);
-        let counted = !NOT_COUNTED.contains(&name.as_str());
-        if ka != kb {
-            problems.push(format!("{name} holds {ka:?} numbers in a, {kb:?} in b"));
-            continue;
-        }
-        if sa != sb {
-            if counted {
-                problems.push(format!("{name} has shape {sa:?} in a, {sb:?} in b"));
-            }
-            continue;
-        }
-        let rows = sa.first().copied().unwrap_or(1);
-        let row_len: usize = sa.iter().skip(1).product::<usize>().max(1);
-        let block = (BLOCK_VALUES / row_len).max(1);
-        let mut acc = Accumulator::default();
-        let mut topology = false;
-        let mut start = 0;
-        while start < rows {
-            let end = (start + block).min(rows);
-            let va = fa.read_numeric_rows(name, start..end)?;
-            let vb = fb.read_numeric_rows(name, start..end)?;
-            topology = is_topology(name, &va);
-            if !acc.add(&va, &vb) {
-                problems.push(format!("{name} cannot be compared"));
-            }
-            start = end;
-        }
-        if topology && acc.differing > 0 {
-            problems.push(format!(
-                "meshes differ: {name} has {} differing values",
-                acc.differing
-            ));
-            continue;
-        }
-        let bitwise_identical = acc.differing == 0;
-        let max_rel_diff = if acc.max_abs_diff == 0.0 {
-            0.0
-        } else if acc.max_abs_a > 0.0 {
-            acc.max_abs_diff / acc.max_abs_a
-        } else {
-            f64::INFINITY
-        };
-        let within_tol = bitwise_identical || (tol > 0.0 && max_rel_diff <= tol);
-        datasets.push(DatasetComparison {
-            name: name.clone(),
-            shape: sa,
-            max_abs_diff: acc.max_abs_diff,
-            max_rel_diff,
-            differing: acc.differing,
-            bitwise_identical,
-            counted,
-            within_tol,
-        });
     }
     if !problems.is_empty() {
         let shown = problems.len().min(12);
@@ -310,4 +255,73 @@ pub fn compare_files(a: &Path, b: &Path, tol: f64) -> Result<CompareReport, Outp
         only_in_b: names_b.difference(&names_a).cloned().collect(),
         scene_names,
     })
+}
+
+/// Compares one dataset present in both files, block by block; None when it is not
+/// numeric or cannot be compared (the reason then goes to `problems`).
+fn compare_dataset(
+    fa: &ResultFile,
+    fb: &ResultFile,
+    name: &String,
+    tol: f64,
+    problems: &mut Vec<String>,
+) -> Result<Option<DatasetComparison>, OutputError> {
+    let (ka, kb) = (fa.numeric_kind(name)?, fb.numeric_kind(name)?);
+    if ka.is_none() && kb.is_none() {
+        return Ok(None);
+    }
+    let (sa, sb) = (fa.shape(name)?, fb.shape(name)?);
+    let counted = !NOT_COUNTED.contains(&name.as_str());
+    if ka != kb {
+        problems.push(format!("{name} holds {ka:?} numbers in a, {kb:?} in b"));
+        return Ok(None);
+    }
+    if sa != sb {
+        if counted {
+            problems.push(format!("{name} has shape {sa:?} in a, {sb:?} in b"));
+        }
+        return Ok(None);
+    }
+    let rows = sa.first().copied().unwrap_or(1);
+    let row_len: usize = sa.iter().skip(1).product::<usize>().max(1);
+    let block = (BLOCK_VALUES / row_len).max(1);
+    let mut acc = Accumulator::default();
+    let mut topology = false;
+    let mut start = 0;
+    while start < rows {
+        let end = (start + block).min(rows);
+        let va = fa.read_numeric_rows(name, start..end)?;
+        let vb = fb.read_numeric_rows(name, start..end)?;
+        topology = is_topology(name, &va);
+        if !acc.add(&va, &vb) {
+            problems.push(format!("{name} cannot be compared"));
+        }
+        start = end;
+    }
+    if topology && acc.differing > 0 {
+        problems.push(format!(
+            "meshes differ: {name} has {} differing values",
+            acc.differing
+        ));
+        return Ok(None);
+    }
+    let bitwise_identical = acc.differing == 0;
+    let max_rel_diff = if acc.max_abs_diff == 0.0 {
+        0.0
+    } else if acc.max_abs_a > 0.0 {
+        acc.max_abs_diff / acc.max_abs_a
+    } else {
+        f64::INFINITY
+    };
+    let within_tol = bitwise_identical || (tol > 0.0 && max_rel_diff <= tol);
+    Ok(Some(DatasetComparison {
+        name: name.clone(),
+        shape: sa,
+        max_abs_diff: acc.max_abs_diff,
+        max_rel_diff,
+        differing: acc.differing,
+        bitwise_identical,
+        counted,
+        within_tol,
+    }))
 }

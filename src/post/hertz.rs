@@ -337,18 +337,8 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         .map(|&n| position(n).abs())
         .fold(0.0, f64::max);
     let peak = nodes.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
-    let window: Vec<f64> = nodes
-        .iter()
-        .filter(|n| n.0.abs() <= 1.5 * hertz.a)
-        .map(|n| n.1 - hertz.pressure(n.0))
-        .collect();
-    if window.is_empty() {
-        return Err(usage(
-            "no slave node lies within 1.5 a of the contact".into(),
-        ));
-    }
-    let rms_error =
-        (window.iter().map(|d| d * d).sum::<f64>() / window.len() as f64).sqrt() / hertz.p0;
+    let rms_error = rms_error(&nodes, &hertz)
+        .ok_or_else(|| usage("no slave node lies within 1.5 a of the contact".into()))?;
     Ok(HertzComparison {
         radius,
         e_star,
@@ -360,6 +350,20 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         peak,
         rms_error,
     })
+}
+
+/// RMS of the pressure error within 1.5 a of the centre, over p0; None when no node
+/// lies there.
+fn rms_error(nodes: &[(f64, f64)], hertz: &HertzLine) -> Option<f64> {
+    let window: Vec<f64> = nodes
+        .iter()
+        .filter(|n| n.0.abs() <= 1.5 * hertz.a)
+        .map(|n| n.1 - hertz.pressure(n.0))
+        .collect();
+    if window.is_empty() {
+        return None;
+    }
+    Some((window.iter().map(|d| d * d).sum::<f64>() / window.len() as f64).sqrt() / hertz.p0)
 }
 
 /// E and nu of a body of the scene. Hertz's solution is elastic: a plastic body is

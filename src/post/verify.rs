@@ -447,8 +447,6 @@ fn stick_slip(
         .windows(2)
         .map(|w| w[1] - w[0])
         .fold(f64::INFINITY, f64::min);
-    let l_of = |p: f64| p * h * h / (2.0 * mu * delta * e);
-    let umax = mu * delta * l_of(pmax).powi(2) / (h * h);
     if let Some(k) = times.iter().position(|&t| (t - 1.0).abs() < 1e-9) {
         let f = file.contact_force(k)?;
         let area = 1.0 * 0.1;
@@ -459,19 +457,96 @@ fn stick_slip(
             1e-8,
         );
     }
-    let mut load_err: f64 = 0.0;
-    let mut unload_err: f64 = 0.0;
-    let mut front_err: f64 = 0.0;
-    let mut err_at_2 = f64::NAN;
+    let theory = SlipTheory {
+        mu,
+        delta,
+        h,
+        e,
+        pmax,
+    };
+    let errors = slip_errors(file, mesh, &bar, times, dx, &theory)?;
+    v.check(
+        "loading: max over x, t of |avg u_x - 1-D formula| / u_max",
+        errors.load,
+        0.05,
+    );
+    v.check(
+        "loading: slip front distance from L(t), in elements of the paper mesh",
+        errors.front,
+        2.0,
+    );
+    v.check(
+        "unloading: max |avg u_x - superposition| / u_max",
+        errors.unload,
+        0.06,
+    );
+    v.report(
+        "difference from the 1-D formula at t = 2, / u_max",
+        errors.at_2,
+    );
+    v.report("element length along the bar", dx);
+    v.notes.push(
+        "the 1-D theory is not the 3-D answer: a converged 3-D solution sits 3-4% of u_max from it (scenes.md)".into(),
+    );
+    Ok(())
+}
+
+/// The stick/slip bar's data for the 1-D theory: friction coefficient, the pressing
+/// displacement, the height, Young's modulus and the largest end pressure.
+struct SlipTheory {
+    mu: f64,
+    delta: f64,
+    h: f64,
+    e: f64,
+    pmax: f64,
+}
+
+impl SlipTheory {
+    /// Slip length under end pressure p.
+    fn l_of(&self, p: f64) -> f64 {
+        p * self.h * self.h / (2.0 * self.mu * self.delta * self.e)
+    }
+}
+
+/// Largest errors of the bar's response against the 1-D theory.
+struct SlipErrors {
+    /// Section-averaged u_x while loading and unloading, over u_max.
+    load: f64,
+    unload: f64,
+    /// Slip front position, in elements of the paper's mesh.
+    front: f64,
+    /// Section-averaged u_x at t = 2, over u_max (NaN without that step).
+    at_2: f64,
+}
+
+/// The bar's section-averaged displacement and slip front at every step after t = 1
+/// against the 1-D theory.
+fn slip_errors(
+    file: &ResultFile,
+    mesh: &OutputMesh,
+    bar: &[usize],
+    times: &[f64],
+    dx: f64,
+    th: &SlipTheory,
+) -> Result<SlipErrors, OutputError> {
+    let (mu, delta, h, e, pmax) = (th.mu, th.delta, th.h, th.e, th.pmax);
+    let c = &mesh.coordinates;
+    let umax = mu * delta * th.l_of(pmax).powi(2) / (h * h);
+    let mut out = SlipErrors {
+        load: 0.0,
+        unload: 0.0,
+        front: 0.0,
+        at_2: f64::NAN,
+    };
     for (k, &t) in times.iter().enumerate() {
         if t <= 1.0 + 1e-9 {
             continue;
         }
         let u = file.displacement(k)?;
-        let avg = section_average(mesh, &bar, &u);
+        let avg = section_average(mesh, bar, &u);
         let st = file.contact_status(k)?;
         let front = if t <= 2.0 + 1e-9 {
-            l_of(pmax * (t - 1.0))
+            th.l_of(pmax * (t - 1.0))
         } else {
             pmax * (t - 2.0) * h * h / (4.0 * mu * delta * e)
         };
@@ -487,42 +562,21 @@ fn stick_slip(
             .map(|&n| c[n][0])
             .fold(0.0, f64::max);
         if t <= 2.0 + 1e-9 {
-            load_err = load_err.max(err);
+            out.load = out.load.max(err);
             // The front lies between the last slipping node and the next one; measured in
             // elements of the paper's mesh (40 along the bar), so refined meshes are held to
             // the same physical distance.
-            front_err = front_err.max(((computed_front + 0.5 * dx) - front).abs() / PAPER_DX);
+            out.front = out
+                .front
+                .max(((computed_front + 0.5 * dx) - front).abs() / PAPER_DX);
             if (t - 2.0).abs() < 1e-9 {
-                err_at_2 = err;
+                out.at_2 = err;
             }
         } else {
-            unload_err = unload_err.max(err);
+            out.unload = out.unload.max(err);
         }
     }
-    v.check(
-        "loading: max over x, t of |avg u_x - 1-D formula| / u_max",
-        load_err,
-        0.05,
-    );
-    v.check(
-        "loading: slip front distance from L(t), in elements of the paper mesh",
-        front_err,
-        2.0,
-    );
-    v.check(
-        "unloading: max |avg u_x - superposition| / u_max",
-        unload_err,
-        0.06,
-    );
-    v.report(
-        "difference from the 1-D formula at t = 2, / u_max",
-        err_at_2,
-    );
-    v.report("element length along the bar", dx);
-    v.notes.push(
-        "the 1-D theory is not the 3-D answer: a converged 3-D solution sits 3-4% of u_max from it (scenes.md)".into(),
-    );
-    Ok(())
+    Ok(out)
 }
 
 /// Paper 4.5: uniform stress and linear displacement; node (1,1,1) of the shaded block on
