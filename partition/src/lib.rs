@@ -283,42 +283,9 @@ pub fn partition_elements(
     let nparts_idx = Idx::try_from(nparts).map_err(|_| PartitionError::TooLarge)?;
 
     let graph = DualGraph::new(num_nodes, elements);
-    let xadj = graph
-        .xadj
-        .iter()
-        .map(|&x| Idx::try_from(x))
-        .collect::<Result<Vec<Idx>, _>>()
-        .map_err(|_| PartitionError::TooLarge)?;
-    let adjncy = graph
-        .adjncy
-        .iter()
-        .map(|&x| Idx::try_from(x))
-        .collect::<Result<Vec<Idx>, _>>()
-        .map_err(|_| PartitionError::TooLarge)?;
-
-    let run = |kway: bool| -> Result<Vec<u32>, PartitionError> {
-        let mut part: Vec<Idx> = vec![0; ne];
-        // A poisoned lock only means another METIS call panicked; the global
-        // state is re-seeded by every call, so carry on.
-        let _guard = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-        let g = metis::Graph::new(1, nparts_idx, &xadj, &adjncy)
-            .map_err(|e| PartitionError::Metis(e.to_string()))?
-            .set_option(metis::option::Seed(METIS_SEED));
-        if kway {
-            g.part_kway(&mut part)
-        } else {
-            g.part_recursive(&mut part)
-        }
-        .map_err(|e| PartitionError::Metis(e.to_string()))?;
-        part.into_iter()
-            .map(|p| match u32::try_from(p) {
-                Ok(p) if (p as usize) < nparts => Ok(p),
-                _ => Err(PartitionError::Metis(format!(
-                    "returned part {p} outside 0..{nparts}"
-                ))),
-            })
-            .collect()
-    };
+    let xadj = to_idx(&graph.xadj)?;
+    let adjncy = to_idx(&graph.adjncy)?;
+    let run = |kway: bool| metis_partition(&xadj, &adjncy, ne, (nparts, nparts_idx), kway);
 
     // METIS recommends recursive bisection for small part counts and k-way
     // for larger ones; the preferred method wins ties.
@@ -348,6 +315,153 @@ pub fn partition_elements(
         return Err(PartitionError::EmptyPart { part: p });
     }
     Ok(part)
+}
+
+/// Node owner: lowest part among the node's elements; orphans -> 0.
+fn node_owners(num_nodes: usize, elements: &[[u32; 8]], element_part: &[u32]) -> Vec<u32> {
+    let mut node_owner = vec![u32::MAX; num_nodes];
+    for (conn, &p) in elements.iter().zip(element_part) {
+        for &n in conn {
+            let o = &mut node_owner[n as usize];
+            *o = (*o).min(p);
+        }
+    }
+    for o in &mut node_owner {
+        if *o == u32::MAX {
+            *o = 0;
+        }
+    }
+    node_owner
+}
+
+/// What finding a rank's ghosts needs: the mesh, the ownership and scratch marks.
+struct Halo<'a> {
+    elements: &'a [[u32; 8]],
+    element_part: &'a [u32],
+    node_owner: &'a [u32],
+    n2e: NodeElements,
+    elem_mark: Vec<bool>,
+    node_mark: Vec<bool>,
+}
+
+impl Halo<'_> {
+    /// Rank `rank`'s part: its ghost elements (touching its owned nodes), ghost nodes (of
+    /// its owned and ghost elements) and the receive lists, grouped by owner.
+    fn rank_part(
+        &mut self,
+        rank: usize,
+        owned_elements: Vec<u32>,
+        owned_nodes: Vec<u32>,
+    ) -> RankPart {
+        let r = rank as u32;
+        let (element_part, node_owner) = (self.element_part, self.node_owner);
+        let mut ghost_elements = Vec::new();
+        for &n in &owned_nodes {
+            for &e in self.n2e.of(n) {
+                if element_part[e as usize] != r && !self.elem_mark[e as usize] {
+                    self.elem_mark[e as usize] = true;
+                    ghost_elements.push(e);
+                }
+            }
+        }
+        for &e in &ghost_elements {
+            self.elem_mark[e as usize] = false;
+        }
+        ghost_elements.sort_unstable();
+
+        let mut ghost_nodes = Vec::new();
+        for &e in owned_elements.iter().chain(&ghost_elements) {
+            for &n in &self.elements[e as usize] {
+                if node_owner[n as usize] != r && !self.node_mark[n as usize] {
+                    self.node_mark[n as usize] = true;
+                    ghost_nodes.push(n);
+                }
+            }
+        }
+        for &n in &ghost_nodes {
+            self.node_mark[n as usize] = false;
+        }
+        ghost_nodes.sort_unstable();
+
+        // Group ghosts by owner rank, ids ascending within each group.
+        let mut by_owner: Vec<(usize, Vec<u32>)> = Vec::new();
+        let mut sorted_by_owner = ghost_nodes.clone();
+        sorted_by_owner.sort_by_key(|&n| (node_owner[n as usize], n));
+        for n in sorted_by_owner {
+            let o = node_owner[n as usize] as usize;
+            match by_owner.last_mut() {
+                Some((last, list)) if *last == o => list.push(n),
+                _ => by_owner.push((o, vec![n])),
+            }
+        }
+
+        RankPart {
+            rank,
+            owned_elements,
+            ghost_elements,
+            owned_nodes,
+            ghost_nodes,
+            recv: by_owner,
+            send: Vec::new(),
+        }
+    }
+}
+
+/// Send lists mirror the receive lists: iterate receivers in ascending rank so every send
+/// list ends up sorted by destination rank.
+fn mirror_sends(parts: &mut [RankPart]) {
+    let mut sends: Vec<Vec<(usize, Vec<u32>)>> = vec![Vec::new(); parts.len()];
+    for part in parts.iter() {
+        for (owner, list) in &part.recv {
+            sends[*owner].push((part.rank, list.clone()));
+        }
+    }
+    for (part, send) in parts.iter_mut().zip(sends) {
+        part.send = send;
+    }
+}
+
+/// Graph indices as METIS' integer type.
+fn to_idx<T: Copy>(v: &[T]) -> Result<Vec<Idx>, PartitionError>
+where
+    Idx: TryFrom<T>,
+{
+    v.iter()
+        .map(|&x| Idx::try_from(x))
+        .collect::<Result<Vec<Idx>, _>>()
+        .map_err(|_| PartitionError::TooLarge)
+}
+
+/// One METIS partition of the graph (xadj, adjncy) into `nparts` parts, by k-way or by
+/// recursive bisection, with the fixed seed and under the process-wide lock.
+fn metis_partition(
+    xadj: &[Idx],
+    adjncy: &[Idx],
+    ne: usize,
+    (nparts, nparts_idx): (usize, Idx),
+    kway: bool,
+) -> Result<Vec<u32>, PartitionError> {
+    let mut part: Vec<Idx> = vec![0; ne];
+    // A poisoned lock only means another METIS call panicked; the global
+    // state is re-seeded by every call, so carry on.
+    let _guard = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = metis::Graph::new(1, nparts_idx, xadj, adjncy)
+        .map_err(|e| PartitionError::Metis(e.to_string()))?
+        .set_option(metis::option::Seed(METIS_SEED));
+    if kway {
+        g.part_kway(&mut part)
+    } else {
+        g.part_recursive(&mut part)
+    }
+    .map_err(|e| PartitionError::Metis(e.to_string()))?;
+    part.into_iter()
+        .map(|p| match u32::try_from(p) {
+            Ok(p) if (p as usize) < nparts => Ok(p),
+            _ => Err(PartitionError::Metis(format!(
+                "returned part {p} outside 0..{nparts}"
+            ))),
+        })
+        .collect()
 }
 
 fn part_sizes(element_part: &[u32], nparts: usize) -> Vec<usize> {
@@ -535,20 +649,7 @@ impl Decomposition {
             });
         }
 
-        // Node owner: lowest part among the node's elements; orphans -> 0.
-        let mut node_owner = vec![u32::MAX; num_nodes];
-        for (conn, &p) in elements.iter().zip(element_part) {
-            for &n in conn {
-                let o = &mut node_owner[n as usize];
-                *o = (*o).min(p);
-            }
-        }
-        for o in &mut node_owner {
-            if *o == u32::MAX {
-                *o = 0;
-            }
-        }
-
+        let node_owner = node_owners(num_nodes, elements, element_part);
         let mut owned_elements = vec![Vec::new(); nparts];
         for (e, &p) in element_part.iter().enumerate() {
             owned_elements[p as usize].push(e as u32);
@@ -558,76 +659,23 @@ impl Decomposition {
             owned_nodes[o as usize].push(n as u32);
         }
 
-        let n2e = NodeElements::new(num_nodes, elements);
-        let mut parts = Vec::with_capacity(nparts);
-        let mut elem_mark = vec![false; elements.len()];
-        let mut node_mark = vec![false; num_nodes];
-        for (rank, (owned_elements, owned_nodes)) in
-            owned_elements.into_iter().zip(owned_nodes).enumerate()
-        {
-            let r = rank as u32;
-            let mut ghost_elements = Vec::new();
-            for &n in &owned_nodes {
-                for &e in n2e.of(n) {
-                    if element_part[e as usize] != r && !elem_mark[e as usize] {
-                        elem_mark[e as usize] = true;
-                        ghost_elements.push(e);
-                    }
-                }
-            }
-            for &e in &ghost_elements {
-                elem_mark[e as usize] = false;
-            }
-            ghost_elements.sort_unstable();
-
-            let mut ghost_nodes = Vec::new();
-            for &e in owned_elements.iter().chain(&ghost_elements) {
-                for &n in &elements[e as usize] {
-                    if node_owner[n as usize] != r && !node_mark[n as usize] {
-                        node_mark[n as usize] = true;
-                        ghost_nodes.push(n);
-                    }
-                }
-            }
-            for &n in &ghost_nodes {
-                node_mark[n as usize] = false;
-            }
-            ghost_nodes.sort_unstable();
-
-            // Group ghosts by owner rank, ids ascending within each group.
-            let mut by_owner: Vec<(usize, Vec<u32>)> = Vec::new();
-            let mut sorted_by_owner = ghost_nodes.clone();
-            sorted_by_owner.sort_by_key(|&n| (node_owner[n as usize], n));
-            for n in sorted_by_owner {
-                let o = node_owner[n as usize] as usize;
-                match by_owner.last_mut() {
-                    Some((last, list)) if *last == o => list.push(n),
-                    _ => by_owner.push((o, vec![n])),
-                }
-            }
-
-            parts.push(RankPart {
-                rank,
-                owned_elements,
-                ghost_elements,
-                owned_nodes,
-                ghost_nodes,
-                recv: by_owner,
-                send: Vec::new(),
-            });
-        }
-
-        // send lists mirror the recv lists: iterate receivers in ascending
-        // rank so every send list ends up sorted by destination rank.
-        let mut sends: Vec<Vec<(usize, Vec<u32>)>> = vec![Vec::new(); nparts];
-        for part in &parts {
-            for (owner, list) in &part.recv {
-                sends[*owner].push((part.rank, list.clone()));
-            }
-        }
-        for (part, send) in parts.iter_mut().zip(sends) {
-            part.send = send;
-        }
+        let mut halo = Halo {
+            elements,
+            element_part,
+            node_owner: &node_owner,
+            n2e: NodeElements::new(num_nodes, elements),
+            elem_mark: vec![false; elements.len()],
+            node_mark: vec![false; num_nodes],
+        };
+        let mut parts: Vec<RankPart> = owned_elements
+            .into_iter()
+            .zip(owned_nodes)
+            .enumerate()
+            .map(|(rank, (owned_elements, owned_nodes))| {
+                halo.rank_part(rank, owned_elements, owned_nodes)
+            })
+            .collect();
+        mirror_sends(&mut parts);
 
         let edge_cut = DualGraph::new(num_nodes, elements).edge_cut(element_part);
         Ok(Decomposition {

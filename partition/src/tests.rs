@@ -41,8 +41,17 @@ fn strictly_ascending(v: &[u32]) -> bool {
 
 /// Checks every structural invariant of a decomposition.
 fn check_invariants(num_nodes: usize, elements: &[[u32; 8]], d: &Decomposition) {
-    let nparts = d.nparts();
-    assert_eq!(d.parts().len(), nparts);
+    assert_eq!(d.parts().len(), d.nparts());
+    check_ownership(num_nodes, elements, d);
+    for part in d.parts() {
+        check_ghosts(elements, d, part);
+        check_local_numbering(num_nodes, part);
+        check_exchange_lists(d, part);
+    }
+}
+
+/// Every element and node owned exactly once; the node owner rule.
+fn check_ownership(num_nodes: usize, elements: &[[u32; 8]], d: &Decomposition) {
     let element_part = d.element_part();
     let node_owner = d.node_owner();
 
@@ -81,103 +90,114 @@ fn check_invariants(num_nodes: usize, elements: &[[u32; 8]], d: &Decomposition) 
         }
     }
     assert!(node_count.iter().all(|&c| c == 1), "node owned != once");
+}
 
-    for part in d.parts() {
-        let r = part.rank as u32;
-        let owned_nodes: HashSet<u32> = part.owned_nodes.iter().copied().collect();
-        let owned_elems: HashSet<u32> = part.owned_elements.iter().copied().collect();
-        let ghost_elems: HashSet<u32> = part.ghost_elements.iter().copied().collect();
-        assert!(strictly_ascending(&part.ghost_elements));
-        assert!(strictly_ascending(&part.ghost_nodes));
+/// A part's ghost elements and ghost nodes are exactly the ones it needs.
+fn check_ghosts(elements: &[[u32; 8]], d: &Decomposition, part: &RankPart) {
+    let (element_part, node_owner) = (d.element_part(), d.node_owner());
+    let r = part.rank as u32;
+    let owned_nodes: HashSet<u32> = part.owned_nodes.iter().copied().collect();
+    let owned_elems: HashSet<u32> = part.owned_elements.iter().copied().collect();
+    let ghost_elems: HashSet<u32> = part.ghost_elements.iter().copied().collect();
+    assert!(strictly_ascending(&part.ghost_elements));
+    assert!(strictly_ascending(&part.ghost_nodes));
 
-        // Ghost elements: exactly the foreign elements touching an owned node.
-        let expect_ghost_elems: BTreeSet<u32> = (0..elements.len() as u32)
-            .filter(|&e| element_part[e as usize] != r)
-            .filter(|&e| elements[e as usize].iter().any(|n| owned_nodes.contains(n)))
-            .collect();
-        assert_eq!(
-            part.ghost_elements,
-            expect_ghost_elems.into_iter().collect::<Vec<_>>()
-        );
-        // Every element touching an owned node is owned or ghost.
-        for (e, conn) in elements.iter().enumerate() {
-            if conn.iter().any(|n| owned_nodes.contains(n)) {
-                let e = e as u32;
-                assert!(owned_elems.contains(&e) || ghost_elems.contains(&e));
-            }
+    // Ghost elements: exactly the foreign elements touching an owned node.
+    let expect_ghost_elems: BTreeSet<u32> = (0..elements.len() as u32)
+        .filter(|&e| element_part[e as usize] != r)
+        .filter(|&e| elements[e as usize].iter().any(|n| owned_nodes.contains(n)))
+        .collect();
+    assert_eq!(
+        part.ghost_elements,
+        expect_ghost_elems.into_iter().collect::<Vec<_>>()
+    );
+    // Every element touching an owned node is owned or ghost.
+    for (e, conn) in elements.iter().enumerate() {
+        if conn.iter().any(|n| owned_nodes.contains(n)) {
+            let e = e as u32;
+            assert!(owned_elems.contains(&e) || ghost_elems.contains(&e));
         }
+    }
 
-        // Ghost nodes: exactly the non-owned nodes of owned/ghost elements.
-        let expect_ghost_nodes: BTreeSet<u32> = part
-            .owned_elements
+    // Ghost nodes: exactly the non-owned nodes of owned/ghost elements.
+    let expect_ghost_nodes: BTreeSet<u32> = part
+        .owned_elements
+        .iter()
+        .chain(&part.ghost_elements)
+        .flat_map(|&e| elements[e as usize])
+        .filter(|&n| node_owner[n as usize] != r)
+        .collect();
+    assert_eq!(
+        part.ghost_nodes,
+        expect_ghost_nodes.into_iter().collect::<Vec<_>>()
+    );
+
+    // Every node of an owned (or ghost) element is local.
+    for &e in part.owned_elements.iter().chain(&part.ghost_elements) {
+        for &n in &elements[e as usize] {
+            assert!(part.local_node_index(n).is_some(), "node {n} not local");
+        }
+    }
+}
+
+/// The local numbering helpers agree with each other.
+fn check_local_numbering(num_nodes: usize, part: &RankPart) {
+    let local = part.local_nodes();
+    assert_eq!(local.len(), part.num_local_nodes());
+    let map = part.global_to_local();
+    assert_eq!(map.len(), local.len());
+    for (i, &g) in local.iter().enumerate() {
+        assert_eq!(part.local_node_index(g), Some(i as u32));
+        assert_eq!(map[&g], i as u32);
+        assert_eq!(i < part.num_owned_nodes(), part.owns_node(g));
+    }
+    let not_local = (0..num_nodes as u32).find(|n| !map.contains_key(n));
+    if let Some(n) = not_local {
+        assert_eq!(part.local_node_index(n), None);
+    }
+
+    // local_elements: sorted union of owned and ghost elements.
+    let owned_elems: HashSet<u32> = part.owned_elements.iter().copied().collect();
+    let ghost_elems: HashSet<u32> = part.ghost_elements.iter().copied().collect();
+    let le = part.local_elements();
+    assert!(strictly_ascending(&le));
+    assert_eq!(le.len(), owned_elems.len() + ghost_elems.len());
+    assert!(le
+        .iter()
+        .all(|e| owned_elems.contains(e) || ghost_elems.contains(e)));
+}
+
+/// Receive lists group the ghosts by owner; send lists hold owned nodes and mirror the
+/// receivers' lists.
+fn check_exchange_lists(d: &Decomposition, part: &RankPart) {
+    let node_owner = d.node_owner();
+    // recv: ghosts grouped by owner, ascending rank, union == ghosts.
+    assert!(part.recv.windows(2).all(|w| w[0].0 < w[1].0));
+    let mut all_recv = Vec::new();
+    for (owner, list) in &part.recv {
+        assert_ne!(*owner, part.rank);
+        assert!(!list.is_empty());
+        assert!(strictly_ascending(list));
+        assert!(list
             .iter()
-            .chain(&part.ghost_elements)
-            .flat_map(|&e| elements[e as usize])
-            .filter(|&n| node_owner[n as usize] != r)
-            .collect();
-        assert_eq!(
-            part.ghost_nodes,
-            expect_ghost_nodes.into_iter().collect::<Vec<_>>()
-        );
+            .all(|&n| node_owner[n as usize] as usize == *owner));
+        all_recv.extend_from_slice(list);
+    }
+    all_recv.sort_unstable();
+    assert_eq!(all_recv, part.ghost_nodes);
 
-        // Every node of an owned (or ghost) element is local.
-        for &e in part.owned_elements.iter().chain(&part.ghost_elements) {
-            for &n in &elements[e as usize] {
-                assert!(part.local_node_index(n).is_some(), "node {n} not local");
-            }
-        }
-
-        // Local numbering helpers agree with each other.
-        let local = part.local_nodes();
-        assert_eq!(local.len(), part.num_local_nodes());
-        let map = part.global_to_local();
-        assert_eq!(map.len(), local.len());
-        for (i, &g) in local.iter().enumerate() {
-            assert_eq!(part.local_node_index(g), Some(i as u32));
-            assert_eq!(map[&g], i as u32);
-            assert_eq!(i < part.num_owned_nodes(), part.owns_node(g));
-        }
-        let not_local = (0..num_nodes as u32).find(|n| !map.contains_key(n));
-        if let Some(n) = not_local {
-            assert_eq!(part.local_node_index(n), None);
-        }
-
-        // local_elements: sorted union of owned and ghost elements.
-        let le = part.local_elements();
-        assert!(strictly_ascending(&le));
-        assert_eq!(le.len(), owned_elems.len() + ghost_elems.len());
-        assert!(le
-            .iter()
-            .all(|e| owned_elems.contains(e) || ghost_elems.contains(e)));
-
-        // recv: ghosts grouped by owner, ascending rank, union == ghosts.
-        assert!(part.recv.windows(2).all(|w| w[0].0 < w[1].0));
-        let mut all_recv = Vec::new();
-        for (owner, list) in &part.recv {
-            assert_ne!(*owner, part.rank);
-            assert!(!list.is_empty());
-            assert!(strictly_ascending(list));
-            assert!(list
-                .iter()
-                .all(|&n| node_owner[n as usize] as usize == *owner));
-            all_recv.extend_from_slice(list);
-        }
-        all_recv.sort_unstable();
-        assert_eq!(all_recv, part.ghost_nodes);
-
-        // send: owned nodes only, ascending rank, and mirrored by the receiver.
-        assert!(part.send.windows(2).all(|w| w[0].0 < w[1].0));
-        for (dest, list) in &part.send {
-            assert_ne!(*dest, part.rank);
-            assert!(!list.is_empty());
-            assert!(list.iter().all(|&n| part.owns_node(n)));
-            let theirs = d.part(*dest).recv.iter().find(|(o, _)| *o == part.rank);
-            assert_eq!(theirs.map(|(_, l)| l), Some(list), "send/recv mismatch");
-        }
-        for (owner, list) in &part.recv {
-            let theirs = d.part(*owner).send.iter().find(|(s, _)| *s == part.rank);
-            assert_eq!(theirs.map(|(_, l)| l), Some(list), "recv/send mismatch");
-        }
+    // send: owned nodes only, ascending rank, and mirrored by the receiver.
+    assert!(part.send.windows(2).all(|w| w[0].0 < w[1].0));
+    for (dest, list) in &part.send {
+        assert_ne!(*dest, part.rank);
+        assert!(!list.is_empty());
+        assert!(list.iter().all(|&n| part.owns_node(n)));
+        let theirs = d.part(*dest).recv.iter().find(|(o, _)| *o == part.rank);
+        assert_eq!(theirs.map(|(_, l)| l), Some(list), "send/recv mismatch");
+    }
+    for (owner, list) in &part.recv {
+        let theirs = d.part(*owner).send.iter().find(|(s, _)| *s == part.rank);
+        assert_eq!(theirs.map(|(_, l)| l), Some(list), "recv/send mismatch");
     }
 }
 

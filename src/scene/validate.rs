@@ -215,27 +215,7 @@ impl Builder {
         };
         for (bi, b) in raw.body.iter().enumerate() {
             let key = format!("body[{bi}]");
-            if b.name.is_empty() || b.name.contains('/') {
-                return Err(self.err(
-                    format!("{key}.name"),
-                    "expected a non-empty name without '/'",
-                ));
-            }
-            if crate::output::layout::RESERVED_MESH_NAMES.contains(&b.name.as_str()) {
-                return Err(self.err(
-                    format!("{key}.name"),
-                    format!(
-                        "'{}' is reserved in the result file; choose another body name",
-                        b.name
-                    ),
-                ));
-            }
-            if raw.body[..bi].iter().any(|o| o.name == b.name) {
-                return Err(self.err(
-                    format!("{key}.name"),
-                    format!("body name '{}' used twice", b.name),
-                ));
-            }
+            self.body_name(raw, bi, &key)?;
             let first_node = mesh.coords.len();
             let first_element = mesh.elements.len();
             let (coords, elements) = match &b.gmsh_volume {
@@ -252,23 +232,7 @@ impl Builder {
             };
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
-            let formulation = match (b.integration, b.volumetric, b.hourglass) {
-                (Integration::Full, Volumetric::Standard, None) => Formulation::Full,
-                (Integration::Full, Volumetric::MeanDilatation, None) => Formulation::FullBar,
-                (Integration::Full, _, Some(_)) => {
-                    return Err(self.err(format!("{key}.hourglass"), "hourglass stiffness applies to integration = \"mean\" only"))
-                }
-                (Integration::Mean, Volumetric::MeanDilatation, _) => {
-                    return Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
-                }
-                (Integration::Mean, Volumetric::Standard, h) => {
-                    let h = h.unwrap_or(DEFAULT_HOURGLASS);
-                    if !(h.is_finite() && h >= 0.0) {
-                        return Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, got {h}")));
-                    }
-                    Formulation::Mean { hourglass: h }
-                }
-            };
+            let formulation = self.formulation(&key, b)?;
             let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
             mesh.elements
@@ -292,6 +256,55 @@ impl Builder {
             return Err(self.err("body", "mesh too large"));
         }
         Ok((mesh, models, gmsh))
+    }
+
+    /// Body `bi`'s name: not empty, without '/', not reserved, not used before.
+    fn body_name(&self, raw: &SceneFile, bi: usize, key: &str) -> Result<(), SceneError> {
+        let b = &raw.body[bi];
+        if b.name.is_empty() || b.name.contains('/') {
+            return Err(self.err(
+                format!("{key}.name"),
+                "expected a non-empty name without '/'",
+            ));
+        }
+        if crate::output::layout::RESERVED_MESH_NAMES.contains(&b.name.as_str()) {
+            return Err(self.err(
+                format!("{key}.name"),
+                format!(
+                    "'{}' is reserved in the result file; choose another body name",
+                    b.name
+                ),
+            ));
+        }
+        if raw.body[..bi].iter().any(|o| o.name == b.name) {
+            return Err(self.err(
+                format!("{key}.name"),
+                format!("body name '{}' used twice", b.name),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The element formulation from a body's integration, volumetric treatment and
+    /// hourglass stiffness.
+    fn formulation(&self, key: &str, b: &BodyDef) -> Result<Formulation, SceneError> {
+        Ok(match (b.integration, b.volumetric, b.hourglass) {
+            (Integration::Full, Volumetric::Standard, None) => Formulation::Full,
+            (Integration::Full, Volumetric::MeanDilatation, None) => Formulation::FullBar,
+            (Integration::Full, _, Some(_)) => {
+                return Err(self.err(format!("{key}.hourglass"), "hourglass stiffness applies to integration = \"mean\" only"))
+            }
+            (Integration::Mean, Volumetric::MeanDilatation, _) => {
+                return Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
+            }
+            (Integration::Mean, Volumetric::Standard, h) => {
+                let h = h.unwrap_or(DEFAULT_HOURGLASS);
+                if !(h.is_finite() && h >= 0.0) {
+                    return Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, got {h}")));
+                }
+                Formulation::Mean { hourglass: h }
+            }
+        })
     }
 
     /// A structured block's nodes and elements (0-based, local to the block), checked for
