@@ -2,11 +2,14 @@
 //! `cargo test` runs the same solver code serially that `mpirun` runs in parallel.
 
 pub mod exact_sum;
+pub mod message;
 pub mod mpi_comm;
+pub mod plan;
 mod serial;
 
 pub use exact_sum::ExactSum;
 pub use mpi_comm::MpiComm;
+pub use plan::ExchangePlan;
 pub use serial::SerialComm;
 
 use crate::math::Vec3;

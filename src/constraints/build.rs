@@ -2,11 +2,8 @@
 //! value lives, the dependency depth of every node, the order by level, and per level the
 //! exchanges of master values and of the forces the ties pass on.
 
-use super::{
-    fetch_plan, invert_small, CircularDependency, Level, NodeRows, Plan, RowKind, RowSpec, Src,
-    MAX_DEPTH,
-};
-use crate::comm::{self, Comm};
+use super::{invert_small, CircularDependency, Level, NodeRows, RowKind, RowSpec, Src, MAX_DEPTH};
+use crate::comm::{self, message, plan, Comm, ExchangePlan};
 use crate::math::{dot, Vec3, IDENTITY};
 use crate::mesh::local::LocalMesh;
 use std::collections::HashMap;
@@ -132,7 +129,7 @@ pub(super) fn depths<C: Comm + ?Sized>(
         .enumerate()
         .map(|(k, &g)| (g, k as u32))
         .collect();
-    let all = fetch_plan(comm, mesh, &everything);
+    let all = mesh.fetch_plan(comm, &everything);
     let mut depth = vec![0usize; nodes.len()];
     let mut own = vec![[-1.0f64]; mesh.num_owned_nodes];
     let mut far = vec![[-1.0f64]; remote_global.len()];
@@ -205,9 +202,12 @@ pub(super) fn order_by_level(
     (sorted, level_of, first)
 }
 
-/// (target local node, (slave global id, row, master), force slot) of a force a tie
-/// passes to a master node.
-pub(super) type Arrival = (usize, (u32, u32, u32), u32);
+/// A row entry: (slave node's global id, row of the node, master of the row).
+pub(super) type Key = (u32, u32, u32);
+
+/// A force a tie passes to a master node: (target local node, key of the row entry, force
+/// slot).
+pub(super) type Arrival = (usize, Key, u32);
 
 /// Per level: the remote masters it reads, and the forces its ties pass on. A force slot
 /// per (node, row, master); a received force gets a slot of its own. Returns the levels,
@@ -226,7 +226,8 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
         let start = level_of.partition_point(|&d| d < level);
         let end = level_of.partition_point(|&d| d <= level);
         let mut wanted: Vec<(u32, u32)> = Vec::new();
-        let mut push: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
+        // (master node, key of the row entry) to the master's owner.
+        let mut push: Vec<Vec<(u32, Key)>> = vec![Vec::new(); comm.size()];
         let mut push_slots: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
         for nr in &mut nodes[start..end] {
             let mut out = Vec::with_capacity(nr.rows.len());
@@ -242,7 +243,7 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
                         Src::Remote(q) => {
                             wanted.push((m, q));
                             let r = mesh.owner(m);
-                            push[r].extend([m as f64, key.0 as f64, key.1 as f64, key.2 as f64]);
+                            push[r].push((m, key));
                             push_slots[r].push(k);
                         }
                     }
@@ -253,27 +254,25 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
         }
         wanted.sort_unstable_by_key(|&(_, q)| q);
         wanted.dedup();
-        let fetch = fetch_plan(comm, mesh, &wanted);
-        let received = comm.all_to_all_f64(&push);
-        let mut plan = Plan::default();
-        for (r, slots) in push_slots.into_iter().enumerate() {
-            if !slots.is_empty() {
-                plan.send.push((r, slots));
-            }
-        }
+        let fetch = mesh.fetch_plan(comm, &wanted);
+        let received = message::all_to_all(comm, &push);
+        let mut plan = ExchangePlan {
+            send: plan::nonempty(push_slots),
+            recv: Vec::new(),
+        };
         for (r, msg) in received.into_iter().enumerate() {
             if msg.is_empty() {
                 continue;
             }
-            let mut slots = Vec::with_capacity(msg.len() / 4);
-            for e in msg.chunks_exact(4) {
+            let mut slots = Vec::with_capacity(msg.len());
+            for (master, key) in msg {
                 let target = mesh
-                    .owned_node(e[0] as u32)
+                    .owned_node(master)
                     .expect("a force is pushed to the master's owner");
                 let k = num_slots as u32;
                 num_slots += 1;
                 slots.push(k);
-                arrivals.push((target, (e[1] as u32, e[2] as u32, e[3] as u32), k));
+                arrivals.push((target, key, k));
             }
             plan.recv.push((r, slots));
         }

@@ -23,7 +23,7 @@
 
 mod build;
 
-use crate::comm::{self, Comm};
+use crate::comm::{self, Comm, ExchangePlan};
 use crate::math::{dot, matvec, Mat3, Vec3, IDENTITY};
 use crate::mesh::local::LocalMesh;
 use std::cell::RefCell;
@@ -83,72 +83,13 @@ struct NodeRows {
     first: usize,
 }
 
-/// A point-to-point exchange: entries `send[r]` of a source array go to rank r, which
-/// writes them to the entries `recv[r]` of its destination array.
-#[derive(Default)]
-pub(crate) struct Plan {
-    send: Vec<(usize, Vec<u32>)>,
-    recv: Vec<(usize, Vec<u32>)>,
-}
-
-impl Plan {
-    fn is_empty(&self) -> bool {
-        self.send.is_empty() && self.recv.is_empty()
-    }
-
-    fn messages<const K: usize>(&self, src: &[[f64; K]]) -> Vec<(usize, Vec<f64>)> {
-        self.send
-            .iter()
-            .map(|(r, idx)| (*r, idx.iter().flat_map(|&i| src[i as usize]).collect()))
-            .collect()
-    }
-
-    fn deliver<const K: usize, C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        send: Vec<(usize, Vec<f64>)>,
-        dst: &mut [[f64; K]],
-    ) {
-        let mut recv: Vec<(usize, Vec<f64>)> = self
-            .recv
-            .iter()
-            .map(|(r, idx)| (*r, vec![0.0; K * idx.len()]))
-            .collect();
-        comm.exchange(&send, &mut recv);
-        for ((_, idx), (_, buf)) in self.recv.iter().zip(&recv) {
-            for (k, &i) in idx.iter().enumerate() {
-                dst[i as usize].copy_from_slice(&buf[K * k..K * (k + 1)]);
-            }
-        }
-    }
-
-    pub(crate) fn run<const K: usize, C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        src: &[[f64; K]],
-        dst: &mut [[f64; K]],
-    ) {
-        if !self.is_empty() {
-            let send = self.messages(src);
-            self.deliver(comm, send, dst);
-        }
-    }
-
-    fn run_in_place<const K: usize, C: Comm + ?Sized>(&self, comm: &C, buf: &mut [[f64; K]]) {
-        if !self.is_empty() {
-            let send = self.messages(buf);
-            self.deliver(comm, send, buf);
-        }
-    }
-}
-
 struct Level {
     /// Range of `Constraints::nodes`.
     nodes: Range<usize>,
     /// Master values this level reads from other ranks.
-    fetch: Plan,
+    fetch: ExchangePlan,
     /// Forces this level's ties pass to masters on other ranks.
-    push: Plan,
+    push: ExchangePlan,
 }
 
 #[derive(Default)]
@@ -179,43 +120,6 @@ pub struct Constraints {
 /// A circular master/slave dependency between constrained nodes (a global node id).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CircularDependency(pub u32);
-
-/// Asks the owners of the given remote nodes for their values: returns the plan that
-/// fetches them into `slots`. Collective.
-pub(crate) fn fetch_plan<C: Comm + ?Sized>(
-    comm: &C,
-    mesh: &LocalMesh,
-    wanted: &[(u32, u32)],
-) -> Plan {
-    let size = comm.size();
-    let mut by_rank: Vec<Vec<u32>> = vec![Vec::new(); size];
-    let mut request: Vec<Vec<f64>> = vec![Vec::new(); size];
-    for &(global, slot) in wanted {
-        let r = mesh.owner(global);
-        by_rank[r].push(slot);
-        request[r].push(global as f64);
-    }
-    let asked = comm.all_to_all_f64(&request);
-    let mut plan = Plan::default();
-    for (r, ids) in asked.into_iter().enumerate() {
-        if !ids.is_empty() {
-            let local = ids
-                .iter()
-                .map(|&g| {
-                    mesh.owned_node(g as u32)
-                        .expect("a node is requested from its owner") as u32
-                })
-                .collect();
-            plan.send.push((r, local));
-        }
-    }
-    for (r, slots) in by_rank.into_iter().enumerate() {
-        if !slots.is_empty() {
-            plan.recv.push((r, slots));
-        }
-    }
-    plan
-}
 
 impl Constraints {
     /// No constraints on this mesh. Collective only in name: no communication.

@@ -6,10 +6,10 @@
 //! to the nearest master face, where gap removal would put it back. Collective; every rank
 //! returns the same findings, in the order (slave node, pair).
 
-use super::ghost::position;
+use super::ghost::{self, position};
 use super::search::{Interaction, MasterSurface};
 use super::state::{Active, ContactState, Mode};
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::fem::hex8;
 use crate::math::{inverse, matvec, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
@@ -71,7 +71,7 @@ pub fn audit<C: Comm + ?Sized>(
     u: &[Vec3],
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
-    let mut found: Vec<f64> = Vec::new();
+    let mut found: Vec<(usize, u32)> = Vec::new();
     for (p, pair) in problem.contacts.iter().enumerate() {
         let bodies = master_bodies(problem, p);
         let elements: Vec<usize> = (0..mesh.elements.len())
@@ -98,19 +98,11 @@ pub fn audit<C: Comm + ?Sized>(
                 !own && contains(&corners[k as usize], x)
             });
             if inside {
-                found.extend([p as f64, s as f64]);
+                found.push((p, s));
             }
         }
     }
-    let mut found: Vec<(usize, u32)> = comm
-        .all_gather_f64(&found)
-        .iter()
-        .flat_map(|w| {
-            w.chunks_exact(2)
-                .map(|w| (w[0] as usize, w[1] as u32))
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let mut found: Vec<(usize, u32)> = message::all_gather(comm, &found);
     found.sort_unstable_by_key(|&(p, s)| (s, p));
     found.dedup();
     if found.is_empty() {
@@ -220,20 +212,17 @@ fn gather_slaves<C: Comm + ?Sized>(
     mesh: &LocalMesh,
     u: &[Vec3],
 ) -> Vec<BTreeMap<u32, Vec3>> {
-    let mut words = Vec::new();
+    let mut mine: Vec<(usize, u32, Vec3)> = Vec::new();
     for (p, pair) in problem.contacts.iter().enumerate() {
         for &s in &pair.slave_nodes {
             if let Some(l) = mesh.owned_node(s) {
-                let x = position(problem, mesh, u, l);
-                words.extend([p as f64, s as f64, x[0], x[1], x[2]]);
+                mine.push((p, s, position(problem, mesh, u, l)));
             }
         }
     }
     let mut out = vec![BTreeMap::new(); problem.contacts.len()];
-    for part in comm.all_gather_f64(&words) {
-        for w in part.chunks_exact(5) {
-            out[w[0] as usize].insert(w[1] as u32, [w[2], w[3], w[4]]);
-        }
+    for (p, s, x) in message::all_gather(comm, &mine) {
+        out[p].insert(s, x);
     }
     out
 }
@@ -250,7 +239,7 @@ fn gather_masters<'p, C: Comm + ?Sized>(
     let wanted: Vec<bool> = (0..problem.contacts.len())
         .map(|p| found.iter().any(|f| f.0 == p))
         .collect();
-    let mut words = Vec::new();
+    let mut mine: Vec<(usize, u32, [f64; 12])> = Vec::new();
     for (p, pair) in problem.contacts.iter().enumerate() {
         if !wanted[p] {
             continue;
@@ -259,21 +248,18 @@ fn gather_masters<'p, C: Comm + ?Sized>(
             if mesh.owned_element(e).is_none() {
                 continue;
             }
-            words.extend([p as f64, f as f64]);
-            for &n in &pair.face_nodes[f] {
+            let c: [Vec3; 4] = pair.face_nodes[f].map(|n| {
                 let l = mesh
                     .local_node(n)
                     .expect("a face node of an owned element is local");
-                words.extend(position(problem, mesh, u, l));
-            }
+                position(problem, mesh, u, l)
+            });
+            mine.push((p, f as u32, ghost::flat(&c)));
         }
     }
     let mut faces: Vec<BTreeMap<u32, [Vec3; 4]>> = vec![BTreeMap::new(); problem.contacts.len()];
-    for part in comm.all_gather_f64(&words) {
-        for w in part.chunks_exact(14) {
-            let c = std::array::from_fn(|a| std::array::from_fn(|i| w[2 + 3 * a + i]));
-            faces[w[0] as usize].insert(w[1] as u32, c);
-        }
+    for (p, f, c) in message::all_gather(comm, &mine) {
+        faces[p].insert(f, ghost::corners_of(&c));
     }
     let small = problem.body_models.iter().all(|m| !m.material.is_large());
     problem

@@ -6,7 +6,7 @@
 //! normal smoothing reads, come too). Nothing is gathered onto every rank.
 
 use super::search::MasterSurface;
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::math::{add, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -14,8 +14,8 @@ use crate::problem::Problem;
 /// A received face: index in the pair, current and step-start corners.
 type GhostFace = (u32, [Vec3; 4], [Vec3; 4]);
 
-/// Values per face in a message: pair, face, 4 current and 4 step-start corners.
-const FACE_WORDS: usize = 2 + 24;
+/// A face as sent: pair, face, current and step-start corners (4 x 3 coordinates each).
+type FaceMessage = (usize, u32, [f64; 12], [f64; 12]);
 
 /// Current positions of a rank's local nodes from the displacement.
 pub fn position(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], local: usize) -> Vec3 {
@@ -62,7 +62,7 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
     }
     comm.max_f64(&mut diameter);
     let all_boxes = comm.all_gather_f64(&boxes);
-    let mut send: Vec<Vec<f64>> = vec![Vec::new(); comm.size()];
+    let mut send: Vec<Vec<FaceMessage>> = vec![Vec::new(); comm.size()];
     for (p, pair) in problem.contacts.iter().enumerate() {
         let pad = margin(pair, diameter[p]);
         for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
@@ -70,31 +70,23 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
                 continue;
             }
             let c = corners(problem, mesh, u, &pair.face_nodes[f]);
-            let mut words: Option<Vec<f64>> = None;
+            let mut face: Option<FaceMessage> = None;
             for (r, b) in all_boxes.iter().enumerate() {
                 if reaches(&c, &b[6 * p..6 * p + 6], pad) {
-                    let w = words.get_or_insert_with(|| {
+                    let m = *face.get_or_insert_with(|| {
                         let s = corners(problem, mesh, start, &pair.face_nodes[f]);
-                        let mut w = vec![p as f64, f as f64];
-                        w.extend(c.iter().flatten());
-                        w.extend(s.iter().flatten());
-                        w
+                        (p, f as u32, flat(&c), flat(&s))
                     });
-                    send[r].extend_from_slice(w);
+                    send[r].push(m);
                 }
             }
         }
     }
-    let received = comm.all_to_all_f64(&send);
+    let received = message::all_to_all(comm, &send);
     let small = problem.body_models.iter().all(|m| !m.material.is_large());
     let mut faces: Vec<Vec<GhostFace>> = vec![Vec::new(); npairs];
-    for msg in &received {
-        for w in msg.chunks_exact(FACE_WORDS) {
-            let x = |k: usize| -> [Vec3; 4] {
-                std::array::from_fn(|a| std::array::from_fn(|i| w[2 + 12 * k + 3 * a + i]))
-            };
-            faces[w[0] as usize].push((w[1] as u32, x(0), x(1)));
-        }
+    for (p, f, current, start) in received.into_iter().flatten() {
+        faces[p].push((f, corners_of(&current), corners_of(&start)));
     }
     problem
         .contacts
@@ -188,4 +180,13 @@ fn corners(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], nodes: &[u32; 4]) ->
             .expect("the nodes of an owned element are local");
         position(problem, mesh, u, l)
     })
+}
+
+/// Four corners as twelve coordinates, and back.
+pub(super) fn flat(c: &[Vec3; 4]) -> [f64; 12] {
+    std::array::from_fn(|k| c[k / 3][k % 3])
+}
+
+pub(super) fn corners_of(x: &[f64; 12]) -> [Vec3; 4] {
+    std::array::from_fn(|a| std::array::from_fn(|i| x[3 * a + i]))
 }

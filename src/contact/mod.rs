@@ -5,6 +5,7 @@
 //! the equilibrium query, Coulomb stick/slip).
 
 pub mod audit;
+mod codec;
 pub mod coulomb;
 pub mod ghost;
 pub mod project;

@@ -7,7 +7,7 @@
 use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
 use super::ghost;
 use super::search::Interaction;
-use crate::comm::{self, Comm};
+use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
@@ -85,7 +85,7 @@ pub struct ContactState {
     pub active: Vec<Active>,
     /// (slave node, pair) released during the current step: not pulled back in by the
     /// capture tolerance until the next step (a penetrating node is still pushed out).
-    released: Vec<(u32, usize)>,
+    pub(super) released: Vec<(u32, usize)>,
 }
 
 /// A tangent basis of the plane normal to n, chosen deterministically.
@@ -266,18 +266,19 @@ impl ContactState {
         if comm.size() == 1 {
             return;
         }
-        let mut words = Vec::with_capacity(5 * mine.len());
-        for &k in &mine {
-            let a = &self.active[k];
-            words.extend([k as f64, a.normal_force]);
-            words.extend(a.tangential_force);
-        }
-        for part in comm.all_gather_f64(&words) {
-            for w in part.chunks_exact(5) {
-                let a = &mut self.active[w[0] as usize];
-                a.normal_force = w[1];
-                a.tangential_force = [w[2], w[3], w[4]];
-            }
+        let forces: Vec<(usize, f64, Vec3)> = mine
+            .iter()
+            .map(|&k| {
+                (
+                    k,
+                    self.active[k].normal_force,
+                    self.active[k].tangential_force,
+                )
+            })
+            .collect();
+        for (k, normal, tangential) in message::all_gather(comm, &forces) {
+            self.active[k].normal_force = normal;
+            self.active[k].tangential_force = tangential;
         }
     }
 
@@ -527,59 +528,6 @@ impl ContactState {
         out
     }
 
-    /// The whole state as numbers (active constraints, released entries), for a restart.
-    pub fn encode(&self) -> (Vec<f64>, Vec<f64>) {
-        let mut words = Vec::with_capacity(ACTIVE_WORDS * self.active.len());
-        for a in &self.active {
-            encode(a, &mut words);
-        }
-        let released = self
-            .released
-            .iter()
-            .flat_map(|&(s, p)| [s as f64, p as f64])
-            .collect();
-        (words, released)
-    }
-
-    /// The state `encode` wrote; None when the numbers do not describe constraints of
-    /// this problem.
-    pub fn decode(problem: &Problem, active: &[f64], released: &[f64]) -> Option<Self> {
-        if !active.len().is_multiple_of(ACTIVE_WORDS) || !released.len().is_multiple_of(2) {
-            return None;
-        }
-        let nodes = problem.mesh.num_nodes() as f64;
-        let pairs = problem.contacts.len() as f64;
-        let ok = |w: &[f64]| {
-            w[0] >= 0.0
-                && w[0] < pairs
-                && w[1] >= 0.0
-                && w[1] < nodes
-                && (w[2] as usize) < problem.contacts[w[0] as usize].master_faces.len()
-                && (w[25] == 0.0
-                    || (w[26] >= 0.0
-                        && (w[26] as usize) < problem.contacts[w[0] as usize].master_faces.len()))
-                && w.iter().all(|x| x.is_finite())
-        };
-        let chunks: Vec<&[f64]> = active.chunks_exact(ACTIVE_WORDS).collect();
-        if !chunks.iter().all(|w| ok(w)) {
-            return None;
-        }
-        let released: Vec<(u32, usize)> = released
-            .chunks_exact(2)
-            .map(|w| (w[0] as u32, w[1] as usize))
-            .collect();
-        if released
-            .iter()
-            .any(|&(s, p)| s as f64 >= nodes || p as f64 >= pairs)
-        {
-            return None;
-        }
-        Some(ContactState {
-            active: chunks.into_iter().map(decode).collect(),
-            released,
-        })
-    }
-
     fn released_set(&self) -> HashSet<(u32, usize)> {
         self.released.iter().copied().collect()
     }
@@ -588,97 +536,24 @@ impl ContactState {
     /// owns, ordered by (slave node, pair). Collective.
     fn share<C: Comm + ?Sized>(&mut self, comm: &C, mesh: &LocalMesh) {
         if comm.size() > 1 {
-            let mut words = Vec::new();
-            let mine = self
+            let mine: Vec<Active> = self
                 .active
                 .iter()
-                .filter(|a| mesh.owned_node(a.slave).is_some());
-            for a in mine.clone() {
-                encode(a, &mut words);
-            }
-            let released: Vec<f64> = self
+                .filter(|a| mesh.owned_node(a.slave).is_some())
+                .copied()
+                .collect();
+            let released: Vec<(u32, usize)> = self
                 .released
                 .iter()
                 .filter(|(s, _)| mesh.owned_node(*s).is_some())
-                .flat_map(|&(s, p)| [s as f64, p as f64])
+                .copied()
                 .collect();
-            self.active = comm
-                .all_gather_f64(&words)
-                .iter()
-                .flat_map(|part| {
-                    part.chunks_exact(ACTIVE_WORDS)
-                        .map(decode)
-                        .collect::<Vec<_>>()
-                })
-                .collect();
-            self.released = comm
-                .all_gather_f64(&released)
-                .iter()
-                .flat_map(|part| {
-                    part.chunks_exact(2)
-                        .map(|w| (w[0] as u32, w[1] as usize))
-                        .collect::<Vec<_>>()
-                })
-                .collect();
+            self.active = message::all_gather(comm, &mine);
+            self.released = message::all_gather(comm, &released);
         }
         self.active.sort_by_key(|a| (a.slave, a.pair));
         self.released.sort_unstable();
         self.released.dedup();
-    }
-}
-
-/// Values per active constraint in a message.
-const ACTIVE_WORDS: usize = 30;
-
-fn encode(a: &Active, out: &mut Vec<f64>) {
-    let (tag, dir, magnitude) = match a.mode {
-        Mode::Free => (0.0, [0.0; 3], 0.0),
-        Mode::Stick => (1.0, [0.0; 3], 0.0),
-        Mode::Slip { dir, magnitude } => (2.0, dir, magnitude),
-    };
-    out.extend([a.pair as f64, a.slave as f64, a.face as f64, a.s[0], a.s[1]]);
-    out.extend(a.normal);
-    out.push(tag);
-    out.extend(dir);
-    out.extend([magnitude, a.normal_force]);
-    out.extend(a.tangential_force);
-    out.push(a.slip_stiffness);
-    match a.secant {
-        Some((f, d)) => {
-            out.push(1.0);
-            out.extend(f);
-            out.extend(d);
-        }
-        None => out.extend([0.0; 7]),
-    }
-    match a.start {
-        Some((face, s)) => out.extend([1.0, face as f64, s[0], s[1]]),
-        None => out.extend([0.0; 4]),
-    }
-    out.push(a.reversals as f64);
-}
-
-fn decode(w: &[f64]) -> Active {
-    Active {
-        pair: w[0] as usize,
-        slave: w[1] as u32,
-        face: w[2] as u32,
-        s: [w[3], w[4]],
-        normal: [w[5], w[6], w[7]],
-        mode: match w[8] as u8 {
-            0 => Mode::Free,
-            1 => Mode::Stick,
-            _ => Mode::Slip {
-                dir: [w[9], w[10], w[11]],
-                magnitude: w[12],
-            },
-        },
-        normal_force: w[13],
-        tangential_force: [w[14], w[15], w[16]],
-        slip_stiffness: w[17],
-        secant: (w[18] != 0.0).then_some(([w[19], w[20], w[21]], [w[22], w[23], w[24]])),
-        start: (w[25] != 0.0).then_some((w[26] as u32, [w[27], w[28]])),
-        reversals: w[29] as u32,
     }
 }
 

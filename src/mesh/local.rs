@@ -5,17 +5,9 @@
 //! bitwise the same on any number of ranks.
 
 use super::GlobalMesh;
-use crate::comm::Comm;
+use crate::comm::{Comm, ExchangePlan};
 use crate::math::Vec3;
 use partition::Decomposition;
-
-#[derive(Clone, Debug)]
-pub struct HaloPlan {
-    /// (rank, local indices of owned nodes to send)
-    pub send: Vec<(usize, Vec<u32>)>,
-    /// (rank, local indices of ghost nodes to fill)
-    pub recv: Vec<(usize, Vec<u32>)>,
-}
 
 #[derive(Clone, Debug)]
 pub struct LocalMesh {
@@ -26,7 +18,8 @@ pub struct LocalMesh {
     pub element_global: Vec<u32>,
     pub element_owned: Vec<bool>,
     pub element_body: Vec<u32>,
-    pub halo: HaloPlan,
+    /// Owned node values (local indices) to the ghost copies (local indices) on other ranks.
+    pub halo: ExchangePlan,
     /// Owning rank of every global node (contact constraints reach nodes of any rank).
     node_owner: Vec<u32>,
     global_to_local: std::collections::HashMap<u32, u32>,
@@ -68,7 +61,7 @@ impl LocalMesh {
             element_global,
             element_owned,
             element_body,
-            halo: HaloPlan {
+            halo: ExchangePlan {
                 send: map(&part.send),
                 recv: map(&part.recv),
             },
@@ -111,26 +104,12 @@ impl LocalMesh {
 
     /// Copies owned values to the ghost copies on neighbouring ranks.
     pub fn exchange<C: Comm + ?Sized>(&self, comm: &C, data: &mut [Vec3]) {
-        if self.halo.send.is_empty() && self.halo.recv.is_empty() {
-            return;
-        }
-        let send: Vec<(usize, Vec<f64>)> = self
-            .halo
-            .send
-            .iter()
-            .map(|(r, idx)| (*r, idx.iter().flat_map(|&i| data[i as usize]).collect()))
-            .collect();
-        let mut recv: Vec<(usize, Vec<f64>)> = self
-            .halo
-            .recv
-            .iter()
-            .map(|(r, idx)| (*r, vec![0.0; 3 * idx.len()]))
-            .collect();
-        comm.exchange(&send, &mut recv);
-        for ((_, idx), (_, buf)) in self.halo.recv.iter().zip(recv.iter()) {
-            for (k, &i) in idx.iter().enumerate() {
-                data[i as usize] = [buf[3 * k], buf[3 * k + 1], buf[3 * k + 2]];
-            }
-        }
+        self.halo.run_in_place(comm, data);
+    }
+
+    /// The plan that fetches the values of remote nodes from their owners: `wanted` lists
+    /// (global node, slot of the destination array). Collective.
+    pub fn fetch_plan<C: Comm + ?Sized>(&self, comm: &C, wanted: &[(u32, u32)]) -> ExchangePlan {
+        ExchangePlan::fetch(comm, wanted, |g| self.owner(g), |g| self.owned_node(g))
     }
 }

@@ -3,7 +3,7 @@
 //! continues from, both in global element order so that they do not depend on the ranks.
 
 use super::Gather;
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::fem::history;
 use crate::material::{PlasticState, STATE_LEN};
 use crate::problem::Problem;
@@ -32,30 +32,22 @@ pub(super) fn gather_history<C: Comm + ?Sized>(comm: &C, stepper: &Stepper<C>) -
     if !stepper.assembly().has_history() {
         return Vec::new();
     }
-    // [global id, points, values...] per owned plastic element.
-    let mut flat = Vec::new();
-    for (g, states) in stepper.assembly().owned_history() {
-        flat.push(g as f64);
-        flat.push(states.len() as f64);
-        for s in &states {
-            flat.extend(s.to_array());
-        }
-    }
-    let parts = comm.gather_f64(&flat);
+    // (global id, the values of each integration point) per owned plastic element.
+    let mine: Vec<(u32, Vec<[f64; STATE_LEN]>)> = stepper
+        .assembly()
+        .owned_history()
+        .into_iter()
+        .map(|(g, states)| (g as u32, states.iter().map(|s| s.to_array()).collect()))
+        .collect();
+    let mut elements = message::gather(comm, &mine);
     if !comm.is_root() {
         return Vec::new();
     }
-    let mut elements: Vec<(u64, &[f64])> = Vec::new();
-    for part in &parts {
-        let mut at = 0;
-        while at < part.len() {
-            let n = part[at + 1] as usize * STATE_LEN;
-            elements.push((part[at] as u64, &part[at + 2..at + 2 + n]));
-            at += 2 + n;
-        }
-    }
     elements.sort_by_key(|e| e.0);
-    elements.iter().flat_map(|e| e.1.iter().copied()).collect()
+    elements
+        .iter()
+        .flat_map(|e| e.1.iter().flatten().copied())
+        .collect()
 }
 
 /// Sets the stepper's committed history from a restart state's `history` (of length

@@ -17,8 +17,8 @@
 //! (values of nodes owned elsewhere are fetched first); every rank factors the same Kc and
 //! solves the same coarse system. Results stay bitwise identical on any number of ranks.
 
-use crate::comm::Comm;
-use crate::constraints::{fetch_plan, Constraints, Plan};
+use crate::comm::{message, Comm, ExchangePlan};
+use crate::constraints::Constraints;
 use crate::math::{matvec, Vec3};
 use crate::memory::{try_filled, AllocError};
 use crate::mesh::local::LocalMesh;
@@ -51,7 +51,7 @@ pub struct CoarseSpace {
     node: Vec<(u32, Vec3)>,
     /// Aggregates this rank sums: (aggregate, sources in global node order with offsets).
     sums: Vec<(u32, Vec<(Src, Vec3)>)>,
-    fetch: Plan,
+    fetch: ExchangePlan,
     num_remote: usize,
     /// The factor of Kc, when set up.
     factor: Option<Factor>,
@@ -134,7 +134,7 @@ impl CoarseSpace {
                 .collect();
             sums.push((k as u32, src));
         }
-        let fetch = fetch_plan(comm, mesh, &wanted);
+        let fetch = mesh.fetch_plan(comm, &wanted);
         Ok(CoarseSpace {
             num_aggregates: na,
             color,
@@ -199,8 +199,7 @@ impl CoarseSpace {
                     acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
                 }
             }
-            mine.push(*k as f64);
-            mine.extend(acc);
+            message::push(&mut mine, &(*k, acc));
         }
         out.clear();
         out.resize(self.dim(), 0.0);
@@ -210,9 +209,9 @@ impl CoarseSpace {
             vec![mine]
         };
         for part in parts {
-            for w in part.chunks_exact(MODES + 1) {
-                let k = w[0] as usize;
-                out[MODES * k..MODES * (k + 1)].copy_from_slice(&w[1..]);
+            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
+                let k = k as usize;
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
             }
         }
     }

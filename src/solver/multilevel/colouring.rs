@@ -8,7 +8,7 @@
 //! global order), greedily in aggregate order: the same on any number of ranks.
 
 use super::aggregation::Graph;
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::mesh::local::LocalMesh;
 
@@ -46,24 +46,14 @@ impl Ties {
             let gid = mesh.node_global[l];
             for (_, row) in cons.rows(l) {
                 for &(m, _) in &row.masters {
-                    mine.push(gid as f64);
-                    mine.push(m as f64);
+                    mine.push((gid, m));
                 }
             }
         }
         let pairs: Vec<(u32, u32)> = if comm.size() == 1 {
-            mine.chunks_exact(2)
-                .map(|w| (w[0] as u32, w[1] as u32))
-                .collect()
+            mine
         } else {
-            comm.all_gather_f64(&mine)
-                .iter()
-                .flat_map(|p| {
-                    p.chunks_exact(2)
-                        .map(|w| (w[0] as u32, w[1] as u32))
-                        .collect::<Vec<_>>()
-                })
-                .collect()
+            message::all_gather(comm, &mine)
         };
         Ties::from_pairs(n, pairs)
     }

@@ -6,8 +6,8 @@
 
 use super::aggregation::{aggregate, Graph};
 use super::prolongator::MODES;
-use crate::comm::Comm;
-use crate::constraints::{fetch_plan, Constraints, Plan};
+use crate::comm::{message, Comm, ExchangePlan};
+use crate::constraints::Constraints;
 use crate::math::{matvec, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
@@ -39,7 +39,7 @@ pub struct Transfer {
     node: Vec<(u32, Vec3)>,
     /// Aggregates this rank sums: (aggregate, sources in global node order with offsets).
     sums: Vec<(u32, Vec<(Src, Vec3)>)>,
-    fetch: Plan,
+    fetch: ExchangePlan,
     far: Vec<Vec3>,
     mine: Vec<f64>,
     pub centre: Vec<Vec3>,
@@ -132,7 +132,7 @@ impl Transfer {
                 .collect();
             sums.push((k as u32, src));
         }
-        let fetch = fetch_plan(comm, mesh, &wanted);
+        let fetch = mesh.fetch_plan(comm, &wanted);
         let mine = Vec::with_capacity(sums.len() * (MODES + 1));
         Transfer {
             num_aggregates: na,
@@ -195,17 +195,16 @@ impl Transfer {
             if single {
                 out[MODES * *k as usize..MODES * (*k as usize + 1)].copy_from_slice(&acc);
             } else {
-                self.mine.push(*k as f64);
-                self.mine.extend(acc);
+                message::push(&mut self.mine, &(*k, acc));
             }
         }
         if single {
             return;
         }
         for part in comm.all_gather_f64(&self.mine) {
-            for w in part.chunks_exact(MODES + 1) {
-                let k = w[0] as usize;
-                out[MODES * k..MODES * (k + 1)].copy_from_slice(&w[1..]);
+            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
+                let k = k as usize;
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
             }
         }
     }

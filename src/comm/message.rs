@@ -1,0 +1,288 @@
+//! Typed messages between ranks. The transport carries f64 words; a message type writes its
+//! fields to a `Writer` and reads them back from a `Reader` in one place, in order, so no
+//! call site picks a value out of a buffer by its position. Integers ride exactly (every
+//! u32, and every index below 2^53, is an exact f64) and are read back checked: a word that
+//! is not a whole number in range, a flag that is neither 0 nor 1, or a buffer that ends
+//! inside a message or runs on past the last one makes `decode` answer None. The same
+//! encoding serves the restart file, which stores these words.
+
+use super::Comm;
+
+/// A value that travels between ranks as words.
+pub trait Message: Sized {
+    fn write(&self, w: &mut Writer<'_>);
+    /// None when the words do not describe a value of this type.
+    fn read(r: &mut Reader) -> Option<Self>;
+}
+
+/// Appends the fields of messages to a buffer of words.
+pub struct Writer<'a> {
+    words: &'a mut Vec<f64>,
+}
+
+impl<'a> Writer<'a> {
+    pub fn new(words: &'a mut Vec<f64>) -> Self {
+        Writer { words }
+    }
+
+    pub fn real(&mut self, x: f64) {
+        self.words.push(x);
+    }
+
+    pub fn id(&mut self, x: u32) {
+        self.words.push(x as f64);
+    }
+
+    pub fn index(&mut self, x: usize) {
+        debug_assert!(x < 1 << 53, "an index beyond 2^53 is not exact as a word");
+        self.words.push(x as f64);
+    }
+
+    pub fn flag(&mut self, x: bool) {
+        self.words.push(if x { 1.0 } else { 0.0 });
+    }
+
+    pub fn reals(&mut self, x: &[f64]) {
+        self.words.extend_from_slice(x);
+    }
+
+    /// Zero words where an absent optional part of a fixed-size message would stand.
+    pub fn pad(&mut self, n: usize) {
+        self.words.resize(self.words.len() + n, 0.0);
+    }
+
+    pub fn put<T: Message>(&mut self, x: &T) {
+        x.write(self);
+    }
+}
+
+/// Reads the fields of messages from a buffer of words, in the order they were written.
+pub struct Reader<'a> {
+    words: &'a [f64],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    pub fn new(words: &'a [f64]) -> Self {
+        Reader { words, at: 0 }
+    }
+
+    pub fn is_done(&self) -> bool {
+        self.at == self.words.len()
+    }
+
+    pub fn real(&mut self) -> Option<f64> {
+        let x = *self.words.get(self.at)?;
+        self.at += 1;
+        Some(x)
+    }
+
+    /// A whole number in [0, max].
+    fn whole(&mut self, max: f64) -> Option<f64> {
+        let x = self.real()?;
+        (x >= 0.0 && x <= max && x.fract() == 0.0).then_some(x)
+    }
+
+    pub fn id(&mut self) -> Option<u32> {
+        self.whole(u32::MAX as f64).map(|x| x as u32)
+    }
+
+    pub fn index(&mut self) -> Option<usize> {
+        self.whole(((1u64 << 53) - 1) as f64).map(|x| x as usize)
+    }
+
+    pub fn flag(&mut self) -> Option<bool> {
+        let x = self.real()?;
+        if x == 0.0 {
+            Some(false)
+        } else if x == 1.0 {
+            Some(true)
+        } else {
+            None
+        }
+    }
+
+    pub fn reals<const N: usize>(&mut self) -> Option<[f64; N]> {
+        let s = self.words.get(self.at..self.at + N)?;
+        self.at += N;
+        Some(std::array::from_fn(|i| s[i]))
+    }
+
+    /// Passes over `n` words (the padding of an absent optional part).
+    pub fn skip(&mut self, n: usize) -> Option<()> {
+        self.words.get(self.at..self.at + n)?;
+        self.at += n;
+        Some(())
+    }
+
+    pub fn get<T: Message>(&mut self) -> Option<T> {
+        T::read(self)
+    }
+}
+
+impl Message for f64 {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.real(*self);
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        r.real()
+    }
+}
+
+impl Message for u32 {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.id(*self);
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        r.id()
+    }
+}
+
+impl Message for usize {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.index(*self);
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        r.index()
+    }
+}
+
+impl<const N: usize> Message for [f64; N] {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.reals(self);
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        r.reals()
+    }
+}
+
+/// A list of any length: its length, then its items.
+impl<T: Message> Message for Vec<T> {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.index(self.len());
+        for x in self {
+            w.put(x);
+        }
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        let n = r.index()?;
+        // No reservation from the length word: a corrupt length must not allocate.
+        let mut out = Vec::new();
+        for _ in 0..n {
+            out.push(r.get()?);
+        }
+        Some(out)
+    }
+}
+
+macro_rules! tuple_message {
+    ($($t:ident $v:ident),+) => {
+        impl<$($t: Message),+> Message for ($($t,)+) {
+            fn write(&self, w: &mut Writer<'_>) {
+                let ($($v,)+) = self;
+                $(w.put($v);)+
+            }
+            fn read(r: &mut Reader) -> Option<Self> {
+                Some(($(r.get::<$t>()?,)+))
+            }
+        }
+    };
+}
+
+tuple_message!(A a, B b);
+tuple_message!(A a, B b, C c);
+tuple_message!(A a, B b, C c, D d);
+
+/// Appends one message to a buffer of words.
+pub fn push<T: Message>(words: &mut Vec<f64>, x: &T) {
+    x.write(&mut Writer::new(words));
+}
+
+/// The words of a list of messages.
+pub fn encode<T: Message>(items: &[T]) -> Vec<f64> {
+    let mut words = Vec::new();
+    let mut w = Writer::new(&mut words);
+    for x in items {
+        x.write(&mut w);
+    }
+    words
+}
+
+/// The list of messages `encode` wrote; None when the words are not such a list.
+pub fn decode<T: Message>(words: &[f64]) -> Option<Vec<T>> {
+    let mut r = Reader::new(words);
+    let mut out = Vec::new();
+    while !r.is_done() {
+        out.push(T::read(&mut r)?);
+    }
+    Some(out)
+}
+
+/// Decodes a message another rank of this run wrote: malformed words there are a defect.
+fn decode_sent<T: Message>(words: &[f64]) -> Vec<T> {
+    decode(words).expect("a message written by another rank decodes")
+}
+
+/// The messages in words that ranks of this run wrote, one by one, without a list.
+pub fn items<T: Message>(words: &[f64]) -> impl Iterator<Item = T> + '_ {
+    let mut r = Reader::new(words);
+    std::iter::from_fn(move || {
+        (!r.is_done()).then(|| T::read(&mut r).expect("a message written by a rank decodes"))
+    })
+}
+
+/// Rank 0 receives every rank's `items`, in rank order; the others an empty list.
+/// Collective.
+pub fn gather<T: Message, C: Comm + ?Sized>(comm: &C, items: &[T]) -> Vec<T> {
+    comm.gather_f64(&encode(items))
+        .iter()
+        .flat_map(|part| decode_sent::<T>(part))
+        .collect()
+}
+
+/// Every rank receives every rank's `items`, in rank order. Collective.
+pub fn all_gather<T: Message, C: Comm + ?Sized>(comm: &C, items: &[T]) -> Vec<T> {
+    comm.all_gather_f64(&encode(items))
+        .iter()
+        .flat_map(|part| decode_sent::<T>(part))
+        .collect()
+}
+
+/// Every rank sends `send[r]` (possibly empty) to rank r and receives every rank's list for
+/// it, in rank order. Collective.
+pub fn all_to_all<T: Message, C: Comm + ?Sized>(comm: &C, send: &[Vec<T>]) -> Vec<Vec<T>> {
+    let words: Vec<Vec<f64>> = send.iter().map(|items| encode(items)).collect();
+    comm.all_to_all_f64(&words)
+        .iter()
+        .map(|part| decode_sent(part))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tuples_round_trip() {
+        let items = vec![(3u32, 7usize, [1.5, -2.0, 0.25]), (0, 1 << 40, [0.0; 3])];
+        let words = encode(&items);
+        assert_eq!(words.len(), 10);
+        assert_eq!(decode::<(u32, usize, [f64; 3])>(&words), Some(items));
+        let lists = vec![(7u32, vec![[1.0, 2.0], [3.0, 4.0]]), (9, vec![])];
+        let words = encode(&lists);
+        assert_eq!(words, [7.0, 2.0, 1.0, 2.0, 3.0, 4.0, 9.0, 0.0]);
+        assert_eq!(decode::<(u32, Vec<[f64; 2]>)>(&words), Some(lists));
+    }
+
+    #[test]
+    fn malformed_words_are_refused() {
+        // A fraction, a negative number and a value past u32::MAX are not ids.
+        for bad in [0.5, -1.0, 4294967296.0, f64::NAN] {
+            assert_eq!(decode::<(u32, f64)>(&[bad, 1.0]), None, "{bad}");
+        }
+        // A list that ends inside a message.
+        assert_eq!(decode::<(u32, f64)>(&[1.0, 2.0, 3.0]), None);
+        let mut r = Reader::new(&[2.0]);
+        assert_eq!(r.flag(), None);
+    }
+}
