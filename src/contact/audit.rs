@@ -82,9 +82,7 @@ pub fn audit<C: Comm + ?Sized>(
         }
         let corners: Vec<[Vec3; 8]> = elements
             .iter()
-            .map(|&e| {
-                std::array::from_fn(|a| position(problem, mesh, u, mesh.elements[e][a] as usize))
-            })
+            .map(|&e| std::array::from_fn(|a| position(mesh, u, mesh.elements[e][a] as usize)))
             .collect();
         let aabbs: Vec<Aabb> = corners.iter().map(bounding_box).collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
@@ -216,7 +214,7 @@ fn gather_slaves<C: Comm + ?Sized>(
     for (p, pair) in problem.contacts.iter().enumerate() {
         for &s in &pair.slave_nodes {
             if let Some(l) = mesh.owned_node(s) {
-                mine.push((p, s, position(problem, mesh, u, l)));
+                mine.push((p, s, position(mesh, u, l)));
             }
         }
     }
@@ -252,7 +250,7 @@ fn gather_masters<'p, C: Comm + ?Sized>(
                 let l = mesh
                     .local_node(n)
                     .expect("a face node of an owned element is local");
-                position(problem, mesh, u, l)
+                position(mesh, u, l)
             });
             mine.push((p, f as u32, ghost::flat(&c)));
         }

@@ -17,12 +17,9 @@ type GhostFace = (u32, [Vec3; 4], [Vec3; 4]);
 /// A face as sent: pair, face, current and step-start corners (4 x 3 coordinates each).
 type FaceMessage = (usize, u32, [f64; 12], [f64; 12]);
 
-/// Current positions of a rank's local nodes from the displacement.
-pub fn position(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], local: usize) -> Vec3 {
-    add(
-        &problem.mesh.coords[mesh.node_global[local] as usize],
-        &u[local],
-    )
+/// The current position of a rank's local node from the displacement.
+pub fn position(mesh: &LocalMesh, u: &[Vec3], local: usize) -> Vec3 {
+    add(&mesh.coords[local], &u[local])
 }
 
 /// The master surface of every pair as this rank needs it for its owned slave nodes, at
@@ -43,7 +40,7 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
         let mut hi = [f64::NEG_INFINITY; 3];
         for &s in &pair.slave_nodes {
             if let Some(l) = mesh.owned_node(s) {
-                let x = position(problem, mesh, u, l);
+                let x = position(mesh, u, l);
                 for i in 0..3 {
                     lo[i] = lo[i].min(x[i]);
                     hi[i] = hi[i].max(x[i]);
@@ -54,7 +51,7 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
         boxes[6 * p + 3..6 * p + 6].copy_from_slice(&hi);
         for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
             if mesh.owned_element(e).is_some() {
-                let c = corners(problem, mesh, u, &pair.face_nodes[f]);
+                let c = corners(mesh, u, &pair.face_nodes[f]);
                 let d = norm(&sub(&c[0], &c[2])).max(norm(&sub(&c[1], &c[3])));
                 diameter[p] = f64::max(diameter[p], d);
             }
@@ -69,12 +66,12 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
             if mesh.owned_element(e).is_none() {
                 continue;
             }
-            let c = corners(problem, mesh, u, &pair.face_nodes[f]);
+            let c = corners(mesh, u, &pair.face_nodes[f]);
             let mut face: Option<FaceMessage> = None;
             for (r, b) in all_boxes.iter().enumerate() {
                 if reaches(&c, &b[6 * p..6 * p + 6], pad) {
                     let m = *face.get_or_insert_with(|| {
-                        let s = corners(problem, mesh, start, &pair.face_nodes[f]);
+                        let s = corners(mesh, start, &pair.face_nodes[f]);
                         (p, f as u32, flat(&c), flat(&s))
                     });
                     send[r].push(m);
@@ -173,12 +170,12 @@ pub fn face_counts(problem: &Problem, decomposition: &partition::Decomposition) 
     out
 }
 
-fn corners(problem: &Problem, mesh: &LocalMesh, u: &[Vec3], nodes: &[u32; 4]) -> [Vec3; 4] {
+fn corners(mesh: &LocalMesh, u: &[Vec3], nodes: &[u32; 4]) -> [Vec3; 4] {
     std::array::from_fn(|a| {
         let l = mesh
             .local_node(nodes[a])
             .expect("the nodes of an owned element are local");
-        position(problem, mesh, u, l)
+        position(mesh, u, l)
     })
 }
 

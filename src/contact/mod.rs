@@ -7,6 +7,7 @@
 pub mod audit;
 mod codec;
 pub mod coulomb;
+pub mod enforcement;
 pub mod ghost;
 pub mod project;
 pub mod search;
@@ -14,3 +15,4 @@ pub mod slip;
 pub mod state;
 
 pub use crate::problem::ContactPair;
+pub use enforcement::Enforcement;

@@ -32,7 +32,7 @@ pub(super) fn driven_slip(
     let l = mesh.owned_node(a.slave)?;
     let (now, _) = surface.face_corners(a.face)?;
     let w = crate::fem::face::shape(a.s[0], a.s[1]);
-    let mut d = ghost::position(problem, mesh, u, l);
+    let mut d = ghost::position(mesh, u, l);
     for j in 0..4 {
         d = sub(&d, &scale(&now[j], w[j]));
     }

@@ -305,7 +305,7 @@ impl ContactState {
                 if existing.contains(&(s, p)) {
                     continue;
                 }
-                if let Some(it) = surfaces[p].search(&ghost::position(problem, mesh, u, l)) {
+                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
                     let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
                     if penetrates
                         || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
@@ -444,7 +444,7 @@ impl ContactState {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
                 };
-                let x = ghost::position(problem, mesh, u, l);
+                let x = ghost::position(mesh, u, l);
                 let current = index.get(&(s, p)).map(|&k| self.active[k].face);
                 let found = current
                     .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
@@ -520,7 +520,7 @@ impl ContactState {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
                 };
-                if let Some(it) = surfaces[p].search(&ghost::position(problem, mesh, u, l)) {
+                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
                     out.push((s, it.gap));
                 }
             }

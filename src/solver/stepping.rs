@@ -8,6 +8,7 @@ use super::springs::Spring;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::state::{ContactCounts, ContactState};
+use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -130,7 +131,8 @@ fn choose_preconditioner<C: Comm + ?Sized>(
     }
 }
 
-pub struct Stepper<'a, C: Comm + ?Sized> {
+/// The load stepper, generic over how contact is enforced (`E`; node-to-face by default).
+pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     comm: &'a C,
     problem: &'a Problem,
     mesh: &'a LocalMesh,
@@ -146,7 +148,7 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
     reference_floor: f64,
     length_scale: f64,
     stiffness_scale: f64,
-    pub contact: ContactState,
+    pub contact: E,
     /// The constraint set and row multipliers of the last converged state.
     cons: Constraints,
     multipliers: Vec<f64>,
@@ -159,9 +161,21 @@ pub struct Stepper<'a, C: Comm + ?Sized> {
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
-    /// Fails only when the memory for the element geometry or the solver's vectors is
-    /// refused on some rank: every rank then returns that rank's error. Collective.
+    /// The stepper with node-to-face contact (the paper's). Fails as `with_enforcement`.
     pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Result<Self, String> {
+        Self::with_enforcement(comm, problem, mesh)
+    }
+}
+
+impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
+    /// The stepper with contact enforced by `E`. Fails only when the memory for the
+    /// element geometry or the solver's vectors is refused on some rank: every rank then
+    /// returns that rank's error. Collective.
+    pub fn with_enforcement(
+        comm: &'a C,
+        problem: &'a Problem,
+        mesh: &'a LocalMesh,
+    ) -> Result<Self, String> {
         let built = Self::build(comm, problem, mesh);
         let refused = built.as_ref().err().map(ToString::to_string);
         match (built, crate::comm::first_error(comm, refused)) {
@@ -214,7 +228,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             audit_depth: 0.0,
             length_scale: problem.mesh.bounding_diagonal(),
             stiffness_scale: stiffness_scale(problem),
-            contact: ContactState::default(),
+            contact: E::default(),
             cons: Constraints::none(mesh),
             multipliers: Vec::new(),
             extra: Vec::new(),
@@ -239,7 +253,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         u: &[Vec3],
         u_prev: &[Vec3],
         (time, dt_prev, reference_floor): (f64, f64, f64),
-        contact: ContactState,
+        contact: E,
     ) {
         for (l, &g) in self.mesh.node_global.iter().enumerate() {
             self.u[l] = u[g as usize];
@@ -280,11 +294,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         self.cg.forces()
     }
 
-    fn build_constraints(
-        &self,
-        t: f64,
-        contact: &ContactState,
-    ) -> Result<Constraints, SolveFailure> {
+    fn build_constraints(&self, t: f64, contact: &E) -> Result<Constraints, SolveFailure> {
         let owned = self.mesh.num_owned_nodes;
         let mut specs: Vec<RowSpec> = self
             .dirichlet
@@ -392,7 +402,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         &mut self,
         t_new: f64,
         trial: Vec<Vec3>,
-        contact: ContactState,
+        contact: E,
         outcome: &ModelOutcome,
     ) -> Result<(), String> {
         self.asm.commit(&trial).map_err(|e| e.to_string())?;
@@ -409,7 +419,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     /// The bodies the supports of a failed increment did not hold, when the failure is one
     /// a singular model problem shows as (a body its supports no longer hold, e.g. a slave
     /// body pushed off its master).
-    fn unheld_after(&self, cause: &SolveFailure, contact: &ContactState) -> Vec<String> {
+    fn unheld_after(&self, cause: &SolveFailure, contact: &E) -> Vec<String> {
         match cause {
             SolveFailure::NotConverged {
                 residual,
@@ -443,7 +453,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     }
 }
 
-impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// Solves the model problem at time `t`. A friction force is a load, so a body held
     /// only by slipping nodes is a mechanism within the model problem: when the supports
     /// do not hold a body (`support::unheld_bodies`, slipping nodes tied along the normal
@@ -458,12 +468,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         u: &mut [Vec3],
         cons: &Constraints,
         extra: &[Vec3],
-        contact: &ContactState,
+        contact: &E,
         settings: &CgSettings,
         diag: &mut Vec<crate::math::Mat3>,
         record: &mut StepRecord,
     ) -> Result<(ModelOutcome, Vec<Spring>), SolveFailure> {
-        let start = has_slip(contact).then(|| u.to_vec());
+        let start = contact.slipping().then(|| u.to_vec());
         let mut springs = Vec::new();
         let mut with_springs = false;
         if start.is_some() && !super::support::unheld_bodies(self.problem, contact).is_empty() {
@@ -510,12 +520,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     }
 }
 
-impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// The slipping nodes' springs at `u`, with the nodal stiffness blocks computed once
     /// per step into `diag`.
     fn slip_springs(
         &self,
-        contact: &ContactState,
+        contact: &E,
         u: &[Vec3],
         diag: &mut Vec<crate::math::Mat3>,
     ) -> Vec<Spring> {
@@ -544,11 +554,4 @@ fn stiffness_scale(problem: &Problem) -> f64 {
         .fold(f64::INFINITY, f64::min)
         .cbrt();
     e_max * if h_min.is_finite() { h_min } else { 0.0 }
-}
-
-fn has_slip(contact: &ContactState) -> bool {
-    contact
-        .active
-        .iter()
-        .any(|a| matches!(a.mode, crate::contact::state::Mode::Slip { .. }))
 }

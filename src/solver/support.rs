@@ -12,7 +12,7 @@
 //! held otherwise: two free bodies touching each other are not reported). Reference
 //! coordinates are used: the question is which motions are blocked, not by how much.
 
-use crate::contact::state::{tangents, ContactState, Mode};
+use crate::contact::Enforcement;
 use crate::math::{cross, Vec3};
 use crate::problem::Problem;
 use nalgebra::{Matrix6, SymmetricEigen, Vector6};
@@ -24,7 +24,7 @@ const FREE: f64 = 1e-10;
 
 /// One line per body that is not held: "body 'name' ... (free: ...)". Deterministic and
 /// the same on every rank (it reads only replicated data).
-pub fn unheld_bodies(problem: &Problem, contact: &ContactState) -> Vec<String> {
+pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<String> {
     let mesh = &problem.mesh;
     let rows = support_rows(problem, contact);
     let mut out = Vec::new();
@@ -53,7 +53,7 @@ pub fn unheld_bodies(problem: &Problem, contact: &ContactState) -> Vec<String> {
 
 /// The supports of each body: (point, direction) of every prescribed direction and of
 /// every contact tie (on the slave's body and on the master's).
-fn support_rows(problem: &Problem, contact: &ContactState) -> Vec<Vec<(Vec3, Vec3)>> {
+fn support_rows(problem: &Problem, contact: &impl Enforcement) -> Vec<Vec<(Vec3, Vec3)>> {
     let mesh = &problem.mesh;
     let body_of = |g: usize| {
         mesh.bodies
@@ -68,16 +68,12 @@ fn support_rows(problem: &Problem, contact: &ContactState) -> Vec<Vec<(Vec3, Vec
             }
         }
     }
-    for a in &contact.active {
-        let x = mesh.coords[a.slave as usize];
-        let mut dirs = vec![a.normal];
-        if a.mode == Mode::Stick {
-            let (t1, t2) = tangents(&a.normal);
-            dirs.extend([t1, t2]);
-        }
-        let pair = &problem.contacts[a.pair];
-        let master = body_of(pair.face_nodes[a.face as usize][0] as usize);
-        for b in [body_of(a.slave as usize), master].into_iter().flatten() {
+    for (slave, master, dirs) in contact.supports(problem) {
+        let x = mesh.coords[slave as usize];
+        for b in [body_of(slave as usize), body_of(master as usize)]
+            .into_iter()
+            .flatten()
+        {
             rows[b].extend(dirs.iter().map(|&d| (x, d)));
         }
     }

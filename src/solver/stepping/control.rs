@@ -4,17 +4,17 @@
 //! slip, search and capture); until the update changes nothing and the model problem
 //! needs no iteration (the equilibrium query), closed by the penetration audit.
 
-use super::{has_slip, StepRecord, Stepper};
+use super::{StepRecord, Stepper};
 use crate::comm::Comm;
 use crate::constraints::Constraints;
 use crate::contact::audit;
-use crate::contact::state::{ContactState, Mode};
+use crate::contact::enforcement::{Enforcement, SetEntry};
 use crate::math::Vec3;
 use crate::solver::cg::{CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
 use crate::solver::springs::Spring;
 
 /// A constraint set as the loop compares them: (slave, pair, face, sticking) per constraint.
-type Signature = Vec<(u32, usize, u32, u8)>;
+type Signature = Vec<SetEntry>;
 
 /// What the loop remembers across its updates.
 #[derive(Default)]
@@ -26,13 +26,13 @@ struct Watch {
     recaptured: Vec<(u32, usize)>,
 }
 
-impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
+impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// The control-contact loop at time `t`, from the predicted displacement `u`.
     pub(super) fn solve_step(
         &mut self,
         t: f64,
         u: &mut [Vec3],
-        contact: &mut ContactState,
+        contact: &mut E,
         record: &mut StepRecord,
     ) -> Result<ModelOutcome, SolveFailure> {
         let settings = self.cg_settings(t);
@@ -98,12 +98,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     }
 
     /// Gap removal at the predicted configuration, before the first model problem.
-    fn remove_gaps(
-        &mut self,
-        t: f64,
-        u: &mut [Vec3],
-        contact: &mut ContactState,
-    ) -> Result<(), SolveFailure> {
+    fn remove_gaps(&mut self, t: f64, u: &mut [Vec3], contact: &mut E) -> Result<(), SolveFailure> {
         let cons = self.build_constraints(t, contact)?;
         cons.impose(self.comm, self.mesh, u);
         contact.capture(self.comm, self.problem, self.mesh, u);
@@ -116,10 +111,10 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
         &mut self,
         t: f64,
         u: &mut [Vec3],
-        contact: &ContactState,
+        contact: &E,
     ) -> Result<(Constraints, Vec<Vec3>), SolveFailure> {
         let cons = self.build_constraints(t, contact)?;
-        let n = if has_slip(contact) {
+        let n = if contact.slipping() {
             self.mesh.num_nodes()
         } else {
             0
@@ -176,10 +171,10 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     fn audit(
         &mut self,
         u: &[Vec3],
-        contact: &mut ContactState,
+        contact: &mut E,
         watch: &mut Watch,
     ) -> Result<bool, SolveFailure> {
-        let findings = audit::audit(self.comm, self.problem, self.mesh, u);
+        let findings = contact.audit(self.comm, self.problem, self.mesh, u);
         let deep = audit::too_deep(self.problem, &findings);
         if let Some(f) = deep
             .iter()
@@ -199,7 +194,7 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
             });
         }
         if !deep.is_empty() {
-            audit::recapture(contact, self.problem, &deep);
+            contact.recapture(self.problem, &deep);
             watch
                 .recaptured
                 .extend(deep.iter().map(|f| (f.slave, f.pair)));
@@ -211,32 +206,12 @@ impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     }
 
     /// The active set after an update, on standard error, when SOLVER_DEBUG_CONTACT is set.
-    fn debug_contact(
-        &self,
-        t: f64,
-        update: usize,
-        changed: bool,
-        iterations: usize,
-        contact: &ContactState,
-    ) {
+    fn debug_contact(&self, t: f64, update: usize, changed: bool, iterations: usize, contact: &E) {
         if std::env::var_os("SOLVER_DEBUG_CONTACT").is_none() || !self.comm.is_root() {
             return;
         }
         eprintln!("t = {t}: update {update}: changed {changed}, CG {iterations} iterations");
-        for a in &contact.active {
-            eprintln!(
-                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}",
-                a.slave + 1,
-                a.pair,
-                a.face,
-                a.s,
-                a.normal,
-                a.mode,
-                a.normal_force,
-                a.tangential_force
-            );
-        }
-        eprintln!("  released {:?}", contact.released());
+        eprintln!("{}", contact.describe());
     }
 }
 
@@ -244,12 +219,8 @@ impl Watch {
     /// Records the set after an update. A state that comes back once (a node that slips,
     /// sticks, slips again while the friction forces settle) is not yet a cycle; one that
     /// alternates twice is.
-    fn record(&mut self, contact: &ContactState) -> Result<(), SolveFailure> {
-        let signature: Signature = contact
-            .active
-            .iter()
-            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
-            .collect();
+    fn record(&mut self, contact: &impl Enforcement) -> Result<(), SolveFailure> {
+        let signature: Signature = contact.set();
         let h = &self.history;
         let n = h.len();
         if n >= 3 && h[n - 2] == signature && h[n - 1] != signature && h[n - 3] == h[n - 1] {

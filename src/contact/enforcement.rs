@@ -1,0 +1,232 @@
+//! The one interface through which the stepper's control-contact loop enforces contact.
+//! The loop knows the phases (gap removal, the frozen set as rows and loads, the model
+//! problem's forces read back, the update, the penetration audit) and nothing of how a
+//! constraint is made: node-to-face (`ContactState`, the paper's) implements it, and
+//! another discretization is another implementation, not an edit of the loop.
+
+use super::audit::{self, Finding};
+use super::state::{tangents, ContactCounts, ContactState, Mode};
+use crate::comm::Comm;
+use crate::constraints::{Constraints, RowSpec};
+use crate::math::{Mat3, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use crate::springs::Spring;
+
+/// A contact constraint as the loop compares sets to tell a cycle: (slave node, pair,
+/// master face, 1 when sticking).
+pub type SetEntry = (u32, usize, u32, u8);
+
+/// The directions a contact tie blocks: (slave node, a node of the master side,
+/// directions), global ids. The diagnosis of unheld bodies counts them as supports of both
+/// bodies.
+pub type TieSupport = (u32, u32, Vec<Vec3>);
+
+/// Contact enforcement as the stepper calls it. Every collective method is called by every
+/// rank together, and every implementation keeps its state the same on every rank.
+pub trait Enforcement: Clone + Default {
+    /// An increment begins from the last converged state (which this is a copy of).
+    fn begin_step(&mut self);
+
+    /// Gap removal at the predicted configuration `u`: constrains the nodes that penetrate
+    /// or touch within the capture tolerance. Returns whether any was added. Collective.
+    fn capture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> bool;
+
+    /// The kinematic constraint rows of the frozen set, for this rank's owned nodes.
+    fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec>;
+
+    /// Whether any constraint carries a friction force as a load (a slipping node).
+    fn slipping(&self) -> bool;
+
+    /// Adds the friction forces of slipping nodes (loads of the model problem) to `out`.
+    fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, out: &mut [Vec3]);
+
+    /// Tangential springs that hold slipping nodes while a model problem is solved, from
+    /// the nodal stiffness blocks `diag`.
+    fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring>;
+
+    /// Reads the contact forces from the multipliers of the model problem's rows.
+    /// Collective.
+    fn read_forces<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        mesh: &LocalMesh,
+        cons: &Constraints,
+        multipliers: &[f64],
+    );
+
+    /// The contact update after a model problem at `u` (`start`: the step's start): release,
+    /// friction, search. Forces below `force_tol` are noise. Returns whether the set or its
+    /// forces changed. Collective.
+    #[allow(clippy::too_many_arguments)]
+    fn update<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        start: &[Vec3],
+        force_tol: f64,
+    ) -> bool;
+
+    /// The set as the loop compares it between updates.
+    fn set(&self) -> Vec<SetEntry>;
+
+    /// The slave nodes found inside a master body at `u` (the same on every rank).
+    /// Collective.
+    fn audit<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<Finding>;
+
+    /// Gap removal for audit findings: each node tied to the nearest master face.
+    fn recapture(&mut self, problem: &Problem, findings: &[Finding]);
+
+    /// The signed gap of every constrained slave node this rank owns. Collective.
+    fn gaps<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<(u32, f64)>;
+
+    /// The directions the ties block, for the diagnosis of bodies nothing holds.
+    fn supports(&self, problem: &Problem) -> Vec<TieSupport>;
+
+    fn counts(&self) -> ContactCounts;
+
+    /// The set, one line per constraint, for debugging output.
+    fn describe(&self) -> String;
+}
+
+impl Enforcement for ContactState {
+    fn begin_step(&mut self) {
+        ContactState::begin_step(self)
+    }
+
+    fn capture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> bool {
+        ContactState::capture(self, comm, problem, mesh, u)
+    }
+
+    fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
+        ContactState::rows(self, problem, mesh)
+    }
+
+    fn slipping(&self) -> bool {
+        self.active
+            .iter()
+            .any(|a| matches!(a.mode, Mode::Slip { .. }))
+    }
+
+    fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, out: &mut [Vec3]) {
+        ContactState::friction_forces(self, problem, mesh, out)
+    }
+
+    fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {
+        ContactState::slip_springs(self, mesh, u, diag)
+    }
+
+    fn read_forces<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        mesh: &LocalMesh,
+        cons: &Constraints,
+        multipliers: &[f64],
+    ) {
+        ContactState::read_forces(self, comm, mesh, cons, multipliers)
+    }
+
+    fn update<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        start: &[Vec3],
+        force_tol: f64,
+    ) -> bool {
+        ContactState::update(self, comm, problem, mesh, u, start, force_tol)
+    }
+
+    fn set(&self) -> Vec<SetEntry> {
+        self.active
+            .iter()
+            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
+            .collect()
+    }
+
+    fn audit<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<Finding> {
+        audit::audit(comm, problem, mesh, u)
+    }
+
+    fn recapture(&mut self, problem: &Problem, findings: &[Finding]) {
+        audit::recapture(self, problem, findings)
+    }
+
+    fn gaps<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<(u32, f64)> {
+        ContactState::gaps(self, comm, problem, mesh, u)
+    }
+
+    fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
+        let tie = |a: &super::state::Active| {
+            let master = problem.contacts[a.pair].face_nodes[a.face as usize][0];
+            let mut dirs = vec![a.normal];
+            if a.mode == Mode::Stick {
+                let (t1, t2) = tangents(&a.normal);
+                dirs.extend([t1, t2]);
+            }
+            (a.slave, master, dirs)
+        };
+        self.active.iter().map(tie).collect()
+    }
+
+    fn counts(&self) -> ContactCounts {
+        ContactState::counts(self)
+    }
+
+    fn describe(&self) -> String {
+        let mut out = String::new();
+        for a in &self.active {
+            out += &format!(
+                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}\n",
+                a.slave + 1,
+                a.pair,
+                a.face,
+                a.s,
+                a.normal,
+                a.mode,
+                a.normal_force,
+                a.tangential_force
+            );
+        }
+        out + &format!("  released {:?}", self.released())
+    }
+}
