@@ -17,27 +17,19 @@
 //! (values of nodes owned elsewhere are fetched first); every rank factors the same Kc and
 //! solves the same coarse system. Results stay bitwise identical on any number of ranks.
 
-use crate::comm::{message, Comm, ExchangePlan};
+use super::aggregates::{Aggregates, MODES};
+use crate::comm::Comm;
 use crate::constraints::Constraints;
-use crate::math::{matvec, Vec3};
+use crate::math::Vec3;
 use crate::memory::{try_filled, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::HashMap;
 
-/// Rigid-body modes per aggregate.
-const MODES: usize = 6;
 /// At most this many aggregates (a dense coarse factor of (6 x this)^2 values per rank).
 const MAX_AGGREGATES: usize = 400;
 /// Aim at aggregates about this many nodes wide.
 const NODES_PER_SIDE: f64 = 6.0;
-
-/// Where a node value comes from when an aggregate's coefficients are summed.
-#[derive(Clone, Copy)]
-enum Src {
-    Local(u32),
-    Remote(u32),
-}
 
 pub struct CoarseSpace {
     num_aggregates: usize,
@@ -47,29 +39,12 @@ pub struct CoarseSpace {
     /// For each aggregate and colour, the neighbouring aggregate of that colour (it may be
     /// the aggregate itself), or u32::MAX.
     neighbour: Vec<u32>,
-    /// Per local node: (aggregate, scaled offset (x - centre) / H).
-    node: Vec<(u32, Vec3)>,
-    /// Aggregates this rank sums: (aggregate, sources in global node order with offsets).
-    sums: Vec<(u32, Vec<(Src, Vec3)>)>,
-    fetch: ExchangePlan,
-    num_remote: usize,
+    /// The aggregates (offsets scaled by the cell size H) and their summation plan.
+    aggregates: Aggregates,
     /// The factor of Kc, when set up.
     factor: Option<Factor>,
     /// A short description for the log.
     pub summary: String,
-}
-
-/// Values of the six modes of an aggregate at a node with scaled offset d.
-#[inline]
-fn modes(d: &Vec3) -> [Vec3; MODES] {
-    [
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, -d[2], d[1]],
-        [d[2], 0.0, -d[0]],
-        [-d[1], d[0], 0.0],
-    ]
 }
 
 impl CoarseSpace {
@@ -82,7 +57,6 @@ impl CoarseSpace {
         mesh: &LocalMesh,
     ) -> Result<Self, String> {
         let g = &problem.mesh;
-        let n = g.num_nodes();
         let (lo, hi) = bounding_box(&g.coords);
         let (keys, h) = aggregate_keys(problem, &lo, &hi);
         let mut list = keys.clone();
@@ -102,48 +76,13 @@ impl CoarseSpace {
             let k = agg[a] as usize;
             std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / h)
         };
-        let node = mesh
-            .node_global
-            .iter()
-            .map(|&gid| (agg[gid as usize], offset(gid as usize)))
-            .collect();
-        // Each aggregate is summed by the owner of its lowest node.
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); na];
-        for a in 0..n {
-            members[agg[a] as usize].push(a as u32);
-        }
-        let mut remote: HashMap<u32, u32> = HashMap::new();
-        let mut wanted = Vec::new();
-        let mut sums = Vec::new();
-        for (k, nodes) in members.iter().enumerate() {
-            if mesh.owner(nodes[0]) != comm.rank() {
-                continue;
-            }
-            let src = nodes
-                .iter()
-                .map(|&gid| {
-                    let s = match mesh.owned_node(gid) {
-                        Some(l) => Src::Local(l as u32),
-                        None => Src::Remote(*remote.entry(gid).or_insert_with(|| {
-                            wanted.push((gid, wanted.len() as u32));
-                            wanted.len() as u32 - 1
-                        })),
-                    };
-                    (s, offset(gid as usize))
-                })
-                .collect();
-            sums.push((k as u32, src));
-        }
-        let fetch = mesh.fetch_plan(comm, &wanted);
+        let aggregates = Aggregates::new(comm, mesh, &agg, na, offset);
         Ok(CoarseSpace {
             num_aggregates: na,
             color,
             num_colors,
             neighbour,
-            node,
-            sums,
-            fetch,
-            num_remote: wanted.len(),
+            aggregates,
             factor: None,
             summary: format!(
                 "coarse space: {na} aggregates ({} unknowns), cell size {h:.4e}, {num_colors} colours",
@@ -171,49 +110,14 @@ impl CoarseSpace {
     /// The probe vector of colour `c` and mode `m` on the owned nodes (projected on the free
     /// directions of constrained nodes); ghosts are zero.
     pub fn probe(&self, cons: &Constraints, c: usize, m: usize, owned: usize, v: &mut [Vec3]) {
-        v.iter_mut().for_each(|x| *x = [0.0; 3]);
-        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
-            if self.color[*k as usize] as usize == c {
-                let phi = modes(d)[m];
-                v[l] = match cons.projector(l) {
-                    Some(p) => matvec(p, &phi),
-                    None => phi,
-                };
-            }
-        }
+        self.aggregates.probe(cons, &self.color, c, m, owned, v);
     }
 
     /// Q^T r: every aggregate's six coefficients, the same on every rank. Collective.
     pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, r: &[Vec3], out: &mut Vec<f64>) {
-        let mut far = vec![[0.0; 3]; self.num_remote];
-        self.fetch.run(comm, r, &mut far);
-        let mut mine = Vec::with_capacity(self.sums.len() * (MODES + 1));
-        for (k, src) in &self.sums {
-            let mut acc = [0.0; MODES];
-            for (s, d) in src {
-                let v = match *s {
-                    Src::Local(l) => &r[l as usize],
-                    Src::Remote(q) => &far[q as usize],
-                };
-                for (m, phi) in modes(d).iter().enumerate() {
-                    acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
-                }
-            }
-            message::push(&mut mine, &(*k, acc));
-        }
         out.clear();
         out.resize(self.dim(), 0.0);
-        let parts = if comm.size() > 1 {
-            comm.all_gather_f64(&mine)
-        } else {
-            vec![mine]
-        };
-        for part in parts {
-            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
-                let k = k as usize;
-                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
-            }
-        }
+        self.aggregates.restrict(comm, r, out);
     }
 
     /// Records the coarse coefficients of A applied to probe (c, m).
@@ -264,21 +168,7 @@ impl CoarseSpace {
         };
         self.restrict(comm, r, work);
         f.solve(work);
-        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
-            let y = &work[MODES * *k as usize..MODES * (*k as usize + 1)];
-            let mut v = [0.0; 3];
-            for (m, phi) in modes(d).iter().enumerate() {
-                for i in 0..3 {
-                    v[i] += phi[i] * y[m];
-                }
-            }
-            if let Some(p) = cons.projector(l) {
-                v = matvec(p, &v);
-            }
-            for i in 0..3 {
-                z[l][i] += v[i];
-            }
-        }
+        self.aggregates.prolong_add(cons, owned, work, z);
     }
 }
 
@@ -489,6 +379,7 @@ fn centres(coords: &[Vec3], agg: &[u32], na: usize) -> Vec<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::aggregates::modes;
 
     #[test]
     fn factor_solves_and_drops_dependent_unknowns() {

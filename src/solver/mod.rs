@@ -1,6 +1,7 @@
 //! Quasi-static equilibrium: matrix-free nonlinear preconditioned conjugate gradients over
 //! load steps.
 
+pub mod aggregates;
 pub mod assembly;
 pub mod cg;
 pub mod coarse;

@@ -6,12 +6,12 @@
 
 use super::aggregation::{aggregate, Graph};
 use super::prolongator::MODES;
-use crate::comm::{message, Comm, ExchangePlan};
+use crate::comm::Comm;
 use crate::constraints::Constraints;
-use crate::math::{matvec, Vec3};
+use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
-use std::collections::HashMap;
+use crate::solver::aggregates::Aggregates;
 
 /// Mesh neighbours farther apart than this times the shortest distance from either to a
 /// neighbour are weakly coupled and not aggregated together (Graph::strong). Measured on
@@ -24,39 +24,14 @@ const STRONG_RATIO: f64 = 2.0;
 /// stiffness and are left out), and CG converges in a few iterations per model problem.
 pub const SINGLETON_NODES: usize = 300;
 
-/// Where a node value comes from when an aggregate's coefficients are summed.
-#[derive(Clone, Copy)]
-enum Src {
-    Local(u32),
-    Remote(u32),
-}
-
 pub struct Transfer {
     pub num_aggregates: usize,
     /// Aggregate of every global node.
     pub agg_of: Vec<u32>,
-    /// Per local node: (aggregate, offset (x - centre) / scale of its aggregate).
-    node: Vec<(u32, Vec3)>,
-    /// Aggregates this rank sums: (aggregate, sources in global node order with offsets).
-    sums: Vec<(u32, Vec<(Src, Vec3)>)>,
-    fetch: ExchangePlan,
-    far: Vec<Vec3>,
-    mine: Vec<f64>,
+    /// The aggregates (offsets scaled by each aggregate's size) and their summation plan.
+    aggregates: Aggregates,
     pub centre: Vec<Vec3>,
     pub scale: Vec<f64>,
-}
-
-/// Values of the six modes of an aggregate at a node with scaled offset d.
-#[inline]
-pub fn modes(d: &Vec3) -> [Vec3; MODES] {
-    [
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, -d[2], d[1]],
-        [d[2], 0.0, -d[0]],
-        [-d[1], d[0], 0.0],
-    ]
 }
 
 impl Transfer {
@@ -101,47 +76,11 @@ impl Transfer {
             let k = agg_of[a] as usize;
             std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / scale[k])
         };
-        let node = mesh
-            .node_global
-            .iter()
-            .map(|&gid| (agg_of[gid as usize], offset(gid as usize)))
-            .collect();
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); na];
-        for a in 0..n {
-            members[agg_of[a] as usize].push(a as u32);
-        }
-        let mut remote: HashMap<u32, u32> = HashMap::new();
-        let mut wanted = Vec::new();
-        let mut sums = Vec::new();
-        for (k, nodes) in members.iter().enumerate() {
-            if mesh.owner(nodes[0]) != comm.rank() {
-                continue;
-            }
-            let src = nodes
-                .iter()
-                .map(|&gid| {
-                    let s = match mesh.owned_node(gid) {
-                        Some(l) => Src::Local(l as u32),
-                        None => Src::Remote(*remote.entry(gid).or_insert_with(|| {
-                            wanted.push((gid, wanted.len() as u32));
-                            wanted.len() as u32 - 1
-                        })),
-                    };
-                    (s, offset(gid as usize))
-                })
-                .collect();
-            sums.push((k as u32, src));
-        }
-        let fetch = mesh.fetch_plan(comm, &wanted);
-        let mine = Vec::with_capacity(sums.len() * (MODES + 1));
+        let aggregates = Aggregates::new(comm, mesh, &agg_of, na, offset);
         Transfer {
             num_aggregates: na,
             agg_of,
-            node,
-            sums,
-            fetch,
-            far: vec![[0.0; 3]; wanted.len()],
-            mine,
+            aggregates,
             centre,
             scale,
         }
@@ -174,63 +113,19 @@ impl Transfer {
     }
 
     /// Q^T r: every aggregate's six coefficients, the same on every rank. Collective.
-    pub fn restrict<C: Comm + ?Sized>(&mut self, comm: &C, r: &[Vec3], out: &mut [f64]) {
-        self.fetch.run(comm, r, &mut self.far);
-        self.mine.clear();
-        let single = comm.size() == 1;
-        if single {
-            out.iter_mut().for_each(|v| *v = 0.0);
-        }
-        for (k, src) in &self.sums {
-            let mut acc = [0.0; MODES];
-            for (s, d) in src {
-                let v = match *s {
-                    Src::Local(l) => &r[l as usize],
-                    Src::Remote(q) => &self.far[q as usize],
-                };
-                for (m, phi) in modes(d).iter().enumerate() {
-                    acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
-                }
-            }
-            if single {
-                out[MODES * *k as usize..MODES * (*k as usize + 1)].copy_from_slice(&acc);
-            } else {
-                message::push(&mut self.mine, &(*k, acc));
-            }
-        }
-        if single {
-            return;
-        }
-        for part in comm.all_gather_f64(&self.mine) {
-            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
-                let k = k as usize;
-                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
-            }
-        }
+    pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, r: &[Vec3], out: &mut [f64]) {
+        self.aggregates.restrict(comm, r, out);
     }
 
     /// z += Q y on the owned nodes.
     pub fn prolong_add(&self, cons: &Constraints, owned: usize, y: &[f64], z: &mut [Vec3]) {
-        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
-            let yk = &y[MODES * *k as usize..MODES * (*k as usize + 1)];
-            let mut v = [0.0; 3];
-            for (m, phi) in modes(d).iter().enumerate() {
-                for i in 0..3 {
-                    v[i] += phi[i] * yk[m];
-                }
-            }
-            if let Some(p) = cons.projector(l) {
-                v = matvec(p, &v);
-            }
-            for i in 0..3 {
-                z[l][i] += v[i];
-            }
-        }
+        self.aggregates.prolong_add(cons, owned, y, z);
     }
 
     /// The probe of colour `c` and mode `m` on the owned nodes: mode m of every aggregate
     /// of that colour (projected on the free directions of constrained nodes); zero on the
     /// other nodes and the ghosts.
+    #[allow(clippy::too_many_arguments)]
     pub fn probe(
         &self,
         cons: &Constraints,
@@ -240,15 +135,6 @@ impl Transfer {
         owned: usize,
         v: &mut [Vec3],
     ) {
-        v.iter_mut().for_each(|x| *x = [0.0; 3]);
-        for (l, (k, d)) in self.node.iter().enumerate().take(owned) {
-            if colour[*k as usize] as usize == c {
-                let phi = modes(d)[m];
-                v[l] = match cons.projector(l) {
-                    Some(p) => matvec(p, &phi),
-                    None => phi,
-                };
-            }
-        }
+        self.aggregates.probe(cons, colour, c, m, owned, v);
     }
 }
