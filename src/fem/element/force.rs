@@ -1,0 +1,246 @@
+//! Internal force of one element, per formulation: fully integrated, B-bar (small
+//! kinematics), F-bar (large kinematics) and one-point with hourglass control.
+
+use super::geometry::{
+    at, gauss_gradient, gauss_scatter, geometry, hourglass, mean_gradient, put, GaussGeometry,
+    Geometry, HG_BASE, ZERO_Q,
+};
+use super::kinematics::{deformation, mean_dilatation, scaled, sub_identity};
+use super::{ElementFailure, Formulation};
+use crate::material::{Material, PlasticState};
+use crate::math::{Mat3, Vec3, ZERO33};
+
+/// Internal force of one element into `f` (overwritten).
+pub fn internal_force(
+    x: &[Vec3; 8],
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    let (geo, gauss) = geometry(x)?;
+    internal_force_with(&geo, Some(&gauss), u, mat, form, &[], f)
+}
+
+/// Stress at stress point `q`: from the committed state when the element has a history
+/// (`hist` holds one state per stress point), history-free otherwise.
+#[inline(always)]
+fn point_stress(mat: &Material, h: &Mat3, hist: &[PlasticState], q: usize) -> Option<Mat3> {
+    match hist.get(q) {
+        Some(old) => mat.update(h, old).map(|r| r.0),
+        None => mat.stress(h),
+    }
+}
+
+/// `internal_force` with the element's reference geometry already computed. `gauss` may
+/// be `None` for `Formulation::Mean` only. `hist` is the committed history of a plastic
+/// element (one state per stress point, see `history::points`), empty otherwise.
+pub fn internal_force_with(
+    geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    hist: &[PlasticState],
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    *f = [[0.0; 3]; 8];
+    let large = mat.is_large();
+    let full = || gauss.expect("Gauss-point geometry of a fully integrated element");
+    match form {
+        Formulation::Full => force_full(full(), u, mat, hist, f)?,
+        Formulation::FullBar if !large => force_bar_small(geo, full(), u, mat, hist, f)?,
+        Formulation::FullBar => force_bar_large(geo, full(), u, mat, hist, f)?,
+        Formulation::Mean {
+            hourglass: coefficient,
+        } => force_mean(geo, u, mat, hist, coefficient, f)?,
+    }
+    for fa in f.iter() {
+        if !crate::math::is_finite3(fa) {
+            return Err(ElementFailure::NonFinite);
+        }
+    }
+    Ok(())
+}
+
+/// Internal force of a fully integrated element (eight Gauss points), added to `f`.
+#[inline(always)]
+fn force_full(
+    gauss: &GaussGeometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    let h = gauss_gradient(u, gauss);
+    let mut t = ZERO_Q;
+    match mat {
+        Material::LinearElastic(m) => {
+            // s = mu (h + h^T) + lambda tr(h) I, weighted, all Gauss points at once.
+            let w = &gauss.wdet;
+            let mut tr = [0.0; 8];
+            for q in 0..8 {
+                tr[q] = h[0][0][q] + h[1][1][q] + h[2][2][q];
+            }
+            for i in 0..3 {
+                for j in 0..3 {
+                    for q in 0..8 {
+                        let mut s = m.mu * (h[i][j][q] + h[j][i][q]);
+                        if i == j {
+                            s += m.lambda * tr[q];
+                        }
+                        t[i][j][q] = w[q] * s;
+                    }
+                }
+            }
+        }
+        _ => {
+            for q in 0..8 {
+                let s = point_stress(mat, &at(&h, q), hist, q)
+                    .ok_or(ElementFailure::InvertedCurrent)?;
+                put(&mut t, q, &s, gauss.wdet[q]);
+            }
+        }
+    }
+    gauss_scatter(&t, gauss, f);
+    Ok(())
+}
+
+/// Internal force of the B-bar element under small kinematics, added to `f`:
+/// f_a = sum_q w_q [(s_q - p_q I) g_a(q) + p_q bbar_a] with p_q = tr(s_q)/3.
+#[inline(always)]
+fn force_bar_small(
+    geo: &Geometry,
+    gauss: &GaussGeometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    let theta_bar: f64 = (0..8)
+        .map(|a| crate::math::dot(&u[a], &geo.bbar_at(a)))
+        .sum();
+    let h = gauss_gradient(u, gauss);
+    let mut t = ZERO_Q;
+    let mut pw = 0.0;
+    for q in 0..8 {
+        let mut hq = at(&h, q);
+        let shift = (theta_bar - (hq[0][0] + hq[1][1] + hq[2][2])) / 3.0;
+        for (i, row) in hq.iter_mut().enumerate() {
+            row[i] += shift;
+        }
+        let mut s = point_stress(mat, &hq, hist, q).ok_or(ElementFailure::InvertedCurrent)?;
+        let p3 = (s[0][0] + s[1][1] + s[2][2]) / 3.0;
+        for (i, row) in s.iter_mut().enumerate() {
+            row[i] -= p3;
+        }
+        put(&mut t, q, &s, gauss.wdet[q]);
+        pw += gauss.wdet[q] * p3;
+    }
+    gauss_scatter(&t, gauss, f);
+    for (a, fa) in f.iter_mut().enumerate() {
+        for i in 0..3 {
+            fa[i] += pw * geo.bbar[i][a];
+        }
+    }
+    Ok(())
+}
+
+/// Internal force of the F-bar element under large kinematics, added to `f`:
+/// f_a = sum_q w_q [(P - (P:F)/3 F^-T) g_a(q) + (P:F)/3 h0_a], w_q = det_q ratio_q.
+#[inline(always)]
+fn force_bar_large(
+    geo: &Geometry,
+    gauss: &GaussGeometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    let h = gauss_gradient(u, gauss);
+    let (fq, finv, jq) = deformation(&h)?;
+    let (j0, h0) = mean_dilatation(geo, gauss, &finv, &jq);
+    let mut t = ZERO_Q;
+    let mut cw = 0.0;
+    for q in 0..8 {
+        let ratio = (j0 / jq[q]).cbrt();
+        let p = point_stress(mat, &sub_identity(&scaled(&fq[q], ratio)), hist, q)
+            .ok_or(ElementFailure::InvertedCurrent)?;
+        let mut pf = 0.0;
+        for i in 0..3 {
+            for k in 0..3 {
+                pf += p[i][k] * fq[q][i][k];
+            }
+        }
+        let w = gauss.wdet[q] * ratio;
+        let c = pf / 3.0;
+        for i in 0..3 {
+            for k in 0..3 {
+                t[i][k][q] = w * (p[i][k] - c * finv[q][k][i]);
+            }
+        }
+        cw += w * c;
+    }
+    gauss_scatter(&t, gauss, f);
+    for (fa, ha) in f.iter_mut().zip(h0.iter()) {
+        for i in 0..3 {
+            fa[i] += cw * ha[i];
+        }
+    }
+    Ok(())
+}
+
+/// Internal force of the one-point element with hourglass control, into `f`.
+#[inline(always)]
+fn force_mean(
+    geo: &Geometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    coefficient: f64,
+    f: &mut [Vec3; 8],
+) -> Result<(), ElementFailure> {
+    let h = mean_gradient(u, geo);
+    let s = point_stress(mat, &h, hist, 0).ok_or(ElementFailure::InvertedCurrent)?;
+    let (_, mu) = mat.lambda_mu();
+    let (hx, k) = hourglass(geo, coefficient, mu);
+    // q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a u_a - h hx_alpha, since
+    // sum_a u_a bbar_a^T = h; scaled by k.
+    let mut qk = [[0.0; 3]; 4];
+    for alpha in 0..4 {
+        let mut bu = [0.0; 3];
+        for a in 0..8 {
+            for i in 0..3 {
+                bu[i] += HG_BASE[alpha][a] * u[a][i];
+            }
+        }
+        for i in 0..3 {
+            let hh = h[i][0] * hx[alpha][0] + h[i][1] * hx[alpha][1] + h[i][2] * hx[alpha][2];
+            qk[alpha][i] = k * (bu[i] - hh);
+        }
+    }
+    // f_a = V s bbar_a + sum_alpha gamma_alpha,a qk_alpha
+    //     = (V s - M) bbar_a + sum_alpha base_alpha,a qk_alpha,
+    // with M_ij = sum_alpha qk_alpha,i hx_alpha,j.
+    let mut t = ZERO33;
+    for i in 0..3 {
+        for j in 0..3 {
+            let mut m = 0.0;
+            for alpha in 0..4 {
+                m += qk[alpha][i] * hx[alpha][j];
+            }
+            t[i][j] = geo.volume * s[i][j] - m;
+        }
+    }
+    for (a, fa) in f.iter_mut().enumerate() {
+        for i in 0..3 {
+            let mut v =
+                t[i][0] * geo.bbar[0][a] + t[i][1] * geo.bbar[1][a] + t[i][2] * geo.bbar[2][a];
+            for alpha in 0..4 {
+                v += HG_BASE[alpha][a] * qk[alpha][i];
+            }
+            fa[i] = v;
+        }
+    }
+    Ok(())
+}

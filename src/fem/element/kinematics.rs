@@ -1,0 +1,89 @@
+//! Kinematics at the Gauss points: F = I + h, F^-1 and J, the F-bar mean dilatation, and
+//! the small 3x3 helpers (add or remove the identity, scale).
+
+use super::geometry::{at, gauss_scatter, GaussGeometry, Geometry, QMat, ZERO_Q};
+use super::ElementFailure;
+use crate::math::{inverse, Mat3, Vec3, ZERO33};
+
+#[inline]
+pub(in crate::fem) fn add_identity(h: &Mat3) -> Mat3 {
+    let mut f = *h;
+    for (i, row) in f.iter_mut().enumerate() {
+        row[i] += 1.0;
+    }
+    f
+}
+
+#[inline]
+pub(in crate::fem) fn sub_identity(f: &Mat3) -> Mat3 {
+    let mut h = *f;
+    for (i, row) in h.iter_mut().enumerate() {
+        row[i] -= 1.0;
+    }
+    h
+}
+
+#[inline]
+pub(in crate::fem) fn scaled(m: &Mat3, s: f64) -> Mat3 {
+    let mut r = *m;
+    for row in r.iter_mut() {
+        for v in row.iter_mut() {
+            *v *= s;
+        }
+    }
+    r
+}
+
+/// F, F^-1 and J at each of the eight Gauss points.
+pub(in crate::fem) type Deformation = ([Mat3; 8], [Mat3; 8], [f64; 8]);
+
+/// F = I + h, F^-1 and J at every Gauss point; fails if J <= 0 at one.
+#[inline]
+pub(in crate::fem) fn deformation(h: &QMat) -> Result<Deformation, ElementFailure> {
+    let mut f = [ZERO33; 8];
+    let mut finv = [ZERO33; 8];
+    let mut j = [0.0; 8];
+    for q in 0..8 {
+        f[q] = add_identity(&at(h, q));
+        let (fi, jq) = inverse(&f[q]);
+        if !(jq > 0.0) {
+            return Err(ElementFailure::InvertedCurrent);
+        }
+        finv[q] = fi;
+        j[q] = jq;
+    }
+    Ok((f, finv, j))
+}
+
+/// Mean-dilatation data for F-bar: the volume-averaged Jacobian J_bar = (1/V0) int J dV0 and
+/// its gradient with respect to each node's displacement divided by J_bar,
+/// hbar_a = (1/(V0 J_bar)) int J F^-T g_a dV0. Using the average (not the centroid value)
+/// keeps the element passing the patch test on distorted meshes.
+#[inline]
+pub(in crate::fem) fn mean_dilatation(
+    geo: &Geometry,
+    gauss: &GaussGeometry,
+    finv: &[Mat3; 8],
+    j: &[f64; 8],
+) -> (f64, [Vec3; 8]) {
+    let mut jsum = 0.0;
+    let mut t = ZERO_Q;
+    for q in 0..8 {
+        let w = gauss.wdet[q] * j[q];
+        jsum += w;
+        for i in 0..3 {
+            for k in 0..3 {
+                // F^-T_ik = Finv_ki
+                t[i][k][q] = w * finv[q][k][i];
+            }
+        }
+    }
+    let mut hbar = [[0.0; 3]; 8];
+    gauss_scatter(&t, gauss, &mut hbar);
+    for h in hbar.iter_mut() {
+        for v in h.iter_mut() {
+            *v /= jsum;
+        }
+    }
+    (jsum / geo.volume, hbar)
+}

@@ -1,0 +1,240 @@
+//! The nodal 3x3 diagonal blocks of the element tangent (for the block-Jacobi
+//! preconditioner), per formulation, and the material tangent at one point.
+
+use super::geometry::{
+    at, g_at, gauss_gradient, geometry, hourglass, mean_gradient, GaussGeometry, Geometry, HG_BASE,
+    ZERO_Q,
+};
+use super::kinematics::{add_identity, deformation, mean_dilatation};
+use super::{ElementFailure, Formulation};
+use crate::material::{Material, PlasticState};
+use crate::math::{inverse, Mat3, Vec3, ZERO33};
+
+/// The eight 3x3 diagonal blocks K_aa of the element tangent, into `d` (overwritten).
+/// Exact for `Full`, for `Mean` and for `FullBar` under small kinematics; under large
+/// kinematics `FullBar` gets a consistent-in-the-limit approximation (it only preconditions).
+pub fn diagonal_blocks(
+    x: &[Vec3; 8],
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    d: &mut [Mat3; 8],
+) -> Result<(), ElementFailure> {
+    let (geo, gauss) = geometry(x)?;
+    diagonal_blocks_with(&geo, Some(&gauss), u, mat, form, &[], d)
+}
+
+/// The material tangent at one point, ready to be contracted with gradients:
+/// `sum_JL g_J A_iJkL g_L = c v v^T + mu |g|^2 I` with v = g (linear elasticity,
+/// c = lambda + mu) or v = F^-T g (neo-Hookean, c = mu + lambda - lambda ln J); the same
+/// expressions as `Material::tangent_gg`, with F^-1 and ln J computed once per point.
+/// For J2 plasticity (consistent tangent, see `J2Plastic::tangent_gg`) c = kappa + mu_t/3,
+/// mu = mu_t and the extra term - cn (n v)(n v)^T; under large kinematics the same form
+/// with v = F^-T g, an approximation that only preconditions.
+pub(in crate::fem) struct PointTangent {
+    finv: Option<Mat3>,
+    pub(in crate::fem) c: f64,
+    mu: f64,
+    n: Mat3,
+    cn: f64,
+}
+
+#[inline]
+pub(in crate::fem) fn point_tangent(
+    mat: &Material,
+    h: &Mat3,
+    old: Option<&PlasticState>,
+) -> PointTangent {
+    match mat {
+        Material::LinearElastic(m) => PointTangent {
+            finv: None,
+            c: m.lambda + m.mu,
+            mu: m.mu,
+            n: ZERO33,
+            cn: 0.0,
+        },
+        Material::J2Plastic(m) => {
+            let virgin = PlasticState::default();
+            let old = old.unwrap_or(&virgin);
+            let (ret, finv) = if m.large {
+                match m.update_large(h, old) {
+                    Some(r) => (r.ret, Some(r.finv)),
+                    None => (
+                        crate::material::Return::ELASTIC,
+                        Some(crate::math::IDENTITY),
+                    ),
+                }
+            } else {
+                (m.update(h, old).2, None)
+            };
+            let (kappa, mu_t, cn) = m.moduli(&ret);
+            PointTangent {
+                finv,
+                c: kappa + mu_t / 3.0,
+                mu: mu_t,
+                n: ret.n,
+                cn,
+            }
+        }
+        Material::NeoHookean(m) => {
+            let (finv, j) = inverse(&add_identity(h));
+            let lnj = if j > 0.0 { j.ln() } else { 0.0 };
+            PointTangent {
+                finv: Some(finv),
+                c: m.mu + m.lambda - m.lambda * lnj,
+                mu: m.mu,
+                n: ZERO33,
+                cn: 0.0,
+            }
+        }
+    }
+}
+
+/// F^-T g: v_i = sum_L Finv_Li g_L
+#[inline(always)]
+pub(in crate::fem) fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
+    [
+        finv[0][0] * g[0] + finv[1][0] * g[1] + finv[2][0] * g[2],
+        finv[0][1] * g[0] + finv[1][1] * g[1] + finv[2][1] * g[2],
+        finv[0][2] * g[0] + finv[1][2] * g[1] + finv[2][2] * g[2],
+    ]
+}
+
+/// d += w (c v v^T + mu |g|^2 I)
+#[inline(always)]
+pub(in crate::fem) fn add_tangent(d: &mut Mat3, pt: &PointTangent, g: &Vec3, w: f64) {
+    let v = match &pt.finv {
+        Some(finv) => finv_t(finv, g),
+        None => *g,
+    };
+    let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    let nv = crate::math::matvec(&pt.n, &v);
+    for i in 0..3 {
+        for k in 0..3 {
+            d[i][k] += w * (pt.c * v[i] * v[k] - pt.cn * nv[i] * nv[k]);
+        }
+        d[i][i] += w * (pt.mu * gg);
+    }
+}
+
+/// `diagonal_blocks` with the element's reference geometry already computed. `gauss` may
+/// be `None` for `Formulation::Mean` only; `hist` as in `internal_force_with`.
+pub fn diagonal_blocks_with(
+    geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    hist: &[PlasticState],
+    d: &mut [Mat3; 8],
+) -> Result<(), ElementFailure> {
+    *d = [ZERO33; 8];
+    if mat.is_plastic() && matches!(form, Formulation::FullBar) {
+        return crate::fem::history::diagonal_blocks_bar(geo, gauss, u, mat, hist, d);
+    }
+    let full = || gauss.expect("Gauss-point geometry of a fully integrated element");
+    match form {
+        Formulation::Full => diagonal_full(full(), u, mat, hist, d),
+        Formulation::FullBar => diagonal_bar(geo, full(), u, mat, d)?,
+        Formulation::Mean {
+            hourglass: coefficient,
+        } => diagonal_mean(geo, u, mat, hist, coefficient, d),
+    }
+    Ok(())
+}
+
+/// Diagonal blocks of a fully integrated element, added to `d`.
+#[inline(always)]
+fn diagonal_full(
+    gauss: &GaussGeometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    d: &mut [Mat3; 8],
+) {
+    // The linear elastic tangent does not depend on u.
+    let h = if mat.is_large() || mat.is_plastic() {
+        gauss_gradient(u, gauss)
+    } else {
+        ZERO_Q
+    };
+    for q in 0..8 {
+        let pt = point_tangent(mat, &at(&h, q), hist.get(q));
+        for (a, da) in d.iter_mut().enumerate() {
+            add_tangent(da, &pt, &g_at(gauss, a, q), gauss.wdet[q]);
+        }
+    }
+}
+
+/// Diagonal blocks of the B-bar / F-bar element (not plastic), added to `d`.
+#[inline(always)]
+fn diagonal_bar(
+    geo: &Geometry,
+    gauss: &GaussGeometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    d: &mut [Mat3; 8],
+) -> Result<(), ElementFailure> {
+    let (lambda, mu) = mat.lambda_mu();
+    let (hbar, finv) = if mat.is_large() {
+        let h = gauss_gradient(u, gauss);
+        let (_, finv, j) = deformation(&h)?;
+        (mean_dilatation(geo, gauss, &finv, &j).1, Some(finv))
+    } else {
+        (std::array::from_fn(|a| geo.bbar_at(a)), None)
+    };
+    for q in 0..8 {
+        let w = gauss.wdet[q];
+        for (a, da) in d.iter_mut().enumerate() {
+            let g = g_at(gauss, a, q);
+            let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+            let hv = match &finv {
+                Some(fi) => finv_t(&fi[q], &g),
+                None => g,
+            };
+            for i in 0..3 {
+                for k in 0..3 {
+                    da[i][k] += w * (mu / 3.0) * hv[i] * hv[k];
+                }
+                da[i][i] += w * mu * gg;
+            }
+        }
+    }
+    let bulk = lambda + 2.0 * mu / 3.0;
+    for a in 0..8 {
+        for i in 0..3 {
+            for k in 0..3 {
+                d[a][i][k] += geo.volume * bulk * hbar[a][i] * hbar[a][k];
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Diagonal blocks of the one-point element with hourglass control, added to `d`.
+#[inline(always)]
+fn diagonal_mean(
+    geo: &Geometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    coefficient: f64,
+    d: &mut [Mat3; 8],
+) {
+    let (_, mu) = mat.lambda_mu();
+    let h = mean_gradient(u, geo);
+    let pt = point_tangent(mat, &h, hist.first());
+    let (hx, k) = hourglass(geo, coefficient, mu);
+    for (a, da) in d.iter_mut().enumerate() {
+        let b = geo.bbar_at(a);
+        add_tangent(da, &pt, &b, geo.volume);
+        let mut s = 0.0;
+        for alpha in 0..4 {
+            let g = HG_BASE[alpha][a] - crate::math::dot(&b, &hx[alpha]);
+            s += g * g;
+        }
+        for i in 0..3 {
+            da[i][i] += k * s;
+        }
+    }
+}

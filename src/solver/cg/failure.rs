@@ -1,0 +1,81 @@
+//! Why a model problem could not be solved, and the message that says so.
+
+/// Why a model problem could not be solved. Rank-agreed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolveFailure {
+    Element(String),
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        reference: f64,
+    },
+    NonPositiveCurvature {
+        iterations: usize,
+    },
+    NonFinite {
+        iterations: usize,
+    },
+    Unbounded {
+        iterations: usize,
+        max_displacement: f64,
+    },
+    ContactNotSettled {
+        updates: usize,
+        detail: String,
+    },
+    /// An allocation was refused (on some rank); not retried with a shorter step.
+    OutOfMemory(String),
+    /// A slave node stayed inside a master body after gap removal (the penetration audit
+    /// of the equilibrium query).
+    Penetration {
+        /// Global node id, 1-based.
+        node: u64,
+        pair: String,
+        depth: f64,
+        tolerance: f64,
+        /// Under small kinematics: the message then says that small sliding was exceeded.
+        small_kinematics: bool,
+    },
+}
+
+impl std::fmt::Display for SolveFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolveFailure::Element(m) | SolveFailure::OutOfMemory(m) => write!(f, "{m}"),
+            SolveFailure::NotConverged { iterations, residual, reference } => {
+                write!(
+                    f,
+                    "CG did not converge in {iterations} iterations (residual {residual:.3e}, reference force {reference:.3e})"
+                )?;
+                if *residual < 1e-8 * reference {
+                    // The residual came down by eight orders and stalled: a round-off floor
+                    // (stiff bodies carry internal forces far above the load), not a
+                    // missing support.
+                    write!(f, "; it stalled far below the load: the tolerance may be below what round-off allows (a large stiffness contrast), try a larger solver.tolerance")?;
+                }
+                Ok(())
+            }
+            SolveFailure::NonPositiveCurvature { iterations } => {
+                write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
+            }
+            SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
+            SolveFailure::Unbounded { max_displacement, .. } => write!(
+                f,
+                "the displacement grew without bound (max |u| = {max_displacement:.3e}): a body is not held (a rigid-body motion, or friction that cannot carry the load)"
+            ),
+            SolveFailure::ContactNotSettled { updates, detail } => {
+                write!(f, "contact did not settle after {updates} contact updates: {detail}")
+            }
+            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics } => {
+                write!(
+                    f,
+                    "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
+                )?;
+                if *small_kinematics {
+                    write!(f, "; small sliding was exceeded: under kinematics = \"small\" the master faces keep their reference normals, which holds only while the bodies slide and rotate little; kinematics = \"large\" follows the sliding")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! The model problem: with the constraint set frozen, find u with the projected residual
+//! P (f_ext(u) - f_int(u)) within tolerance, by nonlinear preconditioned CG.
+//!
+//! Step length along a direction p comes from the directional stiffness p.K p: exact
+//! (K p = f_int(p)) when every body is linear, otherwise a finite-difference probe
+//! followed by a secant correction. Linear problems therefore get plain linear PCG
+//! (Fletcher-Reeves beta); nonlinear ones use Polak-Ribiere+ with restarts.
+//!
+//! Split by concept: `failure` (why a model problem could not be solved), `iteration` (the
+//! CG loop and the search direction), `step` (the linear and the nonlinear step along it),
+//! `precondition` (block Jacobi, the multilevel and coarse corrections, the fine operator)
+//! and `setup` (when and how the coarse operator and the multilevel hierarchy are built).
+//! This file holds the settings, the buffers, the problem and the residual they share.
+
+mod failure;
+mod iteration;
+mod precondition;
+mod setup;
+mod step;
+
+pub use failure::SolveFailure;
+
+use super::assembly::{Assembly, ElementError};
+use super::coarse::CoarseSpace;
+use super::loads::Loads;
+use super::multilevel::Multilevel;
+use crate::comm::{self, Comm};
+use crate::constraints::Constraints;
+use crate::math::{matvec, Mat3, Vec3};
+use crate::memory::{try_filled, AllocError};
+
+/// With `preconditioner = "auto"` on meshes below the two-level threshold, CG starts with
+/// block Jacobi and moves to the multilevel preconditioner at this iteration of a model
+/// problem: problems Jacobi solves quickly keep today's path bit for bit, the hard ones
+/// (the Hertz example: 11753 Jacobi iterations, 239 multilevel) pay this once.
+pub const SWITCH_AFTER: usize = 300;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ModelOutcome {
+    pub iterations: usize,
+    pub residual: f64,
+    pub reference: f64,
+}
+
+/// Settings of one model solve.
+#[derive(Clone, Copy, Debug)]
+pub struct CgSettings {
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// A force below which nothing counts (from earlier steps' reference forces): keeps
+    /// steps that unload to zero from chasing round-off.
+    pub reference_floor: f64,
+    /// A length for the finite-difference probe.
+    pub length_scale: f64,
+    /// Young's modulus times element size times the largest prescribed displacement: the
+    /// force scale below which a residual is round-off when the prescribed motion loads
+    /// nothing (a body moving rigidly with its supports).
+    pub stiffness_floor: f64,
+}
+
+/// Buffers for the model solve, allocated once per run.
+pub struct Cg {
+    fi: Vec<Vec3>,
+    fe: Vec<Vec3>,
+    r: Vec<Vec3>,
+    r_old: Vec<Vec3>,
+    z: Vec<Vec3>,
+    p: Vec<Vec3>,
+    pu: Vec<Vec3>,
+    q: Vec<Vec3>,
+    trial: Vec<Vec3>,
+    fi_trial: Vec<Vec3>,
+    fe_trial: Vec<Vec3>,
+    diag: Vec<Mat3>,
+    minv: Vec<Mat3>,
+    /// The coarse space of the two-level preconditioner, when used.
+    coarse: Option<CoarseSpace>,
+    coarse_work: Vec<f64>,
+    /// A new load increment began since the coarse operator was measured.
+    coarse_stale: bool,
+    /// Constraint rows when the coarse operator was measured.
+    coarse_rows: usize,
+    /// The multilevel preconditioner, when used.
+    multilevel: Option<Multilevel>,
+    /// The multilevel preconditioner waits until a model problem needs SWITCH_AFTER
+    /// iterations.
+    ml_standby: bool,
+    /// Contact rows when the multilevel hierarchy was built.
+    ml_contact_rows: usize,
+    /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
+    pub rebuild_note: Option<String>,
+}
+
+impl Cg {
+    /// Fails only when the memory for the vectors is refused.
+    pub fn new(n: usize) -> Result<Self, AllocError> {
+        let v = || try_filled([0.0; 3], n, "the CG vectors");
+        Ok(Cg {
+            fi: v()?,
+            fe: v()?,
+            r: v()?,
+            r_old: v()?,
+            z: v()?,
+            p: v()?,
+            pu: v()?,
+            q: v()?,
+            trial: v()?,
+            fi_trial: v()?,
+            fe_trial: v()?,
+            diag: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
+            minv: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
+            coarse: None,
+            coarse_work: Vec::new(),
+            coarse_stale: true,
+            coarse_rows: 0,
+            multilevel: None,
+            ml_contact_rows: 0,
+            ml_standby: false,
+            rebuild_note: None,
+        })
+    }
+
+    /// Uses the multilevel preconditioner; with `standby`, only from the SWITCH_AFTER-th
+    /// iteration of a model problem on (the `auto` choice on smaller meshes).
+    pub fn set_multilevel(&mut self, ml: Multilevel, standby: bool) {
+        self.multilevel = Some(ml);
+        self.ml_standby = standby;
+    }
+
+    /// Uses the two-level preconditioner with this coarse space.
+    pub fn set_coarse(&mut self, coarse: CoarseSpace) {
+        self.coarse = Some(coarse);
+    }
+
+    /// Marks a new load increment. The coarse operator is measured again when the bodies
+    /// are nonlinear (the tangent moved) or the number of constraint rows changed by more
+    /// than a tenth; otherwise it is kept: measured with an earlier constraint set it is
+    /// still a valid (positive) preconditioner, only a slightly less sharp one, and
+    /// measuring costs an operator application per colour and mode.
+    pub fn invalidate_coarse(&mut self) {
+        self.coarse_stale = true;
+    }
+
+    /// The internal and external forces of the last accepted iterate.
+    pub fn forces(&self) -> (&[Vec3], &[Vec3]) {
+        (&self.fi, &self.fe)
+    }
+
+    /// Row multipliers at the last accepted iterate: the force each constraint row exerts.
+    pub fn multipliers<C: Comm + ?Sized>(&mut self, pb: &Problem<C>, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(pb.cons.num_rows(), 0.0);
+        for a in 0..self.q.len() {
+            self.q[a] = crate::math::sub(&self.fe[a], &self.fi[a]);
+        }
+        pb.cons.reduce(pb.comm, &mut self.q, Some(out));
+    }
+}
+
+fn agree<C: Comm + ?Sized>(comm: &C, r: Result<(), ElementError>) -> Result<(), SolveFailure> {
+    match comm::lowest_error(comm, r.err().map(|e| (e.element as i64, e.to_string()))) {
+        None => Ok(()),
+        Some(m) => Err(SolveFailure::Element(m)),
+    }
+}
+
+/// An allocation every rank made: the value, or on every rank the first rank's refusal.
+/// Collective.
+fn agree_alloc<C: Comm + ?Sized, T>(comm: &C, r: Result<T, AllocError>) -> Result<T, SolveFailure> {
+    let local = r.as_ref().err().map(ToString::to_string);
+    match (r, comm::first_error(comm, local)) {
+        (Ok(v), None) => Ok(v),
+        (_, Some(m)) => Err(SolveFailure::OutOfMemory(m)),
+        (Err(e), None) => Err(SolveFailure::OutOfMemory(e.to_string())),
+    }
+}
+
+pub struct Problem<'a, C: Comm + ?Sized> {
+    pub comm: &'a C,
+    pub asm: &'a Assembly<'a>,
+    pub loads: &'a Loads,
+    pub cons: &'a Constraints,
+    /// Forces held fixed during the model problem (friction of slipping contact nodes).
+    pub extra: &'a [Vec3],
+    /// Tangential springs of slipping contact nodes (see `springs`).
+    pub springs: &'a [super::springs::Spring],
+    pub time: f64,
+}
+
+impl<'a, C: Comm + ?Sized> Problem<'a, C> {
+    fn owned(&self) -> usize {
+        self.asm.mesh.num_owned_nodes
+    }
+
+    /// fi = f_int(u), fe = f_ext(t, u) plus the fixed extra forces.
+    fn forces(&self, u: &[Vec3], fi: &mut [Vec3], fe: &mut [Vec3]) -> Result<(), SolveFailure> {
+        let r = self.asm.internal_force(u, fi);
+        let r = r.and_then(|_| self.loads.external_force(self.asm, self.time, u, fe));
+        agree(self.comm, r)?;
+        super::springs::add_forces(self.springs, u, fi);
+        if !self.extra.is_empty() {
+            for (f, x) in fe.iter_mut().zip(self.extra) {
+                *f = crate::math::add(f, x);
+            }
+        }
+        Ok(())
+    }
+
+    /// |P r| and the reference force max(|f_ext|, |reaction|).
+    fn measure(&self, r: &[Vec3], fi: &[Vec3], fe: &[Vec3]) -> (f64, f64) {
+        let n = self.owned();
+        let rn = comm::norm(self.comm, r, n);
+        let fen = comm::norm(self.comm, fe, n);
+        let mut acc = comm::ExactSum::new();
+        for a in 0..n {
+            if let Some(p) = self.cons.projector(a) {
+                let d = crate::math::sub(&fi[a], &fe[a]);
+                let free = matvec(p, &d);
+                for i in 0..3 {
+                    let c = d[i] - free[i];
+                    acc.add_product(c, c);
+                }
+            }
+        }
+        let reaction = comm::global_sum(self.comm, acc).sqrt();
+        (rn, fen.max(reaction))
+    }
+}
+
+/// r = T^T (f_ext - f_int): the residual in the constrained (free) variables.
+fn residual<C: Comm + ?Sized>(
+    comm: &C,
+    cons: &Constraints,
+    fi: &[Vec3],
+    fe: &[Vec3],
+    r: &mut [Vec3],
+) {
+    for a in 0..r.len() {
+        r[a] = crate::math::sub(&fe[a], &fi[a]);
+    }
+    cons.reduce(comm, r, None);
+}
+
+fn max_abs<C: Comm + ?Sized>(comm: &C, v: &[Vec3], n: usize) -> f64 {
+    let m = v[..n].iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    comm::max_f64(comm, m)
+}

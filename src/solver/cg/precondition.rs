@@ -1,0 +1,136 @@
+//! Applying the preconditioner: block Jacobi (built from the diagonal tangent blocks) or
+//! the multilevel cycle, then the two-level coarse correction; the switch from block Jacobi
+//! to multilevel; and the constrained fine operator the multilevel cycle applies.
+
+use super::{agree, max_abs, Cg, CgSettings, Problem, SolveFailure, SWITCH_AFTER};
+use crate::comm::Comm;
+use crate::math::{inverse, matvec, Vec3};
+use crate::solver::multilevel::FineOperator;
+
+impl Cg {
+    /// Block Jacobi is not enough here: from now on the multilevel preconditioner.
+    pub(super) fn switch_to_multilevel<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        self.ml_standby = false;
+        self.setup_multilevel(pb, u, linear, s)?;
+        if let Some(note) = self.rebuild_note.as_mut() {
+            *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
+        }
+        Ok(())
+    }
+
+    /// z = M^-1 r (multilevel or block Jacobi, then the coarse correction).
+    #[inline]
+    pub(super) fn apply_preconditioner<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let comm = pb.comm;
+        if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
+            let mut op = FineOp {
+                pb,
+                linear,
+                eps_scale: s.length_scale,
+                u,
+                fi: &self.fi,
+                fe: &self.fe,
+                trial: &mut self.trial,
+                fi_trial: &mut self.fi_trial,
+                fe_trial: &mut self.fe_trial,
+            };
+            ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
+        } else {
+            for a in 0..u.len() {
+                self.z[a] = matvec(&self.minv[a], &self.r[a]);
+            }
+        }
+        if let Some(c) = &self.coarse {
+            c.apply(
+                comm,
+                pb.cons,
+                pb.owned(),
+                &self.r,
+                &mut self.z,
+                &mut self.coarse_work,
+            );
+        }
+        Ok(())
+    }
+
+    /// Block-Jacobi preconditioner in the constrained space: M = P D P + (I - P) d, with
+    /// d a positive scale so M is invertible, then z = P M^-1 P r.
+    pub(super) fn precondition<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+    ) -> Result<(), SolveFailure> {
+        agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
+        crate::springs::add_diagonal(pb.springs, &mut self.diag);
+        pb.cons.precondition_blocks(pb.comm, &mut self.diag);
+        for a in 0..u.len() {
+            let m = &self.diag[a];
+            let (inv, det) = inverse(m);
+            self.minv[a] =
+                if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
+                    inv
+                } else {
+                    let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
+                    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
+                };
+        }
+        pb.cons.project_inverse_blocks(&mut self.minv);
+        Ok(())
+    }
+}
+
+/// The constrained fine operator for the multilevel preconditioner: T^T K T x, exact for
+/// linear bodies, a finite difference of the forces at u otherwise.
+pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
+    pub(super) pb: &'b Problem<'a, C>,
+    pub(super) linear: bool,
+    pub(super) eps_scale: f64,
+    pub(super) u: &'b [Vec3],
+    pub(super) fi: &'b [Vec3],
+    pub(super) fe: &'b [Vec3],
+    pub(super) trial: &'b mut [Vec3],
+    pub(super) fi_trial: &'b mut [Vec3],
+    pub(super) fe_trial: &'b mut [Vec3],
+}
+
+impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
+    type Error = SolveFailure;
+    fn apply(&mut self, x: &mut [Vec3], y: &mut [Vec3]) -> Result<(), SolveFailure> {
+        let (pb, comm) = (self.pb, self.pb.comm);
+        pb.cons.expand(comm, x);
+        pb.asm.mesh.exchange(comm, x);
+        if self.linear {
+            agree(comm, pb.asm.internal_force_sparse(x, y))?;
+        } else {
+            let owned = pb.owned();
+            let eps = 1e-7 * self.eps_scale / max_abs(comm, x, owned).max(f64::MIN_POSITIVE);
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    self.trial[a][i] = self.u[a][i] + eps * x[a][i];
+                }
+            }
+            pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    y[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                        - (self.fi[a][i] - self.fe[a][i]))
+                        / eps;
+                }
+            }
+        }
+        pb.cons.reduce(comm, y, None);
+        Ok(())
+    }
+}

@@ -1,0 +1,155 @@
+//! When and how the preconditioner's coarse parts are (re)built: the two-level coarse
+//! operator Q^T A Q, measured by probes and factored, and the multilevel hierarchy.
+
+use super::precondition::FineOp;
+use super::{agree, agree_alloc, max_abs, Cg, CgSettings, Problem, SolveFailure};
+use crate::comm::{self, Comm};
+use crate::math::Vec3;
+use crate::memory::try_filled;
+
+impl Cg {
+    /// Measures and factors the coarse operator Q^T A Q when it is out of date: one
+    /// operator application per colour and mode (exact for linear bodies, a
+    /// finite-difference probe at u otherwise).
+    pub(super) fn setup_coarse<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let Some(mut cs) = self.coarse.take() else {
+            return Ok(());
+        };
+        let rows = pb.cons.num_rows() as f64;
+        let rows = comm::global_sum(pb.comm, {
+            let mut acc = comm::ExactSum::new();
+            acc.add(rows);
+            acc
+        });
+        let similar = (rows - self.coarse_rows as f64).abs() <= 0.1 * self.coarse_rows as f64;
+        if cs.is_set_up() && similar && (linear || !self.coarse_stale) {
+            self.coarse = Some(cs);
+            return Ok(());
+        }
+        self.coarse_stale = false;
+        self.coarse_rows = rows as usize;
+        let comm = pb.comm;
+        let owned = pb.owned();
+        let dim = cs.dim();
+        let mut kc = match agree_alloc(comm, try_filled(0.0, dim * dim, "the coarse operator")) {
+            Ok(kc) => kc,
+            Err(e) => {
+                self.coarse = Some(cs);
+                return Err(e);
+            }
+        };
+        let mut restricted = Vec::new();
+        let mut result = Ok(());
+        'probes: for c in 0..cs.num_colors() {
+            for m in 0..6 {
+                cs.probe(pb.cons, c, m, owned, &mut self.pu);
+                pb.cons.expand(comm, &mut self.pu);
+                pb.asm.mesh.exchange(comm, &mut self.pu);
+                if linear {
+                    // A probe is non-zero on one colour's aggregates only.
+                    let r = pb.asm.internal_force_sparse(&self.pu, &mut self.q);
+                    if let Err(e) = agree(comm, r) {
+                        result = Err(e);
+                        break 'probes;
+                    }
+                } else {
+                    let pmax = max_abs(comm, &self.pu, owned).max(f64::MIN_POSITIVE);
+                    let eps = 1e-7 * s.length_scale / pmax;
+                    for a in 0..u.len() {
+                        for i in 0..3 {
+                            self.trial[a][i] = u[a][i] + eps * self.pu[a][i];
+                        }
+                    }
+                    if let Err(e) = pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial) {
+                        result = Err(e);
+                        break 'probes;
+                    }
+                    for a in 0..u.len() {
+                        for i in 0..3 {
+                            self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                                - (self.fi[a][i] - self.fe[a][i]))
+                                / eps;
+                        }
+                    }
+                }
+                pb.cons.reduce(comm, &mut self.q, None);
+                cs.restrict(comm, &self.q, &mut restricted);
+                cs.record(c, m, &restricted, &mut kc);
+            }
+        }
+        if result.is_ok() {
+            result = agree_alloc(comm, cs.factor(kc)).map(|_| ());
+        }
+        self.coarse = Some(cs);
+        result
+    }
+
+    /// Builds the multilevel hierarchy when it is out of date, by the rule of the coarse
+    /// space (`invalidate_coarse`): first use, the number of constraint rows changed by
+    /// more than a tenth, or a new increment of a nonlinear body.
+    pub(super) fn setup_multilevel<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
+            return Ok(());
+        };
+        // Contact rows counted apart: a body held only by contact has its rigid modes in
+        // the coarse levels only through them.
+        let mut counts = [0i64; 2];
+        for l in 0..pb.owned() {
+            for (_, row) in pb.cons.rows(l) {
+                let contact = matches!(row.kind, crate::constraints::RowKind::Contact { .. });
+                counts[contact as usize] += 1;
+            }
+        }
+        pb.comm.sum_i64(&mut counts);
+        let rows = (counts[0] + counts[1]) as usize;
+        let contact = counts[1] as usize;
+        let (old, old_contact) = (self.coarse_rows, self.ml_contact_rows);
+        let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
+        let similar = near(rows, old) && near(contact, old_contact);
+        if ml.is_set_up() && similar && (linear || !self.coarse_stale) {
+            return Ok(());
+        }
+        let why = if !ml.is_set_up() {
+            "first use".to_string()
+        } else if !similar {
+            format!("constraint rows {old} -> {rows}, of them contact {old_contact} -> {contact}")
+        } else {
+            "new increment of a nonlinear body".to_string()
+        };
+        self.ml_contact_rows = contact;
+        self.coarse_stale = false;
+        self.coarse_rows = rows;
+        let mut op = FineOp {
+            pb,
+            linear,
+            eps_scale: s.length_scale,
+            u,
+            fi: &self.fi,
+            fe: &self.fe,
+            trial: &mut self.trial,
+            fi_trial: &mut self.fi_trial,
+            fe_trial: &mut self.fe_trial,
+        };
+        let start = std::time::Instant::now();
+        ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
+        self.rebuild_note = Some(format!(
+            "{} (build {}: {why}; {:.3} s)",
+            ml.summary,
+            ml.builds,
+            start.elapsed().as_secs_f64()
+        ));
+        Ok(())
+    }
+}
