@@ -1,11 +1,12 @@
 //! The one interface through which the stepper's control-contact loop enforces contact.
 //! The loop knows the phases (gap removal, the frozen set as rows and loads, the model
 //! problem's forces read back, the update, the penetration audit) and nothing of how a
-//! constraint is made: node-to-face (`ContactState`, the paper's) implements it, and
-//! another discretization is another implementation, not an edit of the loop.
+//! constraint is made: node-to-face (`ContactState`, the paper's, in node_face.rs)
+//! implements it, and another discretization is another implementation, not an edit of
+//! the loop.
 
-use super::audit::{self, Finding};
-use super::state::{tangents, ContactCounts, ContactState, Mode};
+use super::audit::Finding;
+use super::state::ContactCounts;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, RowSpec};
 use crate::math::{Mat3, Vec3};
@@ -107,126 +108,4 @@ pub trait Enforcement: Clone + Default {
 
     /// The set, one line per constraint, for debugging output.
     fn describe(&self) -> String;
-}
-
-impl Enforcement for ContactState {
-    fn begin_step(&mut self) {
-        ContactState::begin_step(self)
-    }
-
-    fn capture<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-    ) -> bool {
-        ContactState::capture(self, comm, problem, mesh, u)
-    }
-
-    fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
-        ContactState::rows(self, problem, mesh)
-    }
-
-    fn slipping(&self) -> bool {
-        self.active
-            .iter()
-            .any(|a| matches!(a.mode, Mode::Slip { .. }))
-    }
-
-    fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, out: &mut [Vec3]) {
-        ContactState::friction_forces(self, problem, mesh, out)
-    }
-
-    fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {
-        ContactState::slip_springs(self, mesh, u, diag)
-    }
-
-    fn read_forces<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        mesh: &LocalMesh,
-        cons: &Constraints,
-        multipliers: &[f64],
-    ) {
-        ContactState::read_forces(self, comm, mesh, cons, multipliers)
-    }
-
-    fn update<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-        start: &[Vec3],
-        force_tol: f64,
-    ) -> bool {
-        ContactState::update(self, comm, problem, mesh, u, start, force_tol)
-    }
-
-    fn set(&self) -> Vec<SetEntry> {
-        self.active
-            .iter()
-            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
-            .collect()
-    }
-
-    fn audit<C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-    ) -> Vec<Finding> {
-        audit::audit(comm, problem, mesh, u)
-    }
-
-    fn recapture(&mut self, problem: &Problem, findings: &[Finding]) {
-        audit::recapture(self, problem, findings)
-    }
-
-    fn gaps<C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-    ) -> Vec<(u32, f64)> {
-        ContactState::gaps(self, comm, problem, mesh, u)
-    }
-
-    fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
-        let tie = |a: &super::state::Active| {
-            let master = problem.contacts[a.pair].face_nodes[a.face as usize][0];
-            let mut dirs = vec![a.normal];
-            if a.mode == Mode::Stick {
-                let (t1, t2) = tangents(&a.normal);
-                dirs.extend([t1, t2]);
-            }
-            (a.slave, master, dirs)
-        };
-        self.active.iter().map(tie).collect()
-    }
-
-    fn counts(&self) -> ContactCounts {
-        ContactState::counts(self)
-    }
-
-    fn describe(&self) -> String {
-        let mut out = String::new();
-        for a in &self.active {
-            out += &format!(
-                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}\n",
-                a.slave + 1,
-                a.pair,
-                a.face,
-                a.s,
-                a.normal,
-                a.mode,
-                a.normal_force,
-                a.tangential_force
-            );
-        }
-        out + &format!("  released {:?}", self.released())
-    }
 }

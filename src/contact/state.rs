@@ -7,16 +7,16 @@
 use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
 use super::ghost;
 use super::search::Interaction;
-use crate::comm::{self, message, Comm};
-use crate::constraints::{Constraints, Row, RowKind, RowSpec};
-use crate::math::{add, cross, dot, norm, scale, sub, Vec3};
+use crate::comm::{message, Comm};
+use crate::constraints::{Row, RowKind, RowSpec};
+use crate::math::{cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::{HashMap, HashSet};
 
 /// A gap more negative than this fraction of the face size is a penetration; closer to
 /// zero it is round-off of a node that sits on the surface.
-const PENETRATION_NOISE: f64 = 1e-10;
+pub(super) const PENETRATION_NOISE: f64 = 1e-10;
 
 /// How far (in face coordinates, which span 2) a node in contact may pass a face's edge
 /// and keep the face: enough to absorb the solver's round-off of a node sliding along an
@@ -104,52 +104,12 @@ pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
 }
 
 impl ContactState {
-    /// Starts a load step: records where each constrained node sits on its master surface,
-    /// the point a node that turns out not to slip in this step sticks to.
-    pub fn begin_step(&mut self) {
-        self.released.clear();
-        for a in &mut self.active {
-            a.secant = None;
-            a.start = Some((a.face, a.s));
-            a.reversals = 0;
-        }
-    }
-
-    pub fn counts(&self) -> ContactCounts {
-        let mut c = ContactCounts {
-            active: self.active.len() as u64,
-            released: self.released.len() as u64,
-            ..Default::default()
-        };
-        for a in &self.active {
-            match a.mode {
-                Mode::Stick => c.stick += 1,
-                Mode::Slip { .. } | Mode::Free => c.slip += 1,
-            }
-        }
-        c
-    }
-
     pub fn released(&self) -> &[(u32, usize)] {
         &self.released
     }
 
-    /// Constraint rows of the active constraints whose slave node this rank owns, in the
-    /// order of `active`: every normal first, then the tangents of the sticking nodes. On a
-    /// node with several ties, another pair's normal (like a Dirichlet row, which comes
-    /// before all of them) thus takes precedence over a stick: a tangential row in its span
-    /// is dropped, and the node's motion along the master is then driven, which the update
-    /// judges as slip (see `driven_slip`).
-    pub fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
-        let mut out = Vec::new();
-        for tangents_pass in [false, true] {
-            self.rows_into(problem, mesh, tangents_pass, &mut out);
-        }
-        out
-    }
-
     /// The normal rows (`tangents_pass` false) or the stick rows (true) of `rows`.
-    fn rows_into(
+    pub(super) fn rows_into(
         &self,
         problem: &Problem,
         mesh: &LocalMesh,
@@ -199,154 +159,9 @@ impl ContactState {
         }
     }
 
-    /// Friction forces of slipping nodes on slave and master nodes, added to `extra` (on
-    /// every local node, each summed in the order of `active`).
-    pub fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, extra: &mut [Vec3]) {
-        for a in &self.active {
-            let Mode::Slip { dir, magnitude } = a.mode else {
-                continue;
-            };
-            let f = scale(&dir, magnitude);
-            if let Some(s) = mesh.local_node(a.slave) {
-                extra[s] = add(&extra[s], &f);
-            }
-            let pair = &problem.contacts[a.pair];
-            let w = crate::fem::face::shape(a.s[0], a.s[1]);
-            for (j, &m) in pair.face_nodes[a.face as usize].iter().enumerate() {
-                if let Some(l) = mesh.local_node(m) {
-                    extra[l] = sub(&extra[l], &scale(&f, w[j]));
-                }
-            }
-        }
-    }
-
-    /// Reads each active constraint's forces from the row multipliers of the last model
-    /// problem (force on the slave = sum of multiplier times row direction) on the slave's
-    /// rank, and shares them with every rank. Collective.
-    pub fn read_forces<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        mesh: &LocalMesh,
-        cons: &Constraints,
-        multipliers: &[f64],
-    ) {
-        for a in self.active.iter_mut() {
-            a.normal_force = 0.0;
-            a.tangential_force = [0.0; 3];
-        }
-        let mut seen = vec![false; self.active.len()];
-        let mut mine = Vec::new();
-        for a in 0..self.active.len() {
-            let Some(s) = mesh.owned_node(self.active[a].slave) else {
-                continue;
-            };
-            if seen[a] {
-                continue;
-            }
-            for (i, row) in cons.rows(s) {
-                if let RowKind::Contact {
-                    constraint,
-                    component,
-                } = row.kind
-                {
-                    if !seen[constraint] {
-                        seen[constraint] = true;
-                        mine.push(constraint);
-                    }
-                    let m = multipliers[i];
-                    let act = &mut self.active[constraint];
-                    if component == 0 {
-                        act.normal_force = m;
-                    } else {
-                        act.tangential_force = add(&act.tangential_force, &scale(&row.dir, m));
-                    }
-                }
-            }
-        }
-        if comm.size() == 1 {
-            return;
-        }
-        let forces: Vec<(usize, f64, Vec3)> = mine
-            .iter()
-            .map(|&k| {
-                (
-                    k,
-                    self.active[k].normal_force,
-                    self.active[k].tangential_force,
-                )
-            })
-            .collect();
-        for (k, normal, tangential) in message::all_gather(comm, &forces) {
-            self.active[k].normal_force = normal;
-            self.active[k].tangential_force = tangential;
-        }
-    }
-
-    /// Captures, before a model problem, nodes that penetrate or touch (within the capture
-    /// tolerance) at the predicted configuration, so a body held only by contact is not
-    /// left unconstrained. Returns whether any node was added. Collective.
-    pub fn capture<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-    ) -> bool {
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
-        let released = self.released_set();
-        let existing: HashSet<(u32, usize)> =
-            self.active.iter().map(|a| (a.slave, a.pair)).collect();
-        let mut changed = false;
-        for (p, pair) in problem.contacts.iter().enumerate() {
-            for &s in &pair.slave_nodes {
-                let Some(l) = mesh.owned_node(s) else {
-                    continue;
-                };
-                if existing.contains(&(s, p)) {
-                    continue;
-                }
-                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
-                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                    if penetrates
-                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
-                    {
-                        self.active.push(new_active(p, s, &it, pair.mu));
-                        changed = true;
-                    }
-                }
-            }
-        }
-        self.share(comm, mesh);
-        comm::any(comm, changed)
-    }
-
-    /// One contact update at the current displacement `u` (`start`: at the start of the
-    /// step). Returns whether the constraint set changed (a node added, released, switched
-    /// between stick and slip, or moved to another face). `force_tol` is the force below
-    /// which a tensile or tangential force is noise. Release and the switch to slip follow
-    /// from the shared forces on every rank; the reversal of slip and the search are done
-    /// for the slave nodes a rank owns, and the results are shared. Collective.
-    #[allow(clippy::too_many_arguments)]
-    pub fn update<C: Comm + ?Sized>(
-        &mut self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-        start: &[Vec3],
-        force_tol: f64,
-    ) -> bool {
-        let mut changed = self.release_tensile(force_tol);
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
-        changed |= self.coulomb(problem, mesh, u, start, &surfaces, force_tol);
-        changed |= self.search(problem, mesh, u, &surfaces);
-        self.share(comm, mesh);
-        comm::any(comm, changed)
-    }
-
     /// Release: a node whose contact force is tensile (beyond `force_tol`) leaves the set
     /// and is not pulled back in by the capture tolerance in this step.
-    fn release_tensile(&mut self, force_tol: f64) -> bool {
+    pub(super) fn release_tensile(&mut self, force_tol: f64) -> bool {
         let mut changed = false;
         let mut kept = Vec::with_capacity(self.active.len());
         for a in self.active.drain(..) {
@@ -366,7 +181,7 @@ impl ContactState {
     /// Coulomb's law for every constraint after a model problem: stick, onset of slip,
     /// driven slip, the reversal of slip, and the friction direction of a slipping node.
     /// Returns whether a constraint changed mode.
-    fn coulomb(
+    pub(super) fn coulomb(
         &mut self,
         problem: &Problem,
         mesh: &LocalMesh,
@@ -421,7 +236,7 @@ impl ContactState {
     /// contact keeps or moves its contact point (or is released when it slid out of the
     /// search tolerances); a node not in contact that penetrates, or touches within the
     /// capture tolerance, is captured. Returns whether the set changed.
-    fn search(
+    pub(super) fn search(
         &mut self,
         problem: &Problem,
         mesh: &LocalMesh,
@@ -504,37 +319,13 @@ impl ContactState {
         changed
     }
 
-    /// Signed gap of every slave node this rank owns (None where the search finds no master
-    /// face). Collective.
-    pub fn gaps<C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-    ) -> Vec<(u32, f64)> {
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
-        let mut out = Vec::new();
-        for (p, pair) in problem.contacts.iter().enumerate() {
-            for &s in &pair.slave_nodes {
-                let Some(l) = mesh.owned_node(s) else {
-                    continue;
-                };
-                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
-                    out.push((s, it.gap));
-                }
-            }
-        }
-        out
-    }
-
-    fn released_set(&self) -> HashSet<(u32, usize)> {
+    pub(super) fn released_set(&self) -> HashSet<(u32, usize)> {
         self.released.iter().copied().collect()
     }
 
     /// Makes the state whole on every rank from each rank's entries for the slave nodes it
     /// owns, ordered by (slave node, pair). Collective.
-    fn share<C: Comm + ?Sized>(&mut self, comm: &C, mesh: &LocalMesh) {
+    pub(super) fn share<C: Comm + ?Sized>(&mut self, comm: &C, mesh: &LocalMesh) {
         if comm.size() > 1 {
             let mine: Vec<Active> = self
                 .active
@@ -557,7 +348,7 @@ impl ContactState {
     }
 }
 
-fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
+pub(super) fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
     Active {
         pair,
         slave,

@@ -6,6 +6,7 @@ use super::{plastic, Gather};
 use crate::comm::Comm;
 use crate::constraints::RowKind;
 use crate::contact::state::Mode;
+use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::output::contact_status;

@@ -1,0 +1,289 @@
+//! Node-to-face contact (the paper's): `ContactState` as the stepper's `Enforcement`. Each
+//! slave node is tied to one point of a bilinear master face; the update releases tensile
+//! nodes, applies Coulomb's law (coulomb.rs) and searches (search.rs, ghost.rs); the state
+//! is made whole on every rank after each change.
+
+use super::audit::{self, Finding};
+use super::enforcement::{Enforcement, SetEntry, TieSupport};
+use super::ghost;
+use super::state::{new_active, tangents, ContactCounts, ContactState, Mode, PENETRATION_NOISE};
+use crate::comm::{self, message, Comm};
+use crate::constraints::{Constraints, RowKind, RowSpec};
+use crate::math::{add, scale, sub, Mat3, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use crate::springs::Spring;
+use std::collections::HashSet;
+
+impl Enforcement for ContactState {
+    /// Starts a load step: records where each constrained node sits on its master surface,
+    /// the point a node that turns out not to slip in this step sticks to.
+    fn begin_step(&mut self) {
+        self.released.clear();
+        for a in &mut self.active {
+            a.secant = None;
+            a.start = Some((a.face, a.s));
+            a.reversals = 0;
+        }
+    }
+
+    fn counts(&self) -> ContactCounts {
+        let mut c = ContactCounts {
+            active: self.active.len() as u64,
+            released: self.released.len() as u64,
+            ..Default::default()
+        };
+        for a in &self.active {
+            match a.mode {
+                Mode::Stick => c.stick += 1,
+                Mode::Slip { .. } | Mode::Free => c.slip += 1,
+            }
+        }
+        c
+    }
+
+    /// Constraint rows of the active constraints whose slave node this rank owns, in the
+    /// order of `active`: every normal first, then the tangents of the sticking nodes. On a
+    /// node with several ties, another pair's normal (like a Dirichlet row, which comes
+    /// before all of them) thus takes precedence over a stick: a tangential row in its span
+    /// is dropped, and the node's motion along the master is then driven, which the update
+    /// judges as slip (see `driven_slip`).
+    fn rows(&self, problem: &Problem, mesh: &LocalMesh) -> Vec<RowSpec> {
+        let mut out = Vec::new();
+        for tangents_pass in [false, true] {
+            self.rows_into(problem, mesh, tangents_pass, &mut out);
+        }
+        out
+    }
+
+    /// Friction forces of slipping nodes on slave and master nodes, added to `extra` (on
+    /// every local node, each summed in the order of `active`).
+    fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, extra: &mut [Vec3]) {
+        for a in &self.active {
+            let Mode::Slip { dir, magnitude } = a.mode else {
+                continue;
+            };
+            let f = scale(&dir, magnitude);
+            if let Some(s) = mesh.local_node(a.slave) {
+                extra[s] = add(&extra[s], &f);
+            }
+            let pair = &problem.contacts[a.pair];
+            let w = crate::fem::face::shape(a.s[0], a.s[1]);
+            for (j, &m) in pair.face_nodes[a.face as usize].iter().enumerate() {
+                if let Some(l) = mesh.local_node(m) {
+                    extra[l] = sub(&extra[l], &scale(&f, w[j]));
+                }
+            }
+        }
+    }
+
+    /// Reads each active constraint's forces from the row multipliers of the last model
+    /// problem (force on the slave = sum of multiplier times row direction) on the slave's
+    /// rank, and shares them with every rank. Collective.
+    fn read_forces<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        mesh: &LocalMesh,
+        cons: &Constraints,
+        multipliers: &[f64],
+    ) {
+        for a in self.active.iter_mut() {
+            a.normal_force = 0.0;
+            a.tangential_force = [0.0; 3];
+        }
+        let mut seen = vec![false; self.active.len()];
+        let mut mine = Vec::new();
+        for a in 0..self.active.len() {
+            let Some(s) = mesh.owned_node(self.active[a].slave) else {
+                continue;
+            };
+            if seen[a] {
+                continue;
+            }
+            for (i, row) in cons.rows(s) {
+                if let RowKind::Contact {
+                    constraint,
+                    component,
+                } = row.kind
+                {
+                    if !seen[constraint] {
+                        seen[constraint] = true;
+                        mine.push(constraint);
+                    }
+                    let m = multipliers[i];
+                    let act = &mut self.active[constraint];
+                    if component == 0 {
+                        act.normal_force = m;
+                    } else {
+                        act.tangential_force = add(&act.tangential_force, &scale(&row.dir, m));
+                    }
+                }
+            }
+        }
+        if comm.size() == 1 {
+            return;
+        }
+        let forces: Vec<(usize, f64, Vec3)> = mine
+            .iter()
+            .map(|&k| {
+                (
+                    k,
+                    self.active[k].normal_force,
+                    self.active[k].tangential_force,
+                )
+            })
+            .collect();
+        for (k, normal, tangential) in message::all_gather(comm, &forces) {
+            self.active[k].normal_force = normal;
+            self.active[k].tangential_force = tangential;
+        }
+    }
+
+    /// Captures, before a model problem, nodes that penetrate or touch (within the capture
+    /// tolerance) at the predicted configuration, so a body held only by contact is not
+    /// left unconstrained. Returns whether any node was added. Collective.
+    fn capture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> bool {
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
+        let released = self.released_set();
+        let existing: HashSet<(u32, usize)> =
+            self.active.iter().map(|a| (a.slave, a.pair)).collect();
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            for &s in &pair.slave_nodes {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                if existing.contains(&(s, p)) {
+                    continue;
+                }
+                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
+                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
+                    if penetrates
+                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
+                    {
+                        self.active.push(new_active(p, s, &it, pair.mu));
+                        changed = true;
+                    }
+                }
+            }
+        }
+        self.share(comm, mesh);
+        comm::any(comm, changed)
+    }
+
+    /// One contact update at the current displacement `u` (`start`: at the start of the
+    /// step). Returns whether the constraint set changed (a node added, released, switched
+    /// between stick and slip, or moved to another face). `force_tol` is the force below
+    /// which a tensile or tangential force is noise. Release and the switch to slip follow
+    /// from the shared forces on every rank; the reversal of slip and the search are done
+    /// for the slave nodes a rank owns, and the results are shared. Collective.
+    #[allow(clippy::too_many_arguments)]
+    fn update<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        start: &[Vec3],
+        force_tol: f64,
+    ) -> bool {
+        let mut changed = self.release_tensile(force_tol);
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
+        changed |= self.coulomb(problem, mesh, u, start, &surfaces, force_tol);
+        changed |= self.search(problem, mesh, u, &surfaces);
+        self.share(comm, mesh);
+        comm::any(comm, changed)
+    }
+
+    /// Signed gap of every slave node this rank owns (None where the search finds no master
+    /// face). Collective.
+    fn gaps<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<(u32, f64)> {
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
+        let mut out = Vec::new();
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            for &s in &pair.slave_nodes {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
+                    out.push((s, it.gap));
+                }
+            }
+        }
+        out
+    }
+
+    fn slipping(&self) -> bool {
+        self.active
+            .iter()
+            .any(|a| matches!(a.mode, Mode::Slip { .. }))
+    }
+
+    fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {
+        ContactState::slip_springs(self, mesh, u, diag)
+    }
+
+    fn set(&self) -> Vec<SetEntry> {
+        self.active
+            .iter()
+            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
+            .collect()
+    }
+
+    fn audit<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Vec<Finding> {
+        audit::audit(comm, problem, mesh, u)
+    }
+
+    fn recapture(&mut self, problem: &Problem, findings: &[Finding]) {
+        audit::recapture(self, problem, findings)
+    }
+
+    fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
+        let tie = |a: &super::state::Active| {
+            let master = problem.contacts[a.pair].face_nodes[a.face as usize][0];
+            let mut dirs = vec![a.normal];
+            if a.mode == Mode::Stick {
+                let (t1, t2) = tangents(&a.normal);
+                dirs.extend([t1, t2]);
+            }
+            (a.slave, master, dirs)
+        };
+        self.active.iter().map(tie).collect()
+    }
+
+    fn describe(&self) -> String {
+        let mut out = String::new();
+        for a in &self.active {
+            out += &format!(
+                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}\n",
+                a.slave + 1,
+                a.pair,
+                a.face,
+                a.s,
+                a.normal,
+                a.mode,
+                a.normal_force,
+                a.tangential_force
+            );
+        }
+        out + &format!("  released {:?}", self.released())
+    }
+}
