@@ -14,7 +14,7 @@
 
 mod common;
 
-use common::{problem, solve};
+use common::{problem, run_serial, solve};
 use solver::problem::Problem;
 use solver::run::GlobalState;
 
@@ -712,15 +712,7 @@ fn frictionless_block_pushed_sideways_cannot_converge() {
         "friction = \"frictionless\"",
         100.0,
     ));
-    let (summary, state) = solver::run::run(
-        &solver::comm::SerialComm,
-        &p,
-        &solver::run::RunOptions {
-            output: None,
-            verbosity: 0,
-        },
-    )
-    .expect("run starts");
+    let (summary, state) = run_serial(&p, None);
     let umax = state
         .displacement
         .iter()

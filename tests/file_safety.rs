@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 mod common;
-use common::{fresh_dir, repo, solver, stderr_text};
+use common::{fresh_dir, repo, scenes, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("file-safety-{name}"))
@@ -38,6 +38,17 @@ fn run_to(scene: &Path, out: &Path, extra: &[&str]) -> Output {
         .args(["-q", "run"])
         .arg(scene)
         .args(extra)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+/// `solver run scene -o out`, not quiet: its log on standard error.
+fn run_logged(scene: &Path, out: &Path) -> Output {
+    solver()
+        .arg("run")
+        .arg(scene)
         .arg("-o")
         .arg(out)
         .output()
@@ -259,19 +270,6 @@ fn output_onto_a_fifo_or_a_device_is_refused() {
     );
 }
 
-/// The first 30 of stick_slip's 60 steps (the last ten slide): about 0.3 s of one core, so
-/// the two runs of a trial overlap even on a loaded machine, where the refusal comes within
-/// milliseconds of the start.
-fn stick_slip_30(d: &Path) -> PathBuf {
-    let scene = d.join("stick_slip_30.toml");
-    let text = std::fs::read_to_string(repo("run/scenes/paper/stick_slip.toml")).unwrap();
-    let three = "segments = [{ end = 1.0, steps = 20 }, { end = 2.0, steps = 20 }, { end = 3.0, steps = 20 }]";
-    assert!(text.contains(three));
-    let two = "segments = [{ end = 1.0, steps = 20 }, { end = 1.5, steps = 10 }]";
-    std::fs::write(&scene, text.replace(three, two)).unwrap();
-    scene
-}
-
 /// Starts two runs of `scene` on the output `out` at once; returns (exit code, standard
 /// error, process id) of each, in the order they exit.
 fn race(scene: &Path, out: &Path) -> Vec<(Option<i32>, String, u32)> {
@@ -347,7 +345,9 @@ fn concurrent_trial(d: &Path, scene: &Path, last: &[[f64; 3]], k: usize) -> Stri
 #[test]
 fn two_runs_started_together_on_one_output_the_second_is_refused_at_once() {
     let d = dir("concurrent");
-    let scene = stick_slip_30(&d);
+    // About 0.3 s of one core, so the two runs of a trial overlap even on a loaded machine,
+    // where the refusal comes within milliseconds of the start.
+    let scene = scenes::stick_slip_30(&d);
     let reference = d.join("reference.h5");
     assert!(run_to(&scene, &reference, &[]).status.success());
     let last = solver::output::ResultFile::open(&reference)
@@ -383,13 +383,7 @@ fn a_stale_lock_is_taken_over_and_a_held_one_refuses() {
     let out = d.join("r.h5");
     // A lock file left by a process that no longer runs (no pid reaches 2^31 - 16).
     std::fs::write(d.join("r.h5.lock"), "pid = 2147483632\nhost = gone\n").unwrap();
-    let o = solver()
-        .arg("run")
-        .arg(&scene)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_logged(&scene, &out);
     let err = stderr_text(&o);
     assert!(o.status.success(), "{err}");
     assert!(
@@ -433,13 +427,7 @@ fn an_earlier_result_is_replaced_only_by_a_complete_one() {
     let xmf = std::fs::read(d.join("r.xmf")).unwrap();
     // A run that fails (an element inverts in its first step) writes r.failed.h5 and leaves
     // the earlier r.h5 and r.xmf as they were.
-    let o = solver()
-        .arg("run")
-        .arg(repo("mpi-tests/fault.toml"))
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_logged(&repo("mpi-tests/fault.toml"), &out);
     let err = stderr_text(&o);
     println!("{err}");
     assert_eq!(o.status.code(), Some(1), "{err}");
@@ -464,13 +452,7 @@ fn an_earlier_result_is_replaced_only_by_a_complete_one() {
     assert!(d.join("r.h5.tmp").exists());
     // A completed run replaces r.h5 by renaming, and never touches the killed run's file.
     let tmp = std::fs::read(d.join("r.h5.tmp")).unwrap();
-    let o = solver()
-        .arg("run")
-        .arg(&scene)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = run_logged(&scene, &out);
     let err = stderr_text(&o);
     assert!(o.status.success(), "{err}");
     assert!(err.contains("runs that did not finish left"), "{err}");

@@ -4,15 +4,13 @@
 
 mod common;
 
-use common::repo;
+use common::{bad_scene, repo, run_serial};
 
-use solver::comm::SerialComm;
 use solver::fem::hex8::min_jacobian_ratio;
 use solver::math::Vec3;
 use solver::mesh::gmsh::GmshMesh;
 use solver::output::ResultFile;
 use solver::problem::Problem;
-use solver::run::{run, RunOptions};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -210,40 +208,7 @@ segments = [{{ end = 1.0, steps = 1 }}]
 /// Writes the scene, runs `solver check` and `solver run` on it; both must exit with 2 and
 /// the same message, which names the scene file and contains every needle.
 fn expect_error(name: &str, text: &str, needles: &[&str]) {
-    let dir = temp_dir();
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let exe = env!("CARGO_BIN_EXE_solver");
-    let check = Command::new(exe)
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let out = dir.join(format!("{name}.h5"));
-    let run = Command::new(exe)
-        .args([
-            "-q",
-            "run",
-            path.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&check.stderr).to_string();
-    println!("{name}: {}", err.trim());
-    assert_eq!(check.status.code(), Some(2), "{name}: {err}");
-    assert_eq!(run.status.code(), Some(2), "{name}: run");
-    assert_eq!(
-        err,
-        String::from_utf8_lossy(&run.stderr),
-        "{name}: run says otherwise"
-    );
-    assert!(!err.contains("panicked"), "{name}: {err}");
-    assert!(!out.exists(), "{name}: a result file was written");
-    assert!(err.contains(&format!("{name}.toml")), "{name}: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{name}: message lacks '{n}': {err}");
-    }
+    bad_scene::expect_error("gmsh", name, text, needles);
 }
 
 #[test]
@@ -494,15 +459,7 @@ segments = [{{ end = 1.0, steps = 1 }}]
 fn example_scene_carries_the_applied_load() {
     let p = load_scene(&repo(EXAMPLE_SCENE)).unwrap_or_else(|e| panic!("{e}"));
     let out = temp_dir().join("cylinder_on_block.h5");
-    let (summary, state) = run(
-        &SerialComm,
-        &p,
-        &RunOptions {
-            output: Some(out.clone()),
-            verbosity: 0,
-        },
-    )
-    .expect("run starts");
+    let (summary, state) = run_serial(&p, Some(out.clone()));
     assert!(summary.failure.is_none(), "{:?}", summary.failure);
     // Applied: 500 on the flat top, 20 x 1.
     let load = 500.0 * 20.0 * 1.0;

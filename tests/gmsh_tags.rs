@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{fresh_dir, repo, solver};
+use common::{fresh_dir, repo, restart, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("gmsh-tags-{name}"))
@@ -147,15 +147,9 @@ fn a_reordered_node_block_gives_a_bitwise_identical_result() {
     for mut r in runs {
         assert!(r.wait().unwrap().success());
     }
-    let cmp = solver()
-        .args(["post", "compare"])
-        .arg(d.join("a.h5"))
-        .arg(d.join("b.h5"))
-        .output()
-        .unwrap();
-    let report = String::from_utf8_lossy(&cmp.stdout);
+    let (same, report) = restart::post_compare(&d.join("a.h5"), &d.join("b.h5"));
     println!("{}", report.lines().last().unwrap_or_default());
-    assert!(cmp.status.success(), "{report}");
+    assert!(same, "{report}");
     assert!(report.contains("result: bitwise identical"), "{report}");
 }
 
@@ -177,10 +171,7 @@ fn check(d: &Path, name: &str, mesh: &[u8]) -> (Option<i32>, String) {
     let path = d.join(format!("{name}.toml"));
     std::fs::write(&path, scene).unwrap();
     let out = solver().arg("check").arg(&path).output().unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).trim().to_string(),
-    )
+    (out.status.code(), stderr_text(&out))
 }
 
 /// (name, line of `cube.msh` replaced, its new text, the message expected).

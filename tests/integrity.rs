@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{fresh_dir, paper_scene, solver};
+use common::{fresh_dir, paper_scene, restart, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("integrity-{name}"))
@@ -54,10 +54,7 @@ fn run(args: &[&str], files: &[&Path]) -> (Option<i32>, String) {
         cmd.arg(f);
     }
     let out = cmd.output().unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).trim().to_string(),
-    )
+    (out.status.code(), stderr_text(&out))
 }
 
 #[test]
@@ -281,13 +278,7 @@ fn a_format_1_file_is_still_read_and_restarted_from() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(err.contains("continuing from step 23 "), "{err}");
-    let cmp = solver()
-        .args(["post", "compare"])
-        .arg(&full)
-        .arg(&cut)
-        .output()
-        .unwrap();
-    let report = String::from_utf8_lossy(&cmp.stdout);
+    let (_, report) = restart::post_compare(&full, &cut);
     println!("{}", report.lines().last().unwrap_or_default());
     assert!(report.contains("result: bitwise identical"), "{report}");
 }

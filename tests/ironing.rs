@@ -18,7 +18,7 @@
 
 mod common;
 
-use common::{fresh_dir, problem, repo};
+use common::{fresh_dir, problem, repo, run_serial};
 use solver::output::ResultFile;
 
 /// `ploughing`: also check F_x >= mu |F_y| in steady sliding (the rigid die of the example:
@@ -47,15 +47,7 @@ fn check(scene: &str, drag_steps: usize, ploughing: bool) {
         .nodes
         .clone();
     let out = fresh_dir(&format!("{}_{drag_steps}", p.name)).join("ironing.h5");
-    let (summary, state) = solver::run::run(
-        &solver::comm::SerialComm,
-        &p,
-        &solver::run::RunOptions {
-            output: Some(out.clone()),
-            verbosity: 0,
-        },
-    )
-    .expect("run starts");
+    let (summary, state) = run_serial(&p, Some(out.clone()));
     assert!(
         summary.failure.is_none(),
         "{drag_steps} drag steps: {:?}",
@@ -193,15 +185,7 @@ fn ironing_small_kinematics_holds_contact_or_says_why() {
         );
     let p = problem(&text);
     let capture = p.contacts[0].capture_tolerance;
-    let (summary, _) = solver::run::run(
-        &solver::comm::SerialComm,
-        &p,
-        &solver::run::RunOptions {
-            output: None,
-            verbosity: 0,
-        },
-    )
-    .expect("run starts");
+    let (summary, _) = run_serial(&p, None);
     for s in &summary.steps {
         assert!(s.contact.active > 0, "step {}: no contact", s.step);
         assert!(s.contact.max_penetration <= capture, "step {}", s.step);

@@ -6,34 +6,11 @@
 
 mod common;
 
-fn with(text: &str, preconditioner: &str) -> String {
-    text.replace(
-        "[solver]\n",
-        &format!("[solver]\npreconditioner = \"{preconditioner}\"\n"),
-    )
-}
-
-fn iterations(s: &solver::run::RunSummary) -> u64 {
-    s.steps.iter().map(|r| r.cg_iterations).sum()
-}
+use common::scenes::with_preconditioner;
+use common::{cg_iterations, max_displacement_difference};
 
 fn read(path: &str) -> String {
     std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
-fn max_diff(a: &solver::run::GlobalState, b: &solver::run::GlobalState) -> (f64, f64) {
-    let scale = b
-        .displacement
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = a
-        .displacement
-        .iter()
-        .zip(&b.displacement)
-        .flat_map(|(x, y)| (0..3).map(move |i| (x[i] - y[i]).abs()))
-        .fold(0.0f64, f64::max);
-    (diff, scale)
 }
 
 #[test]
@@ -44,21 +21,21 @@ fn bar_is_exact_with_the_multilevel_preconditioner() {
         text.contains("[solver]\n"),
         "the example has a [solver] table"
     );
-    let (_, ml) = common::solve(&common::problem(&with(&text, "multilevel")));
-    let (_, jac) = common::solve(&common::problem(&with(&text, "jacobi")));
+    let (_, ml) = common::solve(&common::problem(&with_preconditioner(&text, "multilevel")));
+    let (_, jac) = common::solve(&common::problem(&with_preconditioner(&text, "jacobi")));
     // Both solve to the scene's tolerance and reproduce the exact field: they agree to
     // that tolerance times the displacement scale.
-    let (diff, scale) = max_diff(&ml, &jac);
+    let (diff, scale) = max_displacement_difference(&ml, &jac);
     assert!(diff <= 1e-9 * scale, "max |u_ml - u_jacobi| = {diff:e}");
 }
 
 #[test]
 fn block_on_block_agrees_with_jacobi_in_fewer_iterations_than_two_level() {
     let text = read("run/scenes/bench/block_on_block.toml");
-    let (sm, ml) = common::solve(&common::problem(&with(&text, "multilevel")));
-    let (s2, _) = common::solve(&common::problem(&with(&text, "two_level")));
-    let (sj, jac) = common::solve(&common::problem(&with(&text, "jacobi")));
-    let (im, i2, ij) = (iterations(&sm), iterations(&s2), iterations(&sj));
+    let (sm, ml) = common::solve(&common::problem(&with_preconditioner(&text, "multilevel")));
+    let (s2, _) = common::solve(&common::problem(&with_preconditioner(&text, "two_level")));
+    let (sj, jac) = common::solve(&common::problem(&with_preconditioner(&text, "jacobi")));
+    let (im, i2, ij) = (cg_iterations(&sm), cg_iterations(&s2), cg_iterations(&sj));
     eprintln!("CG iterations: multilevel {im}, two-level {i2}, Jacobi {ij}");
     // Measured: 59 against 187 (two-level). Half of the two-level count leaves room for
     // changes of the contact path while still failing a preconditioner that lost its
@@ -67,7 +44,7 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations_than_two_level() {
     assert!(im < ij);
     // The same bound as the two-level test: residual 1e-8 of the reference force, cond ~
     // 1e3 for this mesh pair, so 1e-5 of the displacement scale bounds the difference.
-    let (diff, scale) = max_diff(&ml, &jac);
+    let (diff, scale) = max_displacement_difference(&ml, &jac);
     assert!(
         diff <= 1e-5 * scale,
         "max |u_ml - u_jacobi| / scale = {:e}",
@@ -92,15 +69,15 @@ fn hertz_example_converges_in_far_fewer_iterations_than_jacobi() {
         ),
     );
     let text = format!("{text}\n[solver]\n");
-    let (sm, ml) = common::solve(&common::problem(&with(&text, "multilevel")));
-    let (sj, jac) = common::solve(&common::problem(&with(&text, "jacobi")));
-    let (im, ij) = (iterations(&sm), iterations(&sj));
+    let (sm, ml) = common::solve(&common::problem(&with_preconditioner(&text, "multilevel")));
+    let (sj, jac) = common::solve(&common::problem(&with_preconditioner(&text, "jacobi")));
+    let (im, ij) = (cg_iterations(&sm), cg_iterations(&sj));
     eprintln!("CG iterations: multilevel {im}, Jacobi {ij}");
     assert!(4 * im < ij, "multilevel {im}, Jacobi {ij}");
     // Residual 1e-10 of the reference force (the default tolerance); the graded mesh's
     // condition number is below about 1e5, so 1e-5 of the displacement scale bounds the
     // difference of the two solutions.
-    let (diff, scale) = max_diff(&ml, &jac);
+    let (diff, scale) = max_displacement_difference(&ml, &jac);
     assert!(
         diff <= 1e-5 * scale,
         "max |u_ml - u_jacobi| / scale = {:e}",
@@ -111,7 +88,7 @@ fn hertz_example_converges_in_far_fewer_iterations_than_jacobi() {
 #[test]
 fn an_unknown_preconditioner_names_the_choices() {
     let text = read("run/examples/bar.toml");
-    let bad = with(&text, "amg");
+    let bad = with_preconditioner(&text, "amg");
     let err = match solver::scene::parse_scene(&bad, "bar.toml", "bar") {
         Ok(_) => panic!("an unknown preconditioner is accepted"),
         Err(e) => e.to_string(),

@@ -847,6 +847,14 @@ fn parse(args: &[&str]) -> Result<PostCommand, clap::Error> {
     Cli::try_parse_from(std::iter::once("post").chain(args.iter().copied())).map(|c| c.cmd)
 }
 
+/// The data of a `post plot` command.
+fn plot_data(cmd: &PostCommand) -> post::PlotData {
+    let PostCommand::Plot(args) = cmd else {
+        panic!("{cmd:?}")
+    };
+    post::plot_data(args).unwrap()
+}
+
 #[test]
 fn plot_along_a_node_set_and_through_time() {
     let dir = test_dir("plot");
@@ -870,10 +878,7 @@ fn plot_along_a_node_set_and_through_time() {
         out.to_str().unwrap(),
     ])
     .unwrap();
-    let PostCommand::Plot(args) = &cmd else {
-        panic!("{cmd:?}")
-    };
-    let data = post::plot_data(args).unwrap();
+    let data = plot_data(&cmd);
     assert_eq!(data.series.len(), 3);
     let mesh = synthetic_mesh();
     for (s, series) in data.series.iter().enumerate() {
@@ -910,10 +915,7 @@ fn plot_along_a_node_set_and_through_time() {
         out2.to_str().unwrap(),
     ])
     .unwrap();
-    let PostCommand::Plot(args) = &cmd else {
-        panic!()
-    };
-    let data = post::plot_data(args).unwrap();
+    let data = plot_data(&cmd);
     assert_eq!(data.series.len(), 1);
     let xs: Vec<f64> = data.series[0].points.iter().map(|p| p.0).collect();
     assert_eq!(xs.first(), Some(&0.0));
@@ -938,10 +940,7 @@ fn plot_along_a_node_set_and_through_time() {
         out3.to_str().unwrap(),
     ])
     .unwrap();
-    let PostCommand::Plot(args) = &cmd else {
-        panic!()
-    };
-    let data = post::plot_data(args).unwrap();
+    let data = plot_data(&cmd);
     assert_eq!(data.series.len(), 1);
     let top: Vec<usize> = (0..20)
         .filter(|&i| mesh.coordinates[i][2] == 2.25)
@@ -968,10 +967,7 @@ fn plot_along_a_node_set_and_through_time() {
         out3.to_str().unwrap(),
     ])
     .unwrap();
-    let PostCommand::Plot(args) = &cmd else {
-        panic!()
-    };
-    assert_eq!(post::plot_data(args).unwrap().series.len(), 4);
+    assert_eq!(plot_data(&cmd).series.len(), 4);
 
     // Argument errors.
     let bad = |args: &[&str]| {

@@ -16,7 +16,7 @@
 
 mod common;
 
-use common::{problem, repo, solve};
+use common::{problem, repo, run_serial, solve};
 
 #[test]
 fn a_node_driven_past_the_search_tolerance_is_tied_back() {
@@ -80,15 +80,7 @@ fn never_lost_silently(name: &str, stop_says: &[&str]) -> bool {
     let text = std::fs::read_to_string(&path).expect("the scene is in the repository");
     let p = problem(&text);
     let capture = p.contacts[0].capture_tolerance;
-    let (summary, _) = solver::run::run(
-        &solver::comm::SerialComm,
-        &p,
-        &solver::run::RunOptions {
-            output: None,
-            verbosity: 0,
-        },
-    )
-    .expect("run starts");
+    let (summary, _) = run_serial(&p, None);
     assert!(!summary.steps.is_empty(), "{name}: no step completed");
     for s in &summary.steps {
         assert!(

@@ -4,16 +4,8 @@
 
 mod common;
 
-fn with(text: &str, preconditioner: &str) -> String {
-    text.replace(
-        "[solver]\n",
-        &format!("[solver]\npreconditioner = \"{preconditioner}\"\n"),
-    )
-}
-
-fn iterations(s: &solver::run::RunSummary) -> u64 {
-    s.steps.iter().map(|r| r.cg_iterations).sum()
-}
+use common::scenes::with_preconditioner;
+use common::{cg_iterations, max_displacement_difference};
 
 #[test]
 fn bar_is_exact_with_the_two_level_preconditioner() {
@@ -27,22 +19,12 @@ fn bar_is_exact_with_the_two_level_preconditioner() {
         text.contains("[solver]\n"),
         "the example has a [solver] table"
     );
-    let p = common::problem(&with(&text, "two_level"));
+    let p = common::problem(&with_preconditioner(&text, "two_level"));
     let (_, state) = common::solve(&p);
-    let (_, jac) = common::solve(&common::problem(&with(&text, "jacobi")));
+    let (_, jac) = common::solve(&common::problem(&with_preconditioner(&text, "jacobi")));
     // Both solve to the scene's tolerance; the exact field is reproduced by both, so they
     // agree to that tolerance times the displacement scale.
-    let scale = jac
-        .displacement
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = state
-        .displacement
-        .iter()
-        .zip(&jac.displacement)
-        .flat_map(|(a, b)| (0..3).map(move |i| (a[i] - b[i]).abs()))
-        .fold(0.0f64, f64::max);
+    let (diff, scale) = max_displacement_difference(&state, &jac);
     assert!(diff <= 1e-9 * scale, "max |u_2level - u_jacobi| = {diff:e}");
 }
 
@@ -53,9 +35,9 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations() {
         "/run/scenes/bench/block_on_block.toml"
     ))
     .unwrap();
-    let (s2, two) = common::solve(&common::problem(&with(&text, "two_level")));
-    let (sj, jac) = common::solve(&common::problem(&with(&text, "jacobi")));
-    let (i2, ij) = (iterations(&s2), iterations(&sj));
+    let (s2, two) = common::solve(&common::problem(&with_preconditioner(&text, "two_level")));
+    let (sj, jac) = common::solve(&common::problem(&with_preconditioner(&text, "jacobi")));
+    let (i2, ij) = (cg_iterations(&s2), cg_iterations(&sj));
     eprintln!("CG iterations: two-level {i2}, Jacobi {ij}");
     // On this small mesh (2 x 10^3 elements) the coarse space saves about a third of the
     // iterations; the saving grows with the mesh (run/bench: 0.18 of Jacobi's iterations
@@ -64,17 +46,7 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations() {
     // Both stop at a residual of 1e-8 of the reference force; the contact problem's
     // displacement error is then below about cond(K) 1e-8 of the displacement scale
     // (cond ~ 1e3 for this 10 x 10 x 10 mesh pair): 1e-5 bounds the difference.
-    let scale = jac
-        .displacement
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = two
-        .displacement
-        .iter()
-        .zip(&jac.displacement)
-        .flat_map(|(a, b)| (0..3).map(move |i| (a[i] - b[i]).abs()))
-        .fold(0.0f64, f64::max);
+    let (diff, scale) = max_displacement_difference(&two, &jac);
     assert!(
         diff <= 1e-5 * scale,
         "max |u_2level - u_jacobi| / scale = {:e}",

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 mod common;
-use common::{fresh_dir, paper_scene, solver};
+use common::{fresh_dir, paper_scene, restart, solver};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("restart-{name}"))
@@ -14,49 +14,7 @@ fn dir(name: &str) -> PathBuf {
 /// the `.tmp` file the killed run left, and demands bitwise-identical results (`solver post
 /// compare` with its default tolerance 0: every dataset but wall times).
 fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
-    let d = dir(name);
-    let full = d.join("full.h5");
-    let cut = d.join("cut.h5");
-    let s = solver()
-        .args(["-q", "run", &paper_scene(name), "-o"])
-        .arg(&full)
-        .status()
-        .unwrap();
-    assert!(s.success());
-    let s = solver()
-        .args(["-q", "run", &paper_scene(name), "-o"])
-        .arg(&cut)
-        .env("SOLVER_TEST_ABORT_AFTER_STEP", kill_after.to_string())
-        .status()
-        .unwrap();
-    assert!(!s.success(), "the killed run must not exit 0");
-    let tmp = d.join("cut.h5.tmp");
-    assert!(
-        tmp.exists() && !cut.exists(),
-        "a killed run leaves only the .tmp file"
-    );
-    let out = solver()
-        .args(["run", &paper_scene(name), "--restart"])
-        .arg(&tmp)
-        .arg("-o")
-        .arg(&cut)
-        .output()
-        .unwrap();
-    let log = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "restart failed: {log}");
-    assert!(
-        log.contains(&format!("continuing from step {kill_after} ")),
-        "{log}"
-    );
-    let cmp = solver()
-        .args(["post", "compare"])
-        .arg(&full)
-        .arg(&cut)
-        .output()
-        .unwrap();
-    let report = String::from_utf8_lossy(&cmp.stdout);
-    assert!(cmp.status.success(), "results differ:\n{report}");
-    assert!(report.contains("bitwise identical"), "{report}");
+    restart::killed_and_restarted_is_identical(&paper_scene(name), &dir(name), kill_after);
 }
 
 #[test]

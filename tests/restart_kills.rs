@@ -3,29 +3,14 @@
 //! further restart from the newest of the two ends bitwise identical to an uninterrupted run.
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{fresh_dir, solver};
+use common::{fresh_dir, restart, scenes, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("restart-kills-{name}"))
-}
-
-/// The first 30 of stick_slip's 60 steps: 20 steps of loading, then 10 of sliding (about
-/// 0.3 s of one core), so that the kills fall all over the restart.
-fn scene(d: &Path) -> PathBuf {
-    let text = std::fs::read_to_string(format!(
-        "{}/run/scenes/paper/stick_slip.toml",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let three = "segments = [{ end = 1.0, steps = 20 }, { end = 2.0, steps = 20 }, { end = 3.0, steps = 20 }]";
-    assert!(text.contains(three));
-    let two = "segments = [{ end = 1.0, steps = 20 }, { end = 1.5, steps = 10 }]";
-    let path = d.join("stick_slip_30.toml");
-    std::fs::write(&path, text.replace(three, two)).unwrap();
-    path
 }
 
 /// How one trial went.
@@ -40,18 +25,22 @@ enum Outcome {
     Finished,
 }
 
-fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> Outcome {
-    let before = std::fs::read(input).unwrap();
-    let out = d.join("cut.h5");
-    let mut child = solver()
-        .args(["-q", "run"])
+/// `solver -q run scene --restart input -o out`.
+fn restart_run(scene: &Path, input: &Path, out: &Path) -> Command {
+    let mut c = solver();
+    c.args(["-q", "run"])
         .arg(scene)
         .arg("--restart")
         .arg(input)
         .arg("-o")
-        .arg(&out)
-        .spawn()
-        .unwrap();
+        .arg(out);
+    c
+}
+
+fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> Outcome {
+    let before = std::fs::read(input).unwrap();
+    let out = d.join("cut.h5");
+    let mut child = restart_run(scene, input, &out).spawn().unwrap();
     std::thread::sleep(delay);
     let _ = child.kill();
     let status = child.wait().unwrap();
@@ -66,16 +55,8 @@ fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> 
         // The killed restart's file: the first temporary name its input does not have.
         let own = d.join("cut.h5.2.tmp");
         let from_own = own.exists() && {
-            let o = solver()
-                .args(["-q", "run"])
-                .arg(scene)
-                .arg("--restart")
-                .arg(&own)
-                .arg("-o")
-                .arg(&out)
-                .output()
-                .unwrap();
-            let err = String::from_utf8_lossy(&o.stderr).trim().to_string();
+            let o = restart_run(scene, &own, &out).output().unwrap();
+            let err = stderr_text(&o);
             assert!(
                 o.status.success() || o.status.code() == Some(2),
                 "{delay:?}: {err}"
@@ -88,27 +69,13 @@ fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> 
         if from_own {
             Outcome::FromOwnFile
         } else {
-            let o = solver()
-                .args(["-q", "run"])
-                .arg(scene)
-                .arg("--restart")
-                .arg(input)
-                .arg("-o")
-                .arg(&out)
-                .output()
-                .unwrap();
-            let err = String::from_utf8_lossy(&o.stderr).trim().to_string();
+            let o = restart_run(scene, input, &out).output().unwrap();
+            let err = stderr_text(&o);
             assert!(o.status.success(), "{delay:?}: from the input: {err}");
             Outcome::FromInput(own.exists())
         }
     };
-    let cmp = solver()
-        .args(["post", "compare"])
-        .arg(full)
-        .arg(&out)
-        .output()
-        .unwrap();
-    let report = String::from_utf8_lossy(&cmp.stdout);
+    let (_, report) = restart::post_compare(full, &out);
     assert!(
         report.contains("result: bitwise identical"),
         "{delay:?} ({outcome:?}):\n{report}"
@@ -146,7 +113,8 @@ fn tally(outcomes: &[(Duration, Outcome)]) -> [usize; 4] {
 fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
     let start = Instant::now();
     let d = dir("setup");
-    let scene = scene(&d);
+    // 20 steps of loading, then 10 of sliding, so that the kills fall all over the restart.
+    let scene = scenes::stick_slip_30(&d);
     let full = d.join("full.h5");
     assert!(solver()
         .args(["-q", "run"])
