@@ -155,6 +155,9 @@ fn reach_of(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> (Vec
     (reach_ptr, reach)
 }
 
+/// For each aggregate, the (colour, aggregate) pairs that reach it.
+type SeenBy = Vec<Vec<(u16, u32)>>;
+
 /// Greedy colouring: j takes the lowest colour no aggregate it reaches has seen yet.
 /// Returns the colours, their number and, for each aggregate, the (colour, aggregate)
 /// pairs that reach it.
@@ -162,9 +165,9 @@ fn greedy_colours(
     reach_ptr: &[usize],
     reach: &[u32],
     num_aggs: usize,
-) -> (Vec<u16>, usize, Vec<Vec<(u16, u32)>>) {
+) -> (Vec<u16>, usize, SeenBy) {
     let mut colour = vec![0u16; num_aggs];
-    let mut seen_by: Vec<Vec<(u16, u32)>> = vec![Vec::new(); num_aggs];
+    let mut seen_by: SeenBy = vec![Vec::new(); num_aggs];
     let mut taken: Vec<bool> = Vec::new();
     let mut num_colours = 0usize;
     for j in 0..num_aggs {
