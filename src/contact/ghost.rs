@@ -32,7 +32,22 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
     start: &[Vec3],
 ) -> Vec<MasterSurface<'p>> {
     let npairs = problem.contacts.len();
-    // Bounding box of this rank's slave nodes per pair, and the largest face diameter.
+    let (boxes, mut diameter) = slave_boxes(problem, mesh, u);
+    comm.max_f64(&mut diameter);
+    let all_boxes = comm.all_gather_f64(&boxes);
+    let send = faces_to_send(comm.size(), problem, mesh, u, start, &all_boxes, &diameter);
+    let received = message::all_to_all(comm, &send);
+    let mut faces: Vec<Vec<GhostFace>> = vec![Vec::new(); npairs];
+    for (p, f, current, start) in received.into_iter().flatten() {
+        faces[p].push((f, corners_of(&current), corners_of(&start)));
+    }
+    master_surfaces(problem, faces)
+}
+
+/// Bounding box of this rank's owned slave nodes per pair (lo[3], hi[3]), and the largest
+/// diameter of the master faces it owns per pair.
+fn slave_boxes(problem: &Problem, mesh: &LocalMesh, u: &[Vec3]) -> (Vec<f64>, Vec<f64>) {
+    let npairs = problem.contacts.len();
     let mut boxes = vec![0.0; 6 * npairs];
     let mut diameter = vec![0.0; npairs];
     for (p, pair) in problem.contacts.iter().enumerate() {
@@ -57,9 +72,21 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
             }
         }
     }
-    comm.max_f64(&mut diameter);
-    let all_boxes = comm.all_gather_f64(&boxes);
-    let mut send: Vec<Vec<FaceMessage>> = vec![Vec::new(); comm.size()];
+    (boxes, diameter)
+}
+
+/// For every rank, the owned master faces that reach its slave box (`all_boxes`, 6 numbers
+/// per pair per rank) within the margin.
+fn faces_to_send(
+    size: usize,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    start: &[Vec3],
+    all_boxes: &[Vec<f64>],
+    diameter: &[f64],
+) -> Vec<Vec<FaceMessage>> {
+    let mut send: Vec<Vec<FaceMessage>> = vec![Vec::new(); size];
     for (p, pair) in problem.contacts.iter().enumerate() {
         let pad = margin(pair, diameter[p]);
         for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
@@ -79,12 +106,13 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
             }
         }
     }
-    let received = message::all_to_all(comm, &send);
+    send
+}
+
+/// Each pair's master surface from its received faces, in face order; with small strains
+/// the normals are those of the reference configuration.
+fn master_surfaces<'p>(problem: &'p Problem, faces: Vec<Vec<GhostFace>>) -> Vec<MasterSurface<'p>> {
     let small = problem.body_models.iter().all(|m| !m.material.is_large());
-    let mut faces: Vec<Vec<GhostFace>> = vec![Vec::new(); npairs];
-    for (p, f, current, start) in received.into_iter().flatten() {
-        faces[p].push((f, corners_of(&current), corners_of(&start)));
-    }
     problem
         .contacts
         .iter()

@@ -266,33 +266,9 @@ impl ContactState {
                     .or_else(|| surfaces[p].search(&x));
                 match (index.get(&(s, p)), found) {
                     (Some(&k), found) => {
-                        let a = &mut self.active[k];
-                        if a.mode == Mode::Stick {
-                            continue;
-                        }
-                        match found {
-                            Some(it) => {
-                                // Moving the contact point (also onto a neighbouring face) is
-                                // not a change of the set: the equilibrium query after the
-                                // next model problem judges it. Round-off-sized moves are
-                                // ignored so the loop can settle.
-                                let moved = it.face != a.face
-                                    || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
-                                    || norm(&sub(&it.normal, &a.normal)) > 1e-12;
-                                if moved {
-                                    a.face = it.face;
-                                    a.s = it.s;
-                                    a.normal = it.normal;
-                                }
-                            }
-                            None => {
-                                // Slid out of the search tolerances: no longer in contact.
-                                if !released.contains(&(s, p)) {
-                                    self.released.push((s, p));
-                                }
-                                gone[k] = true;
-                                changed = true;
-                            }
+                        if self.follow(k, found, (s, p), &released) {
+                            gone[k] = true;
+                            changed = true;
                         }
                     }
                     (None, Some(it)) => {
@@ -317,6 +293,46 @@ impl ContactState {
         });
         self.active.extend(added);
         changed
+    }
+
+    /// Follows contact `k` of (slave node, pair) `sp` to what the search found: a sticking
+    /// contact stays, a sliding one moves its contact point, or is released when nothing was
+    /// found. Returns whether it was released.
+    fn follow(
+        &mut self,
+        k: usize,
+        found: Option<Interaction>,
+        sp: (u32, usize),
+        released: &HashSet<(u32, usize)>,
+    ) -> bool {
+        let a = &mut self.active[k];
+        if a.mode == Mode::Stick {
+            return false;
+        }
+        match found {
+            Some(it) => {
+                // Moving the contact point (also onto a neighbouring face) is
+                // not a change of the set: the equilibrium query after the
+                // next model problem judges it. Round-off-sized moves are
+                // ignored so the loop can settle.
+                let moved = it.face != a.face
+                    || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
+                    || norm(&sub(&it.normal, &a.normal)) > 1e-12;
+                if moved {
+                    a.face = it.face;
+                    a.s = it.s;
+                    a.normal = it.normal;
+                }
+                false
+            }
+            None => {
+                // Slid out of the search tolerances: no longer in contact.
+                if !released.contains(&sp) {
+                    self.released.push(sp);
+                }
+                true
+            }
+        }
     }
 
     pub(super) fn released_set(&self) -> HashSet<(u32, usize)> {

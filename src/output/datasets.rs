@@ -6,7 +6,7 @@ use std::path::Path;
 use hdf5::types::VarLenUnicode;
 use hdf5::H5Type;
 
-use super::data::StepOutput;
+use super::data::{StepOutput, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::layout;
 
@@ -210,6 +210,20 @@ impl StepDatasets {
         i: usize,
         step: &StepOutput,
     ) -> Result<(), OutputError> {
+        self.append_plastic_strain(file, p, i, step)?;
+        self.append_fields(p, i, step)?;
+        self.append_stats(p, i, &step.stats)?;
+        append_scalar(&self.time, p, layout::TIME, i, step.time)
+    }
+
+    /// Writes the plastic strain of row `i`, creating its dataset at the first step that has one.
+    fn append_plastic_strain(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        i: usize,
+        step: &StepOutput,
+    ) -> Result<(), OutputError> {
         if !step.plastic_strain.is_empty() {
             if self.plastic_strain.is_none() {
                 let n = step.plastic_strain.len();
@@ -219,7 +233,12 @@ impl StepDatasets {
             let ds = self.plastic_strain.as_ref().expect("created");
             append_per_item(ds, p, layout::PLASTIC_STRAIN, i, &step.plastic_strain)?;
         }
-        let d = &*self;
+        Ok(())
+    }
+
+    /// Writes the nodal and contact fields of row `i`.
+    fn append_fields(&self, p: &Path, i: usize, step: &StepOutput) -> Result<(), OutputError> {
+        let d = self;
         append_rows(
             &d.displacement,
             p,
@@ -243,8 +262,12 @@ impl StepDatasets {
             i,
             &step.contact_status,
         )?;
-        append_per_item(&d.contact_gap, p, layout::CONTACT_GAP, i, &step.contact_gap)?;
-        let s = &step.stats;
+        append_per_item(&d.contact_gap, p, layout::CONTACT_GAP, i, &step.contact_gap)
+    }
+
+    /// Writes the solver statistics of row `i`: the counts, then the real numbers.
+    fn append_stats(&self, p: &Path, i: usize, s: &StepStats) -> Result<(), OutputError> {
+        let d = self;
         let counts = [
             (
                 &d.cg_iterations,
@@ -289,6 +312,6 @@ impl StepDatasets {
         for (ds, name, value) in reals {
             append_scalar(ds, p, name, i, value)?;
         }
-        append_scalar(&d.time, p, layout::TIME, i, step.time)
+        Ok(())
     }
 }

@@ -129,6 +129,14 @@ impl ResultFile {
         let time = r.shape(layout::TIME)?;
         r.expect_shape(layout::TIME, &time, 1, &[None], "[steps]")?;
         r.steps = time[0];
+        r.check_dataset_shapes()?;
+        r.check_stats_lengths()
+    }
+
+    /// The node, element and per-step datasets have their shapes; the per-step ones at least
+    /// the steps that have a time.
+    fn check_dataset_shapes(&self) -> Result<(), OutputError> {
+        let r = self;
         let (n, e) = (Some(r.nodes), Some(r.elements));
         let checks: [(&str, Vec<Option<usize>>, &str); 11] = [
             (layout::NODE_IDS, vec![n], "[nodes]"),
@@ -168,6 +176,12 @@ impl ResultFile {
                 return Err(r.shape_error(name, &shape, &format!("{text} with {} steps", r.steps)));
             }
         }
+        Ok(())
+    }
+
+    /// The other statistics datasets: one value per step, at least the steps that have a time.
+    fn check_stats_lengths(&self) -> Result<(), OutputError> {
+        let r = self;
         for name in [
             layout::STATS_CONTACT_UPDATES,
             layout::STATS_CUTBACKS,

@@ -606,6 +606,14 @@ type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 type DrawResult<'a> =
     Result<(), DrawingAreaErrorKind<<BitMapBackend<'a> as DrawingBackend>::ErrorType>>;
 
+/// The chart of one panel: x and y in f64.
+type Chart<'b, 'a> = ChartContext<
+    'b,
+    BitMapBackend<'a>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Draws one panel of a figure into its area: axes, curves and legend.
 fn draw_panel<'a>(panel: &Panel, area: &Area<'a>, text: bool) -> DrawResult<'a> {
     let all = || panel.curves.iter().flat_map(|c| c.points.iter());
     let xr = padded_range(all().map(|p| p.0), 0.02);
@@ -619,6 +627,21 @@ fn draw_panel<'a>(panel: &Panel, area: &Area<'a>, text: bool) -> DrawResult<'a> 
             .y_label_area_size(90);
     }
     let mut chart = builder.build_cartesian_2d(xr.clone(), yr.clone())?;
+    draw_panel_axes(&mut chart, panel, &xr, &yr, text)?;
+    if draw_curves(&mut chart, panel, text)? {
+        draw_panel_legend(&mut chart, panel.legend)?;
+    }
+    Ok(())
+}
+
+/// The panel's axes: the mesh with ticks and labels, or without text only a frame.
+fn draw_panel_axes<'b, 'a: 'b>(
+    chart: &mut Chart<'b, 'a>,
+    panel: &Panel,
+    xr: &std::ops::Range<f64>,
+    yr: &std::ops::Range<f64>,
+    text: bool,
+) -> DrawResult<'a> {
     if text {
         // A tick at rounding noise around zero reads 0.
         let (xs, ys) = (xr.end - xr.start, yr.end - yr.start);
@@ -637,6 +660,15 @@ fn draw_panel<'a>(panel: &Panel, area: &Area<'a>, text: bool) -> DrawResult<'a> 
             BLACK,
         )))?;
     }
+    Ok(())
+}
+
+/// Draws every curve of the panel with its legend entry; returns whether any has one.
+fn draw_curves<'b, 'a: 'b>(
+    chart: &mut Chart<'b, 'a>,
+    panel: &Panel,
+    text: bool,
+) -> Result<bool, DrawingAreaErrorKind<<BitMapBackend<'a> as DrawingBackend>::ErrorType>> {
     let mut legend = false;
     for c in &panel.curves {
         let color = color(c.color);
@@ -674,23 +706,25 @@ fn draw_panel<'a>(panel: &Panel, area: &Area<'a>, text: bool) -> DrawResult<'a> 
             });
         }
     }
-    if legend {
-        let position = match panel.legend {
-            LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
-            LegendAt::UpperMiddle => SeriesLabelPosition::UpperMiddle,
-            LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
-            LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
-            LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
-        };
-        chart
-            .configure_series_labels()
-            .position(position)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 16))
-            .draw()?;
-    }
-    Ok(())
+    Ok(legend)
+}
+
+/// The legend box, where the panel asks for it.
+fn draw_panel_legend<'b, 'a: 'b>(chart: &mut Chart<'b, 'a>, at: LegendAt) -> DrawResult<'a> {
+    let position = match at {
+        LegendAt::UpperLeft => SeriesLabelPosition::UpperLeft,
+        LegendAt::UpperMiddle => SeriesLabelPosition::UpperMiddle,
+        LegendAt::UpperRight => SeriesLabelPosition::UpperRight,
+        LegendAt::LowerLeft => SeriesLabelPosition::LowerLeft,
+        LegendAt::LowerRight => SeriesLabelPosition::LowerRight,
+    };
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()
 }
 
 #[cfg(test)]

@@ -512,6 +512,30 @@ pub fn render_plot(data: &PlotData, output: &Path, text: bool) -> Result<(), Out
     let mut chart = builder
         .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(|e| err(&e))?;
+    draw_plot_axes(&mut chart, data, &xr, &yr, text).map_err(|e| err(&e))?;
+    draw_plot_series(&mut chart, data, text).map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// The chart of a plot: x and y in f64.
+type PlotChart<'b, 'a> = ChartContext<
+    'b,
+    BitMapBackend<'a>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+/// What drawing into a bitmap can fail with.
+type PlotResult<'a> =
+    Result<(), DrawingAreaErrorKind<<BitMapBackend<'a> as DrawingBackend>::ErrorType>>;
+
+/// The plot's axes: the mesh with ticks and labels, or without text a frame and a grid.
+fn draw_plot_axes<'b, 'a: 'b>(
+    chart: &mut PlotChart<'b, 'a>,
+    data: &PlotData,
+    xr: &std::ops::Range<f64>,
+    yr: &std::ops::Range<f64>,
+    text: bool,
+) -> PlotResult<'a> {
     if text {
         chart
             .configure_mesh()
@@ -519,8 +543,7 @@ pub fn render_plot(data: &PlotData, output: &Path, text: bool) -> Result<(), Out
             .y_desc(data.y_label.as_str())
             .x_label_formatter(&|v| number(*v))
             .y_label_formatter(&|v| number(*v))
-            .draw()
-            .map_err(|e| err(&e))?;
+            .draw()?;
     } else {
         // Frame and a 10 x 10 grid, drawn by hand: the mesh drawing would need a font.
         let grey = RGBColor(220, 220, 220);
@@ -528,36 +551,37 @@ pub fn render_plot(data: &PlotData, output: &Path, text: bool) -> Result<(), Out
             let x = xr.start + (xr.end - xr.start) * f64::from(k) / 10.0;
             let y = yr.start + (yr.end - yr.start) * f64::from(k) / 10.0;
             let style = if k == 0 || k == 10 { BLACK } else { grey };
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(x, yr.start), (x, yr.end)],
-                    style,
-                )))
-                .map_err(|e| err(&e))?;
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(xr.start, y), (xr.end, y)],
-                    style,
-                )))
-                .map_err(|e| err(&e))?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(x, yr.start), (x, yr.end)],
+                style,
+            )))?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(xr.start, y), (xr.end, y)],
+                style,
+            )))?;
         }
     }
+    Ok(())
+}
+
+/// Draws every series (points too when there are few) and, with text, the legend.
+fn draw_plot_series<'b, 'a: 'b>(
+    chart: &mut PlotChart<'b, 'a>,
+    data: &PlotData,
+    text: bool,
+) -> PlotResult<'a> {
     let legend = text && data.series.len() <= 12;
     for (i, s) in data.series.iter().enumerate() {
         let color = Palette99::pick(i).to_rgba();
         let style = ShapeStyle::from(color).stroke_width(2);
         if s.points.len() <= 64 {
-            chart
-                .draw_series(
-                    s.points
-                        .iter()
-                        .map(|&p| Circle::new(p, 3, ShapeStyle::from(color).filled())),
-                )
-                .map_err(|e| err(&e))?;
+            chart.draw_series(
+                s.points
+                    .iter()
+                    .map(|&p| Circle::new(p, 3, ShapeStyle::from(color).filled())),
+            )?;
         }
-        let anno = chart
-            .draw_series(LineSeries::new(s.points.iter().copied(), style))
-            .map_err(|e| err(&e))?;
+        let anno = chart.draw_series(LineSeries::new(s.points.iter().copied(), style))?;
         if legend {
             anno.label(s.label.as_str())
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
@@ -569,9 +593,7 @@ pub fn render_plot(data: &PlotData, output: &Path, text: bool) -> Result<(), Out
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 16))
-            .draw()
-            .map_err(|e| err(&e))?;
+            .draw()?;
     }
-    root.present().map_err(|e| err(&e))?;
     Ok(())
 }

@@ -108,75 +108,94 @@ fn close(set: &mut Vec<u32>, mark: &mut [u32], stamp: u32, next: impl Fn(usize) 
     }
 }
 
+/// reach[reach_ptr[j]..reach_ptr[j + 1]]: the aggregates a probe on aggregate j reaches.
+fn reach_of(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> (Vec<usize>, Vec<u32>) {
+    let n = graph.len();
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); num_aggs];
+    for a in 0..n {
+        members[agg_of[a] as usize].push(a as u32);
+    }
+    let mut mark = vec![u32::MAX; n];
+    let mut amark = vec![u32::MAX; num_aggs];
+    let mut reach_ptr = vec![0usize];
+    let mut reach: Vec<u32> = Vec::new();
+    let mut set: Vec<u32> = Vec::new();
+    for (j, nodes) in members.iter().enumerate() {
+        let stamp = 2 * j as u32;
+        set.clear();
+        for &a in nodes {
+            mark[a as usize] = stamp;
+            set.push(a);
+        }
+        close(&mut set, &mut mark, stamp, |a| ties.slaves(a).to_vec());
+        let stamp2 = stamp + 1;
+        let mut near: Vec<u32> = Vec::with_capacity(set.len() * 8);
+        for &a in &set {
+            if mark[a as usize] != stamp2 {
+                mark[a as usize] = stamp2;
+                near.push(a);
+            }
+            for &b in graph.neighbours(a as usize) {
+                if mark[b as usize] != stamp2 {
+                    mark[b as usize] = stamp2;
+                    near.push(b);
+                }
+            }
+        }
+        close(&mut near, &mut mark, stamp2, |a| ties.masters(a).to_vec());
+        for &a in &near {
+            let k = agg_of[a as usize];
+            if amark[k as usize] != j as u32 {
+                amark[k as usize] = j as u32;
+                reach.push(k);
+            }
+        }
+        reach_ptr.push(reach.len());
+    }
+    (reach_ptr, reach)
+}
+
+/// For each aggregate, the (colour, aggregate) pairs that reach it.
+type SeenBy = Vec<Vec<(u16, u32)>>;
+
+/// Greedy colouring: j takes the lowest colour no aggregate it reaches has seen yet.
+/// Returns the colours, their number and, for each aggregate, the (colour, aggregate)
+/// pairs that reach it.
+fn greedy_colours(
+    reach_ptr: &[usize],
+    reach: &[u32],
+    num_aggs: usize,
+) -> (Vec<u16>, usize, SeenBy) {
+    let mut colour = vec![0u16; num_aggs];
+    let mut seen_by: SeenBy = vec![Vec::new(); num_aggs];
+    let mut taken: Vec<bool> = Vec::new();
+    let mut num_colours = 0usize;
+    for j in 0..num_aggs {
+        taken.iter_mut().for_each(|t| *t = false);
+        let r = &reach[reach_ptr[j]..reach_ptr[j + 1]];
+        for &k in r {
+            for &(c, _) in &seen_by[k as usize] {
+                taken[c as usize] = true;
+            }
+        }
+        let c = taken.iter().position(|&t| !t).unwrap_or(taken.len());
+        if c == taken.len() {
+            taken.push(false);
+            num_colours += 1;
+        }
+        colour[j] = c as u16;
+        for &k in r {
+            seen_by[k as usize].push((c as u16, j as u32));
+        }
+    }
+    (colour, num_colours, seen_by)
+}
+
 impl Colouring {
     /// Colours the aggregates `agg_of` (of every global node) of the node graph with ties.
     pub fn new(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> Self {
-        let n = graph.len();
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); num_aggs];
-        for a in 0..n {
-            members[agg_of[a] as usize].push(a as u32);
-        }
-        // reach[j]: the aggregates a probe on aggregate j reaches.
-        let mut mark = vec![u32::MAX; n];
-        let mut amark = vec![u32::MAX; num_aggs];
-        let mut reach_ptr = vec![0usize];
-        let mut reach: Vec<u32> = Vec::new();
-        let mut set: Vec<u32> = Vec::new();
-        for (j, nodes) in members.iter().enumerate() {
-            let stamp = 2 * j as u32;
-            set.clear();
-            for &a in nodes {
-                mark[a as usize] = stamp;
-                set.push(a);
-            }
-            close(&mut set, &mut mark, stamp, |a| ties.slaves(a).to_vec());
-            let stamp2 = stamp + 1;
-            let mut near: Vec<u32> = Vec::with_capacity(set.len() * 8);
-            for &a in &set {
-                if mark[a as usize] != stamp2 {
-                    mark[a as usize] = stamp2;
-                    near.push(a);
-                }
-                for &b in graph.neighbours(a as usize) {
-                    if mark[b as usize] != stamp2 {
-                        mark[b as usize] = stamp2;
-                        near.push(b);
-                    }
-                }
-            }
-            close(&mut near, &mut mark, stamp2, |a| ties.masters(a).to_vec());
-            for &a in &near {
-                let k = agg_of[a as usize];
-                if amark[k as usize] != j as u32 {
-                    amark[k as usize] = j as u32;
-                    reach.push(k);
-                }
-            }
-            reach_ptr.push(reach.len());
-        }
-        // Greedy colouring: j takes the lowest colour no aggregate it reaches has seen yet.
-        let mut colour = vec![0u16; num_aggs];
-        let mut seen_by: Vec<Vec<(u16, u32)>> = vec![Vec::new(); num_aggs];
-        let mut taken: Vec<bool> = Vec::new();
-        let mut num_colours = 0usize;
-        for j in 0..num_aggs {
-            taken.iter_mut().for_each(|t| *t = false);
-            let r = &reach[reach_ptr[j]..reach_ptr[j + 1]];
-            for &k in r {
-                for &(c, _) in &seen_by[k as usize] {
-                    taken[c as usize] = true;
-                }
-            }
-            let c = taken.iter().position(|&t| !t).unwrap_or(taken.len());
-            if c == taken.len() {
-                taken.push(false);
-                num_colours += 1;
-            }
-            colour[j] = c as u16;
-            for &k in r {
-                seen_by[k as usize].push((c as u16, j as u32));
-            }
-        }
+        let (reach_ptr, reach) = reach_of(graph, agg_of, num_aggs, ties);
+        let (colour, num_colours, seen_by) = greedy_colours(&reach_ptr, &reach, num_aggs);
         let mut seen_ptr = vec![0usize];
         let mut seen = Vec::new();
         let mut by_colour = vec![Vec::new(); num_colours];

@@ -149,26 +149,69 @@ pub struct Verdict {
 pub fn judge(name: &str, runs: &[Run], base: Option<&Res>, logs: &Path) -> Verdict {
     let r1 = &runs[0];
     let mut c = Checks::default();
+    let mut problems = file_problems(r1);
+    let must_stop = MUST_STOP.contains(&name);
+    judge_exit(name, r1, base, must_stop, &mut c, &mut problems);
+    judge_completed_steps(r1, &mut c, &mut problems);
+    let mut kind = if !problems.is_empty() {
+        "FAIL"
+    } else if r1.completed() || must_stop {
+        "pass"
+    } else {
+        "diagnosed stop"
+    };
+    let two = match runs.get(1) {
+        Some(r2) => two_ranks(name, r1, r2, logs, &mut problems),
+        None => "-".into(),
+    };
+    if !problems.is_empty() {
+        kind = "FAIL";
+    }
+    Verdict {
+        kind,
+        checks: c,
+        problems,
+        two,
+    }
+}
+
+/// What is wrong with the 1-rank run's result file itself: unreadable, or not finite.
+fn file_problems(r1: &Run) -> Vec<String> {
     let mut problems = Vec::new();
-    let res = r1.result.as_ref();
     if let Some(e) = &r1.open_error {
         problems.push(format!("result file unreadable: {e}"));
     }
-    if let Some(res) = res {
+    if let Some(res) = r1.result.as_ref() {
         let bad = res.not_finite();
         if !bad.is_empty() {
             problems.push(format!("NaN or infinity in {}", bad.join(", ")));
         }
     }
+    problems
+}
+
+/// Runs check `f`; a check that cannot be evaluated is a problem.
+fn evaluate(
+    c: &mut Checks,
+    problems: &mut Vec<String>,
+    f: &dyn Fn(&mut Checks) -> Result<(), String>,
+) {
+    if let Err(e) = f(c) {
+        problems.push(format!("the check could not be evaluated: {e}"));
+    }
+}
+
+/// Judges the 1-rank run by how it ended: its exit code, its files and its message.
+fn judge_exit(
+    name: &str,
+    r1: &Run,
+    base: Option<&Res>,
+    must_stop: bool,
+    c: &mut Checks,
+    problems: &mut Vec<String>,
+) {
+    let res = r1.result.as_ref();
     let tmp_only = r1.files == [".h5.tmp"];
-    let must_stop = MUST_STOP.contains(&name);
-    let evaluate = |c: &mut Checks,
-                    problems: &mut Vec<String>,
-                    f: &dyn Fn(&mut Checks) -> Result<(), String>| {
-        if let Err(e) = f(c) {
-            problems.push(format!("the check could not be evaluated: {e}"));
-        }
-    };
     match r1.rec.rc.as_deref() {
         None | Some("skipped") | Some("127") => problems.push(format!("not run: {}", r1.message())),
         Some("124") | Some("137") => problems.push(r1.message()),
@@ -176,7 +219,7 @@ pub fn judge(name: &str, runs: &[Run], base: Option<&Res>, logs: &Path) -> Verdi
             if must_stop {
                 problems.push("completed, though the load cannot be carried".into());
             } else if let Some(res) = res {
-                evaluate(&mut c, &mut problems, &|c| checks_of(name, res, c, base));
+                evaluate(c, problems, &|c| checks_of(name, res, c, base));
                 if !c.passed() {
                     problems.push("a check fails".into());
                 }
@@ -211,37 +254,21 @@ pub fn judge(name: &str, runs: &[Run], base: Option<&Res>, logs: &Path) -> Verdi
             }
         )),
     }
-    if let Some(res) = res.filter(|r| !r1.completed() && r.n > 0) {
+}
+
+/// Checks the steps a stopped run did complete: they must still be right.
+fn judge_completed_steps(r1: &Run, c: &mut Checks, problems: &mut Vec<String>) {
+    if let Some(res) = r1.result.as_ref().filter(|r| !r1.completed() && r.n > 0) {
         // The steps that did complete must still be right.
         c.notes.push(format!(
             "{} step(s) completed before the stop (t = {}); the force balance below is that of the last of them",
             res.n,
             n(res.times[res.n - 1])
         ));
-        evaluate(&mut c, &mut problems, &|c| generic(res, c));
+        evaluate(c, problems, &|c| generic(res, c));
         if !c.passed() {
             problems.push("a check of the completed steps fails".into());
         }
-    }
-    let mut kind = if !problems.is_empty() {
-        "FAIL"
-    } else if r1.completed() || must_stop {
-        "pass"
-    } else {
-        "diagnosed stop"
-    };
-    let two = match runs.get(1) {
-        Some(r2) => two_ranks(name, r1, r2, logs, &mut problems),
-        None => "-".into(),
-    };
-    if !problems.is_empty() {
-        kind = "FAIL";
-    }
-    Verdict {
-        kind,
-        checks: c,
-        problems,
-        two,
     }
 }
 

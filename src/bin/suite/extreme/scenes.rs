@@ -268,6 +268,35 @@ fn scaled(
     base: Base,
 ) -> Result<(), String> {
     penetration(r, c, l, s)?;
+    let Some(b) = scaled_base(r, c, base_name, base) else {
+        return Ok(());
+    };
+    let (worst, place) = scaled_fields(r, b, c, base_name, l, s)?;
+    scaled_gap(r, b, c, base_name, l)?;
+    c.check(
+        format!(
+            "scale invariance: u / L, sigma / S, R and f_contact / (S L^2) against {base_name}'s, \
+             max rel. difference (in {place})"
+        ),
+        worst,
+        SCALE,
+    );
+    let counts = |x: &Res| -> Vec<(u64, u64, u64)> {
+        x.stats
+            .iter()
+            .map(|s| (s.cg_iterations, s.contact_updates, s.cutbacks))
+            .collect()
+    };
+    c.report_text(
+        format!("CG iterations, contact updates and cut-backs identical to {base_name}'s"),
+        if counts(b) == counts(r) { "yes" } else { "no" }.into(),
+    );
+    Ok(())
+}
+
+/// The completed result of `base_name` with as many steps as `r`; without one, a failed
+/// check saying why.
+fn scaled_base<'a>(r: &Res, c: &mut Checks, base_name: &str, base: Base<'a>) -> Base<'a> {
     let Some(b) = base.filter(|b| {
         b.path
             .to_string_lossy()
@@ -278,15 +307,27 @@ fn scaled(
             1.0,
             0.0,
         );
-        return Ok(());
+        return None;
     };
     if b.n != r.n {
         c.check(format!("as many steps as {base_name}"), 1.0, 0.0);
-        return Ok(());
+        return None;
     }
+    Some(b)
+}
+
+/// Reports each field's scaled difference from the base's; returns the worst and its field.
+fn scaled_fields(
+    r: &Res,
+    b: &Res,
+    c: &mut Checks,
+    base_name: &str,
+    l: f64,
+    s: f64,
+) -> Result<(f64, &'static str), String> {
     let (mut worst, mut place) = (0.0, "");
     let force = s * l * l;
-    let fields: [(&str, f64, Vec<f64>, Vec<f64>); 4] = [
+    let fields: [(&'static str, f64, Vec<f64>, Vec<f64>); 4] = [
         (
             "displacement",
             l,
@@ -322,10 +363,15 @@ fn scaled(
             d,
         );
         if d >= worst {
-            (worst, place) = (d, name);
+            (worst, place) = (d, *name);
         }
     }
-    // Gaps are round-off around zero: measured against the element size.
+    Ok((worst, place))
+}
+
+/// Reports the gaps' difference from the base's; gaps are round-off around zero, so it is
+/// measured against the element size.
+fn scaled_gap(r: &Res, b: &Res, c: &mut Checks, base_name: &str, l: f64) -> Result<(), String> {
     let mut gap = f64::NEG_INFINITY;
     for k in 0..r.n {
         for (x, y) in b.gap(k)?.iter().zip(&r.gap(k)?) {
@@ -333,24 +379,6 @@ fn scaled(
         }
     }
     c.report(format!("max |gap / L - {base_name}'s| / h"), gap / 0.25);
-    c.check(
-        format!(
-            "scale invariance: u / L, sigma / S, R and f_contact / (S L^2) against {base_name}'s, \
-             max rel. difference (in {place})"
-        ),
-        worst,
-        SCALE,
-    );
-    let counts = |x: &Res| -> Vec<(u64, u64, u64)> {
-        x.stats
-            .iter()
-            .map(|s| (s.cg_iterations, s.contact_updates, s.cutbacks))
-            .collect()
-    };
-    c.report_text(
-        format!("CG iterations, contact updates and cut-backs identical to {base_name}'s"),
-        if counts(b) == counts(r) { "yes" } else { "no" }.into(),
-    );
     Ok(())
 }
 

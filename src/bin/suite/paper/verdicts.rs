@@ -215,54 +215,51 @@ impl Paper {
     pub fn failures(&self) -> Vec<String> {
         let mut failures = Vec::new();
         for name in &self.scenes {
-            let (r1, r2) = self.pair(name);
-            let verdict2 = self.two_ranks(name);
-            let expected = EXPECTED_FAILURE.contains(&name.as_str());
-            if !(verdict2 == "bitwise identical"
-                || (expected
-                    && verdict2.starts_with("failed as on 1 rank")
-                    && verdict2.ends_with("bitwise identical to 1 rank's")))
-            {
-                failures.push(format!("{name}: 2 ranks: {verdict2}"));
-            }
-            if expected {
-                if !(r1.rec.rc_is("0") || r1.rec.rc_is("1")) {
-                    failures.push(format!(
-                        "{name}: the 1-rank run ended with exit {}: {}",
-                        r1.rec.rc.as_deref().unwrap_or("None"),
-                        r1.message()
-                    ));
-                }
-                continue;
-            }
-            if !r1.completed() {
+            self.scene_failures(name, &mut failures);
+        }
+        self.example_failures(&mut failures);
+        failures
+    }
+
+    /// What fails scene `name`: its 2-rank verdict, its 1-rank run and, for a base scene,
+    /// its verification.
+    fn scene_failures(&self, name: &str, failures: &mut Vec<String>) {
+        let (r1, r2) = self.pair(name);
+        let verdict2 = self.two_ranks(name);
+        let expected = EXPECTED_FAILURE.contains(&name);
+        if !(verdict2 == "bitwise identical"
+            || (expected
+                && verdict2.starts_with("failed as on 1 rank")
+                && verdict2.ends_with("bitwise identical to 1 rank's")))
+        {
+            failures.push(format!("{name}: 2 ranks: {verdict2}"));
+        }
+        if expected {
+            if !(r1.rec.rc_is("0") || r1.rec.rc_is("1")) {
                 failures.push(format!(
-                    "{name}: the 1-rank run did not complete: {}",
+                    "{name}: the 1-rank run ended with exit {}: {}",
+                    r1.rec.rc.as_deref().unwrap_or("None"),
                     r1.message()
                 ));
             }
-            if BASE.contains(&name.as_str()) {
-                for r in [r1, r2] {
-                    if r.completed() && r.verify.is_none() {
-                        failures.push(format!(
-                            "{name}: {}-rank result could not be verified: {}",
-                            r.rec.np, r.verify_error
-                        ));
-                    }
-                    if r.completed() {
-                        for c in r.checks().iter().filter(|c| !c.pass) {
-                            failures.push(format!(
-                                "{name}: {} rank(s): check failed: {} = {} (limit {})",
-                                r.rec.np,
-                                c.name,
-                                num(c.value),
-                                num(c.limit)
-                            ));
-                        }
-                    }
-                }
+            return;
+        }
+        if !r1.completed() {
+            failures.push(format!(
+                "{name}: the 1-rank run did not complete: {}",
+                r1.message()
+            ));
+        }
+        if BASE.contains(&name) {
+            for r in [r1, r2] {
+                verification_failures(name, r, failures);
             }
         }
+    }
+
+    /// What fails the Gmsh example and the plastic example: incomplete runs, 2 ranks
+    /// differing, the Hertz comparison failing.
+    fn example_failures(&self, failures: &mut Vec<String>) {
         let (ex1, _) = self.pair(&self.example);
         if !ex1.completed() {
             failures.push(format!(
@@ -297,7 +294,27 @@ impl Paper {
                 self.hertz_txt.lines().last().unwrap_or("no output")
             ));
         }
-        failures
+    }
+}
+
+/// What fails a completed base-scene run: no verification, or a failed check.
+fn verification_failures(name: &str, r: &PaperRun, failures: &mut Vec<String>) {
+    if r.completed() && r.verify.is_none() {
+        failures.push(format!(
+            "{name}: {}-rank result could not be verified: {}",
+            r.rec.np, r.verify_error
+        ));
+    }
+    if r.completed() {
+        for c in r.checks().iter().filter(|c| !c.pass) {
+            failures.push(format!(
+                "{name}: {} rank(s): check failed: {} = {} (limit {})",
+                r.rec.np,
+                c.name,
+                num(c.value),
+                num(c.limit)
+            ));
+        }
     }
 }
 

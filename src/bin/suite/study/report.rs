@@ -122,7 +122,6 @@ fn series_section(w: &mut String, rows: &[Row], out: &Path, label: &str) {
         "| f | tolerance | error | time 1 rank [s] | time 2 ranks [s] | speed-up | CG iterations | contact updates | 2 ranks identical | status |"
     );
     let _ = writeln!(w, "|---|---|---|---|---|---|---|---|---|---|");
-    let mut series: Vec<Series> = Vec::new();
     for r1 in rows.iter().filter(|r| r.series == label && r.ranks == 1) {
         let r2 = rows.iter().find(|r| {
             r.series == label
@@ -156,26 +155,7 @@ fn series_section(w: &mut String, rows: &[Row], out: &Path, label: &str) {
             }
         );
     }
-    // log-log: one curve per tolerance and rank count, points along the refinements.
-    // Zero errors (exact to the last bit) are drawn at 1e-17.
-    for &np in RANKS {
-        for &tol in TOLERANCES {
-            let points: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.series == label && r.ranks == np && r.tolerance == tol)
-                .filter_map(|r| match (r.wall_time, r.error) {
-                    (Some(t), Some(e)) if t > 0.0 => Some((t.log10(), e.max(1e-17).log10())),
-                    _ => None,
-                })
-                .collect();
-            if !points.is_empty() {
-                series.push(Series {
-                    label: format!("tol {tol:.0e}, {np} rank{}", if np > 1 { "s" } else { "" }),
-                    points,
-                });
-            }
-        }
-    }
+    let series = error_time_curves(rows, label);
     let file = format!(
         "{}.png",
         label.replace([' ', '(', ')'], "_").replace("__", "_")
@@ -196,6 +176,32 @@ fn series_section(w: &mut String, rows: &[Row], out: &Path, label: &str) {
         }
     }
 }
+
+/// The log-log curves of series `label`: one per tolerance and rank count, points along the
+/// refinements; zero errors (exact to the last bit) are drawn at 1e-17.
+fn error_time_curves(rows: &[Row], label: &str) -> Vec<Series> {
+    let mut series: Vec<Series> = Vec::new();
+    for &np in RANKS {
+        for &tol in TOLERANCES {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.series == label && r.ranks == np && r.tolerance == tol)
+                .filter_map(|r| match (r.wall_time, r.error) {
+                    (Some(t), Some(e)) if t > 0.0 => Some((t.log10(), e.max(1e-17).log10())),
+                    _ => None,
+                })
+                .collect();
+            if !points.is_empty() {
+                series.push(Series {
+                    label: format!("tol {tol:.0e}, {np} rank{}", if np > 1 { "s" } else { "" }),
+                    points,
+                });
+            }
+        }
+    }
+    series
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
