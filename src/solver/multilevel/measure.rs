@@ -33,9 +33,9 @@ pub fn measure<C: Comm + ?Sized, E>(
     let mut trip: Vec<(u32, u32, f64)> = Vec::new();
     for c in 0..col.num_colours {
         for m in 0..MODES {
-            tr.probe(cons, &col.colour, c, m, owned, buf.v);
+            tr.aggregates.probe(cons, &col.colour, c, m, owned, buf.v);
             apply(buf.v, buf.av)?;
-            tr.restrict(comm, buf.av, buf.coeff);
+            tr.aggregates.restrict(comm, buf.av, buf.coeff);
             for &(k, j) in col.pairs(c) {
                 let (k, j) = (k as usize, j as usize);
                 for l in 0..MODES {

@@ -254,9 +254,11 @@ impl Multilevel {
             for (z, (m, r)) in z.iter_mut().zip(minv.iter().zip(r)) {
                 *z = matvec(m, r);
             }
-            self.transfer.restrict(comm, r, &mut self.b1);
+            self.transfer.aggregates.restrict(comm, r, &mut self.b1);
             h.solve(&self.b1, &mut self.x1);
-            self.transfer.prolong_add(cons, owned, &self.x1, z);
+            self.transfer
+                .aggregates
+                .prolong_add(cons, owned, &self.x1, z);
             return Ok(());
         };
         let mut f = Fine {
@@ -273,9 +275,13 @@ impl Multilevel {
         let (df, tf) = (self.fd.as_flattened_mut(), self.ft.as_flattened_mut());
         cheb.smooth(&mut f, rf, zf, df, tf)?;
         residual(&mut f, r, zf, rf, tf)?;
-        self.transfer.restrict(comm, &self.fr, &mut self.b1);
+        self.transfer
+            .aggregates
+            .restrict(comm, &self.fr, &mut self.b1);
         h.solve(&self.b1, &mut self.x1);
-        self.transfer.prolong_add(cons, owned, &self.x1, z);
+        self.transfer
+            .aggregates
+            .prolong_add(cons, owned, &self.x1, z);
         let (zf, rf) = (z.as_flattened_mut(), self.fr.as_flattened_mut());
         let tf = self.ft.as_flattened_mut();
         residual(&mut f, r, zf, rf, tf)?;

@@ -7,7 +7,6 @@
 use super::aggregation::{aggregate, Graph};
 use super::prolongator::MODES;
 use crate::comm::Comm;
-use crate::constraints::Constraints;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
@@ -28,8 +27,9 @@ pub struct Transfer {
     pub num_aggregates: usize,
     /// Aggregate of every global node.
     pub agg_of: Vec<u32>,
-    /// The aggregates (offsets scaled by each aggregate's size) and their summation plan.
-    aggregates: Aggregates,
+    /// The aggregates (offsets scaled by each aggregate's size): restriction, prolongation
+    /// and probes.
+    pub aggregates: Aggregates,
     pub centre: Vec<Vec3>,
     pub scale: Vec<f64>,
 }
@@ -110,31 +110,5 @@ impl Transfer {
             }
         }
         b
-    }
-
-    /// Q^T r: every aggregate's six coefficients, the same on every rank. Collective.
-    pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, r: &[Vec3], out: &mut [f64]) {
-        self.aggregates.restrict(comm, r, out);
-    }
-
-    /// z += Q y on the owned nodes.
-    pub fn prolong_add(&self, cons: &Constraints, owned: usize, y: &[f64], z: &mut [Vec3]) {
-        self.aggregates.prolong_add(cons, owned, y, z);
-    }
-
-    /// The probe of colour `c` and mode `m` on the owned nodes: mode m of every aggregate
-    /// of that colour (projected on the free directions of constrained nodes); zero on the
-    /// other nodes and the ghosts.
-    #[allow(clippy::too_many_arguments)]
-    pub fn probe(
-        &self,
-        cons: &Constraints,
-        colour: &[u16],
-        c: usize,
-        m: usize,
-        owned: usize,
-        v: &mut [Vec3],
-    ) {
-        self.aggregates.probe(cons, colour, c, m, owned, v);
     }
 }
