@@ -2,6 +2,17 @@
 
 use crate::mesh::GlobalMesh;
 
+/// How a pair's contact constraints are formed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Discretization {
+    /// Each slave node tied to one point of a master face (the paper's).
+    #[default]
+    NodeFace,
+    /// Each slave node's gap weighted over the slave surface against the master faces it
+    /// overlaps (dual Lagrange multiplier basis): exact on non-matching meshes.
+    Mortar,
+}
+
 /// A validated contact pair.
 #[derive(Clone, Debug)]
 pub struct ContactPair {
@@ -15,6 +26,11 @@ pub struct ContactPair {
     pub neighbours: Vec<[Option<(u32, u8)>; 4]>,
     /// Slave nodes, ascending global ids.
     pub slave_nodes: Vec<u32>,
+    /// (element, local face) of each slave face, ascending.
+    pub slave_faces: Vec<(u32, u8)>,
+    /// Global node ids of each slave face, ordered with an outward normal.
+    pub slave_face_nodes: Vec<[u32; 4]>,
+    pub discretization: Discretization,
     /// Coulomb coefficient; 0 is frictionless.
     pub mu: f64,
     pub normal_tolerance: f64,
@@ -26,6 +42,22 @@ pub struct ContactPair {
 }
 
 impl ContactPair {
+    /// The pair with its slave faces and discretization set.
+    pub fn with_slave_faces(
+        mut self,
+        mesh: &GlobalMesh,
+        slave_faces: Vec<(u32, u8)>,
+        discretization: Discretization,
+    ) -> Self {
+        self.slave_face_nodes = slave_faces
+            .iter()
+            .map(|&(e, f)| mesh.face_nodes(e, f))
+            .collect();
+        self.slave_faces = slave_faces;
+        self.discretization = discretization;
+        self
+    }
+
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         name: String,
@@ -73,6 +105,9 @@ impl ContactPair {
             face_nodes,
             neighbours,
             slave_nodes,
+            slave_faces: Vec::new(),
+            slave_face_nodes: Vec::new(),
+            discretization: Discretization::NodeFace,
             mu,
             normal_tolerance,
             tangential_tolerance,

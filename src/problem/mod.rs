@@ -10,7 +10,7 @@ mod contact_pair;
 mod function;
 mod kinematics;
 
-pub use contact_pair::ContactPair;
+pub use contact_pair::{ContactPair, Discretization};
 pub use function::PiecewiseLinear;
 pub use kinematics::Kinematics;
 
@@ -204,8 +204,9 @@ pub fn summary(p: &Problem) -> String {
     for c in &p.contacts {
         let _ = writeln!(
             s,
-            "  contact '{}': {} master faces, {} slave nodes, {}, tolerances normal {:e} tangential {:e} capture {:e}{}",
+            "  contact '{}'{}: {} master faces, {} slave nodes, {}, tolerances normal {:e} tangential {:e} capture {:e}{}",
             c.name,
+            if c.discretization == Discretization::Mortar { " (mortar)" } else { "" },
             c.master_faces.len(),
             c.slave_nodes.len(),
             if c.mu > 0.0 { format!("Coulomb mu = {}", c.mu) } else { "frictionless".into() },

@@ -207,6 +207,9 @@ pub struct ContactDef {
     pub capture_tolerance: Option<f64>,
     /// Normal smoothing width as a fraction of the face size; absent: no smoothing.
     pub smoothing_width: Option<f64>,
+    /// "node_face" (default: each slave node tied to one master point) or "mortar"
+    /// (each slave node's gap weighted over the slave surface against the master faces).
+    pub discretization: Option<String>,
 }
 
 #[derive(Deserialize, Debug, Clone)]

@@ -2,7 +2,7 @@
 //! coefficient and the search tolerances, checked and resolved into the problem's pairs.
 
 use super::*;
-use crate::problem::ContactPair;
+use crate::problem::{ContactPair, Discretization};
 
 /// A pair's search tolerances: normal, tangential, capture, and the smoothing width.
 type Tolerances = (f64, f64, f64, Option<f64>);
@@ -75,6 +75,7 @@ impl Builder {
         self.check_slave_can_move(key, c, mesh, &side_sets[slave], fixed_dirs)?;
         let face_size = mean_face_size(mesh, &master_faces);
         let (normal, tangential, capture, smoothing) = self.tolerances(key, c, face_size)?;
+        let discretization = self.discretization(key, c)?;
         Ok(ContactPair::new(
             name,
             mesh,
@@ -86,7 +87,28 @@ impl Builder {
             capture,
             smoothing,
             face_size,
-        ))
+        )
+        .with_slave_faces(mesh, side_sets[slave].faces.clone(), discretization))
+    }
+
+    /// How the pair's constraints are formed: node-to-face (default) or mortar.
+    fn discretization(&self, key: &str, c: &ContactDef) -> Result<Discretization, SceneError> {
+        match c.discretization.as_deref() {
+            None | Some("node_face") => Ok(Discretization::NodeFace),
+            Some("mortar") => {
+                if c.smoothing_width.is_some() {
+                    return Err(self.err(
+                        format!("{key}.smoothing_width"),
+                        "normal smoothing is for node_face contact; a mortar pair's normals are the slave surface's averaged nodal normals, which are already continuous",
+                    ));
+                }
+                Ok(Discretization::Mortar)
+            }
+            Some(other) => Err(self.err(
+                format!("{key}.discretization"),
+                format!("expected \"node_face\" or \"mortar\", got \"{other}\""),
+            )),
+        }
     }
 
     /// Coulomb's coefficient: 0 when frictionless.
