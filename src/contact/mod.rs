@@ -9,6 +9,7 @@ mod codec;
 pub mod coulomb;
 pub mod enforcement;
 pub mod ghost;
+pub mod mortar;
 mod node_face;
 pub mod project;
 pub mod search;

@@ -1,0 +1,10 @@
+//! Mortar (segment-to-segment) contact with a dual Lagrange multiplier basis: a slave
+//! node's normal constraint is its gap weighted over the slave surface against the master
+//! faces it overlaps, a kinematic row tying the node to several master nodes.
+
+pub mod dual;
+pub mod plane;
+pub mod segment;
+pub mod ties;
+
+pub use ties::{ties, Face, Tie};

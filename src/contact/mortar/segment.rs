@@ -1,0 +1,165 @@
+//! The mortar integrals of one slave face against one master face: both projected onto
+//! the slave face's auxiliary plane, the master's projection clipped to the slave's, the
+//! overlap cut into triangles from its centre and integrated with a rule of degree 5
+//! (exact for the degree-4 integrands of faces that are parallelograms).
+
+use super::dual::dual_shape;
+use super::plane::{clip, inverse_bilinear, polygon_area, Plane, P2, TRIANGLE_RULE};
+use crate::fem::face::shape;
+use crate::math::{cross, dot, Vec3};
+
+/// A master face is overlapped only when its normal opposes the slave face's within this
+/// cosine (about 78 degrees off): faces more oblique project to slivers and are not
+/// surfaces the slave face can rest on.
+const FACING: f64 = -0.2;
+
+/// Overlaps smaller than this fraction of the slave face's projected area are round-off
+/// of faces that only touch along an edge.
+const SLIVER: f64 = 1e-12;
+
+/// A slave face prepared for integration: its plane, in-plane corners and dual basis.
+pub struct SlaveFace {
+    pub plane: Plane,
+    pub corners: [P2; 4],
+    pub dual: [[f64; 4]; 4],
+    /// int N_a over the face (the nodes' areas).
+    pub areas: [f64; 4],
+    /// Heights of the corners above the plane (a warped face's are not all zero).
+    heights: [f64; 4],
+}
+
+impl SlaveFace {
+    pub fn new(x: &[Vec3; 4]) -> Option<SlaveFace> {
+        let plane = Plane::of_face(x)?;
+        let corners = x.map(|c| plane.project(&c));
+        let (dual, areas) = super::dual::coefficients(&corners)?;
+        Some(SlaveFace {
+            plane,
+            corners,
+            dual,
+            areas,
+            heights: x.map(|c| plane.height(&c)),
+        })
+    }
+}
+
+/// The integrals over the overlap: per slave corner a, int Phi_a (`d`) and
+/// int Phi_a N_k of each master corner k (`m`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overlap {
+    pub d: [f64; 4],
+    pub m: [[f64; 4]; 4],
+}
+
+/// Integrates the slave face against the master face with corners `xm` (ordered with
+/// the master's outward normal). None when they do not overlap, do not face each other,
+/// or the master face lies farther than `reach` from the slave face along the normal.
+pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overlap> {
+    let nm = cross(
+        &crate::math::sub(&xm[2], &xm[0]),
+        &crate::math::sub(&xm[3], &xm[1]),
+    );
+    let l = crate::math::norm(&nm);
+    if !(l > 0.0) || dot(&nm, &slave.plane.normal) > FACING * l {
+        return None;
+    }
+    let cm: [P2; 4] = xm.map(|c| slave.plane.project(&c));
+    let hm: [f64; 4] = xm.map(|c| slave.plane.height(&c));
+    let piece = clip(&cm, &slave.corners);
+    let area = polygon_area(&slave.corners);
+    if piece.len() < 3 || polygon_area(&piece).abs() <= SLIVER * area {
+        return None;
+    }
+    let n = piece.len() as f64;
+    let centre = [0, 1].map(|i| piece.iter().map(|p| p[i]).sum::<f64>() / n);
+    // The gap along the normal at the overlap's centre decides whether the faces are
+    // within reach of each other.
+    let sc = inverse_bilinear(&slave.corners, &centre)?;
+    let mc = inverse_bilinear(&cm, &centre)?;
+    let gap = interpolate(&hm, &mc) - interpolate(&slave.heights, &sc);
+    if gap.abs() > reach {
+        return None;
+    }
+    let mut out = Overlap::default();
+    for k in 0..piece.len() {
+        let (p, q) = (piece[k], piece[(k + 1) % piece.len()]);
+        let tri = 0.5 * super::plane::orient(&centre, &p, &q).abs();
+        for (l, w) in TRIANGLE_RULE {
+            let x = [0, 1].map(|i| l[0] * centre[i] + l[1] * p[i] + l[2] * q[i]);
+            let s = inverse_bilinear(&slave.corners, &x)?;
+            let t = inverse_bilinear(&cm, &x)?;
+            let phi = dual_shape(&slave.dual, &s);
+            let nm = shape(t[0], t[1]);
+            for a in 0..4 {
+                let f = tri * w * phi[a];
+                out.d[a] += f;
+                for k in 0..4 {
+                    out.m[a][k] += f * nm[k];
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+fn interpolate(v: &[f64; 4], s: &P2) -> f64 {
+    let n = shape(s[0], s[1]);
+    (0..4).map(|a| n[a] * v[a]).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad(x0: f64, y0: f64, h: f64, z: f64, up: bool) -> [Vec3; 4] {
+        let c = [
+            [x0, y0, z],
+            [x0 + h, y0, z],
+            [x0 + h, y0 + h, z],
+            [x0, y0 + h, z],
+        ];
+        if up {
+            c
+        } else {
+            [c[0], c[3], c[2], c[1]]
+        }
+    }
+
+    #[test]
+    fn a_face_fully_covered_reproduces_its_own_nodes() {
+        // Slave face (outward normal down) under four master faces (outward up) that cover
+        // it in pieces: sum_k m_ak x_k = d_a x_a for a linear field (the patch test).
+        let s = SlaveFace::new(&quad(0.1, 0.2, 0.6, 0.0, false)).unwrap();
+        let mut d = [0.0; 4];
+        let mut mx = [[0.0; 2]; 4];
+        for (x0, y0) in [(0.0, 0.0), (0.45, 0.0), (0.0, 0.45), (0.45, 0.45)] {
+            let xm = quad(x0, y0, 0.45, 0.0, true);
+            let o = integrate(&s, &xm, 1e-3).unwrap();
+            for a in 0..4 {
+                d[a] += o.d[a];
+                for k in 0..4 {
+                    for i in 0..2 {
+                        mx[a][i] += o.m[a][k] * xm[k][i];
+                    }
+                }
+            }
+        }
+        let xs = quad(0.1, 0.2, 0.6, 0.0, false);
+        for a in 0..4 {
+            // Biorthogonality: the overlap is the whole face, int Phi_a = int N_a.
+            assert!((d[a] - s.areas[a]).abs() < 1e-15, "{d:?} {:?}", s.areas);
+            for i in 0..2 {
+                assert!((mx[a][i] / d[a] - xs[a][i]).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn faces_out_of_reach_or_not_facing_are_skipped() {
+        let s = SlaveFace::new(&quad(0.0, 0.0, 1.0, 0.0, false)).unwrap();
+        assert!(integrate(&s, &quad(0.0, 0.0, 1.0, -0.5, true), 0.1).is_none());
+        assert!(integrate(&s, &quad(0.0, 0.0, 1.0, 0.0, false), 0.1).is_none());
+        assert!(integrate(&s, &quad(2.0, 0.0, 1.0, 0.0, true), 0.1).is_none());
+        assert!(integrate(&s, &quad(0.0, 0.0, 1.0, -0.05, true), 0.1).is_some());
+    }
+}

@@ -1,0 +1,139 @@
+//! A mortar pair's slave nodes as kinematic ties: the integrals of every slave face against
+//! the master faces it overlaps, summed per slave node into its weights
+//! w_k = int Phi_j N_k / int Phi_j over master nodes k (they sum to 1), its averaged
+//! normal and its weighted gap. Pure: the caller brings the faces' current positions.
+
+use super::segment::{integrate, SlaveFace};
+use crate::math::{dot, norm, scale, sub, Vec3};
+use std::collections::BTreeMap;
+
+/// A slave node whose overlapped part of its dual basis integrates to less than this
+/// fraction of its area is not tied: its support lies mostly beyond the master surface
+/// (the dual function is negative near the far corners, so the integral falls to zero
+/// and below about a third of an element beyond the master's edge), and its weights
+/// would be large and of mixed sign.
+pub const COVERED: f64 = 0.25;
+
+/// A face with its global node ids and current corner positions.
+#[derive(Clone, Copy, Debug)]
+pub struct Face {
+    pub nodes: [u32; 4],
+    pub x: [Vec3; 4],
+}
+
+/// A slave node's mortar tie.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tie {
+    pub slave: u32,
+    /// Unit normal from the master toward the slave (minus the slave surface's averaged
+    /// outward normal).
+    pub normal: Vec3,
+    /// int Phi_j over the overlapped slave surface: the area the node's multiplier acts on.
+    pub area: f64,
+    /// Master nodes (ascending) and weights.
+    pub masters: Vec<(u32, f64)>,
+    /// The weighted gap, normal . (x_j - sum_k w_k x_k), at the positions given.
+    pub gap: f64,
+}
+
+#[derive(Default)]
+struct Sums {
+    area: f64,
+    full: f64,
+    normal: Vec3,
+    masters: BTreeMap<u32, f64>,
+}
+
+/// The ties of the slave nodes in `wanted` (ascending) from the slave faces and master
+/// faces (each in a fixed order: the sums run in that order, so the result is the same
+/// wherever it is computed), with master faces overlapped up to `reach` along the normal.
+/// `position` gives a node's current position.
+pub fn ties(
+    slave: &[Face],
+    master: &[Face],
+    wanted: &[u32],
+    reach: f64,
+    position: impl Fn(u32) -> Vec3,
+) -> Vec<Tie> {
+    let mut sums: BTreeMap<u32, Sums> = BTreeMap::new();
+    let boxes: Vec<([f64; 3], [f64; 3])> = master.iter().map(|f| bounds(&f.x, 0.0)).collect();
+    for f in slave {
+        let mine: Vec<usize> = (0..4)
+            .filter(|&a| wanted.binary_search(&f.nodes[a]).is_ok())
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let Some(sf) = SlaveFace::new(&f.x) else {
+            continue;
+        };
+        for &a in &mine {
+            let s = sums.entry(f.nodes[a]).or_default();
+            s.full += sf.areas[a];
+            for i in 0..3 {
+                s.normal[i] += sf.areas[a] * sf.plane.normal[i];
+            }
+        }
+        let (lo, hi) = bounds(&f.x, reach);
+        for (m, (mlo, mhi)) in master.iter().zip(&boxes) {
+            if (0..3).any(|i| mlo[i] > hi[i] || mhi[i] < lo[i]) {
+                continue;
+            }
+            let Some(o) = integrate(&sf, &m.x, reach) else {
+                continue;
+            };
+            for &a in &mine {
+                let s = sums.get_mut(&f.nodes[a]).expect("entered above");
+                s.area += o.d[a];
+                for k in 0..4 {
+                    *s.masters.entry(m.nodes[k]).or_insert(0.0) += o.m[a][k];
+                }
+            }
+        }
+    }
+    sums.into_iter()
+        .filter_map(|(j, s)| tie(j, s, &position))
+        .collect()
+}
+
+fn tie(slave: u32, s: Sums, position: &impl Fn(u32) -> Vec3) -> Option<Tie> {
+    let l = norm(&s.normal);
+    if !(s.area > COVERED * s.full) || !(l > 0.0) {
+        return None;
+    }
+    let mut t = Tie {
+        slave,
+        normal: scale(&s.normal, -1.0 / l),
+        area: s.area,
+        masters: s
+            .masters
+            .into_iter()
+            .map(|(k, m)| (k, m / s.area))
+            .filter(|&(_, w)| w != 0.0)
+            .collect(),
+        gap: 0.0,
+    };
+    t.gap = weighted_gap(&t, &position(slave), position);
+    Some(t)
+}
+
+/// The weighted gap of a tie with master positions from `master_position`.
+pub fn weighted_gap(t: &Tie, x: &Vec3, master_position: &impl Fn(u32) -> Vec3) -> f64 {
+    let mut d = *x;
+    for &(k, w) in &t.masters {
+        d = sub(&d, &scale(&master_position(k), w));
+    }
+    dot(&t.normal, &d)
+}
+
+fn bounds(x: &[Vec3; 4], pad: f64) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for c in x {
+        for i in 0..3 {
+            lo[i] = lo[i].min(c[i] - pad);
+            hi[i] = hi[i].max(c[i] + pad);
+        }
+    }
+    (lo, hi)
+}
