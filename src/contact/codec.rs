@@ -126,8 +126,11 @@ impl ContactState {
                 && finite(a)
         };
         let released_ok = |&(s, p): &(u32, usize)| (s as usize) < nodes && p < pairs.len();
-        (active.iter().all(ok) && released.iter().all(released_ok))
-            .then_some(ContactState { active, released })
+        (active.iter().all(ok) && released.iter().all(released_ok)).then_some(ContactState {
+            active,
+            released,
+            ties: Vec::new(),
+        })
     }
 }
 

@@ -6,12 +6,13 @@
 use super::audit::{self, Finding};
 use super::enforcement::{Enforcement, SetEntry, TieSupport};
 use super::ghost;
+use super::mortar::surfaces::Positions;
 use super::state::{new_active, tangents, ContactCounts, ContactState, Mode, PENETRATION_NOISE};
 use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, RowKind, RowSpec};
 use crate::math::{add, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::Problem;
+use crate::problem::{Discretization, Problem};
 use crate::springs::Spring;
 use std::collections::HashSet;
 
@@ -67,11 +68,9 @@ impl Enforcement for ContactState {
             if let Some(s) = mesh.local_node(a.slave) {
                 extra[s] = add(&extra[s], &f);
             }
-            let pair = &problem.contacts[a.pair];
-            let w = crate::fem::face::shape(a.s[0], a.s[1]);
-            for (j, &m) in pair.face_nodes[a.face as usize].iter().enumerate() {
+            for (m, w) in self.masters(problem, a) {
                 if let Some(l) = mesh.local_node(m) {
-                    extra[l] = sub(&extra[l], &scale(&f, w[j]));
+                    extra[l] = sub(&extra[l], &scale(&f, w));
                 }
             }
         }
@@ -155,6 +154,9 @@ impl Enforcement for ContactState {
             self.active.iter().map(|a| (a.slave, a.pair)).collect();
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization == Discretization::Mortar {
+                continue;
+            }
             for &s in &pair.slave_nodes {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
@@ -173,6 +175,7 @@ impl Enforcement for ContactState {
                 }
             }
         }
+        changed |= self.mortar_pairs(comm, problem, mesh, (u, u), false);
         self.share(comm, mesh);
         comm::any(comm, changed)
     }
@@ -197,6 +200,7 @@ impl Enforcement for ContactState {
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         changed |= self.coulomb(problem, mesh, u, start, &surfaces, force_tol);
         changed |= self.search(problem, mesh, u, &surfaces);
+        changed |= self.mortar_pairs(comm, problem, mesh, (u, start), true);
         self.share(comm, mesh);
         comm::any(comm, changed)
     }
@@ -212,7 +216,14 @@ impl Enforcement for ContactState {
     ) -> Vec<(u32, f64)> {
         let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
         let mut out = Vec::new();
+        let positions = self.mortar_positions(comm, problem, mesh, (u, u));
         for (p, pair) in problem.contacts.iter().enumerate() {
+            if let Some(pos) = &positions {
+                if pair.discretization == Discretization::Mortar {
+                    out.extend(pos.ties(problem, p, mesh).iter().map(|t| (t.slave, t.gap)));
+                    continue;
+                }
+            }
             for &s in &pair.slave_nodes {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
@@ -258,7 +269,10 @@ impl Enforcement for ContactState {
 
     fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
         let tie = |a: &super::state::Active| {
-            let master = problem.contacts[a.pair].face_nodes[a.face as usize][0];
+            let master = self.masters(problem, a).first().map_or(
+                problem.contacts[a.pair].face_nodes[a.face as usize][0],
+                |m| m.0,
+            );
             let mut dirs = vec![a.normal];
             if a.mode == Mode::Stick {
                 let (t1, t2) = tangents(&a.normal);
@@ -285,5 +299,44 @@ impl Enforcement for ContactState {
             );
         }
         out + &format!("  released {:?}", self.released())
+    }
+}
+
+impl ContactState {
+    /// The gathered surfaces of the mortar pairs at (current, step-start) displacements;
+    /// None when the problem has no mortar pair. Collective.
+    fn mortar_positions<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        (u, start): (&[Vec3], &[Vec3]),
+    ) -> Option<Positions> {
+        problem
+            .contacts
+            .iter()
+            .any(|p| p.discretization == Discretization::Mortar)
+            .then(|| Positions::gather(comm, problem, mesh, u, start))
+    }
+
+    /// Capture (`follow` false) or the search (true) of every mortar pair. Collective.
+    fn mortar_pairs<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        at: (&[Vec3], &[Vec3]),
+        follow: bool,
+    ) -> bool {
+        let Some(positions) = self.mortar_positions(comm, problem, mesh, at) else {
+            return false;
+        };
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization == Discretization::Mortar {
+                changed |= self.mortar_pass(problem, mesh, p, &positions, follow);
+            }
+        }
+        changed
     }
 }

@@ -6,12 +6,13 @@
 
 use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
 use super::ghost;
+use super::mortar::Tie;
 use super::search::Interaction;
 use crate::comm::{message, Comm};
 use crate::constraints::{Row, RowKind, RowSpec};
 use crate::math::{cross, dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::Problem;
+use crate::problem::{Discretization, Problem};
 use std::collections::{HashMap, HashSet};
 
 /// A gap more negative than this fraction of the face size is a penetration; closer to
@@ -86,6 +87,9 @@ pub struct ContactState {
     /// (slave node, pair) released during the current step: not pulled back in by the
     /// capture tolerance until the next step (a penetrating node is still pushed out).
     pub(super) released: Vec<(u32, usize)>,
+    /// The ties of the active constraints of mortar pairs, ordered by (slave node, pair),
+    /// frozen between contact updates.
+    pub(super) ties: Vec<(usize, Tie)>,
 }
 
 /// A tangent basis of the plane normal to n, chosen deterministically.
@@ -108,6 +112,24 @@ impl ContactState {
         &self.released
     }
 
+    /// The master nodes and weights of an active constraint's master point: the face's
+    /// shape functions at the contact point (node-to-face) or the tie's weights (mortar).
+    pub fn masters(&self, problem: &Problem, a: &Active) -> Vec<(u32, f64)> {
+        let pair = &problem.contacts[a.pair];
+        if pair.discretization == Discretization::Mortar {
+            return self
+                .tie(a.slave, a.pair)
+                .map(|t| t.masters.clone())
+                .unwrap_or_default();
+        }
+        let w = crate::fem::face::shape(a.s[0], a.s[1]);
+        pair.face_nodes[a.face as usize]
+            .iter()
+            .copied()
+            .zip(w)
+            .collect()
+    }
+
     /// The normal rows (`tangents_pass` false) or the stick rows (true) of `rows`.
     pub(super) fn rows_into(
         &self,
@@ -120,19 +142,16 @@ impl ContactState {
             if tangents_pass && a.mode != Mode::Stick {
                 continue;
             }
-            let pair = &problem.contacts[a.pair];
             let Some(slave) = mesh.owned_node(a.slave) else {
                 continue;
             };
-            let nodes = pair.face_nodes[a.face as usize];
-            let w = crate::fem::face::shape(a.s[0], a.s[1]);
-            let masters: Vec<(u32, f64)> = nodes.iter().copied().zip(w).collect();
+            let masters = self.masters(problem, a);
             // Reference offset of the slave from its master point; the rows make the
             // current offset zero along each direction.
             let mut xm = [0.0; 3];
-            for (j, &m) in nodes.iter().enumerate() {
+            for &(m, w) in &masters {
                 for i in 0..3 {
-                    xm[i] += w[j] * problem.mesh.coords[m as usize][i];
+                    xm[i] += w * problem.mesh.coords[m as usize][i];
                 }
             }
             let offset = sub(&problem.mesh.coords[a.slave as usize], &xm);
@@ -175,6 +194,7 @@ impl ContactState {
             }
         }
         self.active = kept;
+        self.prune_ties();
         changed
     }
 
@@ -255,6 +275,9 @@ impl ContactState {
         let mut gone = vec![false; self.active.len()];
         let mut added = Vec::new();
         for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization == Discretization::Mortar {
+                continue;
+            }
             for &s in &pair.slave_nodes {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
@@ -355,9 +378,17 @@ impl ContactState {
                 .filter(|(s, _)| mesh.owned_node(*s).is_some())
                 .copied()
                 .collect();
+            let ties: Vec<(usize, Tie)> = self
+                .ties
+                .iter()
+                .filter(|(_, t)| mesh.owned_node(t.slave).is_some())
+                .cloned()
+                .collect();
             self.active = message::all_gather(comm, &mine);
             self.released = message::all_gather(comm, &released);
+            self.ties = message::all_gather(comm, &ties);
         }
+        self.ties.sort_by_key(|(p, t)| (t.slave, *p));
         self.active.sort_by_key(|a| (a.slave, a.pair));
         self.released.sort_unstable();
         self.released.dedup();

@@ -3,8 +3,10 @@
 //! faces it overlaps, a kinematic row tying the node to several master nodes.
 
 pub mod dual;
+mod enforce;
 pub mod plane;
 pub mod segment;
+pub mod surfaces;
 pub mod ties;
 
 pub use ties::{ties, Face, Tie};

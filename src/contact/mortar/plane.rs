@@ -186,7 +186,8 @@ mod tests {
 
     #[test]
     fn clipping_two_squares_leaves_their_overlap() {
-        let sq = |x0: f64, y0: f64, h: f64| vec![[x0, y0], [x0 + h, y0], [x0 + h, y0 + h], [x0, y0 + h]];
+        let sq =
+            |x0: f64, y0: f64, h: f64| vec![[x0, y0], [x0 + h, y0], [x0 + h, y0 + h], [x0, y0 + h]];
         let c = clip(&sq(0.5, 0.25, 1.0), &sq(0.0, 0.0, 1.0));
         // The overlap is [0.5, 1] x [0.25, 1]: area 0.375 (round-off only).
         assert!((polygon_area(&c) - 0.375).abs() < 1e-15);

@@ -34,6 +34,8 @@ pub struct Tie {
     pub masters: Vec<(u32, f64)>,
     /// The weighted gap, normal . (x_j - sum_k w_k x_k), at the positions given.
     pub gap: f64,
+    /// The master face (index in the slice given) that carries most of the node's weight.
+    pub face: u32,
 }
 
 #[derive(Default)]
@@ -42,6 +44,8 @@ struct Sums {
     full: f64,
     normal: Vec3,
     masters: BTreeMap<u32, f64>,
+    /// (int Phi_j over the overlap with a master face, that face): the largest.
+    best: (f64, u32),
 }
 
 /// The ties of the slave nodes in `wanted` (ascending) from the slave faces and master
@@ -75,7 +79,7 @@ pub fn ties(
             }
         }
         let (lo, hi) = bounds(&f.x, reach);
-        for (m, (mlo, mhi)) in master.iter().zip(&boxes) {
+        for (fm, (m, (mlo, mhi))) in master.iter().zip(&boxes).enumerate() {
             if (0..3).any(|i| mlo[i] > hi[i] || mhi[i] < lo[i]) {
                 continue;
             }
@@ -85,6 +89,9 @@ pub fn ties(
             for &a in &mine {
                 let s = sums.get_mut(&f.nodes[a]).expect("entered above");
                 s.area += o.d[a];
+                if o.d[a] > s.best.0 {
+                    s.best = (o.d[a], fm as u32);
+                }
                 for k in 0..4 {
                     *s.masters.entry(m.nodes[k]).or_insert(0.0) += o.m[a][k];
                 }
@@ -112,6 +119,7 @@ fn tie(slave: u32, s: Sums, position: &impl Fn(u32) -> Vec3) -> Option<Tie> {
             .filter(|&(_, w)| w != 0.0)
             .collect(),
         gap: 0.0,
+        face: s.best.1,
     };
     t.gap = weighted_gap(&t, &position(slave), position);
     Some(t)
@@ -136,4 +144,26 @@ fn bounds(x: &[Vec3; 4], pad: f64) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
+}
+
+impl crate::comm::message::Message for Tie {
+    fn write(&self, w: &mut crate::comm::message::Writer<'_>) {
+        w.id(self.slave);
+        w.reals(&self.normal);
+        w.real(self.area);
+        w.real(self.gap);
+        w.id(self.face);
+        w.put(&self.masters);
+    }
+
+    fn read(r: &mut crate::comm::message::Reader) -> Option<Self> {
+        Some(Tie {
+            slave: r.id()?,
+            normal: r.reals()?,
+            area: r.real()?,
+            gap: r.real()?,
+            face: r.id()?,
+            masters: r.get()?,
+        })
+    }
 }

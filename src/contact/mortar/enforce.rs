@@ -1,0 +1,110 @@
+//! Mortar pairs in the contact set: the ties of the active slave nodes (frozen while a
+//! model problem is solved, refreshed at each contact update from the deformed
+//! surfaces), capture by the weighted gap, and release of nodes whose support has left
+//! the master surface. Everything else (release of tensile nodes, the forces read back,
+//! the loop) is the contact set's, shared with node-to-face pairs.
+
+use super::surfaces::Positions;
+use super::ties::Tie;
+use crate::contact::search::Interaction;
+use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+use std::collections::HashSet;
+
+impl ContactState {
+    /// The frozen tie of (slave node, pair).
+    pub fn tie(&self, slave: u32, pair: usize) -> Option<&Tie> {
+        self.ties
+            .binary_search_by_key(&(slave, pair), |(p, t)| (t.slave, *p))
+            .ok()
+            .map(|i| &self.ties[i].1)
+    }
+
+    /// Mortar pair `p` at the gathered positions, for the slave nodes this rank owns: an
+    /// active node takes its tie at these positions (`follow`; a node whose support left
+    /// the master surface is released), a node not in contact whose weighted gap
+    /// penetrates, or closes within the capture tolerance, is captured. Returns whether
+    /// the set changed.
+    pub(in crate::contact) fn mortar_pass(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        p: usize,
+        positions: &Positions,
+        follow: bool,
+    ) -> bool {
+        let pair = &problem.contacts[p];
+        let released: HashSet<(u32, usize)> = self.released.iter().copied().collect();
+        let ties = positions.ties(problem, p, mesh);
+        let mut changed = false;
+        let mut found = HashSet::new();
+        for t in ties {
+            found.insert(t.slave);
+            let k = self
+                .active
+                .iter()
+                .position(|a| a.slave == t.slave && a.pair == p);
+            match k {
+                Some(k) => {
+                    if follow && self.active[k].mode != Mode::Stick {
+                        self.active[k].normal = t.normal;
+                        self.active[k].face = t.face;
+                        self.set_tie(p, t);
+                    }
+                }
+                None => {
+                    let penetrates = t.gap < -PENETRATION_NOISE * pair.face_size;
+                    if penetrates
+                        || (t.gap <= pair.capture_tolerance && !released.contains(&(t.slave, p)))
+                    {
+                        let it = Interaction {
+                            face: t.face,
+                            s: [0.0, 0.0],
+                            gap: t.gap,
+                            normal: t.normal,
+                        };
+                        self.active.push(new_active(p, t.slave, &it, pair.mu));
+                        self.set_tie(p, t);
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if follow {
+            // Owned active nodes of the pair without a tie slid off the master surface.
+            let gone: Vec<u32> = self
+                .active
+                .iter()
+                .filter(|a| a.pair == p && mesh.owned_node(a.slave).is_some())
+                .filter(|a| !found.contains(&a.slave))
+                .map(|a| a.slave)
+                .collect();
+            for s in gone {
+                self.active.retain(|a| !(a.pair == p && a.slave == s));
+                self.ties.retain(|(q, t)| !(*q == p && t.slave == s));
+                if !self.released.contains(&(s, p)) {
+                    self.released.push((s, p));
+                }
+                changed = true;
+            }
+        }
+        changed
+    }
+
+    fn set_tie(&mut self, p: usize, t: Tie) {
+        match self
+            .ties
+            .binary_search_by_key(&(t.slave, p), |(q, u)| (u.slave, *q))
+        {
+            Ok(i) => self.ties[i].1 = t,
+            Err(i) => self.ties.insert(i, (p, t)),
+        }
+    }
+
+    /// Drops the ties of nodes no longer in the set.
+    pub(in crate::contact) fn prune_ties(&mut self) {
+        let live: HashSet<(u32, usize)> = self.active.iter().map(|a| (a.slave, a.pair)).collect();
+        self.ties.retain(|(p, t)| live.contains(&(t.slave, *p)));
+    }
+}
