@@ -3,7 +3,7 @@
 //! friction force's direction (a return mapping with the node's secant stiffness).
 
 use super::search::MasterSurface;
-use super::slip::{driven_slip, friction_direction, secant_stiffness, SLIP_NOISE};
+use super::slip::{friction_direction, secant_stiffness, SLIP_NOISE};
 use super::state::{Active, Mode};
 use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
@@ -37,15 +37,13 @@ pub(super) fn step_slip(
     Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
 }
 
-/// A sticking node: the onset of slip, or slip driven by prescribed motion. Returns
-/// whether it starts to slip.
+/// A sticking node: the onset of slip, or slip `driven` by prescribed motion (see
+/// `driven_slip`). Returns whether it starts to slip.
 pub(super) fn judge_stick(
     a: &mut Active,
     problem: &Problem,
-    mesh: &LocalMesh,
-    u: &[Vec3],
-    surface: &MasterSurface,
     measured: Option<Vec3>,
+    driven: Option<Vec3>,
     force_tol: f64,
 ) -> bool {
     let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
@@ -60,7 +58,7 @@ pub(super) fn judge_stick(
         };
         return true;
     }
-    if let Some(d) = driven_slip(surface, problem, mesh, u, a) {
+    if let Some(d) = driven {
         // Prescribed motion (or another tie) moved the node along the master from its
         // stick point: it slips, the friction force against the slip, whatever force the
         // stick carried (the driving rows took it).

@@ -175,7 +175,8 @@ impl Enforcement for ContactState {
                 }
             }
         }
-        changed |= self.mortar_pairs(comm, problem, mesh, (u, u), false);
+        let positions = self.mortar_positions(comm, problem, mesh, (u, u));
+        changed |= self.mortar_pairs(problem, mesh, positions.as_ref(), false);
         self.share(comm, mesh);
         comm::any(comm, changed)
     }
@@ -198,9 +199,11 @@ impl Enforcement for ContactState {
     ) -> bool {
         let mut changed = self.release_tensile(force_tol);
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
-        changed |= self.coulomb(problem, mesh, u, start, &surfaces, force_tol);
+        let positions = self.mortar_positions(comm, problem, mesh, (u, start));
+        let pos = positions.as_ref();
+        changed |= self.coulomb(problem, mesh, u, start, &surfaces, pos, force_tol);
         changed |= self.search(problem, mesh, u, &surfaces);
-        changed |= self.mortar_pairs(comm, problem, mesh, (u, start), true);
+        changed |= self.mortar_pairs(problem, mesh, pos, true);
         self.share(comm, mesh);
         comm::any(comm, changed)
     }
@@ -319,22 +322,22 @@ impl ContactState {
             .then(|| Positions::gather(comm, problem, mesh, u, start))
     }
 
-    /// Capture (`follow` false) or the search (true) of every mortar pair. Collective.
-    fn mortar_pairs<C: Comm + ?Sized>(
+    /// Capture (`follow` false) or the search (true) of every mortar pair at the
+    /// gathered `positions`.
+    fn mortar_pairs(
         &mut self,
-        comm: &C,
         problem: &Problem,
         mesh: &LocalMesh,
-        at: (&[Vec3], &[Vec3]),
+        positions: Option<&Positions>,
         follow: bool,
     ) -> bool {
-        let Some(positions) = self.mortar_positions(comm, problem, mesh, at) else {
+        let Some(positions) = positions else {
             return false;
         };
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
             if pair.discretization == Discretization::Mortar {
-                changed |= self.mortar_pass(problem, mesh, p, &positions, follow);
+                changed |= self.mortar_pass(problem, mesh, p, positions, follow);
             }
         }
         changed

@@ -5,6 +5,9 @@
 //! (pull). Gap removal happens when the new constraint rows are imposed.
 
 use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
+use super::mortar::enforce::{mortar_driven_slip, mortar_step_slip};
+use super::mortar::surfaces::Positions;
+use super::slip::{driven_slip, SLIP_NOISE};
 use super::ghost;
 use super::mortar::Tie;
 use super::search::Interaction;
@@ -161,12 +164,18 @@ impl ContactState {
             } else {
                 vec![(0, a.normal)]
             };
+            // A sticking mortar node is held where its tie put it relative to its
+            // master point (a node-to-face tie point is the node's projection: zero).
+            let held = match self.tie(a.slave, a.pair) {
+                Some(t) if tangents_pass => t.offset,
+                _ => [0.0; 3],
+            };
             for (c, dir) in dirs {
                 out.push(RowSpec {
                     node: slave,
                     row: Row {
                         dir,
-                        value: -dot(&dir, &offset),
+                        value: dot(&dir, &held) - dot(&dir, &offset),
                         masters: masters.clone(),
                         kind: RowKind::Contact {
                             constraint: k,
@@ -208,6 +217,7 @@ impl ContactState {
         u: &[Vec3],
         start: &[Vec3],
         surfaces: &[super::search::MasterSurface],
+        positions: Option<&Positions>,
         force_tol: f64,
     ) -> bool {
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
@@ -230,16 +240,32 @@ impl ContactState {
             .iter()
             .any(|a| a.mode == Mode::Stick && exceeds(a, problem.contacts[a.pair].mu, force_tol));
         let judge_reversal = slipping_settled && !onset;
+        // The step's slip and the slip prescribed motion drives, of each node (on the rank
+        // that owns it): along a master face's point, or a mortar tie's master point.
+        let noise = |a: &Active| SLIP_NOISE * problem.contacts[a.pair].face_size;
+        let slips: Vec<(Option<Vec3>, Option<Vec3>)> = self
+            .active
+            .iter()
+            .map(|a| match (a.mode, self.tie(a.slave, a.pair), positions) {
+                (Mode::Free, _, _) => (None, None),
+                (_, Some(t), Some(pos)) => (
+                    mortar_step_slip(a, t, mesh, pos),
+                    mortar_driven_slip(a, t, mesh, pos, noise(a)),
+                ),
+                _ => (
+                    step_slip(a, mesh, u, start, &surfaces[a.pair]),
+                    driven_slip(&surfaces[a.pair], problem, mesh, u, a),
+                ),
+            })
+            .collect();
         let mut changed = false;
-        for a in self.active.iter_mut() {
-            let surface = &surfaces[a.pair];
-            let measured = match a.mode {
-                Mode::Free => None,
-                _ => step_slip(a, mesh, u, start, surface),
-            };
+        let mut resticks = Vec::new();
+        for (k, a) in self.active.iter_mut().enumerate() {
+            let (measured, driven) = slips[k];
+            let was_slipping = matches!(a.mode, Mode::Slip { .. });
             changed |= match a.mode {
                 Mode::Free => false,
-                Mode::Stick => judge_stick(a, problem, mesh, u, surface, measured, force_tol),
+                Mode::Stick => judge_stick(a, problem, measured, driven, force_tol),
                 Mode::Slip { dir, magnitude } => match measured {
                     Some(slip) => {
                         let pair = &problem.contacts[a.pair];
@@ -248,6 +274,14 @@ impl ContactState {
                     None => false,
                 },
             };
+            if was_slipping && a.mode == Mode::Stick {
+                resticks.push(k);
+            }
+        }
+        if let Some(pos) = positions {
+            for k in resticks {
+                self.restick_mortar(k, mesh, pos);
+            }
         }
         changed
     }

@@ -5,7 +5,9 @@
 //! the loop) is the contact set's, shared with node-to-face pairs.
 
 use super::surfaces::Positions;
-use super::ties::Tie;
+use super::ties::{relative, Tie};
+use crate::contact::state::Active;
+use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::contact::search::Interaction;
 use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
 use crate::mesh::local::LocalMesh;
@@ -107,4 +109,62 @@ impl ContactState {
         let live: HashSet<(u32, usize)> = self.active.iter().map(|a| (a.slave, a.pair)).collect();
         self.ties.retain(|(p, t)| live.contains(&(t.slave, *p)));
     }
+}
+
+impl ContactState {
+    /// A mortar node that sticks again after slipping is held where the step began
+    /// relative to its master point (as a node-to-face node sticks at its step-start
+    /// point): its tie's offset becomes the one at the step-start positions.
+    pub(in crate::contact) fn restick_mortar(
+        &mut self,
+        k: usize,
+        mesh: &LocalMesh,
+        positions: &Positions,
+    ) {
+        let (slave, pair) = (self.active[k].slave, self.active[k].pair);
+        if mesh.owned_node(slave).is_none() {
+            return;
+        }
+        if let Ok(i) = self
+            .ties
+            .binary_search_by_key(&(slave, pair), |(q, t)| (t.slave, *q))
+        {
+            let t = &mut self.ties[i].1;
+            t.offset = relative(t, &positions.start(slave), &|g| positions.start(g));
+        }
+    }
+}
+
+/// The tangential part of `d` for the constraint's normal.
+fn tangential(a: &Active, d: &Vec3) -> Vec3 {
+    sub(d, &scale(&a.normal, dot(d, &a.normal)))
+}
+
+/// The slip since the start of the step of a mortar node relative to its master point
+/// (the tie's weights applied to the step's master motion), on the rank that owns it.
+pub(in crate::contact) fn mortar_step_slip(
+    a: &Active,
+    t: &Tie,
+    mesh: &LocalMesh,
+    positions: &Positions,
+) -> Option<Vec3> {
+    mesh.owned_node(a.slave)?;
+    let now = relative(t, &positions.now(a.slave), &|g| positions.now(g));
+    let then = relative(t, &positions.start(a.slave), &|g| positions.start(g));
+    Some(tangential(a, &sub(&now, &then)))
+}
+
+/// How far a sticking mortar node sits from where its tie holds it along the master,
+/// when more than `noise` (see `driven_slip`), on the rank that owns it.
+pub(in crate::contact) fn mortar_driven_slip(
+    a: &Active,
+    t: &Tie,
+    mesh: &LocalMesh,
+    positions: &Positions,
+    noise: f64,
+) -> Option<Vec3> {
+    mesh.owned_node(a.slave)?;
+    let now = relative(t, &positions.now(a.slave), &|g| positions.now(g));
+    let d = tangential(a, &sub(&now, &t.offset));
+    (norm(&d) > noise).then_some(d)
 }

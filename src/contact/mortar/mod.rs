@@ -3,7 +3,7 @@
 //! faces it overlaps, a kinematic row tying the node to several master nodes.
 
 pub mod dual;
-mod enforce;
+pub(super) mod enforce;
 pub mod plane;
 pub mod segment;
 pub mod surfaces;

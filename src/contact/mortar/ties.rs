@@ -36,6 +36,10 @@ pub struct Tie {
     pub gap: f64,
     /// The master face (index in the slice given) that carries most of the node's weight.
     pub face: u32,
+    /// x_j - sum_k w_k x_k at the positions the tie was made at (or, for a node that
+    /// sticks again, at the start of the step): the tangential part is where a sticking
+    /// node is held relative to its master point.
+    pub offset: Vec3,
 }
 
 #[derive(Default)]
@@ -120,18 +124,21 @@ fn tie(slave: u32, s: Sums, position: &impl Fn(u32) -> Vec3) -> Option<Tie> {
             .collect(),
         gap: 0.0,
         face: s.best.1,
+        offset: [0.0; 3],
     };
-    t.gap = weighted_gap(&t, &position(slave), position);
+    t.offset = relative(&t, &position(slave), position);
+    t.gap = dot(&t.normal, &t.offset);
     Some(t)
 }
 
-/// The weighted gap of a tie with master positions from `master_position`.
-pub fn weighted_gap(t: &Tie, x: &Vec3, master_position: &impl Fn(u32) -> Vec3) -> f64 {
+/// The slave node at `x` relative to its master point, x - sum_k w_k x_k, with master
+/// positions from `master_position`.
+pub fn relative(t: &Tie, x: &Vec3, master_position: &impl Fn(u32) -> Vec3) -> Vec3 {
     let mut d = *x;
     for &(k, w) in &t.masters {
         d = sub(&d, &scale(&master_position(k), w));
     }
-    dot(&t.normal, &d)
+    d
 }
 
 fn bounds(x: &[Vec3; 4], pad: f64) -> ([f64; 3], [f64; 3]) {
@@ -153,6 +160,7 @@ impl crate::comm::message::Message for Tie {
         w.real(self.area);
         w.real(self.gap);
         w.id(self.face);
+        w.reals(&self.offset);
         w.put(&self.masters);
     }
 
@@ -163,6 +171,7 @@ impl crate::comm::message::Message for Tie {
             area: r.real()?,
             gap: r.real()?,
             face: r.id()?,
+            offset: r.reals()?,
             masters: r.get()?,
         })
     }
