@@ -109,10 +109,16 @@ fn faces_to_send(
     send
 }
 
+/// Whether contact directions are those of the undeformed master surface: with small
+/// strains in every body, as linear theory has them.
+pub fn reference_normals(problem: &Problem) -> bool {
+    problem.body_models.iter().all(|m| !m.material.is_large())
+}
+
 /// Each pair's master surface from its received faces, in face order; with small strains
 /// the normals are those of the reference configuration.
 fn master_surfaces<'p>(problem: &'p Problem, faces: Vec<Vec<GhostFace>>) -> Vec<MasterSurface<'p>> {
-    let small = problem.body_models.iter().all(|m| !m.material.is_large());
+    let small = reference_normals(problem);
     problem
         .contacts
         .iter()

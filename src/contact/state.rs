@@ -5,12 +5,12 @@
 //! (pull). Gap removal happens when the new constraint rows are imposed.
 
 use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
+use super::ghost;
 use super::mortar::enforce::{mortar_driven_slip, mortar_step_slip};
 use super::mortar::surfaces::Positions;
-use super::slip::{driven_slip, SLIP_NOISE};
-use super::ghost;
 use super::mortar::Tie;
 use super::search::Interaction;
+use super::slip::{driven_slip, SLIP_NOISE};
 use crate::comm::{message, Comm};
 use crate::constraints::{Row, RowKind, RowSpec};
 use crate::math::{cross, dot, norm, scale, sub, Vec3};

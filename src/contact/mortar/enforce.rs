@@ -6,10 +6,10 @@
 
 use super::surfaces::Positions;
 use super::ties::{relative, Tie};
-use crate::contact::state::Active;
-use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::contact::search::Interaction;
+use crate::contact::state::Active;
 use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
+use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::HashSet;
@@ -49,7 +49,11 @@ impl ContactState {
                 .position(|a| a.slave == t.slave && a.pair == p);
             match k {
                 Some(k) => {
-                    if follow && self.active[k].mode != Mode::Stick {
+                    // A sliding node takes its tie at the new positions (not a change of
+                    // the set: the equilibrium query judges it). Round-off-sized changes
+                    // are ignored so the loop can settle.
+                    let moved = self.tie(t.slave, p).is_none_or(|old| moved(old, &t));
+                    if follow && self.active[k].mode != Mode::Stick && moved {
                         self.active[k].normal = t.normal;
                         self.active[k].face = t.face;
                         self.set_tie(p, t);
@@ -133,6 +137,19 @@ impl ContactState {
             t.offset = relative(t, &positions.start(slave), &|g| positions.start(g));
         }
     }
+}
+
+/// Whether a tie at new positions differs from the frozen one by more than round-off:
+/// another set of master nodes, a weight by more than 1e-12, or the normal turned by
+/// more than 1e-12.
+fn moved(old: &Tie, new: &Tie) -> bool {
+    old.masters.len() != new.masters.len()
+        || old
+            .masters
+            .iter()
+            .zip(&new.masters)
+            .any(|(a, b)| a.0 != b.0 || (a.1 - b.1).abs() > 1e-12)
+        || norm(&sub(&old.normal, &new.normal)) > 1e-12
 }
 
 /// The tangential part of `d` for the constraint's normal.

@@ -43,11 +43,12 @@ impl SlaveFace {
     }
 }
 
-/// The integrals over the overlap: per slave corner a, int Phi_a (`d`) and
-/// int Phi_a N_k of each master corner k (`m`).
+/// The integrals over the overlap: per slave corner a, int Phi_a (`d`), int N_a (`n`)
+/// and int Phi_a N_k of each master corner k (`m`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Overlap {
     pub d: [f64; 4],
+    pub n: [f64; 4],
     pub m: [[f64; 4]; 4],
 }
 
@@ -89,10 +90,12 @@ pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overla
             let s = inverse_bilinear(&slave.corners, &x)?;
             let t = inverse_bilinear(&cm, &x)?;
             let phi = dual_shape(&slave.dual, &s);
+            let ns = shape(s[0], s[1]);
             let nm = shape(t[0], t[1]);
             for a in 0..4 {
                 let f = tri * w * phi[a];
                 out.d[a] += f;
+                out.n[a] += tri * w * ns[a];
                 for k in 0..4 {
                     out.m[a][k] += f * nm[k];
                 }

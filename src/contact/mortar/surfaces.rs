@@ -79,12 +79,13 @@ impl Positions {
     /// The ties, at the current positions, of pair `p`'s slave nodes this rank owns.
     pub fn ties(&self, problem: &Problem, p: usize, mesh: &LocalMesh) -> Vec<Tie> {
         let pair = &problem.contacts[p];
+        let small = crate::contact::ghost::reference_normals(problem);
         let faces = |nodes: &[[u32; 4]]| -> Vec<Face> {
             nodes
                 .iter()
-                .map(|&n| Face {
-                    nodes: n,
-                    x: n.map(|g| self.now(g)),
+                .map(|&n| {
+                    let reference = small.then(|| n.map(|g| problem.mesh.coords[g as usize]));
+                    Face::new(n, n.map(|g| self.now(g)), reference)
                 })
                 .collect()
         };

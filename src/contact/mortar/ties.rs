@@ -14,19 +14,39 @@ use std::collections::BTreeMap;
 /// would be large and of mixed sign.
 pub const COVERED: f64 = 0.25;
 
-/// A face with its global node ids and current corner positions.
+/// A face with its global node ids, current corner positions and the unit outward normal
+/// its constraints take (a master face's; unused for a slave face).
 #[derive(Clone, Copy, Debug)]
 pub struct Face {
     pub nodes: [u32; 4],
     pub x: [Vec3; 4],
+    pub normal: Vec3,
+}
+
+impl Face {
+    /// The face with the normal of the corners `x` (current), or of `reference`
+    /// (small kinematics: the directions of linear theory, as node-to-face contact).
+    pub fn new(nodes: [u32; 4], x: [Vec3; 4], reference: Option<[Vec3; 4]>) -> Face {
+        let c = reference.unwrap_or(x);
+        let n = crate::math::cross(&sub(&c[2], &c[0]), &sub(&c[3], &c[1]));
+        Face {
+            nodes,
+            x,
+            normal: scale(&n, 1.0 / norm(&n)),
+        }
+    }
 }
 
 /// A slave node's mortar tie.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tie {
     pub slave: u32,
-    /// Unit normal from the master toward the slave (minus the slave surface's averaged
-    /// outward normal).
+    /// Unit normal from the master toward the slave: the master faces' outward normals
+    /// averaged over the node's support (weighted by the integral of its standard shape
+    /// function over each overlap). Along the master's normals, as node-to-face contact,
+    /// so that a flat master gives one fixed normal however the slave deforms (the slave's
+    /// own normals would turn with it, and the set would settle only as that iteration
+    /// converges).
     pub normal: Vec3,
     /// int Phi_j over the overlapped slave surface: the area the node's multiplier acts on.
     pub area: f64,
@@ -76,11 +96,7 @@ pub fn ties(
             continue;
         };
         for &a in &mine {
-            let s = sums.entry(f.nodes[a]).or_default();
-            s.full += sf.areas[a];
-            for i in 0..3 {
-                s.normal[i] += sf.areas[a] * sf.plane.normal[i];
-            }
+            sums.entry(f.nodes[a]).or_default().full += sf.areas[a];
         }
         let (lo, hi) = bounds(&f.x, reach);
         for (fm, (m, (mlo, mhi))) in master.iter().zip(&boxes).enumerate() {
@@ -93,6 +109,9 @@ pub fn ties(
             for &a in &mine {
                 let s = sums.get_mut(&f.nodes[a]).expect("entered above");
                 s.area += o.d[a];
+                for i in 0..3 {
+                    s.normal[i] += o.n[a] * m.normal[i];
+                }
                 if o.d[a] > s.best.0 {
                     s.best = (o.d[a], fm as u32);
                 }
@@ -114,7 +133,7 @@ fn tie(slave: u32, s: Sums, position: &impl Fn(u32) -> Vec3) -> Option<Tie> {
     }
     let mut t = Tie {
         slave,
-        normal: scale(&s.normal, -1.0 / l),
+        normal: scale(&s.normal, 1.0 / l),
         area: s.area,
         masters: s
             .masters
