@@ -2,8 +2,10 @@
 //! ranks when the state is made whole, and stored in the restart file), and the whole state
 //! for a restart, read back checked against the problem.
 
+use super::mortar::Tie;
 use super::state::{Active, ContactState, Mode};
 use crate::comm::message::{self, Message, Reader, Writer};
+use crate::problem::Discretization;
 use crate::problem::Problem;
 
 /// Words of one active constraint (the restart file's layout): pair, slave, face, s (2),
@@ -101,18 +103,27 @@ impl Message for Active {
 }
 
 impl ContactState {
-    /// The whole state as words (active constraints, released (slave, pair) entries), for
-    /// a restart.
-    pub fn encode(&self) -> (Vec<f64>, Vec<f64>) {
+    /// The whole state as words (active constraints, released (slave, pair) entries,
+    /// mortar ties), for a restart.
+    pub fn encode(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let active = message::encode(&self.active);
         debug_assert_eq!(active.len(), ACTIVE_WORDS * self.active.len());
-        (active, message::encode(&self.released))
+        (
+            active,
+            message::encode(&self.released),
+            message::encode(&self.ties),
+        )
     }
 
     /// The state `encode` wrote; None when the words do not describe constraints of this
     /// problem (a malformed entry, a pair, node or face that does not exist, a value that
     /// is not finite).
-    pub fn decode(problem: &Problem, active: &[f64], released: &[f64]) -> Option<Self> {
+    pub fn decode(
+        problem: &Problem,
+        active: &[f64],
+        released: &[f64],
+        ties: &[f64],
+    ) -> Option<Self> {
         let nodes = problem.mesh.num_nodes();
         let pairs = &problem.contacts;
         let face_ok = |p: usize, f: u32| (f as usize) < pairs[p].master_faces.len();
@@ -126,10 +137,28 @@ impl ContactState {
                 && finite(a)
         };
         let released_ok = |&(s, p): &(u32, usize)| (s as usize) < nodes && p < pairs.len();
-        (active.iter().all(ok) && released.iter().all(released_ok)).then_some(ContactState {
+        let ties: Vec<(usize, Tie)> = message::decode(ties)?;
+        // Every active constraint of a mortar pair has its tie, and every tie a constraint.
+        let mortar = |p: usize| pairs[p].discretization == Discretization::Mortar;
+        let tie_ok = |(p, t): &(usize, Tie)| {
+            *p < pairs.len()
+                && mortar(*p)
+                && active.iter().any(|a| a.pair == *p && a.slave == t.slave)
+                && t.masters
+                    .iter()
+                    .all(|&(m, w)| (m as usize) < nodes && w.is_finite())
+        };
+        let tied = |a: &Active| {
+            !mortar(a.pair) || ties.iter().any(|(p, t)| *p == a.pair && t.slave == a.slave)
+        };
+        (active.iter().all(ok)
+            && released.iter().all(released_ok)
+            && ties.iter().all(tie_ok)
+            && active.iter().all(tied))
+        .then_some(ContactState {
             active,
             released,
-            ties: Vec::new(),
+            ties,
         })
     }
 }

@@ -393,6 +393,9 @@ pub struct RestartState {
     pub contact: Vec<f64>,
     /// Released (slave, pair) entries, encoded by the contact module.
     pub released: Vec<f64>,
+    /// The mortar ties of the active constraints, encoded by the contact module; empty
+    /// without mortar pairs (and then not written).
+    pub ties: Vec<f64>,
     /// Committed integration-point history of the plastic elements in global element order
     /// (`STATE_LEN` values per point); empty when no body is plastic.
     pub history: Vec<f64>,

@@ -85,6 +85,9 @@ pub const SLOT_RELEASED: &str = "released";
 /// Optional dataset of a slot, present when the scene has plastic bodies: the committed
 /// integration-point history (see `RestartState::history`), written before `state`.
 pub const SLOT_HISTORY: &str = "history";
+/// The mortar ties of the active constraints (words of the contact module; present once a
+/// mortar tie was written).
+pub const SLOT_TIES: &str = "ties";
 /// The datasets of a slot, the state last (the order they are written in).
 /// Layout of the words of the restart slots' `contact` dataset (the contact module's
 /// encoding of an active constraint: how many words, in which order), written as the

@@ -119,6 +119,22 @@ impl RestartSlots {
             };
             ds.write_raw(&r.history).at(p, &hname)?;
         }
+        let tname = name(layout::SLOT_TIES);
+        let exists = file.link_exists(&tname);
+        if exists || !r.ties.is_empty() {
+            let ds = if exists {
+                file.dataset(&tname).at(p, &tname)?
+            } else {
+                file.new_dataset::<f64>()
+                    .chunk((1024,))
+                    .fletcher32()
+                    .shape((0..,))
+                    .create(tname.as_str())
+                    .at(p, &tname)?
+            };
+            ds.resize((r.ties.len(),)).at(p, &tname)?;
+            ds.write_raw(&r.ties).at(p, &tname)?;
+        }
         file.flush().at(p, "/ (flush)")?;
         let head = [
             r.step as f64,
@@ -223,8 +239,17 @@ impl ResultFile {
         } else {
             Vec::new()
         };
+        let tname = format!("{group}/{}", layout::SLOT_TIES);
+        let ties = if self.hdf5().link_exists(&tname) {
+            let t = self.read_f64(&tname)?;
+            non_finite(p, &tname, &t)?;
+            t
+        } else {
+            Vec::new()
+        };
         Ok(Some(RestartState {
             history,
+            ties,
             step: head[0] as u64,
             time: head[1],
             dt_prev: head[2],

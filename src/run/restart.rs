@@ -46,8 +46,8 @@ pub(super) fn resume<C: Comm + ?Sized>(
     }
     comm.broadcast_bytes(0, &mut bytes);
     let (state, records) = decode_restart(&bytes, problem.mesh.num_nodes());
-    let contact =
-        ContactState::decode(problem, &state.contact, &state.released).ok_or_else(|| {
+    let contact = ContactState::decode(problem, &state.contact, &state.released, &state.ties)
+        .ok_or_else(|| {
             format!(
                 "{}: the restart state's contact constraints do not fit {}",
                 path.display(),
@@ -123,7 +123,7 @@ fn restart_of(file: &ResultFile, path: &Path, problem: &Problem) -> Result<Resta
             plastic::history_len(problem)
         ));
     }
-    if ContactState::decode(problem, &state.contact, &state.released).is_none() {
+    if ContactState::decode(problem, &state.contact, &state.released, &state.ties).is_none() {
         return Err(format!(
             "{shown}: the restart state's contact constraints do not fit {}",
             problem.file
@@ -142,12 +142,14 @@ fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
         r.contact.len() as f64,
         r.released.len() as f64,
         r.history.len() as f64,
+        r.ties.len() as f64,
     ];
     v.extend(r.displacement.iter().flatten());
     v.extend(r.previous_displacement.iter().flatten());
     v.extend(&r.contact);
     v.extend(&r.released);
     v.extend(&r.history);
+    v.extend(&r.ties);
     for s in steps {
         let t = &s.stats;
         v.extend([
@@ -173,8 +175,8 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
-    let (nc, nr, nh) = (v[5] as usize, v[6] as usize, v[7] as usize);
-    let mut at = 8;
+    let (nc, nr, nh, nt) = (v[5] as usize, v[6] as usize, v[7] as usize, v[8] as usize);
+    let mut at = 9;
     let mut take = |n: usize| {
         let out = v[at..at + n].to_vec();
         at += n;
@@ -188,8 +190,10 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
     let contact = take(nc);
     let released = take(nr);
     let history = take(nh);
+    let ties = take(nt);
     let state = RestartState {
         history,
+        ties,
         step: v[0] as u64,
         time: v[1],
         dt_prev: v[2],
@@ -233,7 +237,7 @@ pub(super) fn restart_state<C: Comm + ?Sized>(
     rows: u64,
 ) -> RestartState {
     let (time, dt_prev, reference_floor) = stepper.scalars();
-    let (contact, released) = stepper.contact.encode();
+    let (contact, released, ties) = stepper.contact.encode();
     RestartState {
         step: step as u64,
         time,
@@ -244,6 +248,7 @@ pub(super) fn restart_state<C: Comm + ?Sized>(
         previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
         contact,
         released,
+        ties,
         history: plastic::gather_history(comm, stepper),
     }
 }
