@@ -516,4 +516,19 @@ fn example_scene_carries_the_applied_load() {
         "{text}"
     );
     assert!(std::fs::metadata(&png).unwrap().len() > 0);
+
+    // --overlay: every file reported, each with its summary line, one plot.
+    let both = temp_dir().join("hertz_overlay.png");
+    let cli = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["post", "hertz", out.to_str().unwrap(), "--overlay"])
+        .arg(&out)
+        .arg("-o")
+        .arg(&both)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&cli.stdout);
+    assert_eq!(cli.status.code(), Some(0), "{}", common::stderr_text(&cli));
+    assert_eq!(text.matches("summary: peak/p0-1").count(), 2, "{text}");
+    assert!(text.contains("(node_face)"), "{text}");
+    assert!(std::fs::metadata(&both).unwrap().len() > 0);
 }

@@ -9,7 +9,9 @@
 //! the scene's bodies give E and nu, a circle fitted to the slave nodes gives R and the axis,
 //! the resultant contact force gives P and the normal direction. The nodal pressure is the
 //! slave node's normal contact force over its tributary area (a quarter of each slave face
-//! it belongs to).
+//! it belongs to). Further result files (`--overlay`, e.g. the same cylinder with the other
+//! contact discretization or a finer mesh) are compared the same way and their pressures
+//! drawn over the first file's.
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -29,6 +31,10 @@ pub struct HertzArgs {
     /// The plot to write (.png): pressure against position across the contact.
     #[arg(short = 'o', long)]
     pub output: PathBuf,
+    /// Further result files of cylinder-on-flat scenes, each reported and its nodal
+    /// pressures drawn over the first file's (the Hertz curve is the first file's).
+    #[arg(long = "overlay", value_name = "FILE")]
+    pub overlay: Vec<PathBuf>,
 }
 
 /// The Hertz line contact for a load per unit length, radius and contact modulus.
@@ -117,6 +123,8 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<([f64; 2], f64, f64)> {
 /// The comparison: FE pressures at the slave nodes and the Hertz solution.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HertzComparison {
+    /// The scene's name and the pair's contact discretization, e.g. "cylinder (node_face)".
+    pub label: String,
     pub radius: f64,
     pub e_star: f64,
     /// Resultant normal contact force per unit length.
@@ -128,6 +136,9 @@ pub struct HertzComparison {
     pub contact_edge: f64,
     /// Node spacing across the contact at its centre.
     pub spacing: f64,
+    /// Node spacing at the Hertz edge: the distance between the node positions on either
+    /// side of a.
+    pub edge_spacing: f64,
     /// Largest FE pressure.
     pub peak: f64,
     /// RMS of FE minus Hertz pressure over the nodes within 1.5 a, over p0.
@@ -135,17 +146,30 @@ pub struct HertzComparison {
 }
 
 impl HertzComparison {
+    /// (FE half-width - Hertz a) in node spacings at the edge.
+    pub fn edge_error(&self) -> f64 {
+        (self.contact_edge - self.hertz.a) / self.edge_spacing
+    }
+
+    /// Peak FE pressure over p0, minus 1.
+    pub fn peak_error(&self) -> f64 {
+        (self.peak - self.hertz.p0) / self.hertz.p0
+    }
+
     pub fn render(&self) -> String {
         let h = &self.hertz;
         let in_window = self.nodes.iter().filter(|n| n.0.abs() <= 1.5 * h.a).count();
         format!(
-            "Hertz line contact (plane strain)\n\
+            "Hertz line contact (plane strain): {}\n\
              \x20 radius R (fitted to the slave nodes)    {}\n\
              \x20 contact modulus E*                      {}\n\
              \x20 load per unit length P (contact force)  {}\n\
              \x20 half-width a: Hertz {}, FE outermost node in contact {} (node spacing {})\n\
              \x20 peak pressure: Hertz p0 {}, FE {} ({:+.1}%)\n\
-             \x20 RMS error of the nodal pressure within |x| <= 1.5 a ({} nodes): {:.1}% of p0\n",
+             \x20 RMS error of the nodal pressure within |x| <= 1.5 a ({} nodes): {:.1}% of p0\n\
+             \x20 half-width FE - Hertz: {:+.2} node spacings at the edge (spacing there {})\n\
+             \x20 summary: peak/p0-1 {:+.4}, RMS/p0 {:.4}, (a_FE-a)/h {:+.3}\n",
+            self.label,
             g(self.radius),
             g(self.e_star),
             g(self.load_per_length),
@@ -154,9 +178,14 @@ impl HertzComparison {
             g(self.spacing),
             g(h.p0),
             g(self.peak),
-            100.0 * (self.peak - h.p0) / h.p0,
+            100.0 * self.peak_error(),
             in_window,
-            100.0 * self.rms_error
+            100.0 * self.rms_error,
+            self.edge_error(),
+            g(self.edge_spacing),
+            self.peak_error(),
+            self.rms_error,
+            self.edge_error()
         ) + &self.table()
     }
 
@@ -191,53 +220,64 @@ impl HertzComparison {
 
     /// The plot: FE nodal pressures and the Hertz curve over [-2a, 2a].
     pub fn figure(&self) -> Figure {
-        let a = self.hertz.a;
-        let theory: Vec<(f64, f64)> = (0..=400)
+        figure(std::slice::from_ref(self))
+    }
+}
+
+/// The plot of several comparisons: the first's Hertz curve over [-2a, 2a] and every
+/// comparison's FE nodal pressures (one colour each, labelled when there are several).
+pub fn figure(comparisons: &[HertzComparison]) -> Figure {
+    let first = &comparisons[0];
+    let a = first.hertz.a;
+    let mut curves = vec![Curve {
+        label: Some("Hertz".into()),
+        color: 0,
+        mark: Mark::Line,
+        legend: Mark::Line,
+        points: (0..=400)
             .map(|i| {
                 let x = -2.0 * a + 4.0 * a * i as f64 / 400.0;
-                (x, self.hertz.pressure(x))
+                (x, first.hertz.pressure(x))
             })
-            .collect();
-        let fe: Vec<(f64, f64)> = self
-            .nodes
-            .iter()
-            .copied()
-            .filter(|n| n.0.abs() <= 2.0 * a)
-            .collect();
-        Figure {
+            .collect(),
+    }];
+    for (i, c) in comparisons.iter().enumerate() {
+        let label = if comparisons.len() == 1 {
+            "FE: nodal force / tributary area".to_string()
+        } else {
+            format!("FE {}: RMS {:.1}% of p0", c.label, 100.0 * c.rms_error)
+        };
+        curves.push(Curve {
+            label: Some(label),
+            color: i + 1,
+            mark: Mark::Points,
+            legend: Mark::Points,
+            points: c
+                .nodes
+                .iter()
+                .copied()
+                .filter(|n| n.0.abs() <= 2.0 * a)
+                .collect(),
+        });
+    }
+    Figure {
+        title: format!(
+            "Cylinder on block: contact pressure against Hertz (R = {}, P = {} per unit length)",
+            g(first.radius),
+            g(first.load_per_length)
+        ),
+        panels: vec![Panel {
             title: format!(
-                "Cylinder on block: contact pressure against Hertz (R = {}, P = {} per unit length)",
-                g(self.radius),
-                g(self.load_per_length)
+                "a = {}, p0 = {}; RMS error {:.1}% of p0 within 1.5 a",
+                g(a),
+                g(first.hertz.p0),
+                100.0 * first.rms_error
             ),
-            panels: vec![Panel {
-                title: format!(
-                    "a = {}, p0 = {}; RMS error {:.1}% of p0 within 1.5 a",
-                    g(a),
-                    g(self.hertz.p0),
-                    100.0 * self.rms_error
-                ),
-                x_label: "position across the contact (from the cylinder's centre line)".into(),
-                y_label: "contact pressure".into(),
-                curves: vec![
-                    Curve {
-                        label: Some("Hertz".into()),
-                        color: 0,
-                        mark: Mark::Line,
-                        legend: Mark::Line,
-                        points: theory,
-                    },
-                    Curve {
-                        label: Some("FE: nodal force / tributary area".into()),
-                        color: 1,
-                        mark: Mark::Points,
-                        legend: Mark::Points,
-                        points: fe,
-                    },
-                ],
-                legend: LegendAt::UpperRight,
-            }],
-        }
+            x_label: "position across the contact (from the cylinder's centre line)".into(),
+            y_label: "contact pressure".into(),
+            curves,
+            legend: LegendAt::UpperRight,
+        }],
     }
 }
 
@@ -256,10 +296,17 @@ fn g(v: f64) -> String {
 
 /// Runs `solver post hertz`: compares, draws, and returns the report.
 pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
-    let inputs = [(args.file.as_path(), "the result file")];
+    let mut inputs = vec![(args.file.as_path(), "the result file")];
+    inputs.extend(
+        args.overlay
+            .iter()
+            .map(|f| (f.as_path(), "a result file (--overlay)")),
+    );
     check_picture_output(&args.output, &inputs)?;
-    let f = ResultFile::open(&args.file)?;
-    let c = compare(&f)?;
+    let comparisons = inputs
+        .iter()
+        .map(|(f, _)| compare(&ResultFile::open(f)?))
+        .collect::<Result<Vec<_>, _>>()?;
     let text = fonts_available();
     if !text {
         eprintln!(
@@ -268,9 +315,14 @@ pub fn hertz_command(args: &HertzArgs) -> Result<String, OutputError> {
         );
     }
     write_picture(&args.output, &inputs, |tmp| {
-        render_figure(&c.figure(), tmp, text)
+        render_figure(&figure(&comparisons), tmp, text)
     })?;
-    Ok(format!("{}wrote {}", c.render(), args.output.display()))
+    let reports: Vec<String> = comparisons.iter().map(|c| c.render()).collect();
+    Ok(format!(
+        "{}wrote {}",
+        reports.join("\n"),
+        args.output.display()
+    ))
 }
 
 /// The comparison at the last step of a result file: the pair's contact modulus, the
@@ -337,14 +389,17 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         .map(|&n| position(n).abs())
         .fold(0.0, f64::max);
     let peak = nodes.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
+    let discretization = contact.discretization.as_deref().unwrap_or("node_face");
     let rms_error = rms_error(&nodes, &hertz)
         .ok_or_else(|| usage("no slave node lies within 1.5 a of the contact".into()))?;
     Ok(HertzComparison {
+        label: format!("{} ({discretization})", attrs.scene_name),
         radius,
         e_star,
         load_per_length,
         hertz,
         spacing: spacing(&nodes, radius),
+        edge_spacing: edge_spacing(&nodes, radius, hertz.a),
         nodes,
         contact_edge,
         peak,
@@ -457,6 +512,19 @@ fn spacing(nodes: &[(f64, f64)], radius: f64) -> f64 {
         [a, b, ..] => a + b,
         _ => 0.0,
     }
+}
+
+/// The node spacing at distance `a` from the centre: between the nearest distinct node
+/// positions (|x|) below and above a, or the last spacing when no node lies beyond a.
+fn edge_spacing(nodes: &[(f64, f64)], radius: f64, a: f64) -> f64 {
+    let mut distinct: Vec<f64> = nodes.iter().map(|n| n.0.abs()).collect();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup_by(|x, y| (*x - *y).abs() <= 1e-9 * radius);
+    let gaps: Vec<(f64, f64)> = distinct.windows(2).map(|w| (w[0], w[1])).collect();
+    gaps.iter()
+        .find(|(lo, hi)| *lo <= a && a < *hi)
+        .or(gaps.last())
+        .map_or(0.0, |(lo, hi)| hi - lo)
 }
 
 /// Element id -> (body name, connectivity).
