@@ -239,7 +239,22 @@ fn totals(p: &Problem, state: &GlobalState, nx: usize, ny: usize) -> (f64, [f64;
 }
 
 fn check(nx: usize, ny: usize, push: Push) {
-    let p = problem(&scene(nx, ny, push));
+    check_text(nx, ny, &scene(nx, ny, push));
+}
+
+/// The scene with the block/base pair switched to mortar contact (the base is meshed
+/// 2 nx along a longer slope: the meshes do not match).
+fn check_mortar(nx: usize, ny: usize, push: Push) {
+    let text = scene(nx, ny, push).replace(
+        "friction = \"coulomb\"",
+        "discretization = \"mortar\"\nfriction = \"coulomb\"",
+    );
+    assert!(text.contains("mortar"));
+    check_text(nx, ny, &text);
+}
+
+fn check_text(nx: usize, ny: usize, text: &str) {
+    let p = problem(text);
     let (_, state) = solve(&p);
     let (s, c) = PHI_DEG.to_radians().sin_cos();
     let w = P_TOP * L * D;
@@ -297,6 +312,16 @@ fn pusher_body_slides_the_block_with_friction_coarse() {
 #[test]
 fn pusher_body_slides_the_block_with_friction_fine() {
     check(20, 10, Push::Pusher);
+}
+
+#[test]
+fn mortar_prescribed_push_slides_with_friction() {
+    check_mortar(10, 5, Push::Prescribed);
+}
+
+#[test]
+fn mortar_pusher_body_slides_the_block_with_friction() {
+    check_mortar(10, 5, Push::Pusher);
 }
 
 /// The coarse scenes are kept as files for the multi-rank runs (mpi-tests/scenes.txt); they
