@@ -498,3 +498,29 @@ fn switching_the_paper_scene_to_mortar_changes_only_the_pairs() {
         .iter()
         .all(|c| c.discretization == Discretization::Mortar));
 }
+
+/// The paper's mortar variants (run by run/paper and mpi-tests on 1, 2 and 3 ranks) are
+/// their base scenes with every pair switched to mortar, renamed `<base>_mortar`, and
+/// nothing else.
+#[test]
+fn paper_mortar_scenes_are_their_base_scenes_with_mortar_contact() {
+    let dir = common::repo("run/scenes/paper");
+    let mut found = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let Some(base) = name.strip_suffix("_mortar") else {
+            continue;
+        };
+        found += 1;
+        let base_text = std::fs::read_to_string(dir.join(format!("{base}.toml"))).unwrap();
+        let mut want: toml::Table = with_discretization(&base_text, MORTAR).parse().unwrap();
+        want.insert("name".into(), toml::Value::String(name.clone()));
+        let got: toml::Table = std::fs::read_to_string(&path).unwrap().parse().unwrap();
+        assert_eq!(
+            got, want,
+            "{name}.toml is not {base}.toml with mortar contact"
+        );
+    }
+    assert_eq!(found, 6, "the six mortar variants of the paper scenes");
+}

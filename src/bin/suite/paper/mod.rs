@@ -25,17 +25,23 @@ use std::path::{Path, PathBuf};
 
 pub const SCENE_DIR: &str = "run/scenes/paper";
 /// The paper scenes in the paper's order (base scene, then its variants).
-const ORDER: [&str; 10] = [
+const ORDER: [&str; 16] = [
     "bc_interaction",
     "bc_interaction_mu037",
     "bc_interaction_mu036",
     "bc_interaction_frictionless",
+    "bc_interaction_mortar",
+    "bc_interaction_mu036_mortar",
     "normal_smoothing",
     "normal_smoothing_off",
     "capture_release",
+    "capture_release_mortar",
     "stick_slip",
+    "stick_slip_mortar",
     "multi_constraint",
     "multi_constraint_nonmatching",
+    "multi_constraint_mortar",
+    "multi_constraint_nonmatching_mortar",
 ];
 /// The scenes whose checks must pass.
 pub const BASE: [&str; 5] = [
