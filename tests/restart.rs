@@ -18,6 +18,19 @@ fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
 }
 
 #[test]
+fn stick_slip_mortar_killed_after_step_20_restarts_bitwise() {
+    // Mortar friction: the restart state carries the ties (weights, normals, the offsets
+    // sticking nodes are held at) besides the constraints.
+    killed_and_restarted_is_identical("stick_slip_mortar", 20);
+}
+
+#[test]
+fn bc_interaction_mu036_mortar_killed_after_step_5_restarts_bitwise() {
+    // Mortar ties of slipping nodes, refreshed at every update, carried across the kill.
+    killed_and_restarted_is_identical("bc_interaction_mu036_mortar", 5);
+}
+
+#[test]
 fn stick_slip_killed_after_step_20_restarts_bitwise() {
     // Friction: the restart state carries stick/slip modes, friction forces and the
     // predictor's previous displacement.
