@@ -5,6 +5,7 @@
 
 pub use partition::Decomposition;
 pub use solver::comm::SerialComm;
+pub use solver::contact::mortar::{ties as mortar_ties, Face, Tie};
 pub use solver::contact::search::{Interaction, MasterSurface};
 pub use solver::fem::hex8::FACES as HEX8_FACES;
 pub use solver::fem::Formulation;

@@ -2,7 +2,9 @@
 //! `MasterSurface::search` of every slave node) on two stacked blocks with non-matching
 //! meshes, about 1e5 slave nodes against 1e5 master faces (1e4 in quick mode).
 
-use crate::api::{norm, parse, sub, Interaction, MasterSurface, Problem, Vec3};
+use crate::api::{
+    mortar_ties, norm, parse, sub, Face, Interaction, MasterSurface, Problem, Tie, Vec3,
+};
 use crate::config::Config;
 use crate::stats::{thread_cpu_time, Stat};
 use std::hint::black_box;
@@ -96,6 +98,13 @@ pub struct ContactResult {
     pub max_gap_error: f64,
     /// max distance of the contact point from the slave node's foot on the plane.
     pub max_point_error: f64,
+    /// The mortar integration of the same pair (`mortar::ties` of every slave node:
+    /// segmentation, clipping, quadrature, the ties), per repeat.
+    pub mortar: Stat,
+    /// Slave nodes the mortar integration tied (the same every repeat).
+    pub mortar_ties: usize,
+    /// max |sum of a tie's weights - 1| (they sum to 1 up to round-off).
+    pub mortar_weight_error: f64,
 }
 
 impl ContactResult {
@@ -233,6 +242,38 @@ fn time_rounds(problem: &Problem, p: &Perturbed, repeats: usize) -> Rounds {
     r
 }
 
+/// The mortar integration of the pair at the perturbed positions: one untimed warm-up,
+/// then the timed repeats (seconds) and the warm-up's ties.
+fn time_mortar(problem: &Problem, p: &Perturbed, repeats: usize) -> (Vec<f64>, Vec<Tie>) {
+    let pair = &problem.contacts[0];
+    let faces = |nodes: &[[u32; 4]]| -> Vec<Face> {
+        nodes
+            .iter()
+            .map(|&n| Face::new(n, n.map(|g| p.position[g as usize]), None))
+            .collect()
+    };
+    let (slave, master) = (faces(&pair.slave_face_nodes), faces(&pair.face_nodes));
+    let at = |g: u32| p.position[g as usize];
+    let once = || {
+        mortar_ties(
+            &slave,
+            &master,
+            &pair.slave_nodes,
+            pair.normal_tolerance,
+            at,
+        )
+    };
+    let ties = once();
+    let times = (0..repeats.max(1))
+        .map(|_| {
+            let t = Instant::now();
+            black_box(once());
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    (times, ties)
+}
+
 /// (max |gap - offset|, max distance of the contact point from the slave node's foot on
 /// the plane y = CONTACT_H) over the interactions found.
 fn answer_errors(problem: &Problem, p: &Perturbed, result: &[Option<Interaction>]) -> (f64, f64) {
@@ -265,7 +306,14 @@ fn contact_search(m: usize, repeats: usize) -> Result<ContactResult, String> {
     let perturb_s = t.elapsed().as_secs_f64();
     let r = time_rounds(&problem, &p, repeats);
     let (max_gap_error, max_point_error) = answer_errors(&problem, &p, &r.result);
+    let (mortar, ties) = time_mortar(&problem, &p, repeats);
     Ok(ContactResult {
+        mortar: Stat::of(&mortar),
+        mortar_ties: ties.len(),
+        mortar_weight_error: ties
+            .iter()
+            .map(|t| (t.masters.iter().map(|m| m.1).sum::<f64>() - 1.0).abs())
+            .fold(0.0, f64::max),
         m,
         master_faces: pair.face_nodes.len(),
         slave_nodes: pair.slave_nodes.len(),

@@ -85,6 +85,7 @@ pub fn ties(
 ) -> Vec<Tie> {
     let mut sums: BTreeMap<u32, Sums> = BTreeMap::new();
     let boxes: Vec<([f64; 3], [f64; 3])> = master.iter().map(|f| bounds(&f.x, 0.0)).collect();
+    let grid = Grid::new(&boxes);
     for f in slave {
         let mine: Vec<usize> = (0..4)
             .filter(|&a| wanted.binary_search(&f.nodes[a]).is_ok())
@@ -99,7 +100,8 @@ pub fn ties(
             sums.entry(f.nodes[a]).or_default().full += sf.areas[a];
         }
         let (lo, hi) = bounds(&f.x, reach);
-        for (fm, (m, (mlo, mhi))) in master.iter().zip(&boxes).enumerate() {
+        for fm in grid.candidates(&lo, &hi) {
+            let (m, (mlo, mhi)) = (&master[fm], &boxes[fm]);
             if (0..3).any(|i| mlo[i] > hi[i] || mhi[i] < lo[i]) {
                 continue;
             }
@@ -158,6 +160,65 @@ pub fn relative(t: &Tie, x: &Vec3, master_position: &impl Fn(u32) -> Vec3) -> Ve
         d = sub(&d, &scale(&master_position(k), w));
     }
     d
+}
+
+/// A uniform grid of the master faces' boxes, cells the size of the largest box: the
+/// faces a box may overlap, without testing every face.
+struct Grid {
+    cell: f64,
+    cells: std::collections::HashMap<[i64; 3], Vec<usize>>,
+}
+
+impl Grid {
+    fn new(boxes: &[([f64; 3], [f64; 3])]) -> Grid {
+        let cell = boxes
+            .iter()
+            .flat_map(|(lo, hi)| (0..3).map(move |i| hi[i] - lo[i]))
+            .fold(0.0f64, f64::max);
+        let mut grid = Grid {
+            cell: if cell > 0.0 && cell.is_finite() {
+                cell
+            } else {
+                1.0
+            },
+            cells: Default::default(),
+        };
+        for (k, (lo, hi)) in boxes.iter().enumerate() {
+            for c in grid.range(lo, hi) {
+                grid.cells.entry(c).or_default().push(k);
+            }
+        }
+        grid
+    }
+
+    /// The cells a box covers.
+    fn range(&self, lo: &[f64; 3], hi: &[f64; 3]) -> Vec<[i64; 3]> {
+        let a: [i64; 3] = std::array::from_fn(|i| (lo[i] / self.cell).floor() as i64);
+        let b: [i64; 3] = std::array::from_fn(|i| (hi[i] / self.cell).floor() as i64);
+        let mut out = Vec::new();
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    out.push([x, y, z]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The faces whose cells meet the box, ascending (the order the sums run in).
+    fn candidates(&self, lo: &[f64; 3], hi: &[f64; 3]) -> Vec<usize> {
+        let mut out: Vec<usize> = self
+            .range(lo, hi)
+            .iter()
+            .filter_map(|c| self.cells.get(c))
+            .flatten()
+            .copied()
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
 }
 
 fn bounds(x: &[Vec3; 4], pad: f64) -> ([f64; 3], [f64; 3]) {

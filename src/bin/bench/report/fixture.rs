@@ -245,6 +245,9 @@ fn contact() -> ContactResult {
         consistent: false,
         max_gap_error: 3e-17,
         max_point_error: 3e-16,
+        mortar: stat(0.09, 0.088, 0.095, 5),
+        mortar_ties: 10000,
+        mortar_weight_error: 4e-16,
     }
 }
 
