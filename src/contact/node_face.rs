@@ -201,7 +201,7 @@ impl Enforcement for ContactState {
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         let positions = self.mortar_positions(comm, problem, mesh, (u, start));
         let pos = positions.as_ref();
-        changed |= self.coulomb(problem, mesh, u, start, &surfaces, pos, force_tol);
+        changed |= self.coulomb(problem, mesh, (u, start), (&surfaces, pos), force_tol);
         changed |= self.search(problem, mesh, u, &surfaces);
         changed |= self.mortar_pairs(problem, mesh, pos, true);
         self.share(comm, mesh);

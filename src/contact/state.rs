@@ -209,15 +209,14 @@ impl ContactState {
 
     /// Coulomb's law for every constraint after a model problem: stick, onset of slip,
     /// driven slip, the reversal of slip, and the friction direction of a slipping node.
-    /// Returns whether a constraint changed mode.
+    /// The master points are those of the ghosted `surfaces` (node-to-face) or of the
+    /// gathered `positions` (mortar). Returns whether a constraint changed mode.
     pub(super) fn coulomb(
         &mut self,
         problem: &Problem,
         mesh: &LocalMesh,
-        u: &[Vec3],
-        start: &[Vec3],
-        surfaces: &[super::search::MasterSurface],
-        positions: Option<&Positions>,
+        (u, start): (&[Vec3], &[Vec3]),
+        (surfaces, positions): (&[super::search::MasterSurface], Option<&Positions>),
         force_tol: f64,
     ) -> bool {
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
