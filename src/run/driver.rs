@@ -76,6 +76,12 @@ pub fn run_from<C: Comm + ?Sized>(
     let refused = stepper.coarse_note.starts_with("preconditioner: refused");
     log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
     if let Some(c) = continued {
+        // Rank 0 holds the earlier steps: a file written before the contact pressure was
+        // recorded gives a continued file without it (see `output::datasets`).
+        let no_pressure = c
+            .steps
+            .first()
+            .is_some_and(|s| s.contact_pressure.is_empty());
         continue_from(
             comm,
             problem,
@@ -93,6 +99,13 @@ pub fn run_from<C: Comm + ?Sized>(
                 restart.map(|p| p.display().to_string()).unwrap_or_default()
             ),
         );
+        if no_pressure {
+            log.at(
+                1,
+                "note: that file has no contact pressure (written before it was recorded); \
+                 this run's file has none either",
+            );
+        }
     }
     let (failure, state) = step_through(
         comm,
@@ -417,6 +430,7 @@ fn final_state<C: Comm + ?Sized>(
         reaction: s.reaction,
         contact_force: s.contact_force,
         contact_status: s.contact_status,
+        contact_pressure: s.contact_pressure,
         plastic_strain: s.plastic_strain,
         constraints: stepper
             .contact
