@@ -1247,4 +1247,27 @@ fn python_check_accepts_a_result_and_rejects_a_broken_one() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("MISMATCH: /mesh/node_ids"), "{stdout}");
+
+    // The optional contact pressure: checked when there, of the wrong shape refused.
+    let broken = dir.join("broken_pressure.h5");
+    std::fs::copy(&good, &broken).unwrap();
+    {
+        let f = hdf5::File::open_rw(&broken).unwrap();
+        f.unlink(layout::CONTACT_PRESSURE).unwrap();
+        f.new_dataset_builder()
+            .with_data(&[0.0f64; 20][..])
+            .create(layout::CONTACT_PRESSURE)
+            .unwrap();
+    }
+    let out = std::process::Command::new(python)
+        .arg(&script)
+        .arg(&broken)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("MISMATCH: /results/contact/pressure"),
+        "{stdout}"
+    );
 }
