@@ -1,8 +1,8 @@
 //! The nodal contact pressure of the result file (`/results/contact/pressure`) against
-//! exact answers: a block pressed uniformly onto a block with matching meshes carries the
-//! applied pressure at every slave node (for either contact discretization, under small
-//! and under large kinematics), nodes not in contact carry none, and a block lifted off
-//! carries none. Read back from the HDF5 file.
+//! exact answers: a block pressed uniformly onto a block carries the applied pressure at
+//! every slave node (matching meshes: either contact discretization, small and large
+//! kinematics; non-matching meshes: mortar), nodes not in contact carry none, and a block
+//! lifted off carries none. Read back from the HDF5 file.
 //!
 //! Tolerance: the scenes solve to a residual of 1e-12 of the reference force; a nodal
 //! force differs from its exact value by at most the condition number of the stiffness
@@ -14,13 +14,13 @@ use common::{fresh_dir, problem, run_serial};
 use solver::output::ResultFile;
 use solver::problem::Problem;
 
-/// Two stacked blocks, `lower` [0,1]^3 and `upper` [0,1]x[1,2]x[0,1], n x n x n elements
-/// each, the lower top the master and the upper bottom the slave; rollers u_y = 0 on the
+/// Two stacked blocks, `lower` [0,1]^3 and `upper` [0,1]x[1,2]x[0,1], of n x n x n
+/// elements with `(n_lower, n_upper)`, the lower top the master and the upper bottom the slave; rollers u_y = 0 on the
 /// lower bottom, u_x = 0 on x = 0, u_z = 0 on z = 0; the upper top loaded by `top` (scene
 /// text); `material` and `kinematics` as the scene keys, `discretization` of the pair, the
 /// time `segments`.
 fn stacked(
-    n: usize,
+    (n_lower, n_upper): (usize, usize),
     (kinematics, material): (&str, &str),
     discretization: &str,
     top: &str,
@@ -34,13 +34,13 @@ kinematics = "{kinematics}"
 [[body]]
 name = "lower"
 box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
-divisions = [{n}, {n}, {n}]
+divisions = [{n_lower}, {n_lower}, {n_lower}]
 material = {material}
 
 [[body]]
 name = "upper"
 box = {{ min = [0.0, 1.0, 0.0], max = [1.0, 2.0, 1.0] }}
-divisions = [{n}, {n}, {n}]
+divisions = [{n_upper}, {n_upper}, {n_upper}]
 material = {material}
 
 [[node_set]]
@@ -184,7 +184,7 @@ fn matching_blocks_carry_the_applied_pressure_for_either_discretization() {
         let (p, f) = run_to_file(
             &name,
             &stacked(
-                3,
+                (3, 3),
                 ("small", elastic),
                 discretization,
                 &pressure_top(load),
@@ -194,6 +194,26 @@ fn matching_blocks_carry_the_applied_pressure_for_either_discretization() {
         let worst = check_uniform(&name, &p, &f, load);
         assert!(worst <= 1e-8, "{name}: {worst:e}");
     }
+}
+
+/// Non-matching meshes (lower 3 x 3 x 3 master, upper 4 x 4 x 4 slave): mortar contact
+/// passes the patch test, so the slave nodes carry the consistent nodal forces of the
+/// uniform pressure and the nodal pressure is exact again; node-to-face contact does not
+/// (tests/contact.rs), and its nodal pressure only balances the load on the whole.
+#[test]
+fn nonmatching_blocks_with_mortar_contact_carry_the_applied_pressure() {
+    let load = 1.0e3;
+    let elastic = r#"{ model = "linear_elastic", E = 1.0e6, nu = 0.3 }"#;
+    let scene = stacked(
+        (3, 4),
+        ("small", elastic),
+        "mortar",
+        &pressure_top(load),
+        TWO_STEPS,
+    );
+    let (p, f) = run_to_file("nonmatching_mortar", &scene);
+    let worst = check_uniform("nonmatching_mortar", &p, &f, load);
+    assert!(worst <= 1e-8, "nonmatching_mortar: {worst:e}");
 }
 
 /// Large kinematics: the follower pressure acts on the deformed top, and the slave area is
@@ -206,7 +226,7 @@ fn matching_blocks_carry_the_applied_pressure_under_large_kinematics() {
     let (p, f) = run_to_file(
         "large",
         &stacked(
-            2,
+            (2, 2),
             ("large", rubber),
             "node_face",
             &pressure_top(load),
@@ -243,7 +263,7 @@ node_set = "upper_top_nodes"
 components = ["y"]
 function = [[0.0, 0.0], [1.0, -0.002], [2.0, 0.01]]"#;
     let segments = "{ end = 1.0, steps = 2 }, { end = 2.0, steps = 2 }";
-    let scene = stacked(2, ("small", elastic), "node_face", top, segments);
+    let scene = stacked((2, 2), ("small", elastic), "node_face", top, segments);
     let (p, f) = run_to_file("lift_off", &scene);
     let slaves = nodes_at_y(&p, 1, 1.0);
     let tributary = |x: f64| if x == 0.0 || x == 1.0 { 0.25 } else { 0.5 };
