@@ -55,6 +55,8 @@ pub struct GlobalState {
     pub reaction: Vec<Vec3>,
     pub contact_force: Vec<Vec3>,
     pub contact_status: Vec<u8>,
+    /// Per node: contact pressure (compressive > 0), see `contact::area`.
+    pub contact_pressure: Vec<f64>,
     /// Per element: equivalent plastic strain (empty without plastic bodies).
     pub plastic_strain: Vec<f64>,
     /// Active contact constraints at the end (one-rank runs): (slave node, pair, master

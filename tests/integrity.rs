@@ -76,7 +76,7 @@ fn a_flipped_bit_in_any_per_step_or_restart_dataset_is_refused() {
         .count();
     assert_eq!(
         per_step,
-        17,
+        18,
         "{:?}",
         targets.iter().map(|t| &t.0).collect::<Vec<_>>()
     );
@@ -202,10 +202,35 @@ fn a_nan_in_restart_data_is_refused_when_loaded() {
         err.contains("damaged: /results/reaction, step 5: node 2 (id 3), component 1 is NaN"),
         "{err}"
     );
+    // Likewise in the contact pressure, a scalar per node.
+    let path = d.join("nan_pressure.h5");
+    std::fs::copy(&good, &path).unwrap();
+    poke(
+        &path,
+        "/results/contact/pressure",
+        7 * (per_node(&path)) + 4,
+        f64::INFINITY,
+    );
+    let (code, err) = run(
+        &["-q", "run", &paper_scene("capture_release"), "--restart"],
+        &[&path, Path::new("-o"), &d.join("out_pressure.h5")],
+    );
+    println!("/results/contact/pressure: {err}");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("damaged: /results/contact/pressure, step 7: node 4 (id 5) is inf"),
+        "{err}"
+    );
+}
+
+/// Number of nodes of a result file.
+fn per_node(path: &Path) -> usize {
+    solver::output::ResultFile::open(path).unwrap().num_nodes()
 }
 
 /// Turns a format 2 file into the layout of format 1: one restart block `/restart/<name>`
-/// (the newest slot's datasets, hard-linked there) and `format_version` 1.
+/// (the newest slot's datasets, hard-linked there), `format_version` 1, and no contact
+/// pressure (recorded only since a later version of format 2).
 fn to_format_1(path: &Path) {
     let f = hdf5::File::open_rw(path).unwrap();
     let rows = |k: usize| -> f64 {
@@ -232,6 +257,7 @@ fn to_format_1(path: &Path) {
             f.unlink(&format!("/restart/slot{k}")).unwrap();
         }
     }
+    f.unlink("/results/contact/pressure").unwrap();
     f.delete_attr("format_version").unwrap();
     f.new_attr::<u64>()
         .shape(())
@@ -281,4 +307,8 @@ fn a_format_1_file_is_still_read_and_restarted_from() {
     let (_, report) = restart::post_compare(&full, &cut);
     println!("{}", report.lines().last().unwrap_or_default());
     assert!(report.contains("result: bitwise identical"), "{report}");
+    assert!(
+        report.contains("only in a: /results/contact/pressure"),
+        "{report}"
+    );
 }

@@ -130,6 +130,7 @@ fn synthetic_step(s: usize, mesh: &OutputMesh) -> StepOutput {
             .collect(),
         contact_status: (0..n).map(|i| ((i + s) % 4) as u8).collect(),
         contact_gap: (0..n).map(|i| 1e-2 * (i as f64) - 1e-3 * sf).collect(),
+        contact_pressure: (0..n).map(|i| 2.5 * sf * (i % 3) as f64).collect(),
         plastic_strain: Vec::new(),
         stats: StepStats {
             cg_iterations: 40 + s as u64,
@@ -229,6 +230,10 @@ fn round_trip_of_every_dataset_and_attribute() {
         assert_eq!(f.contact_force(i).unwrap(), s.contact_force);
         assert_eq!(f.contact_status(i).unwrap(), s.contact_status);
         assert_eq!(f.gap(i).unwrap(), s.contact_gap);
+        assert_eq!(
+            f.contact_pressure(i).unwrap().as_ref(),
+            Some(&s.contact_pressure)
+        );
     }
     assert!(matches!(
         f.displacement(3),
@@ -277,6 +282,7 @@ fn round_trip_of_every_dataset_and_attribute() {
         ("/results/contact/force", vec![st, n, 3]),
         ("/results/contact/status", vec![st, n]),
         ("/results/contact/gap", vec![st, n]),
+        ("/results/contact/pressure", vec![st, n]),
         ("/stats/cg_iterations", vec![st]),
         ("/stats/contact_updates", vec![st]),
         ("/stats/residual", vec![st]),
@@ -419,6 +425,31 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     bad.contact_gap[0] = f64::NEG_INFINITY;
     let msg = w.append_step(&bad).unwrap_err().to_string();
     assert!(msg.contains("/results/contact/gap"), "{msg}");
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.contact_pressure[7] = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("node 7 (id 15)"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, &mesh);
+    bad.contact_pressure.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    // The steps before had a pressure: a step without one would leave a hole.
+    let mut bad = synthetic_step(1, &mesh);
+    bad.contact_pressure.clear();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("no contact pressure"),
+        "{msg}"
+    );
 
     let mut bad = synthetic_step(1, &mesh);
     bad.stats.residual = f64::NAN;
@@ -571,12 +602,93 @@ fn xdmf_references_resolve_in_the_hdf5_file() {
             }
         }
     }
-    // Per grid: topology, geometry, and six attributes, each a hyperslab.
-    assert_eq!(items, 3 * 8);
-    assert_eq!(slabs, 3 * 6);
+    // Per grid: topology, geometry, and seven attributes, each a hyperslab.
+    assert_eq!(items, 3 * 9);
+    assert_eq!(slabs, 3 * 7);
     // Step 2's displacement is the slab starting at step 2.
     assert!(xmf.contains("res.h5:/results/displacement|2 0 0:1 1 1:1 20 3:3 20 3"));
     assert!(xmf.contains("res.h5:/results/contact/status|2 0:1 1:1 20:3 20"));
+    assert!(xmf.contains(
+        "<Attribute Name=\"contact_pressure\" AttributeType=\"Scalar\" Center=\"Node\">"
+    ));
+    assert!(xmf.contains("res.h5:/results/contact/pressure|2 0:1 1:1 20:3 20"));
+}
+
+/// A file written before the contact pressure was recorded (its steps have none): read as
+/// before, `post` says the pressure is not there, `compare` lists the dataset as one-sided.
+#[test]
+fn a_file_without_contact_pressure_is_read_as_before() {
+    let dir = test_dir("no_pressure");
+    let mesh = synthetic_mesh();
+    let mut w = ResultWriter::create(&dir.join("old.h5"), &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let mut step = synthetic_step(s, &mesh);
+        step.contact_pressure.clear();
+        w.append_step(&step).unwrap();
+    }
+    let old = w.finish(1.0).unwrap();
+    let f = ResultFile::open(&old).unwrap();
+    assert!(!f.has_contact_pressure());
+    assert!(!f
+        .dataset_names()
+        .contains(&layout::CONTACT_PRESSURE.to_string()));
+    assert_eq!(f.contact_pressure(2).unwrap(), None);
+    assert!(matches!(
+        f.contact_pressure(3),
+        Err(OutputError::StepOutOfRange { .. })
+    ));
+    assert_eq!(f.gap(1).unwrap(), synthetic_step(1, &mesh).contact_gap);
+    let xmf = std::fs::read_to_string(dir.join("old.xmf")).unwrap();
+    assert!(!xmf.contains("contact_pressure"), "{xmf}");
+    assert!(xmf.contains("Name=\"contact_gap\""));
+
+    let text = post::info_text(&old).unwrap();
+    assert!(
+        text.contains("contact pressure: not in this file"),
+        "{text}"
+    );
+    let png = dir.join("p.png");
+    let cmd = parse(&[
+        "plot",
+        old.to_str().unwrap(),
+        "--quantity",
+        "contact_pressure",
+        "--node-set",
+        "top",
+        "--against",
+        "x",
+        "-o",
+        png.to_str().unwrap(),
+    ])
+    .unwrap();
+    let err = post::run_post(&cmd).unwrap_err().to_string();
+    assert!(
+        err.contains("old.h5") && err.contains("no /results/contact/pressure in this file"),
+        "{err}"
+    );
+    assert!(!png.exists());
+
+    // Against a file that has it: every common dataset compared, the pressure one-sided.
+    let new = write_synthetic(&dir, "new", 3);
+    let report = post::compare_files(&old, &new, 0.0).unwrap();
+    assert_eq!(report.exit_code(), 0, "{}", report.render());
+    assert_eq!(report.only_in_b, [layout::CONTACT_PRESSURE]);
+    assert!(report.only_in_a.is_empty());
+
+    // A file whose first step has no pressure (a run continued from such a file) gets none
+    // for later steps either: no dataset with rows that belong to no step.
+    let mut w = ResultWriter::create(&dir.join("cont.h5"), &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let mut step = synthetic_step(s, &mesh);
+        if s == 0 {
+            step.contact_pressure.clear();
+        }
+        w.append_step(&step).unwrap();
+    }
+    let cont = w.finish(1.0).unwrap();
+    let f = ResultFile::open(&cont).unwrap();
+    assert!(!f.has_contact_pressure());
+    assert_eq!(f.num_steps(), 3);
 }
 
 #[test]
@@ -821,6 +933,7 @@ fn info_summarises_the_run() {
         "node sets:    top, bottom",
         "CG its",
         "max penetration",
+        "max pressure",
     ] {
         assert!(text.contains(want), "missing '{want}' in\n{text}");
     }
@@ -830,6 +943,13 @@ fn info_summarises_the_run() {
         3,
         "{text}"
     );
+    // The largest contact pressure of step 2 is 2.5 * 3 * 2 = 15, first at node index 2
+    // (id 5); it is the largest of all steps too.
+    let rows: Vec<&str> = text.lines().filter(|l| l.contains("1.5000e1")).collect();
+    assert_eq!(rows.len(), 2, "{text}");
+    assert!(rows[0].trim_start().starts_with("2 ") && rows[0].ends_with(" 5"));
+    assert!(rows[1].trim_start().starts_with("max ") && rows[1].ends_with(" 5"));
+    assert!(!text.contains("not in this file"), "{text}");
     assert_eq!(
         post::run_post(&PostCommand::Info { file: path }).unwrap(),
         0
@@ -953,6 +1073,32 @@ fn plot_along_a_node_set_and_through_time() {
     }
     assert_eq!(post::run_post(&cmd).unwrap(), 0);
     assert!(out3.exists());
+
+    // The contact pressure, a scalar, along the set at the last step.
+    let cmd = parse(&[
+        "plot",
+        file,
+        "--quantity",
+        "contact_pressure",
+        "--node-set",
+        "bottom",
+        "--against",
+        "x",
+        "-o",
+        out3.to_str().unwrap(),
+    ])
+    .unwrap();
+    let data = plot_data(&cmd);
+    let last = synthetic_step(2, &mesh);
+    let bottom: Vec<usize> = (0..20).filter(|&i| mesh.coordinates[i][2] == 0.0).collect();
+    let mut want: Vec<(f64, f64)> = bottom
+        .iter()
+        .map(|&i| (mesh.coordinates[i][0], last.contact_pressure[i]))
+        .collect();
+    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut got = data.series[0].points.clone();
+    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(got, want);
 
     // Per node through time: one line per node of the set.
     let cmd = parse(&[
@@ -1101,4 +1247,27 @@ fn python_check_accepts_a_result_and_rejects_a_broken_one() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("MISMATCH: /mesh/node_ids"), "{stdout}");
+
+    // The optional contact pressure: checked when there, of the wrong shape refused.
+    let broken = dir.join("broken_pressure.h5");
+    std::fs::copy(&good, &broken).unwrap();
+    {
+        let f = hdf5::File::open_rw(&broken).unwrap();
+        f.unlink(layout::CONTACT_PRESSURE).unwrap();
+        f.new_dataset_builder()
+            .with_data(&[0.0f64; 20][..])
+            .create(layout::CONTACT_PRESSURE)
+            .unwrap();
+    }
+    let out = std::process::Command::new(python)
+        .arg(&script)
+        .arg(&broken)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("MISMATCH: /results/contact/pressure"),
+        "{stdout}"
+    );
 }

@@ -70,3 +70,54 @@ fn a_restart_file_of_another_scene_is_refused() {
     assert!(err.contains("written by a different scene"), "{err}");
     assert!(!d.join("x.h5").exists() && !d.join("x.h5.tmp").exists());
 }
+
+/// A run continued from a file written before the contact pressure was recorded (here: the
+/// killed run's file with that dataset removed) writes none either, says so, and is
+/// otherwise bitwise the uninterrupted run.
+#[test]
+fn a_restart_from_a_file_without_contact_pressure_writes_none() {
+    let d = dir("no_pressure");
+    let scene = paper_scene("capture_release");
+    let (full, cut) = (d.join("full.h5"), d.join("cut.h5"));
+    let s = solver()
+        .args(["-q", "run", &scene, "-o"])
+        .arg(&full)
+        .status()
+        .unwrap();
+    assert!(s.success());
+    let s = solver()
+        .args(["-q", "run", &scene, "-o"])
+        .arg(&cut)
+        .env("SOLVER_TEST_ABORT_AFTER_STEP", "23")
+        .status()
+        .unwrap();
+    assert!(!s.success(), "the killed run must not exit 0");
+    let tmp = d.join("cut.h5.tmp");
+    hdf5::File::open_rw(&tmp)
+        .unwrap()
+        .unlink("/results/contact/pressure")
+        .unwrap();
+    let out = solver()
+        .args(["run", &scene, "--restart"])
+        .arg(&tmp)
+        .arg("-o")
+        .arg(&cut)
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "restart failed: {log}");
+    assert!(
+        log.contains("continuing from step 23 ") && log.contains("has no contact pressure"),
+        "{log}"
+    );
+    let f = solver::output::ResultFile::open(&cut).unwrap();
+    assert!(!f.has_contact_pressure());
+    assert_eq!(f.num_steps(), 50);
+    let (same, report) = restart::post_compare(&full, &cut);
+    assert!(same, "results differ:\n{report}");
+    assert!(
+        report.contains("bitwise identical")
+            && report.contains("only in a: /results/contact/pressure"),
+        "{report}"
+    );
+}

@@ -90,3 +90,78 @@ pub fn area(x: &[Vec3; 4]) -> f64 {
         })
         .sum()
 }
+
+/// Integral of each corner's shape function over the face (2x2 Gauss, exact for a
+/// parallelogram): the corner's share of the area, the four summing to [`area`].
+pub fn nodal_areas(x: &[Vec3; 4]) -> [f64; 4] {
+    let mut a = [0.0; 4];
+    for gp in GAUSS2.iter() {
+        let (ts, tt) = tangents(x, gp[0], gp[1]);
+        let da = crate::math::norm(&cross(&ts, &tt));
+        let n = shape(gp[0], gp[1]);
+        for (k, ak) in a.iter_mut().enumerate() {
+            *ak += n[k] * da;
+        }
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-15 * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn nodal_areas_of_a_unit_square_are_a_quarter_each() {
+        let x = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        for a in nodal_areas(&x) {
+            assert!(close(a, 0.25), "{a}");
+        }
+    }
+
+    #[test]
+    fn nodal_areas_of_a_tilted_2x1_rectangle_are_a_half_each() {
+        // In the plane x = z, so the area element is not axis-aligned.
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let x = [
+            [0.0, 0.0, 0.0],
+            [2.0 * s, 0.0, 2.0 * s],
+            [2.0 * s, 1.0, 2.0 * s],
+            [0.0, 1.0, 0.0],
+        ];
+        let a = nodal_areas(&x);
+        for ak in a {
+            assert!(close(ak, 0.5), "{a:?}");
+        }
+        assert!(close(a.iter().sum(), area(&x)));
+    }
+
+    #[test]
+    fn nodal_areas_of_a_trapezoid_match_the_hand_integral() {
+        // Corners (0,0), (4,0), (3,2), (1,2): parallel sides 4 (y = 0) and 2 (y = 2), area 6.
+        // With x = sum N_a x_a: dx/ds = (3 - t)/2, dy/ds = 0, dx/dt = -s/2, dy/dt = 1, so the
+        // area element is J = (3 - t)/2. Corner a (local (s_a, t_a)) gets
+        // int int (1 + s s_a)(1 + t t_a)/4 (3 - t)/2 ds dt = 1/4 int (1 + t t_a)(3 - t) dt
+        // = (6 - 2 t_a / 3)/4: 5/3 at the bottom corners (t_a = -1), 4/3 at the top ones.
+        let x = [
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [3.0, 2.0, 0.0],
+            [1.0, 2.0, 0.0],
+        ];
+        let a = nodal_areas(&x);
+        let exact = [5.0 / 3.0, 5.0 / 3.0, 4.0 / 3.0, 4.0 / 3.0];
+        for k in 0..4 {
+            assert!(close(a[k], exact[k]), "{a:?} vs {exact:?}");
+        }
+        assert!(close(a.iter().sum(), 6.0));
+    }
+}

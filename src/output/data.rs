@@ -94,6 +94,10 @@ pub struct StepOutput {
     pub contact_status: Vec<u8>,
     /// Per node.
     pub contact_gap: Vec<f64>,
+    /// Per node: the contact pressure (normal force per slave area, compressive > 0; see
+    /// `crate::contact::area`). Empty for a step copied from a file written before the
+    /// pressure was recorded (then the file has no such dataset).
+    pub contact_pressure: Vec<f64>,
     /// Per element: the element-mean equivalent plastic strain; empty when no body is
     /// plastic (then the file has no such dataset).
     pub plastic_strain: Vec<f64>,
@@ -291,6 +295,14 @@ impl StepOutput {
             "nodes",
         )?;
         length(layout::CONTACT_GAP, self.contact_gap.len(), nodes, "nodes")?;
+        if !self.contact_pressure.is_empty() {
+            length(
+                layout::CONTACT_PRESSURE,
+                self.contact_pressure.len(),
+                nodes,
+                "nodes",
+            )?;
+        }
         if !self.plastic_strain.is_empty() {
             length(
                 layout::PLASTIC_STRAIN,
@@ -331,6 +343,12 @@ impl StepOutput {
         check_finite(file, layout::CONTACT_GAP, &self.contact_gap, |i| {
             format!("node {i} (id {})", node_ids[i])
         })?;
+        check_finite(
+            file,
+            layout::CONTACT_PRESSURE,
+            &self.contact_pressure,
+            |i| format!("node {i} (id {})", node_ids[i]),
+        )?;
         if let Some(i) = self.contact_status.iter().position(|&s| s > 3) {
             return Err(OutputError::Invalid {
                 file: file.to_path_buf(),

@@ -34,6 +34,10 @@ pub(super) struct StepDatasets {
     pub(super) max_penetration: hdf5::Dataset,
     /// Created with the first step that has a plastic strain (scenes with plastic bodies).
     pub(super) plastic_strain: Option<hdf5::Dataset>,
+    /// Created with the first row when its step has a contact pressure; a file whose first
+    /// row has none (a run continued from a file written before the pressure was recorded)
+    /// gets none for later rows either, so that every row of the dataset is a step's.
+    pub(super) contact_pressure: Option<hdf5::Dataset>,
 }
 
 fn str_value(file: &Path, name: &str, value: &str) -> Result<VarLenUnicode, OutputError> {
@@ -162,6 +166,7 @@ impl StepDatasets {
             contact_released: step_dataset::<u64>(file, path, layout::STATS_CONTACT_RELEASED, &[])?,
             max_penetration: step_dataset::<f64>(file, path, layout::STATS_MAX_PENETRATION, &[])?,
             plastic_strain: None,
+            contact_pressure: None,
         })
     }
 }
@@ -210,7 +215,15 @@ impl StepDatasets {
         i: usize,
         step: &StepOutput,
     ) -> Result<(), OutputError> {
+        if self.contact_pressure.is_some() && step.contact_pressure.is_empty() {
+            return Err(OutputError::Invalid {
+                file: p.to_path_buf(),
+                dataset: layout::CONTACT_PRESSURE.into(),
+                message: format!("step {i} has no contact pressure, the steps before it have"),
+            });
+        }
         self.append_plastic_strain(file, p, i, step)?;
+        self.append_contact_pressure(file, p, i, step)?;
         self.append_fields(p, i, step)?;
         self.append_stats(p, i, &step.stats)?;
         append_scalar(&self.time, p, layout::TIME, i, step.time)
@@ -234,6 +247,33 @@ impl StepDatasets {
             append_per_item(ds, p, layout::PLASTIC_STRAIN, i, &step.plastic_strain)?;
         }
         Ok(())
+    }
+
+    /// Writes the contact pressure of row `i`, creating its dataset at row 0 when the step has
+    /// one (see [`StepDatasets::contact_pressure`]).
+    fn append_contact_pressure(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        i: usize,
+        step: &StepOutput,
+    ) -> Result<(), OutputError> {
+        if step.contact_pressure.is_empty() {
+            return Ok(());
+        }
+        if i == 0 && self.contact_pressure.is_none() {
+            let n = step.contact_pressure.len();
+            self.contact_pressure = Some(step_dataset::<f64>(
+                file,
+                p,
+                layout::CONTACT_PRESSURE,
+                &[n],
+            )?);
+        }
+        match &self.contact_pressure {
+            Some(ds) => append_per_item(ds, p, layout::CONTACT_PRESSURE, i, &step.contact_pressure),
+            None => Ok(()),
+        }
     }
 
     /// Writes the nodal and contact fields of row `i`.

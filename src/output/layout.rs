@@ -32,6 +32,10 @@ pub const REACTION: &str = "/results/reaction";
 pub const CONTACT_FORCE: &str = "/results/contact/force";
 pub const CONTACT_STATUS: &str = "/results/contact/status";
 pub const CONTACT_GAP: &str = "/results/contact/gap";
+/// Nodal contact pressure, `[steps, nodes]`, created with the first step written; absent
+/// from files written before it was recorded (and from a run continued from one), which
+/// are read as before.
+pub const CONTACT_PRESSURE: &str = "/results/contact/pressure";
 /// Element-mean equivalent plastic strain, `[steps, elements]`; present only when a body of
 /// the scene is plastic (zero in the elastic bodies' elements).
 pub const PLASTIC_STRAIN: &str = "/results/plastic_strain";

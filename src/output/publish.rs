@@ -79,6 +79,7 @@ impl Closed {
             elements: self.elements,
             times: &self.times,
             plastic: self.plastic,
+            pressure: self.pressure,
         }
         .render();
         let kept = |first: OutputError| OutputError::NotPublished {

@@ -130,7 +130,28 @@ impl ResultFile {
         r.expect_shape(layout::TIME, &time, 1, &[None], "[steps]")?;
         r.steps = time[0];
         r.check_dataset_shapes()?;
+        r.check_optional_shapes()?;
         r.check_stats_lengths()
+    }
+
+    /// The contact pressure, where the file has it: `[steps, nodes]`, at least the steps that
+    /// have a time.
+    fn check_optional_shapes(&self) -> Result<(), OutputError> {
+        let r = self;
+        let name = layout::CONTACT_PRESSURE;
+        if !r.file.link_exists(name) {
+            return Ok(());
+        }
+        let shape = r.shape(name)?;
+        r.expect_shape(name, &shape, 2, &[None, Some(r.nodes)], "[steps, nodes]")?;
+        if shape[0] < r.steps {
+            return Err(r.shape_error(
+                name,
+                &shape,
+                &format!("[steps, nodes] with {} steps", r.steps),
+            ));
+        }
+        Ok(())
     }
 
     /// The node, element and per-step datasets have their shapes; the per-step ones at least
@@ -373,6 +394,23 @@ impl ResultFile {
 
     pub fn gap(&self, step: usize) -> Result<Vec<f64>, OutputError> {
         self.read_step_values(layout::CONTACT_GAP, step)
+    }
+
+    /// Whether the file has the nodal contact pressure (files written before it was recorded
+    /// have not).
+    pub fn has_contact_pressure(&self) -> bool {
+        self.hdf5().link_exists(layout::CONTACT_PRESSURE)
+    }
+
+    /// Nodal contact pressure at `step` (compressive > 0, zero where not in contact);
+    /// `None` for a file written before the pressure was recorded (no such dataset).
+    pub fn contact_pressure(&self, step: usize) -> Result<Option<Vec<f64>>, OutputError> {
+        if !self.has_contact_pressure() {
+            self.check_step(step)?;
+            return Ok(None);
+        }
+        self.read_step_values(layout::CONTACT_PRESSURE, step)
+            .map(Some)
     }
 
     /// Element-mean equivalent plastic strain at `step`, global element order; `None` when

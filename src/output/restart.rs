@@ -300,6 +300,7 @@ impl ResultFile {
             contact_force: self.contact_force(i)?,
             contact_status: self.contact_status(i)?,
             contact_gap: self.gap(i)?,
+            contact_pressure: self.contact_pressure(i)?.unwrap_or_default(),
             plastic_strain: self.plastic_strain(i)?.unwrap_or_default(),
             stats,
         };

@@ -251,6 +251,7 @@ impl ResultWriter {
             ..
         } = self;
         let plastic = datasets.plastic_strain.is_some();
+        let pressure = datasets.contact_pressure.is_some();
         drop(datasets);
         drop(restart);
         let closed = written.and_then(|()| file.close().at(&p, "/ (closing the file)"));
@@ -264,6 +265,7 @@ impl ResultWriter {
             nodes: node_ids.len(),
             elements,
             plastic,
+            pressure,
             _lock,
         })
     }
@@ -296,6 +298,8 @@ pub(super) struct Closed {
     pub(super) elements: usize,
     /// The file has a plastic strain dataset.
     pub(super) plastic: bool,
+    /// The file has a contact pressure dataset.
+    pub(super) pressure: bool,
     /// Held until the file is published.
     pub(super) _lock: OutputLock,
 }

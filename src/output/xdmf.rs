@@ -17,6 +17,8 @@ pub struct XdmfDescription<'a> {
     pub times: &'a [f64],
     /// The file has `/results/plastic_strain`.
     pub plastic: bool,
+    /// The file has `/results/contact/pressure`.
+    pub pressure: bool,
 }
 
 fn escape(s: &str) -> String {
@@ -115,6 +117,17 @@ const ATTRIBUTES: [AttributeSpec; 6] = [
         dataset: layout::STRESS,
     },
 ];
+
+/// Written when the file has the contact pressure (every file a run writes, unless it
+/// continues one written before the pressure was recorded).
+const CONTACT_PRESSURE: AttributeSpec = AttributeSpec {
+    name: "contact_pressure",
+    kind: "Scalar",
+    on_cells: false,
+    components: None,
+    number: Number::F64,
+    dataset: layout::CONTACT_PRESSURE,
+};
 
 /// Written when the scene has a plastic body.
 const PLASTIC_STRAIN: AttributeSpec = AttributeSpec {
@@ -215,6 +228,9 @@ impl XdmfDescription<'_> {
             s += "      </Geometry>\n";
             for a in &ATTRIBUTES {
                 s += &self.attribute(step, a);
+            }
+            if self.pressure {
+                s += &self.attribute(step, &CONTACT_PRESSURE);
             }
             if self.plastic {
                 s += &self.attribute(step, &PLASTIC_STRAIN);

@@ -25,7 +25,8 @@ pub fn info_text(path: &Path) -> Result<String, OutputError> {
         let _ = writeln!(s);
         step_table(&mut s, &time, &stats);
         let _ = writeln!(s);
-        contact_table(&mut s, &stats);
+        let pressure = max_pressures(&f, &mesh.node_ids)?;
+        contact_table(&mut s, &stats, pressure.as_deref());
         plastic_table(&f, &mut s)?;
     }
     Ok(s)
@@ -114,28 +115,72 @@ fn step_table(s: &mut String, time: &[f64], stats: &[StepStats]) {
     );
 }
 
-/// Per step: the contact counts and the largest penetration; their maxima.
-fn contact_table(s: &mut String, stats: &[StepStats]) {
+/// A step's largest nodal contact pressure and the node id that has it (None: no node has a
+/// positive pressure).
+type PeakPressure = (f64, Option<u64>);
+
+/// Per step, the largest nodal contact pressure and the id (`/mesh/node_ids`) of the first
+/// node that has it (`None` when no node has a positive pressure); `None` for a file
+/// without pressures.
+fn max_pressures(
+    f: &ResultFile,
+    node_ids: &[u64],
+) -> Result<Option<Vec<PeakPressure>>, OutputError> {
+    if !f.has_contact_pressure() {
+        return Ok(None);
+    }
+    (0..f.num_steps())
+        .map(|i| {
+            let p = f.contact_pressure(i)?.unwrap_or_default();
+            let (at, max) =
+                p.iter()
+                    .enumerate()
+                    .fold((0, 0.0f64), |m, (k, &v)| if v > m.1 { (k, v) } else { m });
+            Ok((max, (max > 0.0).then(|| node_ids[at])))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+/// Per step: the contact counts, the largest penetration and the largest contact pressure
+/// with its node; their maxima. A file written before the pressure was recorded says so.
+fn contact_table(s: &mut String, stats: &[StepStats], pressure: Option<&[PeakPressure]>) {
     let _ = writeln!(
         s,
-        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15}",
-        "step", "active", "stick", "slip", "released", "max penetration"
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15} {:>13} {:>8}",
+        "step", "active", "stick", "slip", "released", "max penetration", "max pressure", "at node"
     );
+    let shown = |p: Option<PeakPressure>| match p {
+        Some((v, at)) => (
+            format!("{v:.4e}"),
+            at.map_or_else(|| "-".to_string(), |n| n.to_string()),
+        ),
+        None => ("-".to_string(), "-".to_string()),
+    };
     for (i, st) in stats.iter().enumerate() {
+        let (p, at) = shown(pressure.map(|p| p[i]));
         let _ = writeln!(
             s,
-            "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
+            "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e} {:>13} {:>8}",
             i,
             st.contact_active,
             st.contact_stick,
             st.contact_slip,
             st.contact_released,
-            st.max_penetration
+            st.max_penetration,
+            p,
+            at
         );
     }
+    let peak = pressure.map(|p| {
+        p.iter()
+            .copied()
+            .fold((0.0, None), |m, q| if q.0 > m.0 { q } else { m })
+    });
+    let (p, at) = shown(peak);
     let _ = writeln!(
         s,
-        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e}",
+        "{:>5} {:>8} {:>8} {:>8} {:>8} {:>15.4e} {:>13} {:>8}",
         "max",
         stats.iter().map(|st| st.contact_active).max().unwrap_or(0),
         stats.iter().map(|st| st.contact_stick).max().unwrap_or(0),
@@ -148,8 +193,16 @@ fn contact_table(s: &mut String, stats: &[StepStats]) {
         stats
             .iter()
             .map(|st| st.max_penetration)
-            .fold(0.0, f64::max)
+            .fold(0.0, f64::max),
+        p,
+        at
     );
+    if pressure.is_none() {
+        let _ = writeln!(
+            s,
+            "contact pressure: not in this file (written before the solver recorded it)"
+        );
+    }
 }
 
 /// Per step: the largest element-mean equivalent plastic strain and how many elements have

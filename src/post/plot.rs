@@ -20,6 +20,12 @@ pub enum Quantity {
     ContactGap,
     #[value(name = "contact_status", alias = "contact-status", alias = "status")]
     ContactStatus,
+    #[value(
+        name = "contact_pressure",
+        alias = "contact-pressure",
+        alias = "pressure"
+    )]
+    ContactPressure,
 }
 
 impl Quantity {
@@ -37,6 +43,7 @@ impl Quantity {
             Quantity::ContactForce => "contact force",
             Quantity::ContactGap => "contact gap",
             Quantity::ContactStatus => "contact status",
+            Quantity::ContactPressure => "contact pressure",
         }
     }
 }
@@ -174,6 +181,17 @@ fn nodal_values(
     Ok(match q {
         Quantity::ContactGap => f.gap(step)?,
         Quantity::ContactStatus => f.contact_status(step)?.into_iter().map(f64::from).collect(),
+        Quantity::ContactPressure => {
+            f.contact_pressure(step)?
+                .ok_or_else(|| OutputError::Usage {
+                    file: f.path().to_path_buf(),
+                    message: format!(
+                "no {} in this file (written before the solver recorded the contact pressure); \
+                 plot contact_force, or run the scene again",
+                crate::output::layout::CONTACT_PRESSURE
+            ),
+                })?
+        }
         _ => {
             let c = c.unwrap_or(Component::X);
             nodal_vectors(f, q, step)?

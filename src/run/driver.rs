@@ -76,7 +76,7 @@ pub fn run_from<C: Comm + ?Sized>(
     let refused = stepper.coarse_note.starts_with("preconditioner: refused");
     log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
     if let Some(c) = continued {
-        continue_from(
+        let with_pressure = continue_from(
             comm,
             problem,
             &mut stepper,
@@ -87,10 +87,11 @@ pub fn run_from<C: Comm + ?Sized>(
         log.at(
             1,
             &format!(
-                "continuing from step {} (t = {}) of {}",
+                "continuing from step {} (t = {}) of {}{}",
                 progress.first_step,
                 stepper.time,
-                restart.map(|p| p.display().to_string()).unwrap_or_default()
+                restart.map(|p| p.display().to_string()).unwrap_or_default(),
+                if with_pressure { "" } else { NO_PRESSURE }
             ),
         );
     }
@@ -193,9 +194,15 @@ fn open_writer<C: Comm + ?Sized>(
     }
 }
 
+/// The note on a continued run whose earlier file has no contact pressure.
+const NO_PRESSURE: &str = "; that file has no contact pressure (written before the solver \
+                           recorded it), so this run's file has none either";
+
 /// Restores the stepper to the earlier run's last written step, takes its records, and
 /// copies its steps and restart state into this run's file, which a further restart can
-/// then continue from. Collective.
+/// then continue from. Returns (on rank 0, which holds the earlier steps) whether they
+/// have the contact pressure: a file without it gives a continued file without it (see
+/// `output::datasets`). Collective.
 fn continue_from<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
@@ -203,7 +210,7 @@ fn continue_from<C: Comm + ?Sized>(
     writer: Option<&mut ResultWriter>,
     c: Continued,
     progress: &mut Progress,
-) -> Result<(), String> {
+) -> Result<bool, String> {
     let state = &c.state;
     stepper.restore(
         &state.displacement,
@@ -214,6 +221,10 @@ fn continue_from<C: Comm + ?Sized>(
     plastic::restore(stepper, problem, &state.history);
     progress.first_step = state.step as usize;
     progress.rows_written = c.steps.len() as u64;
+    let with_pressure = c
+        .steps
+        .first()
+        .is_none_or(|s| !s.contact_pressure.is_empty());
     for (time, s) in c.records {
         let step = problem
             .step_times
@@ -241,7 +252,7 @@ fn continue_from<C: Comm + ?Sized>(
     });
     match comm::first_error(comm, local_err) {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(with_pressure),
     }
 }
 
@@ -417,6 +428,7 @@ fn final_state<C: Comm + ?Sized>(
         reaction: s.reaction,
         contact_force: s.contact_force,
         contact_status: s.contact_status,
+        contact_pressure: s.contact_pressure,
         plastic_strain: s.plastic_strain,
         constraints: stepper
             .contact

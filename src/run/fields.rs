@@ -1,6 +1,7 @@
 //! One written step's fields on rank 0 in global order: displacement, element stress,
 //! reactions and contact forces from the constraint rows' multipliers, contact status and
-//! gap of the slave nodes, plastic strain, and the step's statistics.
+//! gap of the slave nodes, the nodal contact pressure, plastic strain, and the step's
+//! statistics.
 
 use super::{plastic, Gather};
 use crate::comm::Comm;
@@ -99,9 +100,17 @@ pub(super) fn step_output<C: Comm + ?Sized>(
     let (reaction, mut contact_force) = constraint_forces(stepper, local);
     let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
     let n = gather.num_nodes;
+    let displacement = gather.nodes(comm, local, &stepper.u);
+    // The active set is whole on every rank; the pressure is computed on rank 0 from the
+    // global displacement, so it does not depend on the number of ranks.
+    let contact_pressure = if comm.is_root() {
+        crate::contact::area::contact_pressure(problem, &stepper.contact.active, &displacement)
+    } else {
+        Vec::new()
+    };
     let out = StepOutput {
         time: rec.time,
-        displacement: gather.nodes(comm, local, &stepper.u),
+        displacement,
         stress: gather.elements(comm, &stress),
         reaction: gather.nodes(comm, local, &reaction),
         contact_force: gather.nodes(comm, local, &contact_force),
@@ -115,6 +124,7 @@ pub(super) fn step_output<C: Comm + ?Sized>(
             .iter()
             .map(|v| v[0])
             .collect(),
+        contact_pressure,
         plastic_strain: plastic::plastic_strain(comm, stepper, gather),
         stats: step_stats(&rec),
     };
