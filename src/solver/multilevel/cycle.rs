@@ -5,6 +5,7 @@
 //! result on any number of ranks, no communication. Buffers are allocated once, at setup.
 
 use super::aggregation::{aggregate, Graph};
+use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
@@ -19,7 +20,7 @@ const STRENGTH: f64 = 1e-3;
 /// One coarse level: its operator, smoother, prolongator to the next and buffers.
 struct Level {
     a: Csr,
-    dinv: Vec<f64>,
+    dinv: BlockInverse,
     cheb: Chebyshev,
     p: Csr,
     pt: Csr,
@@ -33,7 +34,7 @@ struct Level {
 /// A sparse level seen by the smoother.
 struct Sparse<'a> {
     a: &'a Csr,
-    dinv: &'a [f64],
+    dinv: &'a BlockInverse,
 }
 
 impl Space for Sparse<'_> {
@@ -43,9 +44,7 @@ impl Space for Sparse<'_> {
         Ok(())
     }
     fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
-        for ((z, r), d) in z.iter_mut().zip(r).zip(self.dinv) {
-            *z = r * d;
-        }
+        self.dinv.apply(r, z);
     }
     fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
         a.iter().zip(b).map(|(x, y)| x * y).sum()
@@ -72,8 +71,11 @@ pub struct Hierarchy {
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
-/// unknowns is at least STRENGTH times the geometric mean of the two diagonals.
-fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize]) -> (Graph, Vec<bool>) {
+/// unknowns is at least STRENGTH times the geometric mean of the two diagonals and both
+/// belong to one body. Bodies coupled only by contact ties stay apart on every level, so
+/// each keeps its own rigid-body modes down to the coarsest (Hertz x2: 703 CG iterations
+/// with bodies merged across the ties, 664 apart; block on block unchanged).
+fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize], body: &[u32]) -> (Graph, Vec<bool>) {
     let nodes = node_ptr.len() - 1;
     let mut node_of = vec![0u32; a.rows];
     for i in 0..nodes {
@@ -84,7 +86,8 @@ fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize]) -> (Graph, Vec<bool
         let (c, v) = a.row(p);
         for (&q, &x) in c.iter().zip(v) {
             let (i, j) = (node_of[p], node_of[q as usize]);
-            if i < j && x.abs() > STRENGTH * (diag[p] * diag[q as usize]).abs().sqrt() {
+            let strong = x.abs() > STRENGTH * (diag[p] * diag[q as usize]).abs().sqrt();
+            if i < j && strong && body[i as usize] == body[j as usize] {
                 edges.push((i, j));
             }
         }
@@ -102,6 +105,7 @@ impl Hierarchy {
         mut a: Csr,
         mut node_ptr: Vec<usize>,
         mut b: Vec<[f64; MODES]>,
+        mut body: Vec<u32>,
         degree: usize,
         sweeps: usize,
     ) -> Self {
@@ -116,12 +120,17 @@ impl Hierarchy {
             if diag.iter().filter(|&&d| d > 0.0).count() <= COARSEST {
                 break;
             }
-            let dinv: Vec<f64> = diag
-                .iter()
-                .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
-                .collect();
-            let (graph, active) = strength_graph(&a, &diag, &node_ptr);
+            // Node-block relaxation (Hertz x4, first model problem: 2610 CG iterations with
+            // point relaxation, 1959 with blocks; block on block n = 20: 94 -> 79).
+            let dinv = BlockInverse::new(&a, &node_ptr);
+            let (graph, active) = strength_graph(&a, &diag, &node_ptr, &body);
             let (agg, na) = aggregate(&graph, &active);
+            let mut coarse_body = vec![0u32; na];
+            for (i, &k) in agg.iter().enumerate() {
+                if k != u32::MAX {
+                    coarse_body[k as usize] = body[i];
+                }
+            }
             let tent = tentative(&agg, na, &node_ptr, &b);
             if tent.p.cols * 10 > a.rows * 9 {
                 // Aggregation no longer coarsens: stop here (solved directly).
@@ -149,6 +158,7 @@ impl Hierarchy {
             a = ac;
             node_ptr = tent.node_ptr;
             b = tent.b;
+            body = coarse_body;
         }
         let coarsest = Compressed::new(&a);
         Hierarchy {
@@ -266,7 +276,7 @@ mod tests {
             let n = a.rows;
             let node_ptr: Vec<usize> = (0..=n).collect();
             let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
-            let mut h = Hierarchy::build(a.clone(), node_ptr, b, 2, 1);
+            let mut h = Hierarchy::build(a.clone(), node_ptr, b, vec![0; n], 2, 1);
             assert!(h.sizes.len() >= 2, "{:?}", h.sizes);
             let x_true: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();
             let mut rhs = vec![0.0; n];

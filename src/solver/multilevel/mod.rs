@@ -8,7 +8,8 @@
 //!   constrained nodes); Kc = Q^T A Q assembled sparse from one operator application per
 //!   colour and mode (aggregates coloured so that no aggregate sees two of one colour,
 //!   contact ties and their masters included).
-//! - Further levels: algebraic smoothed aggregation of the assembled operators, a dense
+//! - Further levels: algebraic smoothed aggregation of the assembled operators within each
+//!   body, relaxed with the inverse node blocks (six modes per coarse node), a dense
 //!   Cholesky factor on the coarsest.
 //!
 //! One application is a symmetric V-cycle (the same polynomial before and after the coarse
@@ -21,6 +22,7 @@
 //! whole coarse hierarchy and runs the same cycle; fine-level dot products are exact.
 
 pub mod aggregation;
+pub mod blocks;
 pub mod colouring;
 pub mod cycle;
 pub mod direct;
@@ -202,7 +204,8 @@ impl Multilevel {
         )?;
         let node_ptr: Vec<usize> = (0..=na).map(|k| MODES * k).collect();
         let b = self.transfer.nullspace(&self.origin, self.length);
-        let h = Hierarchy::build(kc, node_ptr, b, COARSE_DEGREE, COARSE_SWEEPS);
+        let body = self.transfer.body.clone();
+        let h = Hierarchy::build(kc, node_ptr, b, body, COARSE_DEGREE, COARSE_SWEEPS);
         self.fine = None;
         if self.degree > 0 && linear {
             let mut f = Fine {

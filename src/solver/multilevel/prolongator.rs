@@ -3,6 +3,7 @@
 //! modes restricted to the aggregate; the coarse modes are the coefficients), and one
 //! damped Jacobi step smooths it, P = (I - omega D^-1 A) P_tent with omega = 4 / (3 lmax).
 
+use super::blocks::BlockInverse;
 use super::sparse::Csr;
 
 /// Near-nullspace vectors per unknown.
@@ -76,11 +77,11 @@ pub fn tentative(
     }
 }
 
-/// P = (I - omega D^-1 A) P_tent, omega = 4 / (3 lmax(D^-1 A)); rows of unknowns without
-/// stiffness (zero diagonal) are left as they are.
-pub fn smooth(a: &Csr, dinv: &[f64], lmax: f64, pt: &Csr) -> Csr {
+/// P = (I - omega D^-1 A) P_tent, omega = 4 / (3 lmax(D^-1 A)), D the node-block diagonal;
+/// rows of unknowns without stiffness (left out of D^-1) are left as they are.
+pub fn smooth(a: &Csr, dinv: &BlockInverse, lmax: f64, pt: &Csr) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
-    let ap = a.matmul(pt);
+    let ap = dinv.left_multiply(&a.matmul(pt));
     let mut trip = Vec::with_capacity(ap.nnz() + pt.nnz());
     for i in 0..pt.rows {
         let (c, v) = pt.row(i);
@@ -89,7 +90,7 @@ pub fn smooth(a: &Csr, dinv: &[f64], lmax: f64, pt: &Csr) -> Csr {
         }
         let (c, v) = ap.row(i);
         for (&j, &x) in c.iter().zip(v) {
-            trip.push((i as u32, j, -omega * dinv[i] * x));
+            trip.push((i as u32, j, -omega * x));
         }
     }
     let mut p = Csr::from_triplets(pt.rows, pt.cols, trip);
@@ -159,7 +160,7 @@ mod tests {
             }
         }
         let a = Csr::from_triplets(n, n, trip);
-        let dinv: Vec<f64> = a.diagonal().iter().map(|d| 1.0 / d).collect();
+        let dinv = BlockInverse::new(&a, &(0..=n).collect::<Vec<_>>());
         let agg = [0, 0, 0, 1, 1, 1, 2, 2, 2];
         let node_ptr: Vec<usize> = (0..=n).collect();
         let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();

@@ -1,5 +1,5 @@
 //! The smoother of every level: a Chebyshev polynomial in D^-1 A (D the nodal 3 x 3 block
-//! diagonal on the fine level, the diagonal on the coarse ones) on the interval
+//! diagonal on the fine level, the node blocks of the coarse ones: `blocks.rs`) on the interval
 //! [lmax / 30, lmax], lmax estimated by a power iteration from a fixed start vector. The
 //! same polynomial before and after the coarse correction keeps the V-cycle symmetric.
 //! Only operator applications, the diagonal and exact dot products are used, so on the

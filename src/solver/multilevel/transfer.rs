@@ -32,6 +32,8 @@ pub struct Transfer {
     pub aggregates: Aggregates,
     pub centre: Vec<Vec3>,
     pub scale: Vec<f64>,
+    /// The body of every aggregate (aggregates follow mesh edges, so never span two).
+    pub body: Vec<u32>,
 }
 
 impl Transfer {
@@ -77,7 +79,14 @@ impl Transfer {
             std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / scale[k])
         };
         let aggregates = Aggregates::new(comm, mesh, &agg_of, na, offset);
+        let mut body = vec![0u32; na];
+        for (b, info) in g.bodies.iter().enumerate() {
+            for a in info.first_node..info.first_node + info.num_nodes {
+                body[agg_of[a] as usize] = b as u32;
+            }
+        }
         Transfer {
+            body,
             num_aggregates: na,
             agg_of,
             aggregates,
