@@ -271,6 +271,14 @@ fn step_through<C: Comm + ?Sized>(
 ) -> (Option<String>, GlobalState) {
     let nsteps = problem.step_times.len();
     let bar = progress_bar(log, nsteps, progress.first_step);
+    if log.root && log.verbosity >= 2 {
+        // A line per contact update: a step of a large contact problem can take minutes.
+        let bar = bar.clone();
+        stepper.progress = Some(Box::new(move |line: &str| match &bar {
+            Some(b) => b.println(line),
+            None => eprintln!("{line}"),
+        }));
+    }
     let mut state = GlobalState::default();
     let mut failure = None;
     for (k, &t) in problem

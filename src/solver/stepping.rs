@@ -131,6 +131,9 @@ fn choose_preconditioner<C: Comm + ?Sized>(
     }
 }
 
+/// A sink for progress lines.
+pub type ProgressLine<'a> = Box<dyn FnMut(&str) + 'a>;
+
 /// The load stepper, generic over how contact is enforced (`E`; node-to-face by default).
 pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     comm: &'a C,
@@ -158,6 +161,8 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     /// Depth of the deepest slave node the last step's penetration audit found inside a
     /// master body (0 when none).
     audit_depth: f64,
+    /// Where a line on each contact update goes (the run's log at -vv, rank 0); none: quiet.
+    pub progress: Option<ProgressLine<'a>>,
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
@@ -226,6 +231,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             dt_prev: 0.0,
             reference_floor: 0.0,
             audit_depth: 0.0,
+            progress: None,
             length_scale: problem.mesh.bounding_diagonal(),
             stiffness_scale: stiffness_scale(problem),
             contact: E::default(),

@@ -43,6 +43,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         }
         let mut watch = Watch::default();
         let mut changed = true;
+        let started = std::time::Instant::now();
         // Nodal stiffness blocks for the slipping nodes' springs, once per step.
         let mut diag = Vec::new();
         loop {
@@ -74,6 +75,19 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             changed = contact.update(self.comm, self.problem, self.mesh, u, &self.u, force_tol);
             watch.updates += 1;
             self.debug_contact(t, watch.updates, changed, outcome.iterations, contact);
+            if let Some(progress) = self.progress.as_mut() {
+                let c = contact.counts();
+                progress(&format!(
+                    "  t = {t}: contact update {}: CG {} iterations, in contact {} (stick {}, slip {}), set {}, {:.1} s into the step",
+                    watch.updates,
+                    outcome.iterations,
+                    c.active,
+                    c.stick,
+                    c.slip,
+                    if changed { "changed" } else { "unchanged" },
+                    started.elapsed().as_secs_f64()
+                ));
+            }
             watch.record(contact)?;
         }
     }
