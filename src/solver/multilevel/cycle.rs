@@ -10,10 +10,25 @@ use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
 use super::sparse::Csr;
+use super::sparse_cholesky::SparseCholesky;
 use std::convert::Infallible;
 
 /// Levels with at most this many unknowns of positive stiffness are solved directly.
 const COARSEST: usize = 900;
+/// A V-cycle that reduces the first coarse level's error by less than this per cycle is
+/// replaced by a sparse factor of that level (when it fits FILL). Measured rates (and what
+/// the factor did): block on block n = 20 and 30: 0.56 and 0.57 (the fine smoother limits
+/// CG there: 77 vs 73 CG iterations at n = 30, but 9.9 s vs 26.3 s, so kept); the Hertz
+/// example x1, x2: 0.66, 0.77 (x2: 664 -> 496 CG iterations, 7.3 -> 5.1 s; x4, first model
+/// problem: 1913 -> 45); the stick/slip bar at 160 x 8 x 4: 0.93 (270 s -> 163 s).
+const SLOW_RATE: f64 = 0.6;
+/// Cycles of that measurement.
+const RATE_CYCLES: usize = 8;
+/// The fill budget of that factor, in entries of the level's operator: a solve with L costs
+/// about 4 nnz(L) flops, the V-cycle it replaces sweeps x (2 degree + 2) level products, 36
+/// nnz(A) flops with the defaults, so up to 9 nnz(A) the solve costs no more per
+/// application. (Hertz x2 and x4: 3.1-4.4.)
+const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
 
@@ -56,9 +71,24 @@ impl Space for Sparse<'_> {
     }
 }
 
+/// The direct solve of the coarsest level.
+enum Coarsest {
+    Dense(Compressed),
+    Sparse(SparseCholesky),
+}
+
+impl Coarsest {
+    fn solve(&mut self, x: &mut [f64]) {
+        match self {
+            Coarsest::Dense(c) => c.solve(x),
+            Coarsest::Sparse(c) => c.solve(x),
+        }
+    }
+}
+
 pub struct Hierarchy {
     levels: Vec<Level>,
-    coarsest: Compressed,
+    coarsest: Coarsest,
     cb: Vec<f64>,
     /// Unknowns per level, first coarse level first.
     pub sizes: Vec<usize>,
@@ -68,6 +98,10 @@ pub struct Hierarchy {
     /// operator).
     sweeps: usize,
     res: Vec<f64>,
+    /// The V-cycle's error reduction per cycle on the first coarse level (0 without levels).
+    rate: f64,
+    /// Entries of the sparse factor of the first coarse level, when it replaced the levels.
+    factored: Option<usize>,
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
@@ -113,6 +147,7 @@ impl Hierarchy {
         let mut levels = Vec::new();
         let mut sizes = Vec::new();
         let mut nonzeros = Vec::new();
+        let first_nodes = node_ptr.clone();
         loop {
             sizes.push(a.rows);
             nonzeros.push(a.nnz());
@@ -160,15 +195,90 @@ impl Hierarchy {
             b = tent.b;
             body = coarse_body;
         }
-        let coarsest = Compressed::new(&a);
-        Hierarchy {
+        let mut h = Hierarchy {
             levels,
             cb: vec![0.0; a.rows],
-            coarsest,
+            coarsest: Coarsest::Dense(Compressed::new(&a)),
             sizes,
             nonzeros,
             sweeps: sweeps.max(1),
             res: vec![0.0; n1],
+            rate: 0.0,
+            factored: None,
+        };
+        h.factor_if_slow(&first_nodes);
+        h
+    }
+
+    /// Replaces the levels by a sparse factor of the first coarse level when a V-cycle
+    /// reduces its error slowly and the factor fits the fill budget.
+    fn factor_if_slow(&mut self, node_ptr: &[usize]) {
+        if self.levels.is_empty() {
+            return;
+        }
+        self.rate = self.v_cycle_rate();
+        if self.rate <= SLOW_RATE {
+            return;
+        }
+        let a = &self.levels[0].a;
+        let Some((perm, counts)) = SparseCholesky::analyse(a, node_ptr, FILL * a.nnz()) else {
+            return;
+        };
+        let f = SparseCholesky::new(a, perm, &counts);
+        self.factored = Some(f.nnz());
+        self.cb = vec![0.0; a.rows];
+        self.coarsest = Coarsest::Sparse(f);
+        self.levels.clear();
+        self.sizes.truncate(1);
+        self.nonzeros.truncate(1);
+    }
+
+    /// The error reduction per V-cycle on the first coarse level, as a stationary
+    /// iteration from zero towards a fixed pseudo-random solution (geometric mean over
+    /// RATE_CYCLES cycles, in the 2-norm over the unknowns with stiffness).
+    fn v_cycle_rate(&mut self) -> f64 {
+        let lv = &self.levels[0];
+        let n = lv.a.rows;
+        let live: Vec<bool> = lv.a.diagonal().iter().map(|&d| d > 0.0).collect();
+        let x_true: Vec<f64> = (0..n)
+            .map(|i| if live[i] { hash_value(i as u64) } else { 0.0 })
+            .collect();
+        let mut rhs = vec![0.0; n];
+        lv.a.mul_into(&x_true, &mut rhs);
+        let mut x = vec![0.0; n];
+        let err = |x: &[f64]| -> f64 {
+            (0..n)
+                .filter(|&i| live[i])
+                .map(|i| (x[i] - x_true[i]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let e0 = err(&x);
+        for _ in 0..RATE_CYCLES {
+            self.levels[0].a.mul_into(&x, &mut self.res);
+            for i in 0..n {
+                self.levels[0].b[i] = rhs[i] - self.res[i];
+            }
+            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb);
+            for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
+                *xi += ci;
+            }
+        }
+        if e0 > 0.0 {
+            (err(&x) / e0).powf(1.0 / RATE_CYCLES as f64)
+        } else {
+            0.0
+        }
+    }
+
+    /// A line for the log: the V-cycle's rate, and the factor when there is one.
+    pub fn describe(&self) -> String {
+        match self.factored {
+            Some(nnz) => format!(
+                "first coarse level factored sparse ({nnz} entries; a V-cycle reduced its error by {:.2} per cycle)",
+                self.rate
+            ),
+            None => format!("V-cycle rate {:.2} on the first coarse level", self.rate),
         }
     }
 
@@ -198,7 +308,7 @@ impl Hierarchy {
 }
 
 /// levels[0].x = V(levels[0].b).
-fn cycle(levels: &mut [Level], coarsest: &mut Compressed, cb: &mut [f64]) {
+fn cycle(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64]) {
     let (lv, rest) = levels.split_first_mut().expect("a level");
     lv.x.fill(0.0);
     lv.r.copy_from_slice(&lv.b);

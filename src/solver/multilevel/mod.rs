@@ -30,6 +30,7 @@ pub mod measure;
 pub mod prolongator;
 pub mod smoother;
 pub mod sparse;
+pub mod sparse_cholesky;
 pub mod transfer;
 
 use crate::comm::{self, Comm};
@@ -226,11 +227,12 @@ impl Multilevel {
         }
         self.builds += 1;
         self.summary = format!(
-            "multilevel: {} fine aggregates, {} colours, coarse levels of {:?} unknowns ({:?} non-zeros), {}",
+            "multilevel: {} fine aggregates, {} colours, coarse levels of {:?} unknowns ({:?} non-zeros), {}, {}",
             na,
             col.num_colours,
             h.sizes,
             h.nonzeros,
+            h.describe(),
             match self.fine {
                 Some(c) => format!("fine Chebyshev degree {}", c.degree),
                 None => "additive fine level".to_string(),
