@@ -108,6 +108,14 @@ impl Preconditioner {
     }
 }
 
+/// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
+/// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
+/// one model problem). The standby holds the node graph and aggregates of the whole mesh
+/// on every rank (about 150 B a node, 30 MiB here) and a switch builds the hierarchy
+/// (about 1.7 kB a node); above this size two-level runs alone, as the memory model
+/// assumes.
+pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
+
 /// Meshes from this many nodes up use the two-level preconditioner by default.
 pub const TWO_LEVEL_NODES: usize = 20_000;
 

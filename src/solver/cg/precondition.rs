@@ -17,6 +17,8 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
         self.ml_standby = false;
+        // The multilevel cycle replaces the two-level correction, if any.
+        self.coarse = None;
         self.setup_multilevel(pb, u, linear, s)?;
         if let Some(note) = self.rebuild_note.as_mut() {
             *note = format!("switched to the multilevel preconditioner after {SWITCH_AFTER} CG iterations; {note}");
