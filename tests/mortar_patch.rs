@@ -80,14 +80,25 @@ fn print_side_by_side(case: &str, node_face: &Errors, mortar: &Errors) {
         ),
     ];
     for (name, a, b) in rows {
-        println!("{case}: {name:>28}  {a:>12.3e}  {b:>12.3e}");
+        println!("{case}: {name:>28}  {:>12}  {:>12}", shown(a), shown(b));
+    }
+}
+
+/// A number as printed, "-" where it was not measured (NaN).
+fn shown(x: f64) -> String {
+    if x.is_nan() {
+        "-".to_string()
+    } else {
+        format!("{x:.3e}")
     }
 }
 
 fn print_one(case: &str, disc: &str, e: &Errors) {
     println!(
-        "{case} ({disc}): max |sigma - exact| / p {:.3e}, max |u - exact| / max |u| {:.3e}, max interface resultant error {:.3e}",
-        e.stress, e.displacement, e.resultant
+        "{case} ({disc}): max |sigma - exact| / p {:.3e}, max |u - exact| / max |u| {:.3e}, max interface resultant error {}",
+        e.stress,
+        e.displacement,
+        shown(e.resultant)
     );
 }
 

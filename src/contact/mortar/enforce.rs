@@ -12,7 +12,7 @@ use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
 use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 impl ContactState {
     /// The frozen tie of (slave node, pair).
@@ -41,12 +41,18 @@ impl ContactState {
         let ties = positions.ties(problem, p, mesh);
         let mut changed = false;
         let mut found = HashSet::new();
+        // The pair's active nodes by slave node (nodes captured below are pushed at the end
+        // and never looked up again: a slave node has one tie per pair).
+        let index: HashMap<u32, usize> = self
+            .active
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| a.pair == p)
+            .map(|(i, a)| (a.slave, i))
+            .collect();
         for t in ties {
             found.insert(t.slave);
-            let k = self
-                .active
-                .iter()
-                .position(|a| a.slave == t.slave && a.pair == p);
+            let k = index.get(&t.slave).copied();
             match k {
                 Some(k) => {
                     // A sliding node takes its tie at the new positions (not a change of
@@ -86,9 +92,12 @@ impl ContactState {
                 .filter(|a| !found.contains(&a.slave))
                 .map(|a| a.slave)
                 .collect();
+            let off: HashSet<u32> = gone.iter().copied().collect();
+            self.active
+                .retain(|a| !(a.pair == p && off.contains(&a.slave)));
+            self.ties
+                .retain(|(q, t)| !(*q == p && off.contains(&t.slave)));
             for s in gone {
-                self.active.retain(|a| !(a.pair == p && a.slave == s));
-                self.ties.retain(|(q, t)| !(*q == p && t.slave == s));
                 if !self.released.contains(&(s, p)) {
                     self.released.push((s, p));
                 }
