@@ -9,7 +9,7 @@ use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
-use super::sparse::Csr;
+use super::sparse::{node_of, Csr};
 use super::sparse_cholesky::SparseCholesky;
 use std::convert::Infallible;
 
@@ -111,10 +111,7 @@ pub struct Hierarchy {
 /// with bodies merged across the ties, 664 apart; block on block unchanged).
 fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize], body: &[u32]) -> (Graph, Vec<bool>) {
     let nodes = node_ptr.len() - 1;
-    let mut node_of = vec![0u32; a.rows];
-    for i in 0..nodes {
-        node_of[node_ptr[i]..node_ptr[i + 1]].fill(i as u32);
-    }
+    let node_of = node_of(node_ptr);
     let mut edges = Vec::new();
     for p in 0..a.rows {
         let (c, v) = a.row(p);

@@ -3,6 +3,17 @@
 //! order, entries of a row in column order), so every rank that builds a coarse level from
 //! the same data gets it bitwise the same.
 
+/// The node of every unknown, for unknowns grouped in nodes by `node_ptr` (node i holds
+/// unknowns node_ptr[i]..node_ptr[i + 1]).
+pub fn node_of(node_ptr: &[usize]) -> Vec<u32> {
+    let nodes = node_ptr.len() - 1;
+    let mut node_of = vec![0u32; node_ptr[nodes]];
+    for i in 0..nodes {
+        node_of[node_ptr[i]..node_ptr[i + 1]].fill(i as u32);
+    }
+    node_of
+}
+
 /// A sparse matrix in CSR form with sorted column indices in every row.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Csr {

@@ -14,7 +14,7 @@
 //! same factor and solves on every rank.
 
 use super::aggregation::Graph;
-use super::sparse::Csr;
+use super::sparse::{node_of, Csr};
 
 /// Node sets at most this large are not dissected further.
 const LEAF: usize = 32;
@@ -126,10 +126,7 @@ impl SparseCholesky {
     /// without factoring; None as soon as L would hold more than `budget` entries.
     pub fn analyse(a: &Csr, node_ptr: &[usize], budget: usize) -> Option<(Vec<usize>, Vec<usize>)> {
         let nodes = node_ptr.len() - 1;
-        let mut node_of = vec![0u32; a.rows];
-        for i in 0..nodes {
-            node_of[node_ptr[i]..node_ptr[i + 1]].fill(i as u32);
-        }
+        let node_of = node_of(node_ptr);
         let mut edges = Vec::new();
         for p in 0..a.rows {
             for &q in a.row(p).0 {
