@@ -37,9 +37,9 @@ fn dissection_order(g: &Graph) -> Vec<usize> {
     let mut order = Vec::with_capacity(n);
     let mut mark = vec![u32::MAX; n];
     let mut level = vec![0u32; n];
-    // Sets to order, each with the tag its members carry in `mark`; processed last-in
-    // first-out, and every set is written out as its separator after its parts, so a set's
-    // output is reserved up front: (nodes, tag, slot in `order` where its block starts).
+    // Sets to order, processed last-in first-out (its members carry the set's tag in `mark`
+    // while it is split); every set is written out as its separator after its parts, so a
+    // set's output is reserved up front: (nodes, slot in `out` where its block starts).
     let mut out = vec![usize::MAX; n];
     let mut stack: Vec<(Vec<usize>, usize)> = vec![((0..n).collect(), 0)];
     let mut tag = 0u32;
