@@ -67,8 +67,9 @@ impl std::fmt::Display for StepFailure {
     }
 }
 
-/// The preconditioner a run uses, with the line that says so: the multilevel one, the
-/// two-level one, or nodal block Jacobi. A preconditioner asked for by name that cannot
+/// The preconditioner a run uses, with the line that says so: the multilevel one (with
+/// `true` when it waits on standby for a model problem that stalls), the two-level one,
+/// or nodal block Jacobi. A preconditioner asked for by name that cannot
 /// be used says why in the line, which starts with "preconditioner: refused" then.
 fn choose_preconditioner<C: Comm + ?Sized>(
     comm: &C,
@@ -76,7 +77,7 @@ fn choose_preconditioner<C: Comm + ?Sized>(
     mesh: &LocalMesh,
 ) -> (
     Option<super::coarse::CoarseSpace>,
-    Option<super::multilevel::Multilevel>,
+    Option<(super::multilevel::Multilevel, bool)>,
     String,
 ) {
     use crate::problem::{Preconditioner, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
@@ -87,7 +88,7 @@ fn choose_preconditioner<C: Comm + ?Sized>(
         Preconditioner::Multilevel => {
             let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
             let note = format!("preconditioner: multilevel; {}", m.summary);
-            (None, Some(m), note)
+            (None, Some((m, false)), note)
         }
         Preconditioner::TwoLevel | Preconditioner::Auto => {
             let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
@@ -102,12 +103,27 @@ fn choose_preconditioner<C: Comm + ?Sized>(
             }
             if !asked && nodes < TWO_LEVEL_NODES {
                 let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+                // A body that contact alone holds in some rigid-body motion stalls Jacobi
+                // from the first model problem on (Hertz x2: 791 CG iterations with the
+                // switch at 300, 496 with multilevel from the start).
+                let held = super::support::held_by_contact_alone(problem);
+                if !held.is_empty() {
+                    let note = format!(
+                        "preconditioner: multilevel (held by contact alone: {}); {}",
+                        held.iter()
+                            .map(|b| format!("body '{b}'"))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        m.summary
+                    );
+                    return (None, Some((m, false)), note);
+                }
                 let note = format!(
                     "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
                     super::cg::SWITCH_AFTER,
                     m.summary
                 );
-                return (None, Some(m), note);
+                return (None, Some((m, true)), note);
             }
             // Under `auto` on meshes up to MULTILEVEL_STANDBY_NODES, a model problem that
             // two-level does not solve in SWITCH_AFTER iterations goes on with multilevel
@@ -126,7 +142,7 @@ fn choose_preconditioner<C: Comm + ?Sized>(
                         ),
                         None => format!("preconditioner: two-level; {}", c.summary),
                     };
-                    (Some(c), standby, note)
+                    (Some(c), standby.map(|m| (m, true)), note)
                 }
                 Err(why) if asked => (
                     None,
@@ -211,7 +227,6 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     ) -> Result<Self, crate::memory::AllocError> {
         let n = mesh.num_nodes();
         let (coarse, multilevel, coarse_note) = choose_preconditioner(comm, problem, mesh);
-        let standby = problem.solver.preconditioner == crate::problem::Preconditioner::Auto;
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -233,7 +248,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 if let Some(c) = coarse {
                     cg.set_coarse(c);
                 }
-                if let Some(m) = multilevel {
+                if let Some((m, standby)) = multilevel {
                     cg.set_multilevel(m, standby);
                 }
                 cg

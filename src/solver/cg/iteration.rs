@@ -142,6 +142,7 @@ impl Cg {
             rp = rz;
         }
         if !(rp > 0.0) {
+            eprintln!("DEBUG rz {rz:e} rp {rp:e} rr {:e}", comm::dot(comm, &self.r, &self.r, n));
             return None;
         }
         st.restart = false;

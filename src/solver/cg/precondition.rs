@@ -93,8 +93,9 @@ impl Cg {
     }
 }
 
-/// The constrained fine operator for the multilevel preconditioner: T^T K T x, exact for
-/// linear bodies, a finite difference of the forces at u otherwise.
+/// The constrained fine operator for the multilevel preconditioner: T^T (K + K_s) T x with
+/// the slipping nodes' springs K_s, exact for linear bodies, a finite difference of the
+/// forces at u otherwise.
 pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     pub(super) pb: &'b Problem<'a, C>,
     pub(super) linear: bool,
@@ -115,6 +116,10 @@ impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
         pb.asm.mesh.exchange(comm, x);
         if self.linear {
             agree(comm, pb.asm.internal_force_sparse(x, y))?;
+            // The slipping nodes' springs are part of the model problem's operator (the
+            // nonlinear branch gets them through the forces): without them the cycle would
+            // smooth with a diagonal that has them against an operator that has not.
+            crate::springs::add_action(pb.springs, x, y);
         } else {
             let owned = pb.owned();
             let eps = 1e-7 * self.eps_scale / max_abs(comm, x, owned).max(f64::MIN_POSITIVE);
