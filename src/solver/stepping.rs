@@ -535,7 +535,8 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             if let SolveFailure::NotConverged { iterations, .. }
             | SolveFailure::NonPositiveCurvature { iterations }
             | SolveFailure::Unbounded { iterations, .. }
-            | SolveFailure::NonFinite { iterations } = e
+            | SolveFailure::NonFinite { iterations }
+            | SolveFailure::IndefinitePreconditioner { iterations } = e
             {
                 record.cg_iterations += iterations as u64;
             }

@@ -215,6 +215,25 @@ fn describe(v: &Vector6<f64>) -> String {
 mod tests {
     use super::*;
 
+    fn scene(path: &str) -> Problem {
+        let file = format!("{}/{path}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&file).unwrap();
+        crate::scene::parse_scene(&text, &file, "scene").unwrap()
+    }
+
+    #[test]
+    fn bodies_held_by_contact_alone_are_named() {
+        // The stick/slip bar: z fixed on every node, x and y held only by the plates.
+        let p = scene("run/scenes/paper/stick_slip.toml");
+        assert_eq!(held_by_contact_alone(&p), vec!["bar".to_string()]);
+        // The Hertz example: the cylinder's symmetry planes leave its vertical motion free.
+        let p = scene("run/examples/cylinder_on_block.toml");
+        assert_eq!(held_by_contact_alone(&p), vec!["cylinder".to_string()]);
+        // The bar of the boundary-condition interaction test is fixed by its own supports.
+        let p = scene("run/scenes/paper/bc_interaction.toml");
+        assert!(held_by_contact_alone(&p).is_empty());
+    }
+
     #[test]
     fn describe_names_the_dominant_part() {
         let v = Vector6::new(0.0, -1.0, 0.0, 0.0, 0.0, 0.0);

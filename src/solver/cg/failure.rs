@@ -15,6 +15,10 @@ pub enum SolveFailure {
     NonFinite {
         iterations: usize,
     },
+    /// The multilevel preconditioner gave r.z <= 0 for a residual above the tolerance.
+    IndefinitePreconditioner {
+        iterations: usize,
+    },
     Unbounded {
         iterations: usize,
         max_displacement: f64,
@@ -59,6 +63,11 @@ impl std::fmt::Display for SolveFailure {
                 write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
             }
             SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
+            SolveFailure::IndefinitePreconditioner { iterations } => write!(
+                f,
+                "the multilevel preconditioner is not positive definite on this model problem (r.z <= 0 after {iterations} CG iterations, its smoother's bound widened {}x); try solver.preconditioner = \"jacobi\"",
+                1 << super::iteration::MAX_WIDEN
+            ),
             SolveFailure::Unbounded { max_displacement, .. } => write!(
                 f,
                 "the displacement grew without bound (max |u| = {max_displacement:.3e}): a body is not held (a rigid-body motion, or friction that cannot carry the load)"

@@ -5,6 +5,10 @@ use super::{residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure, SWITC
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
+/// How often a model problem may double the multilevel fine smoother's bound (a factor of
+/// 16 in all) before the cycle counts as broken.
+pub(super) const MAX_WIDEN: usize = 4;
+
 /// Where a CG solve stands between iterations.
 pub(super) struct Progress {
     /// Norm of the residual and the force it is measured against.
@@ -53,6 +57,7 @@ impl Cg {
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
 
+        let mut widened = 0;
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == SWITCH_AFTER {
                 self.switch_to_multilevel(pb, u, linear, s)?;
@@ -60,8 +65,21 @@ impl Cg {
             }
             self.apply_preconditioner(pb, u, linear, s)?;
             let Some(rp) = self.update_direction(pb, linear, &mut st, u.len()) else {
-                // The preconditioned residual vanished: the residual is at round-off level.
-                return Ok(st.outcome(it - 1));
+                let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
+                    // Block Jacobi is positive definite on the free directions: the
+                    // preconditioned residual vanished, the residual is at round-off level.
+                    return Ok(st.outcome(it - 1));
+                };
+                // r.z <= 0 for a residual above the tolerance: the cycle is not positive
+                // definite, never a converged solve. Its fine smoother's bound fell short
+                // of the spectrum; widened, the smoother is a contraction again.
+                if ml.smooths_fine() && widened < MAX_WIDEN {
+                    ml.widen_smoother();
+                    widened += 1;
+                    st.restart = true;
+                    continue;
+                }
+                return Err(SolveFailure::IndefinitePreconditioner { iterations: it });
             };
             if linear {
                 self.linear_step(pb, u, rp, it, s, &mut st)?;
@@ -142,7 +160,6 @@ impl Cg {
             rp = rz;
         }
         if !(rp > 0.0) {
-            eprintln!("DEBUG rz {rz:e} rp {rp:e} rr {:e}", comm::dot(comm, &self.r, &self.r, n));
             return None;
         }
         st.restart = false;

@@ -87,6 +87,8 @@ pub struct Cg {
     ml_standby: bool,
     /// Contact rows when the multilevel hierarchy was built.
     ml_contact_rows: usize,
+    /// Constraint rows and contact rows when the fine smoother's bound was measured.
+    ml_smoother_rows: [usize; 2],
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
 }
@@ -115,6 +117,7 @@ impl Cg {
             coarse_rows: 0,
             multilevel: None,
             ml_contact_rows: 0,
+            ml_smoother_rows: [0; 2],
             ml_standby: false,
             rebuild_note: None,
         })

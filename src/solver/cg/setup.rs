@@ -119,6 +119,25 @@ impl Cg {
         let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
         let similar = near(rows, old) && near(contact, old_contact);
         if ml.is_set_up() && similar && (linear || !self.coarse_stale) {
+            // The hierarchy still serves, but the fine smoother is positive definite only
+            // while its bound covers the spectrum of D^-1 A, which a new constraint set
+            // moves (the paper's stick/slip bar: a slip front four nodes further on made
+            // the cycle indefinite).
+            if ml.smooths_fine() && self.ml_smoother_rows != [rows, contact] {
+                self.ml_smoother_rows = [rows, contact];
+                let mut op = FineOp {
+                    pb,
+                    linear,
+                    eps_scale: s.length_scale,
+                    u,
+                    fi: &self.fi,
+                    fe: &self.fe,
+                    trial: &mut self.trial,
+                    fi_trial: &mut self.fi_trial,
+                    fe_trial: &mut self.fe_trial,
+                };
+                ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
+            }
             return Ok(());
         }
         let why = if !ml.is_set_up() {
@@ -129,6 +148,7 @@ impl Cg {
             "new increment of a nonlinear body".to_string()
         };
         self.ml_contact_rows = contact;
+        self.ml_smoother_rows = [rows, contact];
         self.coarse_stale = false;
         self.coarse_rows = rows;
         let mut op = FineOp {

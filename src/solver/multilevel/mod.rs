@@ -209,21 +209,7 @@ impl Multilevel {
         let h = Hierarchy::build(kc, node_ptr, b, body, COARSE_DEGREE, COARSE_SWEEPS);
         self.fine = None;
         if self.degree > 0 && linear {
-            let mut f = Fine {
-                comm,
-                op,
-                minv,
-                owned: self.owned,
-                ids: &self.global_ids,
-                tmp: &mut self.fu,
-            };
-            self.fine = Some(Chebyshev::estimate(
-                &mut f,
-                self.degree,
-                self.fx.as_flattened_mut(),
-                self.fr.as_flattened_mut(),
-                self.fd.as_flattened_mut(),
-            )?);
+            self.estimate_smoother(comm, minv, op)?;
         }
         self.builds += 1;
         self.summary = format!(
@@ -240,6 +226,47 @@ impl Multilevel {
         );
         self.hierarchy = Some(h);
         Ok(())
+    }
+
+    /// The fine Chebyshev smoother for the operator and diagonal blocks as they are now
+    /// (collective): its bound on the spectrum of D^-1 A is measured again.
+    pub fn estimate_smoother<C: Comm + ?Sized, O: FineOperator>(
+        &mut self,
+        comm: &C,
+        minv: &[Mat3],
+        op: &mut O,
+    ) -> Result<(), O::Error> {
+        let mut f = Fine {
+            comm,
+            op,
+            minv,
+            owned: self.owned,
+            ids: &self.global_ids,
+            tmp: &mut self.fu,
+        };
+        self.fine = Some(Chebyshev::estimate(
+            &mut f,
+            self.degree,
+            self.fx.as_flattened_mut(),
+            self.fr.as_flattened_mut(),
+            self.fd.as_flattened_mut(),
+        )?);
+        Ok(())
+    }
+
+    /// Whether the cycle smooths the fine level with Chebyshev (linear bodies): only then
+    /// can it lose positive definiteness, when D^-1 A outgrows the smoother's bound.
+    pub fn smooths_fine(&self) -> bool {
+        self.fine.is_some()
+    }
+
+    /// Doubles the fine smoother's bound on the spectrum of D^-1 A: the cycle is positive
+    /// definite again once the bound covers the largest eigenvalue (a power iteration's
+    /// estimate can miss a mode that lives on a few nodes).
+    pub fn widen_smoother(&mut self) {
+        if let Some(c) = self.fine.as_mut() {
+            c.widen(2.0);
+        }
     }
 
     /// z = M^-1 r on the owned nodes (collective). Requires `setup`.

@@ -70,6 +70,13 @@ impl Chebyshev {
         })
     }
 
+    /// Multiplies the bound on the spectrum by `factor` (the smoothed interval keeps its
+    /// ratio).
+    pub fn widen(&mut self, factor: f64) {
+        self.lmax *= factor;
+        self.lmin = self.lmax / LOWER;
+    }
+
     /// x += p(D^-1 A) D^-1 r, the Chebyshev iteration from the residual r (destroyed):
     /// degree - 1 operator applications. Buffers d and t have the level's length.
     pub fn smooth<S: Space>(
