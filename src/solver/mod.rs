@@ -4,6 +4,7 @@
 pub mod aggregates;
 pub mod assembly;
 pub mod cg;
+pub mod choice;
 pub mod coarse;
 pub mod multilevel;
 pub use crate::constraints;

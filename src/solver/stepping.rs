@@ -67,100 +67,6 @@ impl std::fmt::Display for StepFailure {
     }
 }
 
-/// The preconditioner a run uses, with the line that says so: the multilevel one (with
-/// `true` when it waits on standby for a model problem that stalls), the two-level one,
-/// or nodal block Jacobi. A preconditioner asked for by name that cannot
-/// be used says why in the line, which starts with "preconditioner: refused" then.
-fn choose_preconditioner<C: Comm + ?Sized>(
-    comm: &C,
-    problem: &Problem,
-    mesh: &LocalMesh,
-) -> (
-    Option<super::coarse::CoarseSpace>,
-    Option<(super::multilevel::Multilevel, bool)>,
-    String,
-) {
-    use crate::problem::{Preconditioner, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
-    let nodes = problem.mesh.num_nodes();
-    let degree = super::multilevel::FINE_DEGREE;
-    match problem.solver.preconditioner {
-        Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
-        Preconditioner::Multilevel => {
-            let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
-            let note = format!("preconditioner: multilevel; {}", m.summary);
-            (None, Some((m, false)), note)
-        }
-        Preconditioner::TwoLevel | Preconditioner::Auto => {
-            let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
-            // Meshes of at most SINGLETON_NODES nodes keep Jacobi under `auto`: an iteration
-            // costs little there, while a model problem that stalls (a stiffness contrast
-            // below round-off) would pay a factored preconditioner in every one of its
-            // iterations (contrast_stiff_on_soft, 250 nodes: 21 s -> 117 s with the switch).
-            let small = nodes <= super::multilevel::transfer::SINGLETON_NODES;
-            if !asked && small {
-                let note = format!("preconditioner: nodal block Jacobi ({nodes} nodes)");
-                return (None, None, note);
-            }
-            if !asked && nodes < TWO_LEVEL_NODES {
-                let m = super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
-                // A body that contact alone holds in some rigid-body motion stalls Jacobi
-                // from the first model problem on (Hertz x2: 791 CG iterations with the
-                // switch at 300, 496 with multilevel from the start).
-                let held = super::support::held_by_contact_alone(problem);
-                if !held.is_empty() {
-                    let note = format!(
-                        "preconditioner: multilevel (held by contact alone: {}); {}",
-                        held.iter()
-                            .map(|b| format!("body '{b}'"))
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                        m.summary
-                    );
-                    return (None, Some((m, false)), note);
-                }
-                let note = format!(
-                    "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
-                    super::cg::SWITCH_AFTER,
-                    m.summary
-                );
-                return (None, Some((m, true)), note);
-            }
-            // Under `auto` on meshes up to MULTILEVEL_STANDBY_NODES, a model problem that
-            // two-level does not solve in SWITCH_AFTER iterations goes on with multilevel
-            // (Hertz x4, a cylinder held only by contact: no first model problem in 400 s
-            // with two-level; 584 CG iterations in all, 36 s, with multilevel).
-            let standby = (!asked && nodes <= MULTILEVEL_STANDBY_NODES)
-                .then(|| super::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree));
-            match super::coarse::CoarseSpace::new(comm, problem, mesh) {
-                Ok(c) => {
-                    let note = match &standby {
-                        Some(m) => format!(
-                            "preconditioner: two-level, multilevel from CG iteration {} of a model problem on; {}; {}",
-                            super::cg::SWITCH_AFTER,
-                            c.summary,
-                            m.summary
-                        ),
-                        None => format!("preconditioner: two-level; {}", c.summary),
-                    };
-                    (Some(c), standby.map(|m| (m, true)), note)
-                }
-                Err(why) if asked => (
-                    None,
-                    None,
-                    format!(
-                        "preconditioner: refused two_level ({why}); nodal block Jacobi instead"
-                    ),
-                ),
-                Err(why) => (
-                    None,
-                    None,
-                    format!("preconditioner: nodal block Jacobi ({why})"),
-                ),
-            }
-        }
-    }
-}
-
 /// A sink for progress lines.
 pub type ProgressLine<'a> = Box<dyn FnMut(&str) + 'a>;
 
@@ -226,7 +132,8 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         mesh: &'a LocalMesh,
     ) -> Result<Self, crate::memory::AllocError> {
         let n = mesh.num_nodes();
-        let (coarse, multilevel, coarse_note) = choose_preconditioner(comm, problem, mesh);
+        let (coarse, multilevel, coarse_note) =
+            super::choice::choose_preconditioner(comm, problem, mesh);
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {

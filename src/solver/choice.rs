@@ -1,0 +1,156 @@
+//! Which preconditioner a run uses under each setting, and the line that says why.
+//!
+//! By name: that one, or a refusal with the reason and block Jacobi instead. Under `auto`
+//! (the default), by what makes one-level block Jacobi stall and what each choice costs:
+//! - at most SINGLETON_NODES nodes: block Jacobi (an iteration costs little), unless a
+//!   body is nearly incompressible (Jacobi's iterations grow with K/G): multilevel;
+//! - below TWO_LEVEL_NODES: multilevel from the start when a body is held by contact alone
+//!   in some rigid-body motion (its stiffness there comes through the contact patch), else
+//!   block Jacobi with multilevel on standby for a model problem that stalls;
+//! - from TWO_LEVEL_NODES: two-level, with multilevel on standby up to
+//!   MULTILEVEL_STANDBY_NODES.
+
+use crate::comm::Comm;
+use crate::material::Material;
+use crate::mesh::local::LocalMesh;
+use crate::problem::Problem;
+
+/// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
+/// ratio 0.49 and above).
+const NEARLY_INCOMPRESSIBLE: f64 = 49.0;
+
+/// The names of the bodies whose bulk modulus is at least NEARLY_INCOMPRESSIBLE times
+/// their shear modulus.
+fn nearly_incompressible(problem: &Problem) -> Vec<String> {
+    problem
+        .mesh
+        .bodies
+        .iter()
+        .zip(&problem.body_models)
+        .filter(|(_, model)| {
+            let (lambda, mu) = Material::lambda_mu(&model.material);
+            lambda + 2.0 * mu / 3.0 >= NEARLY_INCOMPRESSIBLE * mu
+        })
+        .map(|(body, _)| body.name.clone())
+        .collect()
+}
+
+/// "body 'a', body 'b'".
+fn named(bodies: &[String]) -> String {
+    bodies
+        .iter()
+        .map(|b| format!("body '{b}'"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The preconditioner a run uses, with the line that says so: the multilevel one (with
+/// `true` when it waits on standby for a model problem that stalls), the two-level one,
+/// or nodal block Jacobi. A preconditioner asked for by name that cannot
+/// be used says why in the line, which starts with "preconditioner: refused" then.
+pub fn choose_preconditioner<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+) -> (
+    Option<crate::solver::coarse::CoarseSpace>,
+    Option<(crate::solver::multilevel::Multilevel, bool)>,
+    String,
+) {
+    use crate::problem::{Preconditioner, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
+    let nodes = problem.mesh.num_nodes();
+    let degree = crate::solver::multilevel::FINE_DEGREE;
+    match problem.solver.preconditioner {
+        Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
+        Preconditioner::Multilevel => {
+            let m = crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+            let note = format!("preconditioner: multilevel; {}", m.summary);
+            (None, Some((m, false)), note)
+        }
+        Preconditioner::TwoLevel | Preconditioner::Auto => {
+            let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
+            // Meshes of at most SINGLETON_NODES nodes keep Jacobi under `auto`: an iteration
+            // costs little there, while a model problem that stalls (a stiffness contrast
+            // below round-off) would pay a factored preconditioner in every one of its
+            // iterations (contrast_stiff_on_soft, 250 nodes: 21 s -> 117 s with the switch).
+            let small = nodes <= crate::solver::multilevel::transfer::SINGLETON_NODES;
+            if !asked && small {
+                // Except where a body is nearly incompressible: Jacobi's iterations grow
+                // with K/G there whatever the size (incompressible_mean, 189 nodes, nu =
+                // 0.4999: 16634 CG iterations with Jacobi, 67 with multilevel).
+                let stiff = nearly_incompressible(problem);
+                if !stiff.is_empty() {
+                    let m = crate::solver::multilevel::Multilevel::new(
+                        comm,
+                        &problem.mesh,
+                        mesh,
+                        degree,
+                    );
+                    let note = format!(
+                        "preconditioner: multilevel (nearly incompressible: {}); {}",
+                        named(&stiff),
+                        m.summary
+                    );
+                    return (None, Some((m, false)), note);
+                }
+                let note = format!("preconditioner: nodal block Jacobi ({nodes} nodes)");
+                return (None, None, note);
+            }
+            if !asked && nodes < TWO_LEVEL_NODES {
+                let m =
+                    crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+                // A body that contact alone holds in some rigid-body motion stalls Jacobi
+                // from the first model problem on (Hertz x2: 791 CG iterations with the
+                // switch at 300, 496 with multilevel from the start).
+                let held = crate::solver::support::held_by_contact_alone(problem);
+                if !held.is_empty() {
+                    let note = format!(
+                        "preconditioner: multilevel (held by contact alone: {}); {}",
+                        named(&held),
+                        m.summary
+                    );
+                    return (None, Some((m, false)), note);
+                }
+                let note = format!(
+                    "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
+                    crate::solver::cg::SWITCH_AFTER,
+                    m.summary
+                );
+                return (None, Some((m, true)), note);
+            }
+            // Under `auto` on meshes up to MULTILEVEL_STANDBY_NODES, a model problem that
+            // two-level does not solve in SWITCH_AFTER iterations goes on with multilevel
+            // (Hertz x4, a cylinder held only by contact: no first model problem in 400 s
+            // with two-level; 584 CG iterations in all, 36 s, with multilevel).
+            let standby = (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| {
+                crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree)
+            });
+            match crate::solver::coarse::CoarseSpace::new(comm, problem, mesh) {
+                Ok(c) => {
+                    let note = match &standby {
+                        Some(m) => format!(
+                            "preconditioner: two-level, multilevel from CG iteration {} of a model problem on; {}; {}",
+                            crate::solver::cg::SWITCH_AFTER,
+                            c.summary,
+                            m.summary
+                        ),
+                        None => format!("preconditioner: two-level; {}", c.summary),
+                    };
+                    (Some(c), standby.map(|m| (m, true)), note)
+                }
+                Err(why) if asked => (
+                    None,
+                    None,
+                    format!(
+                        "preconditioner: refused two_level ({why}); nodal block Jacobi instead"
+                    ),
+                ),
+                Err(why) => (
+                    None,
+                    None,
+                    format!("preconditioner: nodal block Jacobi ({why})"),
+                ),
+            }
+        }
+    }
+}
