@@ -104,7 +104,7 @@ pub fn run_from<C: Comm + ?Sized>(
             ),
         );
     }
-    let (failure, state) = step_through(
+    let (mut failure, state) = step_through(
         comm,
         problem,
         opts,
@@ -114,6 +114,18 @@ pub fn run_from<C: Comm + ?Sized>(
         writer.as_mut(),
         &mut progress,
     );
+    if let Some(dir) = opts
+        .export_operator
+        .as_ref()
+        .filter(|_| stepper.export_pending())
+    {
+        failure.get_or_insert_with(|| {
+            format!(
+                "--export-operator {}: no model problem needed a CG iteration; nothing exported",
+                dir.display()
+            )
+        });
+    }
     let wall_time = progress.started.elapsed().as_secs_f64();
     let peak_memory = comm::max_f64(comm, peak_memory().unwrap_or(0.0));
     let output = finish(comm, writer, &failure, wall_time)?;

@@ -296,6 +296,11 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         self.cg.request_export();
     }
 
+    /// An export was asked for and no model problem has been assembled yet.
+    pub fn export_pending(&self) -> bool {
+        self.cg.export_pending()
+    }
+
     /// The assembled model problem once CG finished it, or why there is none; once.
     pub fn take_export(&mut self) -> Option<Result<super::cg::ModelExport, String>> {
         self.cg.take_export()

@@ -228,6 +228,11 @@ impl Cg {
         self.export = ExportState::Pending;
     }
 
+    /// An export was asked for and not yet taken.
+    pub fn export_pending(&self) -> bool {
+        matches!(self.export, ExportState::Pending)
+    }
+
     /// The export once CG finished its model problem (or why there is none), once.
     pub fn take_export(&mut self) -> Option<Result<ModelExport, String>> {
         match std::mem::take(&mut self.export) {
