@@ -56,6 +56,11 @@ enum Command {
         /// Run even when the memory estimate exceeds the memory available.
         #[arg(long)]
         force: bool,
+        /// Also write the first model problem that needs a CG iteration, assembled (the
+        /// constrained operator, right-hand side, rigid-body modes and our CG's iteration
+        /// count on it), into this directory as NumPy arrays (one rank only).
+        #[arg(long, value_name = "DIR")]
+        export_operator: Option<PathBuf>,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
@@ -111,6 +116,7 @@ fn main() -> ExitCode {
             restart,
             preconditioner,
             force,
+            export_operator,
         } => with_comm(|comm| {
             let args = RunArgs {
                 scene: &scene,
@@ -120,6 +126,7 @@ fn main() -> ExitCode {
                 preconditioner: preconditioner.as_deref().map(preconditioner_of),
                 force,
                 verbosity,
+                export_operator,
             };
             run_command(comm, &args)
         }),
@@ -135,12 +142,22 @@ struct RunArgs<'a> {
     preconditioner: Option<solver::problem::Preconditioner>,
     force: bool,
     verbosity: u8,
+    export_operator: Option<PathBuf>,
 }
 
 /// `solver run`: the memory check (before the mesh is built when the counts allow), the
 /// scene, the restart file, the output claimed, the run, and its summary. Returns the exit
 /// code: 0 done, 1 the run failed, 2 bad input or too big.
 fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
+    if args.export_operator.is_some() && comm.size() != 1 {
+        if comm.is_root() {
+            eprintln!(
+                "error: --export-operator works on one rank only (this run has {})",
+                comm.size()
+            );
+        }
+        return 2;
+    }
     let (problem, estimate) = match prepare(comm, args) {
         Ok(p) => p,
         Err(code) => return code,
@@ -162,6 +179,7 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
     let opts = RunOptions {
         output: Some(output),
         verbosity: args.verbosity,
+        export_operator: args.export_operator.clone(),
     };
     match run_from(comm, &problem, &opts, args.restart) {
         Ok((summary, _)) if summary.failure.is_some() => {

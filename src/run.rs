@@ -10,6 +10,7 @@ use partition::Decomposition;
 use std::path::PathBuf;
 
 mod driver;
+mod export;
 mod fields;
 mod gather;
 mod plastic;
@@ -25,6 +26,9 @@ pub struct RunOptions {
     pub output: Option<PathBuf>,
     /// 0 quiet, 1 step lines, 2 more.
     pub verbosity: u8,
+    /// Where the first model problem that needs a CG iteration goes, assembled
+    /// (`export`); one rank only.
+    pub export_operator: Option<PathBuf>,
 }
 
 /// The run's outcome as every rank sees it.

@@ -498,6 +498,7 @@ fn multi_constraint_errors(disc: &str) -> Errors {
         &RunOptions {
             output: Some(dir.join("multi_constraint_nonmatching.h5")),
             verbosity: 0,
+            export_operator: None,
         },
     )
     .expect("run starts");

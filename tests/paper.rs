@@ -31,6 +31,7 @@ fn run_text(text: &str, file: &str) -> (Verification, GlobalState, Option<String
         &RunOptions {
             output: Some(path.clone()),
             verbosity: 0,
+            export_operator: None,
         },
     )
     .expect("run starts");

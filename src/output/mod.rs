@@ -16,6 +16,7 @@ mod error;
 pub mod integrity;
 pub mod layout;
 pub mod lock;
+pub mod npy;
 mod open;
 pub mod paths;
 mod picture;

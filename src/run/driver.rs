@@ -73,6 +73,15 @@ pub fn run_from<C: Comm + ?Sized>(
         problem.mesh.num_elements(),
     );
     let mut stepper = Stepper::new(comm, problem, &local)?;
+    if opts.export_operator.is_some() {
+        if comm.size() != 1 {
+            return Err(format!(
+                "the operator export works on one rank only (this run has {})",
+                comm.size()
+            ));
+        }
+        stepper.request_export();
+    }
     let refused = stepper.coarse_note.starts_with("preconditioner: refused");
     log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
     if let Some(c) = continued {
@@ -95,7 +104,7 @@ pub fn run_from<C: Comm + ?Sized>(
             ),
         );
     }
-    let (failure, state) = step_through(
+    let (mut failure, state) = step_through(
         comm,
         problem,
         opts,
@@ -105,6 +114,18 @@ pub fn run_from<C: Comm + ?Sized>(
         writer.as_mut(),
         &mut progress,
     );
+    if let Some(dir) = opts
+        .export_operator
+        .as_ref()
+        .filter(|_| stepper.export_pending())
+    {
+        failure.get_or_insert_with(|| {
+            format!(
+                "--export-operator {}: no model problem needed a CG iteration; nothing exported",
+                dir.display()
+            )
+        });
+    }
     let wall_time = progress.started.elapsed().as_secs_f64();
     let peak_memory = comm::max_f64(comm, peak_memory().unwrap_or(0.0));
     let output = finish(comm, writer, &failure, wall_time)?;
@@ -291,6 +312,10 @@ fn step_through<C: Comm + ?Sized>(
         let advanced = stepper.advance(step, t);
         if let Some(note) = stepper.take_rebuild_note() {
             log.at(2, &note);
+        }
+        if let Err(e) = write_export(problem, opts, log, stepper) {
+            failure = Some(e);
+            break;
         }
         let rec = match advanced {
             Ok(rec) => rec,
@@ -480,5 +505,38 @@ fn finish<C: Comm + ?Sized>(
     match comm::first_error(comm, local_err) {
         Some(e) => Err(e),
         None => Ok(output),
+    }
+}
+
+/// Writes the assembled model problem once CG finished it (`--export-operator`); a
+/// refusal is an error of the run.
+fn write_export<C: Comm + ?Sized>(
+    problem: &Problem,
+    opts: &RunOptions,
+    log: &Log,
+    stepper: &mut Stepper<C>,
+) -> Result<(), String> {
+    let Some(dir) = &opts.export_operator else {
+        return Ok(());
+    };
+    match stepper.take_export() {
+        None => Ok(()),
+        Some(Err(why)) => Err(format!("--export-operator {}: {why}", dir.display())),
+        Some(Ok(e)) => {
+            super::export::write_export(dir, &problem.name, &e)?;
+            log.at(
+                1,
+                &format!(
+                    "model problem at t = {} exported to {}: {} unknowns, {} non-zeros, assembly check {:.1e}, {} CG iterations",
+                    e.time,
+                    dir.display(),
+                    e.rhs.len(),
+                    e.matrix.nnz(),
+                    e.check_error,
+                    e.iterations.map_or("-".to_string(), |i| i.to_string())
+                ),
+            );
+            Ok(())
+        }
     }
 }

@@ -212,6 +212,22 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         self.cg.rebuild_note.take()
     }
 
+    /// Asks for the first model problem that needs a CG iteration, assembled
+    /// (`Cg::request_export`).
+    pub fn request_export(&mut self) {
+        self.cg.request_export();
+    }
+
+    /// An export was asked for and no model problem has been assembled yet.
+    pub fn export_pending(&self) -> bool {
+        self.cg.export_pending()
+    }
+
+    /// The assembled model problem once CG finished it, or why there is none; once.
+    pub fn take_export(&mut self) -> Option<Result<super::cg::ModelExport, String>> {
+        self.cg.take_export()
+    }
+
     pub fn assembly(&self) -> &Assembly<'a> {
         &self.asm
     }

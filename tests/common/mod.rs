@@ -29,6 +29,7 @@ pub fn run_serial(p: &Problem, output: Option<PathBuf>) -> (RunSummary, GlobalSt
         &RunOptions {
             output,
             verbosity: 0,
+            export_operator: None,
         },
     )
     .expect("run starts")

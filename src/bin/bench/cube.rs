@@ -178,6 +178,7 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
     let opts = RunOptions {
         output: None,
         verbosity: 0,
+        export_operator: None,
     };
     let mut run_wall = Vec::new();
     let mut solve_wall = Vec::new();

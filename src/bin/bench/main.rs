@@ -36,6 +36,12 @@
 //! `bench --ironing [--out DIR]` runs only the ironing example with CalculiX beside it
 //! (`peers::calculix::ironing`) into `<out>/ironing/`.
 //!
+//! `bench --pyamg [--out DIR]` exports the first model problem of the block on block
+//! (n = 20, 40) and of the Hertz example x2 (`solver run --export-operator`) and runs
+//! PyAMG's smoothed aggregation on it (`run/pyamg_peer.py`) beside our multilevel
+//! preconditioner: CG iterations of both, into the same two files as a section of its own
+//! (`pyamg`).
+//!
 //! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
 //! which the report writers (`report`, one file per section, JSON and Markdown side by
 //! side) read; `runner` runs programs (the solver under `run/mpirun`, with time limits,
@@ -51,6 +57,7 @@ mod kernels;
 mod large;
 mod machine;
 mod peers;
+mod pyamg;
 mod report;
 mod results;
 mod runner;
@@ -66,12 +73,16 @@ const USAGE: &str = concat!(
     "usage: bench [--quick] [--out DIR]\n",
     "       bench --large [--ranks R[,R]] [--out DIR]\n",
     "       bench --ironing [--out DIR]\n",
+    "       bench --pyamg [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
     "               its own\n",
     "  --ironing    only the ironing example beside CalculiX: die forces, a picture, in\n",
     "               <out>/ironing/\n",
+    "  --pyamg      only PyAMG's smoothed aggregation beside our multilevel preconditioner on\n",
+    "               the exported first model problem (block on block n = 20, 40; Hertz x2):\n",
+    "               CG iterations of both; merged into results.json and report.md\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
@@ -82,6 +93,7 @@ enum Mode {
     Normal { quick: bool },
     Large { ranks: Vec<usize> },
     Ironing,
+    Pyamg,
 }
 
 #[derive(Debug, PartialEq)]
@@ -96,6 +108,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut quick = false;
     let mut large = false;
     let mut ironing = false;
+    let mut pyamg = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = args.into_iter();
@@ -104,6 +117,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--quick" => quick = true,
             "--large" => large = true,
             "--ironing" => ironing = true,
+            "--pyamg" => pyamg = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -132,7 +146,12 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if ranks.is_some() && !large {
         return Err("--ranks goes with --large only".into());
     }
-    let mode = if ironing {
+    if pyamg && (ironing || large || quick) {
+        return Err("--pyamg goes with --out only".into());
+    }
+    let mode = if pyamg {
+        Mode::Pyamg
+    } else if ironing {
         Mode::Ironing
     } else if large {
         Mode::Large {
@@ -160,6 +179,7 @@ fn main() -> ExitCode {
     let done = match args.mode {
         Mode::Large { ranks } => large::run(&args.out, &ranks),
         Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
+        Mode::Pyamg => pyamg::run(&args.out),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {

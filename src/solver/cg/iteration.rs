@@ -48,6 +48,17 @@ impl Cg {
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
+        let outcome = self.solve_model(pb, u, s);
+        self.record_export(&outcome);
+        outcome
+    }
+
+    fn solve_model<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+    ) -> Result<ModelOutcome, SolveFailure> {
         let linear = pb.asm.linear && !pb.loads.is_follower();
         let mut st = self.initial_residual(pb, u, s)?;
         if st.converged(s) {
@@ -56,6 +67,7 @@ impl Cg {
         self.precondition(pb, u)?;
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
+        self.capture(pb, u, linear, s, (st.rnorm, st.refv))?;
 
         let mut widened = 0;
         for it in 1..=s.max_iterations {

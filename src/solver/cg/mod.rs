@@ -9,15 +9,18 @@
 //! Split by concept: `failure` (why a model problem could not be solved), `iteration` (the
 //! CG loop and the search direction), `step` (the linear and the nonlinear step along it),
 //! `precondition` (block Jacobi, the multilevel and coarse corrections, the fine operator)
-//! and `setup` (when and how the coarse operator and the multilevel hierarchy are built).
+//! and `setup` (when and how the coarse operator and the multilevel hierarchy are built);
+//! `export` assembles a model problem for other solvers.
 //! This file holds the settings, the buffers, the problem and the residual they share.
 
+mod export;
 mod failure;
 mod iteration;
 mod precondition;
 mod setup;
 mod step;
 
+pub use export::{free_basis, ModelExport};
 pub use failure::SolveFailure;
 
 use super::assembly::{Assembly, ElementError};
@@ -91,6 +94,8 @@ pub struct Cg {
     ml_smoother_rows: [usize; 2],
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
+    /// The assembled model problem, when asked for (`request_export`).
+    export: export::ExportState,
 }
 
 impl Cg {
@@ -120,6 +125,7 @@ impl Cg {
             ml_smoother_rows: [0; 2],
             ml_standby: false,
             rebuild_note: None,
+            export: export::ExportState::Off,
         })
     }
 
