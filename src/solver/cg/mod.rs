@@ -141,11 +141,13 @@ impl Cg {
         self.coarse = Some(coarse);
     }
 
-    /// Marks a new load increment. The coarse operator is measured again when the bodies
-    /// are nonlinear (the tangent moved) or the number of constraint rows changed by more
-    /// than a tenth; otherwise it is kept: measured with an earlier constraint set it is
-    /// still a valid (positive) preconditioner, only a slightly less sharp one, and
-    /// measuring costs an operator application per colour and mode.
+    /// Marks a new load increment (or a new attempt at one): the coarse operator and the
+    /// multilevel hierarchy are measured again at its first model problem. Within the
+    /// increment they are kept until the number of constraint rows changes by more than a
+    /// tenth: measured with an earlier constraint set they are still valid (positive)
+    /// preconditioners, only slightly less sharp ones. Measuring once per increment makes
+    /// the preconditioner a function of the increment's own state, so a run continued
+    /// from a restart file repeats the uninterrupted run bit for bit.
     pub fn invalidate_coarse(&mut self) {
         self.coarse_stale = true;
     }

@@ -28,7 +28,7 @@ impl Cg {
             acc
         });
         let similar = (rows - self.coarse_rows as f64).abs() <= 0.1 * self.coarse_rows as f64;
-        if cs.is_set_up() && similar && (linear || !self.coarse_stale) {
+        if cs.is_set_up() && similar && !self.coarse_stale {
             self.coarse = Some(cs);
             return Ok(());
         }
@@ -91,8 +91,8 @@ impl Cg {
     }
 
     /// Builds the multilevel hierarchy when it is out of date, by the rule of the coarse
-    /// space (`invalidate_coarse`): first use, the number of constraint rows changed by
-    /// more than a tenth, or a new increment of a nonlinear body.
+    /// space (`invalidate_coarse`): first use, a new load increment, or the number of
+    /// constraint rows changed by more than a tenth.
     pub(super) fn setup_multilevel<C: Comm + ?Sized>(
         &mut self,
         pb: &Problem<C>,
@@ -118,7 +118,7 @@ impl Cg {
         let (old, old_contact) = (self.coarse_rows, self.ml_contact_rows);
         let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
         let similar = near(rows, old) && near(contact, old_contact);
-        if ml.is_set_up() && similar && (linear || !self.coarse_stale) {
+        if ml.is_set_up() && similar && !self.coarse_stale {
             // The hierarchy still serves, but the fine smoother is positive definite only
             // while its bound covers the spectrum of D^-1 A, which a new constraint set
             // moves (the paper's stick/slip bar: a slip front four nodes further on made
@@ -145,7 +145,7 @@ impl Cg {
         } else if !similar {
             format!("constraint rows {old} -> {rows}, of them contact {old_contact} -> {contact}")
         } else {
-            "new increment of a nonlinear body".to_string()
+            "new load increment".to_string()
         };
         self.ml_contact_rows = contact;
         self.ml_smoother_rows = [rows, contact];
