@@ -36,6 +36,12 @@
 //! `bench --ironing [--out DIR]` runs only the ironing example with CalculiX beside it
 //! (`peers::calculix::ironing`) into `<out>/ironing/`.
 //!
+//! `bench --robustness [--quick] [--out DIR]` runs only the robustness table: the Hertz
+//! example at x1, x2, x4, the extreme suite's hard scenes, the stick/slip bar at
+//! 160 x 8 x 1 and the block on block at n = 20 on 2 ranks with every preconditioner under
+//! a time limit, and CalculiX beside the Hertz meshes and the bar, into
+//! `<out>/robustness/` (`robustness`, `peers::calculix::robustness`).
+//!
 //! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
 //! which the report writers (`report`, one file per section, JSON and Markdown side by
 //! side) read; `runner` runs programs (the solver under `run/mpirun`, with time limits,
@@ -53,6 +59,7 @@ mod machine;
 mod peers;
 mod report;
 mod results;
+mod robustness;
 mod runner;
 mod search;
 mod stats;
@@ -66,12 +73,17 @@ const USAGE: &str = concat!(
     "usage: bench [--quick] [--out DIR]\n",
     "       bench --large [--ranks R[,R]] [--out DIR]\n",
     "       bench --ironing [--out DIR]\n",
+    "       bench --robustness [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
     "               its own\n",
     "  --ironing    only the ironing example beside CalculiX: die forces, a picture, in\n",
     "               <out>/ironing/\n",
+    "  --robustness only the robustness table: Hertz x1, x2, x4, extreme scenes, stick/slip\n",
+    "               160 x 8 x 1, block n = 20 on 2 ranks with jacobi, two_level, multilevel\n",
+    "               and auto (240 s limit per run), CalculiX beside Hertz and the bar, in\n",
+    "               <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
@@ -82,6 +94,7 @@ enum Mode {
     Normal { quick: bool },
     Large { ranks: Vec<usize> },
     Ironing,
+    Robustness { quick: bool },
 }
 
 #[derive(Debug, PartialEq)]
@@ -96,6 +109,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut quick = false;
     let mut large = false;
     let mut ironing = false;
+    let mut robustness = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = args.into_iter();
@@ -104,6 +118,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--quick" => quick = true,
             "--large" => large = true,
             "--ironing" => ironing = true,
+            "--robustness" => robustness = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -129,10 +144,15 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if ironing && (large || quick) {
         return Err("--ironing goes with --out only".into());
     }
+    if robustness && (large || ironing) {
+        return Err("--robustness goes with --quick and --out only".into());
+    }
     if ranks.is_some() && !large {
         return Err("--ranks goes with --large only".into());
     }
-    let mode = if ironing {
+    let mode = if robustness {
+        Mode::Robustness { quick }
+    } else if ironing {
         Mode::Ironing
     } else if large {
         Mode::Large {
@@ -160,6 +180,7 @@ fn main() -> ExitCode {
     let done = match args.mode {
         Mode::Large { ranks } => large::run(&args.out, &ranks),
         Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
+        Mode::Robustness { quick } => robustness::run(&args.out, quick),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
@@ -214,6 +235,17 @@ mod tests {
         assert_eq!(
             parse(&["--ironing", "--large"]),
             Err("--ironing goes with --out only".into())
+        );
+        assert_eq!(
+            parse(&["--robustness", "--quick"]),
+            Ok(Some(Args {
+                mode: Mode::Robustness { quick: true },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--robustness", "--ironing"]),
+            Err("--robustness goes with --quick and --out only".into())
         );
         assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
         assert_eq!(parse(&["-h"]), Ok(None));
