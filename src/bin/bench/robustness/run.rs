@@ -70,6 +70,16 @@ pub fn partial_counts(text: &str) -> (u64, u64) {
     (cg + step_cg, updates + step_updates)
 }
 
+/// The solver's last `error: ` line without the prefix (it may be followed by where the
+/// completed steps went), else its last line.
+pub fn failure_message(text: &str) -> &str {
+    text.lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("error: "))
+        .unwrap_or_else(|| last_line(text))
+        .trim()
+}
+
 /// Largest |u| over `nodes` (global ids) and every step of a result file.
 pub fn max_displacement(path: &Path, nodes: &[u32]) -> Result<f64, String> {
     let file = ResultFile::open(path).map_err(|e| e.to_string())?;
@@ -106,7 +116,7 @@ pub fn run(exe: &Path, job: &Job, limits: &Limits, compare: Option<&[u32]>) -> R
     let outcome = if f.stopped.is_some() {
         Outcome::OverLimit
     } else if f.code != Some(0) {
-        Outcome::Failed(last_line(&text).trim_start_matches("error: ").to_string())
+        Outcome::Failed(failure_message(&text).to_string())
     } else {
         match parse_solver_log(&text) {
             Err(e) => Outcome::Failed(format!("log not read: {e}")),
@@ -153,6 +163,12 @@ step 2/3  t = 0.2    CG     50  residual 1e-9  cut-backs 0  1.0 s  contact updat
 error: step 3 (to t = 0.3) failed at t = 0.25 after 6 cut-backs: CG did not converge
 ";
         assert_eq!(partial_counts(log), (250, 5));
+        let with_file = format!("{log}the completed steps are in out/x.failed.h5\n");
+        assert_eq!(
+            failure_message(&with_file),
+            "step 3 (to t = 0.3) failed at t = 0.25 after 6 cut-backs: CG did not converge"
+        );
+        assert_eq!(failure_message("killed\n"), "killed");
         assert_eq!(partial_counts(""), (0, 0));
     }
 }

@@ -1,13 +1,12 @@
 //! A CalculiX deck of a scene as the solver loads it: the same nodes and elements (ids =
 //! our 1-based ids), a material per body (linear elastic as *ELASTIC, neo-Hookean as NEO
 //! HOOKE with the same initial shear and bulk moduli), one static step per segment of equal
-//! load steps (NLGEOM under large kinematics) in the scene's increments with the prescribed
-//! displacements and the pressures (`*DLOAD`) at the segment's end, every contact pair as
-//! node-to-surface penalty contact (with Coulomb friction when the pair has it), and the
-//! total reaction force of every prescribed node set printed to the .dat file at every
-//! increment. What a scene holds
-//! beyond that is refused with a message naming it; a new problem extends the translation
-//! here.
+//! load steps over which every load grows linearly (NLGEOM under large kinematics) in the
+//! scene's increments with the prescribed displacements and the pressures (`*DLOAD`) at the
+//! segment's end, every contact pair as node-to-surface penalty contact (with Coulomb
+//! friction when the pair has it), and the total reaction force of every prescribed node
+//! set printed to the .dat file at every increment. What a scene holds beyond that is
+//! refused with a message naming it; a new problem extends the translation here.
 
 use super::deck::{
     name, Boundary, ContactPair, DLoad, Deck, Interaction, Material as CcxMaterial, MaterialCard,
