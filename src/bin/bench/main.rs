@@ -82,8 +82,8 @@ const USAGE: &str = concat!(
     "               <out>/ironing/\n",
     "  --robustness only the robustness table: Hertz x1, x2, x4, extreme scenes, stick/slip\n",
     "               160 x 8 x 1, block n = 20 on 2 ranks with jacobi, two_level, multilevel\n",
-    "               and auto (240 s limit per run), CalculiX beside Hertz and the bar, in\n",
-    "               <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
+    "               and auto (240 s limit per run), CalculiX beside Hertz and the bar\n",
+    "               (600 s limit), in <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );

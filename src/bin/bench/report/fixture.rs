@@ -456,6 +456,7 @@ pub fn robustness() -> crate::robustness::Robustness {
         info: info(),
         quick: false,
         timeout_s: 240.0,
+        ccx_timeout_s: 600.0,
         ccx_version: Some("2.20".into()),
         cases: vec![RCase {
             source: Source::Hertz(2),

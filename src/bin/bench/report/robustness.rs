@@ -156,6 +156,7 @@ pub fn json(r: &Robustness) -> J {
         .put("meta", meta)
         .put("ranks", ROBUSTNESS_RANKS)
         .put("timeout_s", r.timeout_s)
+        .put("calculix_timeout_s", r.ccx_timeout_s)
         .put(
             "preconditioners",
             J::Arr(PRECONDITIONERS.iter().map(|p| J::from(p.arg())).collect()),
@@ -174,8 +175,8 @@ run shows (its completed steps and the contact updates of the step it was in: at
 did); wall_s = the solver's own time, process_wall_s = the mpirun process; peak_mib_per_rank = \
 largest VmHWM over the ranks, bytes_per_element = peak / (elements / ranks); max_abs_u = largest \
 |u| over compared_node_set and every step. calculix: ccx (2 threads, OMP_NUM_THREADS) on the \
-deck written from the scene (node-to-surface penalty contact, *DLOAD pressures), wall_s of the \
-process, ccx_time_s its own, iterations = Newton iterations, bytes_per_element = its peak / \
+deck written from the scene (node-to-surface penalty contact, *DLOAD pressures), stopped after \
+calculix_timeout_s, wall_s of the process, ccx_time_s its own, iterations = Newton iterations, bytes_per_element = its peak / \
 elements, max_abs_u over the same set from *NODE PRINT U at every increment; \
 max_abs_u_relative_difference_to_calculix = (ours - ccx) / ccx.";
 
@@ -196,7 +197,7 @@ pub fn markdown(r: &Robustness, dir: &Path) -> String {
          included); B/element = peak memory per rank / (elements / ranks); \"used\" = the \
          solver's `preconditioner:` line up to its first ';'. CalculiX {} (2 threads, direct \
          solver, node-to-surface penalty contact; deck written from the scene) beside the \
-         Hertz meshes and the stick/slip bar within the same limit: its B/element is its \
+         Hertz meshes and the stick/slip bar, stopped after {:.0} s: its B/element is its \
          peak / elements; max |u| = the largest displacement over the named node set and \
          every step, \"vs ccx\" = (ours - CalculiX) / CalculiX. Logs and result files in \
          `{}`.\n",
@@ -212,6 +213,7 @@ pub fn markdown(r: &Robustness, dir: &Path) -> String {
         r.timeout_s,
         r.timeout_s,
         r.ccx_version.as_deref().unwrap_or("(not installed)"),
+        r.ccx_timeout_s,
         dir.display()
     );
     let _ = writeln!(
