@@ -41,6 +41,11 @@
 //! PyAMG's smoothed aggregation on it (`run/pyamg_peer.py`) beside our multilevel
 //! preconditioner: CG iterations of both, into the same two files as a section of its own
 //! (`pyamg`).
+//! `bench --robustness [--quick] [--out DIR]` runs only the robustness table: the Hertz
+//! example at x1, x2, x4, the extreme suite's hard scenes, the stick/slip bar at
+//! 160 x 8 x 1 and the block on block at n = 20 on 2 ranks with every preconditioner under
+//! a time limit, and CalculiX beside the Hertz meshes and the bar, into
+//! `<out>/robustness/` (`robustness`, `peers::calculix::robustness`).
 //!
 //! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
 //! which the report writers (`report`, one file per section, JSON and Markdown side by
@@ -60,6 +65,7 @@ mod peers;
 mod pyamg;
 mod report;
 mod results;
+mod robustness;
 mod runner;
 mod search;
 mod stats;
@@ -74,6 +80,7 @@ const USAGE: &str = concat!(
     "       bench --large [--ranks R[,R]] [--out DIR]\n",
     "       bench --ironing [--out DIR]\n",
     "       bench --pyamg [--out DIR]\n",
+    "       bench --robustness [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
@@ -83,6 +90,10 @@ const USAGE: &str = concat!(
     "  --pyamg      only PyAMG's smoothed aggregation beside our multilevel preconditioner on\n",
     "               the exported first model problem (block on block n = 20, 40; Hertz x2):\n",
     "               CG iterations of both; merged into results.json and report.md\n",
+    "  --robustness only the robustness table: Hertz x1, x2, x4, extreme scenes, stick/slip\n",
+    "               160 x 8 x 1, block n = 20 on 2 ranks with jacobi, two_level, multilevel\n",
+    "               and auto (240 s limit per run), CalculiX beside Hertz and the bar\n",
+    "               (600 s limit), in <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
@@ -94,6 +105,7 @@ enum Mode {
     Large { ranks: Vec<usize> },
     Ironing,
     Pyamg,
+    Robustness { quick: bool },
 }
 
 #[derive(Debug, PartialEq)]
@@ -109,6 +121,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut large = false;
     let mut ironing = false;
     let mut pyamg = false;
+    let mut robustness = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = args.into_iter();
@@ -118,6 +131,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--large" => large = true,
             "--ironing" => ironing = true,
             "--pyamg" => pyamg = true,
+            "--robustness" => robustness = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -143,14 +157,19 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if ironing && (large || quick) {
         return Err("--ironing goes with --out only".into());
     }
+    if robustness && (large || ironing) {
+        return Err("--robustness goes with --quick and --out only".into());
+    }
     if ranks.is_some() && !large {
         return Err("--ranks goes with --large only".into());
     }
-    if pyamg && (ironing || large || quick) {
+    if pyamg && (ironing || large || quick || robustness) {
         return Err("--pyamg goes with --out only".into());
     }
     let mode = if pyamg {
         Mode::Pyamg
+    } else if robustness {
+        Mode::Robustness { quick }
     } else if ironing {
         Mode::Ironing
     } else if large {
@@ -180,6 +199,7 @@ fn main() -> ExitCode {
         Mode::Large { ranks } => large::run(&args.out, &ranks),
         Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
         Mode::Pyamg => pyamg::run(&args.out),
+        Mode::Robustness { quick } => robustness::run(&args.out, quick),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
@@ -234,6 +254,17 @@ mod tests {
         assert_eq!(
             parse(&["--ironing", "--large"]),
             Err("--ironing goes with --out only".into())
+        );
+        assert_eq!(
+            parse(&["--robustness", "--quick"]),
+            Ok(Some(Args {
+                mode: Mode::Robustness { quick: true },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--robustness", "--ironing"]),
+            Err("--robustness goes with --quick and --out only".into())
         );
         assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
         assert_eq!(parse(&["-h"]), Ok(None));

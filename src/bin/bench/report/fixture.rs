@@ -66,6 +66,7 @@ pub fn case(n: usize, ranks: usize, p: Precond, cg: u64, force: Result<f64, &str
                 n * 2,
                 n * 12
             ),
+            Precond::Multilevel | Precond::Auto => "multilevel; 3 levels".into(),
         }),
     };
     let wall = log.wall;
@@ -373,5 +374,99 @@ pub fn large() -> Large {
             },
         ],
         compare: Some(Ok(compare(0))),
+    }
+}
+
+/// The robustness table of one Hertz mesh with every outcome: Jacobi failed, two-level
+/// over the time limit, multilevel and auto finished, CalculiX finished.
+pub fn robustness() -> crate::robustness::Robustness {
+    use crate::peers::calculix::robustness::CcxRun;
+    use crate::robustness::run::{Outcome as RunOutcome, Run};
+    use crate::robustness::{Case as RCase, Robustness, Source};
+    let log = SolverLog {
+        elements: 2940,
+        nodes: 6218,
+        steps: 1,
+        cg_iterations: 300,
+        cg_step_sum: 300,
+        contact_updates: 4,
+        wall: 6.0,
+        peak_mib: 2.5,
+        preconditioner: Some("multilevel; 3 levels".into()),
+    };
+    let run = |precond, outcome, process_wall, partial, line: &str, max_u| Run {
+        precond,
+        outcome,
+        process_wall,
+        partial,
+        preconditioner: Some(line.into()),
+        max_u,
+    };
+    let runs = vec![
+        run(
+            Precond::Jacobi,
+            RunOutcome::Failed(
+                "step 1 (to t = 1) failed at t = 0.015625 after 6 cut-backs: CG did not \
+                 converge in 20000 iterations"
+                    .into(),
+            ),
+            95.0,
+            (0, 2),
+            "nodal block Jacobi",
+            None,
+        ),
+        run(
+            Precond::TwoLevel,
+            RunOutcome::OverLimit,
+            240.5,
+            (1500, 3),
+            "two-level; coarse space: 40 aggregates",
+            None,
+        ),
+        run(
+            Precond::Multilevel,
+            RunOutcome::Finished(log.clone()),
+            8.0,
+            (300, 4),
+            "multilevel; 3 levels",
+            Some(0.625),
+        ),
+        run(
+            Precond::Auto,
+            RunOutcome::Finished(log),
+            8.0,
+            (300, 4),
+            "two-level, multilevel from CG iteration 400 of a model problem on; x",
+            Some(0.625),
+        ),
+    ];
+    let ccx = CcxRun {
+        deck: PathBuf::from("out/bench/robustness/calculix/hertz_x2/hertz_x2.inp"),
+        outcome: Outcome::Finished {
+            timed: Timed {
+                wall: stat(12.0, 12.0, 12.0, 1),
+                own_time: Some(11.5),
+                peak_mib: Some(20.0),
+                iterations: 12,
+            },
+            values: 0.5,
+        },
+    };
+    Robustness {
+        info: info(),
+        quick: false,
+        timeout_s: 240.0,
+        ccx_timeout_s: 600.0,
+        ccx_version: Some("2.20".into()),
+        cases: vec![RCase {
+            source: Source::Hertz(2),
+            scene: PathBuf::from("out/bench/robustness/scenes/cylinder_on_block_x2.toml"),
+            elements: 2940,
+            nodes: 6218,
+            compare_set: Some("cylinder_axis"),
+            runs,
+            ccx: Some(ccx),
+            error: None,
+        }],
     }
 }

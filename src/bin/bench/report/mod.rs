@@ -17,6 +17,7 @@ pub mod large;
 pub mod markdown;
 pub mod meta;
 pub mod partition;
+pub mod robustness;
 pub mod search;
 
 use crate::results::Results;

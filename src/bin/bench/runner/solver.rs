@@ -34,6 +34,9 @@ pub fn solver_exe() -> Result<PathBuf, String> {
 pub enum Precond {
     Jacobi,
     TwoLevel,
+    Multilevel,
+    /// The solver's own choice (`auto`, the default): whatever it uses counts.
+    Auto,
 }
 
 impl Precond {
@@ -42,6 +45,8 @@ impl Precond {
         match self {
             Precond::Jacobi => "jacobi",
             Precond::TwoLevel => "two_level",
+            Precond::Multilevel => "multilevel",
+            Precond::Auto => "auto",
         }
     }
 
@@ -49,6 +54,8 @@ impl Precond {
         match self {
             Precond::Jacobi => "Jacobi",
             Precond::TwoLevel => "two-level",
+            Precond::Multilevel => "multilevel",
+            Precond::Auto => "auto",
         }
     }
 
@@ -58,6 +65,8 @@ impl Precond {
         match self {
             Precond::Jacobi => line == "nodal block Jacobi",
             Precond::TwoLevel => line.starts_with("two-level"),
+            Precond::Multilevel => line.starts_with("multilevel"),
+            Precond::Auto => true,
         }
     }
 }
@@ -77,7 +86,7 @@ pub struct Job {
 }
 
 impl Job {
-    fn command(&self, exe: &Path) -> Command {
+    pub fn command(&self, exe: &Path) -> Command {
         let mut cmd = Command::new(repo_root().join("run/mpirun"));
         cmd.args(["-np", &self.ranks.to_string()])
             .arg(exe)

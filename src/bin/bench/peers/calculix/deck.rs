@@ -84,7 +84,20 @@ pub struct Step {
     /// `*STATIC`: initial increment, step period, minimum and maximum increment.
     pub increments: [f64; 4],
     pub boundaries: Vec<Boundary>,
+    /// `*DLOAD` pressures on element faces, at the step's end (ccx ramps them over the
+    /// step from the previous step's values).
+    pub dloads: Vec<DLoad>,
     pub node_prints: Vec<NodePrint>,
+}
+
+/// A pressure on one element face (`<element>, P<face>, <value>`): positive presses
+/// against the face's outward normal.
+pub struct DLoad {
+    /// 1-based element id.
+    pub element: usize,
+    /// ccx face label 1..6.
+    pub face: u8,
+    pub value: f64,
 }
 
 /// `*BOUNDARY`: degrees of freedom `first..=last` of a node set set to `value`.
@@ -257,6 +270,12 @@ impl Step {
                 real(b.value)
             );
         }
+        if !self.dloads.is_empty() {
+            let _ = writeln!(w, "*DLOAD");
+        }
+        for d in &self.dloads {
+            let _ = writeln!(w, "{}, P{}, {}", d.element, d.face, real(d.value));
+        }
         for p in &self.node_prints {
             let totals = if p.totals_only { ", TOTALS=ONLY" } else { "" };
             let _ = writeln!(
@@ -322,6 +341,8 @@ S_TOP, S_TOP
 0.1, 1.0, 1.0e-5, 0.5
 *BOUNDARY
 N_TOP, 2, 2, -0.01
+*DLOAD
+1, P2, 5.0
 *NODE PRINT, NSET=N_TOP, TOTALS=ONLY
 RF
 *END STEP
@@ -380,6 +401,11 @@ RF
                     first: 2,
                     last: 2,
                     value: -0.01,
+                }],
+                dloads: vec![DLoad {
+                    element: 1,
+                    face: 2,
+                    value: 5.0,
                 }],
                 node_prints: vec![NodePrint {
                     node_set: "N_TOP".into(),

@@ -7,7 +7,9 @@
 //! - `run`: `ccx` on a deck under limits, with repeats and timing;
 //! - `output`: what ccx wrote (.dat totals, its log), read back;
 //! - `block`: the block-on-block problem with CalculiX beside our runs;
-//! - `ironing`: the ironing example with CalculiX beside our run (`bench --ironing`).
+//! - `ironing`: the ironing example with CalculiX beside our run (`bench --ironing`);
+//! - `robustness`: the Hertz example and the stick/slip bar beside the robustness table
+//!   (`bench --robustness`).
 //!
 //! A new problem for CalculiX is a file like `block.rs`: its deck from `scene` (extended
 //! with what the problem needs) or built with `deck`, run by `run`, read by `output`.
@@ -16,5 +18,6 @@ pub mod block;
 pub mod deck;
 pub mod ironing;
 pub mod output;
+pub mod robustness;
 pub mod run;
 pub mod scene;

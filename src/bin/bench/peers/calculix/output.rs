@@ -48,6 +48,35 @@ pub fn total_forces(dat: &str, set: &str) -> Vec<(f64, Vec3)> {
     out
 }
 
+/// Largest |u| over every "displacements (vx,vy,vz) for set NAME and time T" block of a
+/// .dat file (`*NODE PRINT` of U node by node): over the set's nodes and every increment.
+pub fn max_displacement(dat: &str, set: &str) -> Option<f64> {
+    let key = format!("displacements (vx,vy,vz) for set {set} and time");
+    let mut max: Option<f64> = None;
+    let mut lines = dat.lines();
+    while let Some(l) = lines.next() {
+        if !l.contains(&key) {
+            continue;
+        }
+        // The node lines follow a blank line and end at the next blank line.
+        for row in lines
+            .by_ref()
+            .skip_while(|r| r.trim().is_empty())
+            .take_while(|r| !r.trim().is_empty())
+        {
+            let v: Vec<f64> = row
+                .split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect();
+            if let [_, x, y, z] = v[..] {
+                let norm = (x * x + y * y + z * z).sqrt();
+                max = Some(max.map_or(norm, |m: f64| m.max(norm)));
+            }
+        }
+    }
+    max
+}
+
 /// The first `*ERROR` line of the log: ccx exits with 0 after an input error too, so a
 /// run is judged by its output.
 pub fn error_line(log: &str) -> Option<&str> {
@@ -145,6 +174,28 @@ ________________________________________
             Some("*ERROR reading *BOUNDARY: node set N_X has not yet been defined.")
         );
         assert_eq!(total_time("Job finished"), None);
+    }
+
+    /// Node-by-node displacements of two increments: the largest |u| of either.
+    #[test]
+    fn largest_displacement_is_read() {
+        let dat = "
+ displacements (vx,vy,vz) for set N_AXIS and time  0.5000000E+00
+
+         3  0.000000E+00 -1.000000E-02  0.000000E+00
+         7  3.000000E-02 -4.000000E-02  0.000000E+00
+
+ total force (fx,fy,fz) for set N_AXIS and time  0.5000000E+00
+
+        1.0E+00 2.0E+00 0.0E+00
+
+ displacements (vx,vy,vz) for set N_AXIS and time  0.1000000E+01
+
+         3  0.000000E+00 -2.000000E-02  0.000000E+00
+         7  0.000000E+00 -4.000000E-02  0.000000E+00
+";
+        assert_eq!(max_displacement(dat, "N_AXIS"), Some(0.05));
+        assert_eq!(max_displacement(dat, "N_OTHER"), None);
     }
 
     #[test]

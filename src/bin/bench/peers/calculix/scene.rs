@@ -1,18 +1,18 @@
 //! A CalculiX deck of a scene as the solver loads it: the same nodes and elements (ids =
 //! our 1-based ids), a material per body (linear elastic as *ELASTIC, neo-Hookean as NEO
 //! HOOKE with the same initial shear and bulk moduli), one static step per segment of equal
-//! load steps (NLGEOM under large kinematics) in the scene's increments with the prescribed
-//! displacements at the segment's end, the contact pair as node-to-surface penalty contact
-//! (with Coulomb friction when the pair has it), and the total reaction force of every
-//! prescribed node set printed to the .dat file at every increment. What a scene holds
-//! beyond that is refused with a message naming it; a new problem extends the translation
-//! here.
+//! load steps over which every load grows linearly (NLGEOM under large kinematics) in the
+//! scene's increments with the prescribed displacements and the pressures (`*DLOAD`) at the
+//! segment's end, every contact pair as node-to-surface penalty contact (with Coulomb
+//! friction when the pair has it), and the total reaction force of every prescribed node
+//! set printed to the .dat file at every increment. What a scene holds beyond that is
+//! refused with a message naming it; a new problem extends the translation here.
 
 use super::deck::{
-    name, Boundary, ContactPair, Deck, Interaction, Material as CcxMaterial, MaterialCard,
+    name, Boundary, ContactPair, DLoad, Deck, Interaction, Material as CcxMaterial, MaterialCard,
     NodePrint, NodeSet, PairType, Solid, Step, Surface,
 };
-use crate::api::{Formulation, Kinematics, Material, Problem, HEX8_FACES};
+use crate::api::{Formulation, Kinematics, Material, PiecewiseLinear, Problem};
 
 /// ccx's face label of each of our local faces 0 (-y), 1 (+x), 2 (+y), 3 (-x), 4 (-z),
 /// 5 (+z): with our corner order a C3D8's face S1 is 1-2-3-4 (-z), S2 5-8-7-6 (+z), S3
@@ -30,15 +30,13 @@ fn unsupported<T>(what: &str) -> Result<T, String> {
 
 /// The deck of `problem`, contact by a linear pressure-overclosure law of slope `penalty`.
 pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
-    if !problem.pressures.is_empty()
-        || !problem.tractions.is_empty()
-        || !problem.body_forces.is_empty()
-    {
-        return unsupported("pressures, tractions or body forces");
+    if !problem.tractions.is_empty() || !problem.body_forces.is_empty() {
+        return unsupported("tractions or body forces");
     }
-    let [pair] = problem.contacts.as_slice() else {
-        return unsupported("other than one contact pair");
-    };
+    if problem.contacts.is_empty() {
+        return unsupported("scenes without contact");
+    }
+    let friction = problem.contacts.iter().any(|p| p.mu > 0.0);
     let large = matches!(problem.kinematics, Kinematics::Large);
     let solids = solids(problem)?;
     let (node_sets, steps) = prescribed(problem, large)?;
@@ -50,7 +48,7 @@ pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
             ),
             format!(
                 "node-to-surface penalty contact{}, {}.",
-                if pair.mu > 0.0 {
+                if friction {
                     " with Coulomb friction"
                 } else {
                     ", frictionless"
@@ -171,6 +169,21 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
                     value: dc.function.eval(end) / dc.direction[i],
                 })
                 .collect(),
+            dloads: problem
+                .pressures
+                .iter()
+                .flat_map(|p| {
+                    let value = p.function.eval(end);
+                    problem.side_sets[p.side_set]
+                        .faces
+                        .iter()
+                        .map(move |&(e, f)| DLoad {
+                            element: e as usize + 1,
+                            face: CCX_FACE[f as usize],
+                            value,
+                        })
+                })
+                .collect(),
             node_prints: node_prints
                 .iter()
                 .map(|p| NodePrint {
@@ -184,14 +197,35 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
     Ok((node_sets, steps))
 }
 
-/// The load steps as segments of equal steps: (start, end, step length).
+/// The load steps as segments of equal steps over which every load function (prescribed
+/// displacements and pressures) grows by the same amount per step: (start, end, step
+/// length). ccx ramps a step's loads linearly, so a segment must end wherever a function
+/// changes its slope (the stick/slip bar's pressure rises from t = 1 to 2 and falls from
+/// 2 to 3 in steps of the same length).
 fn segments(problem: &Problem) -> Result<Vec<(f64, f64, f64)>, String> {
+    let functions: Vec<&PiecewiseLinear> = problem
+        .dirichlet
+        .iter()
+        .map(|d| &d.function)
+        .chain(problem.pressures.iter().map(|p| &p.function))
+        .collect();
+    let increments =
+        |a: f64, b: f64| -> Vec<f64> { functions.iter().map(|f| f.eval(b) - f.eval(a)).collect() };
+    let same = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(y.abs());
     let mut out: Vec<(f64, f64, f64)> = Vec::new();
     let mut t0 = problem.start_time;
     for &t in &problem.step_times {
         let dt = t - t0;
         match out.last_mut() {
-            Some(seg) if (dt - seg.2).abs() <= 1e-9 * dt.abs() => seg.1 = t,
+            Some(seg)
+                if same(dt, seg.2)
+                    && increments(t0, t)
+                        .iter()
+                        .zip(increments(seg.1 - seg.2, seg.1))
+                        .all(|(a, b)| same(*a, b)) =>
+            {
+                seg.1 = t
+            }
             _ => out.push((t0, t, dt)),
         }
         t0 = t;
@@ -202,51 +236,47 @@ fn segments(problem: &Problem) -> Result<Vec<(f64, f64, f64)>, String> {
     Ok(out)
 }
 
-/// The pair's master faces, the slave faces from the side set whose nodes are the pair's
-/// slave nodes, and node-to-surface penalty contact between them.
+/// Every pair's master and slave faces and node-to-surface penalty contact between them
+/// (one pair keeps the names S_MASTER, S_SLAVE and CONTACT; more are numbered from 1).
 fn contact(problem: &Problem, penalty: f64, deck: &mut Deck) -> Result<(), String> {
-    let mesh = &problem.mesh;
-    let pair = &problem.contacts[0];
-    let face_nodes = |e: u32, f: u8| -> [u32; 4] {
-        let c = mesh.elements[e as usize];
-        HEX8_FACES[f as usize].map(|a| c[a])
-    };
-    let slave_set = problem
-        .side_sets
-        .iter()
-        .find(|s| {
-            let mut nodes: Vec<u32> = s
-                .faces
-                .iter()
-                .flat_map(|&(e, f)| face_nodes(e, f))
-                .collect();
-            nodes.sort_unstable();
-            nodes.dedup();
-            nodes == pair.slave_nodes
-        })
-        .ok_or("no side set has exactly the contact pair's slave nodes")?;
-    let surface = |name: &str, faces: &[(u32, u8)]| Surface {
-        name: name.into(),
+    let surface = |name: String, faces: &[(u32, u8)]| Surface {
+        name,
         faces: faces
             .iter()
             .map(|&(e, f)| (e as usize + 1, CCX_FACE[f as usize]))
             .collect(),
     };
-    deck.surfaces = vec![
-        surface("S_MASTER", &pair.master_faces),
-        surface("S_SLAVE", &slave_set.faces),
-    ];
-    deck.interactions = vec![Interaction {
-        name: "CONTACT".into(),
-        penalty,
-        friction: (pair.mu > 0.0).then_some((pair.mu, STICK_SLOPE * penalty)),
-    }];
-    deck.contact_pairs = vec![ContactPair {
-        interaction: "CONTACT".into(),
-        kind: PairType::NodeToSurface,
-        slave: "S_SLAVE".into(),
-        master: "S_MASTER".into(),
-    }];
+    let several = problem.contacts.len() > 1;
+    for (k, pair) in problem.contacts.iter().enumerate() {
+        if pair.slave_faces.is_empty() {
+            return unsupported(&format!("contact pair '{}' without slave faces", pair.name));
+        }
+        let suffix = if several {
+            format!("_{}", k + 1)
+        } else {
+            String::new()
+        };
+        let (master, slave, interaction) = (
+            format!("S_MASTER{suffix}"),
+            format!("S_SLAVE{suffix}"),
+            format!("CONTACT{suffix}"),
+        );
+        deck.surfaces
+            .push(surface(master.clone(), &pair.master_faces));
+        deck.surfaces
+            .push(surface(slave.clone(), &pair.slave_faces));
+        deck.interactions.push(Interaction {
+            name: interaction.clone(),
+            penalty,
+            friction: (pair.mu > 0.0).then_some((pair.mu, STICK_SLOPE * penalty)),
+        });
+        deck.contact_pairs.push(ContactPair {
+            interaction,
+            kind: PairType::NodeToSurface,
+            slave,
+            master,
+        });
+    }
     Ok(())
 }
 
