@@ -121,3 +121,39 @@ fn a_restart_from_a_file_without_contact_pressure_writes_none() {
         "{report}"
     );
 }
+
+#[test]
+fn a_run_whose_preconditioner_switched_restarts_bitwise() {
+    // The block on block at n = 20 (18522 nodes): under `auto`, Jacobi with multilevel on
+    // standby; its first model problem reaches 300 CG iterations and multilevel takes over
+    // for the rest of the run. The restart file records the switch, so step 2 of the
+    // continued run is solved with multilevel as in the uninterrupted run.
+    let d = dir("switched");
+    let base = std::fs::read_to_string(format!(
+        "{}/run/scenes/bench/block_on_block.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    assert_eq!(base.matches("divisions = [10, 10, 10]").count(), 2);
+    let scene = d.join("block_on_block_n20.toml");
+    std::fs::write(
+        &scene,
+        base.replace("divisions = [10, 10, 10]", "divisions = [20, 20, 20]"),
+    )
+    .unwrap();
+    // The uninterrupted run does switch (else this test would not test the switch).
+    let log = solver()
+        .args(["-v", "run"])
+        .arg(&scene)
+        .arg("-o")
+        .arg(d.join("logged.h5"))
+        .output()
+        .unwrap();
+    assert!(log.status.success());
+    let text = String::from_utf8_lossy(&log.stderr);
+    assert!(
+        text.contains("switched to the multilevel preconditioner"),
+        "{text}"
+    );
+    restart::killed_and_restarted_is_identical(scene.to_str().unwrap(), &d, 1);
+}

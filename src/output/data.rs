@@ -405,6 +405,10 @@ pub struct RestartState {
     pub reference_floor: f64,
     /// Rows of the per-step result datasets written up to this step.
     pub rows: u64,
+    /// The run had switched from its first preconditioner to the multilevel one (`auto`,
+    /// a model problem that stalled); a continued run goes on with multilevel. Files
+    /// written before this field existed read as false.
+    pub multilevel_switched: bool,
     pub displacement: Vec<[f64; 3]>,
     pub previous_displacement: Vec<[f64; 3]>,
     /// Active contact constraints, encoded by the contact module.

@@ -9,6 +9,11 @@
 
 use std::path::Path;
 
+/// Values of a slot's `state`: step, time, last step length, reference force floor, rows,
+/// whether the preconditioner had switched to multilevel (files of an earlier version have
+/// the first five only).
+const STATE_LEN: usize = 6;
+
 use super::data::{check_finite, RestartState, StepOutput, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::layout;
@@ -51,9 +56,9 @@ fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Sl
     };
     let state = file
         .new_dataset::<f64>()
-        .chunk((5,))
+        .chunk((STATE_LEN,))
         .fletcher32()
-        .shape((5,))
+        .shape((STATE_LEN,))
         .create(name(layout::SLOT_STATE).as_str())
         .at(p, &name(layout::SLOT_STATE))?;
     let contact = grow(layout::SLOT_CONTACT)?;
@@ -142,6 +147,7 @@ impl RestartSlots {
             r.dt_prev,
             r.reference_floor,
             r.rows as f64,
+            r.multilevel_switched as u8 as f64,
         ];
         state.write_raw(&head).at(p, &name(layout::SLOT_STATE))?;
         file.flush().at(p, "/ (flush)")
@@ -219,7 +225,10 @@ impl ResultFile {
         }
         let [contact, released, u, up, head]: [Vec<f64>; 5] = v.try_into().expect("five datasets");
         let nodes = self.num_nodes();
-        if head.len() != 5 || u.len() != 3 * nodes || up.len() != 3 * nodes {
+        if !(head.len() == STATE_LEN || head.len() == STATE_LEN - 1)
+            || u.len() != 3 * nodes
+            || up.len() != 3 * nodes
+        {
             return Err(OutputError::Invalid {
                 file: p.to_path_buf(),
                 dataset: group,
@@ -255,6 +264,7 @@ impl ResultFile {
             dt_prev: head[2],
             reference_floor: head[3],
             rows: head[4] as u64,
+            multilevel_switched: head.get(5).is_some_and(|&v| v != 0.0),
             displacement: to_rows(&u),
             previous_displacement: to_rows(&up),
             contact,

@@ -139,6 +139,7 @@ fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
         r.dt_prev,
         r.reference_floor,
         r.rows as f64,
+        r.multilevel_switched as u8 as f64,
         r.contact.len() as f64,
         r.released.len() as f64,
         r.history.len() as f64,
@@ -175,8 +176,8 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
-    let (nc, nr, nh, nt) = (v[5] as usize, v[6] as usize, v[7] as usize, v[8] as usize);
-    let mut at = 9;
+    let (nc, nr, nh, nt) = (v[6] as usize, v[7] as usize, v[8] as usize, v[9] as usize);
+    let mut at = 10;
     let mut take = |n: usize| {
         let out = v[at..at + n].to_vec();
         at += n;
@@ -199,6 +200,7 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
         dt_prev: v[2],
         reference_floor: v[3],
         rows: v[4] as u64,
+        multilevel_switched: v[5] != 0.0,
         displacement,
         previous_displacement,
         contact,
@@ -244,6 +246,7 @@ pub(super) fn restart_state<C: Comm + ?Sized>(
         dt_prev,
         reference_floor,
         rows,
+        multilevel_switched: stepper.multilevel_switched(),
         displacement: gather.nodes(comm, local, &stepper.u),
         previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
         contact,

@@ -183,18 +183,24 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         (self.time, self.dt_prev, self.reference_floor)
     }
 
+    /// Whether the preconditioner's multilevel standby has taken over.
+    pub fn multilevel_switched(&self) -> bool {
+        self.cg.multilevel_switched()
+    }
+
     /// The displacement before the last step (the predictor's second point).
     pub fn previous_displacement(&self) -> &[Vec3] {
         &self.u_prev
     }
 
     /// Continues from a saved state: displacements in global node order, the scalars of
-    /// `scalars`, and the contact state.
+    /// `scalars`, whether the multilevel standby had taken over, and the contact state.
     pub fn restore(
         &mut self,
         u: &[Vec3],
         u_prev: &[Vec3],
         (time, dt_prev, reference_floor): (f64, f64, f64),
+        multilevel_switched: bool,
         contact: E,
     ) {
         for (l, &g) in self.mesh.node_global.iter().enumerate() {
@@ -205,6 +211,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         self.dt_prev = dt_prev;
         self.reference_floor = reference_floor;
         self.contact = contact;
+        if multilevel_switched {
+            self.cg.resume_switched();
+        }
     }
 
     /// What the multilevel preconditioner's last rebuild made and why, once.

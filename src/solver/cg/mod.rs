@@ -90,6 +90,8 @@ pub struct Cg {
     ml_standby: bool,
     /// Contact rows when the multilevel hierarchy was built.
     ml_contact_rows: usize,
+    /// The standby took over (for the rest of the run).
+    ml_switched: bool,
     /// Constraint rows and contact rows when the fine smoother's bound was measured.
     ml_smoother_rows: [usize; 2],
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
@@ -122,6 +124,7 @@ impl Cg {
             coarse_rows: 0,
             multilevel: None,
             ml_contact_rows: 0,
+            ml_switched: false,
             ml_smoother_rows: [0; 2],
             ml_standby: false,
             rebuild_note: None,
@@ -134,6 +137,22 @@ impl Cg {
     pub fn set_multilevel(&mut self, ml: Multilevel, standby: bool) {
         self.multilevel = Some(ml);
         self.ml_standby = standby;
+    }
+
+    /// Whether the multilevel standby took over (a restart file records it).
+    pub fn multilevel_switched(&self) -> bool {
+        self.ml_switched
+    }
+
+    /// Continues a run whose standby had taken over: multilevel from now on, as the run
+    /// did before its restart point (the hierarchy is built at the next model problem, as
+    /// at every load increment).
+    pub fn resume_switched(&mut self) {
+        if self.multilevel.is_some() && self.ml_standby {
+            self.ml_standby = false;
+            self.ml_switched = true;
+            self.coarse = None;
+        }
     }
 
     /// Uses the two-level preconditioner with this coarse space.

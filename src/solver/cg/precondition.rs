@@ -17,6 +17,7 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
         self.ml_standby = false;
+        self.ml_switched = true;
         // The multilevel cycle replaces the two-level correction, if any.
         self.coarse = None;
         self.setup_multilevel(pb, u, linear, s)?;
