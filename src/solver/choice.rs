@@ -13,7 +13,12 @@
 use crate::comm::Comm;
 use crate::material::Material;
 use crate::mesh::local::LocalMesh;
-use crate::problem::Problem;
+use crate::problem::{Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
+use crate::solver::cg::SWITCH_AFTER;
+use crate::solver::coarse::CoarseSpace;
+use crate::solver::multilevel::transfer::SINGLETON_NODES;
+use crate::solver::multilevel::{Multilevel, FINE_DEGREE};
+use crate::solver::support::held_by_contact_alone;
 
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
 /// ratio 0.49 and above).
@@ -52,105 +57,112 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     mesh: &LocalMesh,
-) -> (
-    Option<crate::solver::coarse::CoarseSpace>,
-    Option<(crate::solver::multilevel::Multilevel, bool)>,
-    String,
-) {
-    use crate::problem::{Preconditioner, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
+) -> Choice {
     let nodes = problem.mesh.num_nodes();
-    let degree = crate::solver::multilevel::FINE_DEGREE;
     match problem.solver.preconditioner {
         Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
         Preconditioner::Multilevel => {
-            let m = crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
+            let m = multilevel(comm, problem, mesh);
             let note = format!("preconditioner: multilevel; {}", m.summary);
             (None, Some((m, false)), note)
         }
-        Preconditioner::TwoLevel | Preconditioner::Auto => {
-            let asked = problem.solver.preconditioner == Preconditioner::TwoLevel;
-            // Meshes of at most SINGLETON_NODES nodes keep Jacobi under `auto`: an iteration
-            // costs little there, while a model problem that stalls (a stiffness contrast
-            // below round-off) would pay a factored preconditioner in every one of its
-            // iterations (contrast_stiff_on_soft, 250 nodes: 21 s -> 117 s with the switch).
-            let small = nodes <= crate::solver::multilevel::transfer::SINGLETON_NODES;
-            if !asked && small {
-                // Except where a body is nearly incompressible: Jacobi's iterations grow
-                // with K/G there whatever the size (incompressible_mean, 189 nodes, nu =
-                // 0.4999: 16634 CG iterations with Jacobi, 67 with multilevel).
-                let stiff = nearly_incompressible(problem);
-                if !stiff.is_empty() {
-                    let m = crate::solver::multilevel::Multilevel::new(
-                        comm,
-                        &problem.mesh,
-                        mesh,
-                        degree,
-                    );
-                    let note = format!(
-                        "preconditioner: multilevel (nearly incompressible: {}); {}",
-                        named(&stiff),
-                        m.summary
-                    );
-                    return (None, Some((m, false)), note);
-                }
-                let note = format!("preconditioner: nodal block Jacobi ({nodes} nodes)");
-                return (None, None, note);
-            }
-            if !asked && nodes < TWO_LEVEL_NODES {
-                let m =
-                    crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree);
-                // A body that contact alone holds in some rigid-body motion stalls Jacobi
-                // from the first model problem on (Hertz x2: 791 CG iterations with the
-                // switch at 300, 496 with multilevel from the start).
-                let held = crate::solver::support::held_by_contact_alone(problem);
-                if !held.is_empty() {
-                    let note = format!(
-                        "preconditioner: multilevel (held by contact alone: {}); {}",
-                        named(&held),
-                        m.summary
-                    );
-                    return (None, Some((m, false)), note);
-                }
-                let note = format!(
-                    "preconditioner: nodal block Jacobi, multilevel from CG iteration {} of a model problem on; {}",
-                    crate::solver::cg::SWITCH_AFTER,
+        Preconditioner::TwoLevel => two_level(comm, problem, mesh, true),
+        Preconditioner::Auto if nodes <= SINGLETON_NODES => small_mesh(comm, problem, mesh),
+        Preconditioner::Auto if nodes < TWO_LEVEL_NODES => medium_mesh(comm, problem, mesh),
+        Preconditioner::Auto => two_level(comm, problem, mesh, false),
+    }
+}
+
+/// The coarse space, the multilevel preconditioner (with `true` when on standby) and the
+/// line that says which.
+type Choice = (Option<CoarseSpace>, Option<(Multilevel, bool)>, String);
+
+fn multilevel<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Multilevel {
+    Multilevel::new(comm, &problem.mesh, mesh, FINE_DEGREE)
+}
+
+/// `auto` on at most SINGLETON_NODES nodes: Jacobi, as an iteration costs little there,
+/// while a model problem that stalls (a stiffness contrast below round-off) would pay a
+/// factored preconditioner in every one of its iterations (contrast_stiff_on_soft, 250
+/// nodes: 21 s -> 117 s with the switch). Except where a body is nearly incompressible:
+/// Jacobi's iterations grow with K/G there whatever the size (incompressible_mean, 189
+/// nodes, nu = 0.4999: 16634 CG iterations with Jacobi, 67 with multilevel).
+fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Choice {
+    let stiff = nearly_incompressible(problem);
+    if stiff.is_empty() {
+        let nodes = problem.mesh.num_nodes();
+        return (
+            None,
+            None,
+            format!("preconditioner: nodal block Jacobi ({nodes} nodes)"),
+        );
+    }
+    let m = multilevel(comm, problem, mesh);
+    let note = format!(
+        "preconditioner: multilevel (nearly incompressible: {}); {}",
+        named(&stiff),
+        m.summary
+    );
+    (None, Some((m, false)), note)
+}
+
+/// `auto` below TWO_LEVEL_NODES: multilevel from the start where a body is held by contact
+/// alone in some rigid-body motion, which stalls Jacobi from the first model problem on
+/// (Hertz x2: 791 CG iterations with the switch at 300, 496 with multilevel from the
+/// start); otherwise Jacobi with multilevel on standby.
+fn medium_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Choice {
+    let m = multilevel(comm, problem, mesh);
+    let held = held_by_contact_alone(problem);
+    if !held.is_empty() {
+        let note = format!(
+            "preconditioner: multilevel (held by contact alone: {}); {}",
+            named(&held),
+            m.summary
+        );
+        return (None, Some((m, false)), note);
+    }
+    let note = format!(
+        "preconditioner: nodal block Jacobi, multilevel from CG iteration {SWITCH_AFTER} of a model problem on; {}",
+        m.summary
+    );
+    (None, Some((m, true)), note)
+}
+
+/// Two-level, asked for by name or under `auto` from TWO_LEVEL_NODES; under `auto` on
+/// meshes up to MULTILEVEL_STANDBY_NODES with multilevel on standby: a model problem that
+/// two-level does not solve in SWITCH_AFTER iterations goes on with multilevel (Hertz x4,
+/// a cylinder held only by contact: no first model problem in 400 s with two-level; 584 CG
+/// iterations in all, 36 s, with multilevel).
+fn two_level<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    asked: bool,
+) -> Choice {
+    let nodes = problem.mesh.num_nodes();
+    let standby =
+        (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| multilevel(comm, problem, mesh));
+    match CoarseSpace::new(comm, problem, mesh) {
+        Ok(c) => {
+            let note = match &standby {
+                Some(m) => format!(
+                    "preconditioner: two-level, multilevel from CG iteration {SWITCH_AFTER} of a model problem on; {}; {}",
+                    c.summary,
                     m.summary
-                );
-                return (None, Some((m, true)), note);
-            }
-            // Under `auto` on meshes up to MULTILEVEL_STANDBY_NODES, a model problem that
-            // two-level does not solve in SWITCH_AFTER iterations goes on with multilevel
-            // (Hertz x4, a cylinder held only by contact: no first model problem in 400 s
-            // with two-level; 584 CG iterations in all, 36 s, with multilevel).
-            let standby = (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| {
-                crate::solver::multilevel::Multilevel::new(comm, &problem.mesh, mesh, degree)
-            });
-            match crate::solver::coarse::CoarseSpace::new(comm, problem, mesh) {
-                Ok(c) => {
-                    let note = match &standby {
-                        Some(m) => format!(
-                            "preconditioner: two-level, multilevel from CG iteration {} of a model problem on; {}; {}",
-                            crate::solver::cg::SWITCH_AFTER,
-                            c.summary,
-                            m.summary
-                        ),
-                        None => format!("preconditioner: two-level; {}", c.summary),
-                    };
-                    (Some(c), standby.map(|m| (m, true)), note)
-                }
-                Err(why) if asked => (
-                    None,
-                    None,
-                    format!(
-                        "preconditioner: refused two_level ({why}); nodal block Jacobi instead"
-                    ),
                 ),
-                Err(why) => (
-                    None,
-                    None,
-                    format!("preconditioner: nodal block Jacobi ({why})"),
-                ),
-            }
+                None => format!("preconditioner: two-level; {}", c.summary),
+            };
+            (Some(c), standby.map(|m| (m, true)), note)
         }
+        Err(why) if asked => (
+            None,
+            None,
+            format!("preconditioner: refused two_level ({why}); nodal block Jacobi instead"),
+        ),
+        Err(why) => (
+            None,
+            None,
+            format!("preconditioner: nodal block Jacobi ({why})"),
+        ),
     }
 }

@@ -15,7 +15,6 @@
 //! aggregate, contact ties included), and one application per colour and basis index
 //! gives every coupling. One rank only (the probes use the local numbering as global).
 
-use super::precondition::FineOp;
 use super::{Cg, CgSettings, Problem, SolveFailure};
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
@@ -298,17 +297,7 @@ impl Cg {
         drop(graph);
         let mut x = vec![[0.0; 3]; n];
         let mut y = vec![[0.0; 3]; n];
-        let mut op = FineOp {
-            pb,
-            linear,
-            eps_scale: s.length_scale,
-            u,
-            fi: &self.fi,
-            fe: &self.fe,
-            trial: &mut self.trial,
-            fi_trial: &mut self.fi_trial,
-            fe_trial: &mut self.fe_trial,
-        };
+        let mut op = fine_op!(self, pb, u, linear, s);
         let matrix = assemble(&un, &col, &local_of, &mut op, &mut x, &mut y)?;
         let check_error = check(&un, &matrix, &mut op, &mut x, &mut y)?;
         let m = un.node.len();

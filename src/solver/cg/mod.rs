@@ -13,6 +13,25 @@
 //! `export` assembles a model problem for other solvers.
 //! This file holds the settings, the buffers, the problem and the residual they share.
 
+/// The constrained fine operator (`precondition::FineOp`) at `u`, borrowing the CG's force
+/// and trial buffers field by field (a macro, so the other fields of the `Cg` stay free for
+/// the caller, e.g. the multilevel preconditioner it is handed to).
+macro_rules! fine_op {
+    ($cg:ident, $pb:expr, $u:expr, $linear:expr, $s:expr) => {
+        super::precondition::FineOp {
+            pb: $pb,
+            linear: $linear,
+            eps_scale: $s.length_scale,
+            u: $u,
+            fi: &$cg.fi,
+            fe: &$cg.fe,
+            trial: &mut $cg.trial,
+            fi_trial: &mut $cg.fi_trial,
+            fe_trial: &mut $cg.fe_trial,
+        }
+    };
+}
+
 mod export;
 mod failure;
 mod iteration;

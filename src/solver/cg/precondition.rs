@@ -38,17 +38,7 @@ impl Cg {
     ) -> Result<(), SolveFailure> {
         let comm = pb.comm;
         if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
-            let mut op = FineOp {
-                pb,
-                linear,
-                eps_scale: s.length_scale,
-                u,
-                fi: &self.fi,
-                fe: &self.fe,
-                trial: &mut self.trial,
-                fi_trial: &mut self.fi_trial,
-                fe_trial: &mut self.fe_trial,
-            };
+            let mut op = fine_op!(self, pb, u, linear, s);
             ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
         } else {
             for a in 0..u.len() {

@@ -1,7 +1,6 @@
 //! When and how the preconditioner's coarse parts are (re)built: the two-level coarse
 //! operator Q^T A Q, measured by probes and factored, and the multilevel hierarchy.
 
-use super::precondition::FineOp;
 use super::{agree, agree_alloc, max_abs, Cg, CgSettings, Problem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
@@ -125,17 +124,7 @@ impl Cg {
             // the cycle indefinite).
             if ml.smooths_fine() && self.ml_smoother_rows != [rows, contact] {
                 self.ml_smoother_rows = [rows, contact];
-                let mut op = FineOp {
-                    pb,
-                    linear,
-                    eps_scale: s.length_scale,
-                    u,
-                    fi: &self.fi,
-                    fe: &self.fe,
-                    trial: &mut self.trial,
-                    fi_trial: &mut self.fi_trial,
-                    fe_trial: &mut self.fe_trial,
-                };
+                let mut op = fine_op!(self, pb, u, linear, s);
                 ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
             }
             return Ok(());
@@ -151,17 +140,7 @@ impl Cg {
         self.ml_smoother_rows = [rows, contact];
         self.coarse_stale = false;
         self.coarse_rows = rows;
-        let mut op = FineOp {
-            pb,
-            linear,
-            eps_scale: s.length_scale,
-            u,
-            fi: &self.fi,
-            fe: &self.fe,
-            trial: &mut self.trial,
-            fi_trial: &mut self.fi_trial,
-            fe_trial: &mut self.fe_trial,
-        };
+        let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
         ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
         self.rebuild_note = Some(format!(
