@@ -23,6 +23,16 @@ pub type SetEntry = (u32, usize, u32, u8);
 /// bodies.
 pub type TieSupport = (u32, u32, Vec<Vec3>);
 
+/// A slipping constraint as `slip_links` gives it.
+pub struct SlipLink {
+    pub constraint: usize,
+    pub slave: u32,
+    pub masters: Vec<(u32, f64)>,
+    pub mu: f64,
+    pub dir: Vec3,
+    pub held: f64,
+}
+
 /// Contact enforcement as the stepper calls it. Every collective method is called by every
 /// rank together, and every implementation keeps its state the same on every rank.
 pub trait Enforcement: Clone + Default {
@@ -30,13 +40,16 @@ pub trait Enforcement: Clone + Default {
     fn begin_step(&mut self);
 
     /// Gap removal at the predicted configuration `u`: constrains the nodes that penetrate
-    /// or touch within the capture tolerance. Returns whether any was added. Collective.
+    /// or touch within the capture tolerance; with `slide`, slipping nodes first move their
+    /// contact points to where the search finds them at `u` (node-to-face pairs). Returns
+    /// whether any node was added. Collective.
     fn capture<C: Comm + ?Sized>(
         &mut self,
         comm: &C,
         problem: &Problem,
         mesh: &LocalMesh,
         u: &[Vec3],
+        slide: bool,
     ) -> bool;
 
     /// The kinematic constraint rows of the frozen set, for this rank's owned nodes.
@@ -45,8 +58,27 @@ pub trait Enforcement: Clone + Default {
     /// Whether any constraint carries a friction force as a load (a slipping node).
     fn slipping(&self) -> bool;
 
+    /// The active slave node that has slid farthest relative to its master point since the
+    /// reference configuration: (global node id + 1, face sizes). Collective.
+    fn largest_slide<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Option<(u64, f64)>;
+
+    /// Whether every slipping node's friction force is mu times the normal force last read,
+    /// to `force_tol`.
+    fn friction_settled(&self, problem: &Problem, force_tol: f64) -> bool;
+
     /// Adds the friction forces of slipping nodes (loads of the model problem) to `out`.
     fn friction_forces(&self, problem: &Problem, mesh: &LocalMesh, out: &mut [Vec3]);
+
+    /// The slipping constraints whose friction follows their normal force within a model
+    /// problem: (index in the set, slave node, master nodes and weights (global ids), mu,
+    /// friction direction, the magnitude the fixed loads hold).
+    fn slip_links(&self, problem: &Problem) -> Vec<SlipLink>;
 
     /// Tangential springs that hold slipping nodes while a model problem is solved, from
     /// the nodal stiffness blocks `diag`.

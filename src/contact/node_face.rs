@@ -147,8 +147,12 @@ impl Enforcement for ContactState {
         problem: &Problem,
         mesh: &LocalMesh,
         u: &[Vec3],
+        slide: bool,
     ) -> bool {
         let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
+        if slide {
+            self.slide_to(problem, mesh, u, &surfaces);
+        }
         let released = self.released_set();
         let existing: HashSet<(u32, usize)> =
             self.active.iter().map(|a| (a.slave, a.pair)).collect();
@@ -237,6 +241,38 @@ impl Enforcement for ContactState {
             }
         }
         out
+    }
+
+    fn slip_links(&self, problem: &Problem) -> Vec<super::enforcement::SlipLink> {
+        self.active
+            .iter()
+            .enumerate()
+            .filter_map(|(k, a)| match a.mode {
+                Mode::Slip { dir, magnitude } => Some(super::enforcement::SlipLink {
+                    constraint: k,
+                    slave: a.slave,
+                    masters: self.masters(problem, a),
+                    mu: problem.contacts[a.pair].mu,
+                    dir,
+                    held: magnitude,
+                }),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn largest_slide<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Option<(u64, f64)> {
+        ContactState::largest_slide(self, comm, problem, mesh, u)
+    }
+
+    fn friction_settled(&self, problem: &Problem, force_tol: f64) -> bool {
+        ContactState::friction_settled(self, problem, force_tol)
     }
 
     fn slipping(&self) -> bool {

@@ -5,6 +5,7 @@
 
 use super::ghost;
 use super::state::{Active, ContactState, Mode};
+use crate::comm::Comm;
 use crate::math::{dot, matvec, norm, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -112,6 +113,44 @@ pub(super) fn friction_direction(
 }
 
 impl ContactState {
+    /// The active slave node (node-to-face) that has slid farthest relative to its master
+    /// point since the reference configuration, in face sizes of its pair: (global node id
+    /// + 1, face sizes), the lowest node among equals; None without such a node. Collective.
+    pub fn largest_slide<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+    ) -> Option<(u64, f64)> {
+        let reference = vec![[0.0; 3]; u.len()];
+        let surfaces = ghost::surfaces(comm, problem, mesh, u, &reference);
+        let mut best = (-1.0f64, i64::MAX);
+        for a in &self.active {
+            let Some(l) = mesh.owned_node(a.slave) else {
+                continue;
+            };
+            let Some((now, then)) = surfaces[a.pair].face_corners(a.face) else {
+                continue;
+            };
+            let w = crate::fem::face::shape(a.s[0], a.s[1]);
+            let mut d = u[l];
+            for j in 0..4 {
+                d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
+            }
+            let slid = norm(&d) / problem.contacts[a.pair].face_size;
+            let node = a.slave as i64 + 1;
+            if slid > best.0 || (slid == best.0 && node < best.1) {
+                best = (slid, node);
+            }
+        }
+        let mut top = [best.0];
+        comm.max_f64(&mut top);
+        let mut node = [if best.0 == top[0] { best.1 } else { i64::MAX }];
+        comm.min_i64(&mut node);
+        (top[0] >= 0.0 && node[0] != i64::MAX).then(|| (node[0] as u64, top[0]))
+    }
+
     /// Springs across the friction direction of the slipping nodes this rank owns,
     /// unstretched at `u`; `diag` holds the structure's nodal diagonal stiffness blocks.
     pub fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {

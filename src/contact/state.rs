@@ -187,6 +187,18 @@ impl ContactState {
         }
     }
 
+    /// Whether every slipping node's friction force is its capacity mu |f_n| (from the last
+    /// forces read) to `force_tol`, or to SETTLED of the capacity.
+    pub(super) fn friction_settled(&self, problem: &Problem, force_tol: f64) -> bool {
+        self.active.iter().all(|a| match a.mode {
+            Mode::Slip { magnitude, .. } => {
+                let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
+                (capacity - magnitude).abs() <= force_tol.max(SETTLED * capacity)
+            }
+            _ => true,
+        })
+    }
+
     /// Release: a node whose contact force is tensile (beyond `force_tol`) leaves the set
     /// and is not pulled back in by the capture tolerance in this step.
     pub(super) fn release_tensile(&mut self, force_tol: f64) -> bool {
@@ -227,13 +239,7 @@ impl ContactState {
         // change, a node can be dragged back by its neighbours' changing forces rather than
         // its own, and would flip between stick and slip. The state is the same on every
         // rank, so every rank decides alike.
-        let slipping_settled = self.active.iter().all(|a| match a.mode {
-            Mode::Slip { magnitude, .. } => {
-                let capacity = problem.contacts[a.pair].mu * a.normal_force.max(0.0);
-                (capacity - magnitude).abs() <= force_tol.max(SETTLED * capacity)
-            }
-            _ => true,
-        });
+        let slipping_settled = self.friction_settled(problem, force_tol);
         let onset = self
             .active
             .iter()
@@ -349,6 +355,40 @@ impl ContactState {
         });
         self.active.extend(added);
         changed
+    }
+
+    /// The slipping nodes this rank owns (node-to-face pairs) move their contact points to
+    /// where the search finds them at `u`, the predicted configuration of an increment: the
+    /// ties of its first model problem are then those of the predicted slide, not of the
+    /// last increment's end. A node the search does not find keeps its point (the update
+    /// judges it). Not a change of the set.
+    pub(super) fn slide_to(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        surfaces: &[super::search::MasterSurface],
+    ) {
+        for a in &mut self.active {
+            if !matches!(a.mode, Mode::Slip { .. })
+                || problem.contacts[a.pair].discretization == Discretization::Mortar
+            {
+                continue;
+            }
+            let Some(l) = mesh.owned_node(a.slave) else {
+                continue;
+            };
+            let x = ghost::position(mesh, u, l);
+            let surface = &surfaces[a.pair];
+            if let Some(it) = surface
+                .stay_on(a.face, &x, EDGE_HYSTERESIS)
+                .or_else(|| surface.search(&x))
+            {
+                a.face = it.face;
+                a.s = it.s;
+                a.normal = it.normal;
+            }
+        }
     }
 
     /// Follows contact `k` of (slave node, pair) `sp` to what the search found: a sticking

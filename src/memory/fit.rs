@@ -135,6 +135,7 @@ mod tests {
             full_elements: 1_000_000,
             two_level: false,
             multilevel: false,
+            friction: false,
         };
         let one = estimate(&c, 1).per_rank();
         assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());

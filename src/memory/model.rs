@@ -22,6 +22,9 @@ pub struct Counts {
     /// The multilevel hierarchy will be built (also under `auto` on meshes of 301 to
     /// 19999 nodes, where it waits for a hard model problem).
     pub multilevel: bool,
+    /// A contact pair has Coulomb friction: the friction-coupled model problem's BiCGStab
+    /// vectors (solver/cg/coupled.rs).
+    pub friction: bool,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -44,6 +47,8 @@ const GAUSS_PER_ELEMENT: f64 = 1600.0;
 /// 3x3 diagonal and its inverse (2 x 72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
 const LOCAL_PER_NODE: f64 = 32.0 + 264.0 + 144.0 + 48.0 + 88.0;
+/// The friction-coupled model problem's vectors (8 x 24), allocated when a node slips.
+const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (solver::coarse);
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
@@ -111,8 +116,8 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         c.full_elements as f64 / e
     };
     let per_element = LOCAL_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT;
-    let share =
-        share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * LOCAL_PER_NODE;
+    let per_node = LOCAL_PER_NODE + if c.friction { FRICTION_PER_NODE } else { 0.0 };
+    let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
     let coarse = if c.two_level {
         let aggregates = (n / COARSE_NODES_PER_AGGREGATE)
             .ceil()

@@ -147,6 +147,7 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             full_elements,
             two_level: two_level(p.solver.preconditioner, nodes),
             multilevel: multilevel(p.solver.preconditioner, nodes),
+            friction: p.contacts.iter().any(|c| c.mu > 0.0),
         },
         preconditioner: p.solver.preconditioner,
         beyond_ids: None,

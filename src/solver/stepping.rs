@@ -433,8 +433,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         &mut self,
         t: f64,
         u: &mut [Vec3],
-        cons: &Constraints,
-        extra: &[Vec3],
+        (cons, extra, links): (&Constraints, &[Vec3], &[super::cg::FrictionLink]),
         contact: &E,
         settings: &CgSettings,
         diag: &mut Vec<crate::math::Mat3>,
@@ -457,7 +456,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 springs: &springs,
                 time: t,
             };
-            let e = match self.cg.solve(&pb, u, settings) {
+            let e = match self.cg.solve_coupled(&pb, u, settings, links) {
                 Ok(o) => {
                     record.cg_iterations += o.iterations as u64;
                     return Ok((o, springs));

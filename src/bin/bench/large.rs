@@ -302,6 +302,7 @@ mod tests {
             full_elements: 2 * 80 * 80 * 80,
             two_level: true,
             multilevel: false,
+            friction: false,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2).unwrap();

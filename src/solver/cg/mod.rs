@@ -32,6 +32,7 @@ macro_rules! fine_op {
     };
 }
 
+mod coupled;
 mod export;
 mod failure;
 mod iteration;
@@ -39,6 +40,7 @@ mod precondition;
 mod setup;
 mod step;
 
+pub use coupled::{self_coupling, FrictionLink};
 pub use export::{free_basis, ModelExport};
 pub use failure::SolveFailure;
 
@@ -117,6 +119,8 @@ pub struct Cg {
     pub rebuild_note: Option<String>,
     /// The assembled model problem, when asked for (`request_export`).
     export: export::ExportState,
+    /// BiCGStab's vectors for the friction-coupled model problem (`coupled`).
+    coupled: coupled::Work,
 }
 
 impl Cg {
@@ -148,6 +152,7 @@ impl Cg {
             ml_standby: false,
             rebuild_note: None,
             export: export::ExportState::Off,
+            coupled: coupled::Work::default(),
         })
     }
 

@@ -1,0 +1,414 @@
+//! The model problem with the friction of slipping nodes coupled to their normal force.
+//!
+//! A slipping node carries the friction force mu N d (d its friction direction). Held as
+//! a fixed load, N from the last model problem, the contact updates converge the
+//! magnitudes only linearly (a tenth per update on the paper's wedge and the extreme
+//! suite's drags), and a step took ten or more updates to reach the solver tolerance. Here
+//! N is that of the iterate: the residual is
+//!     r(u) = T^T (f_ext + F(N(u)) - f_int(u)),  F = mu N d on the slave, -w mu N d on the
+//! master nodes of its master point, N the normal row's multiplier of f_ext - f_int;
+//! for linear bodies r is affine in u with a non-symmetric operator (the friction's
+//! dependence on the normal force), solved by BiCGStab with the CG's preconditioner (a
+//! preconditioner of the symmetric part, which dominates: mu is below 1 and the coupling
+//! acts at the slipping nodes only). The magnitudes held in the model problem's fixed loads
+//! are corrected, (mu N - held) d, so the solution is the fixed point the contact updates
+//! converge to: the next update finds every magnitude at its capacity.
+//!
+//! Every reduction is an exact dot product or a maximum of values only their owner rank
+//! holds (the others hold minus infinity), so 1, 2 and 3 ranks agree bitwise.
+
+use super::{agree, residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure};
+use crate::comm::{self, Comm};
+use crate::math::Vec3;
+use crate::memory::try_filled;
+
+/// A slipping node whose friction follows its normal force within the model problem.
+#[derive(Clone, Debug)]
+pub struct FrictionLink {
+    /// The node's normal row (flat index), on the rank that owns the slave node.
+    pub row: Option<usize>,
+    /// The slave node's local index, where it is local.
+    pub slave: Option<usize>,
+    /// Local master nodes and their weights.
+    pub masters: Vec<(usize, f64)>,
+    pub mu: f64,
+    /// Friction direction (unit, on the slave).
+    pub dir: Vec3,
+    /// The friction magnitude the fixed loads (`Problem::extra`) hold.
+    pub held: f64,
+    /// The normal multiplier a unit force along `dir` at the slave node takes through the
+    /// node's other rows (`self_coupling`), on the owner rank; 0 elsewhere.
+    pub own: f64,
+}
+
+/// The normal row's multiplier of a unit force `d` on a node whose rows (kept, in order)
+/// have directions `dirs`, the normal being row `normal`: minus the normal component of the
+/// Gram split G^-1 (c_i . d), as `Constraints::reduce` splits a force. Zero when the rows
+/// are orthogonal to `d` (a node tied along its normal only, d in the tangent plane); a
+/// Dirichlet direction at the node that is not orthogonal to the normal passes part of the
+/// friction force on to the normal row.
+pub fn self_coupling(dirs: &[Vec3], normal: usize, d: &Vec3) -> f64 {
+    let k = dirs.len().min(3);
+    let mut g = crate::math::IDENTITY;
+    let mut c = [0.0; 3];
+    for a in 0..k {
+        for b in 0..k {
+            g[a][b] = crate::math::dot(&dirs[a], &dirs[b]);
+        }
+        c[a] = crate::math::dot(&dirs[a], d);
+    }
+    let (inv, _) = crate::math::inverse(&g);
+    let x = crate::math::matvec(&inv, &c);
+    if normal < k && x[normal].is_finite() {
+        -x[normal]
+    } else {
+        0.0
+    }
+}
+
+/// BiCGStab's vectors, allocated at the first coupled solve.
+#[derive(Default)]
+pub(super) struct Work {
+    /// The residual (the CG's own `r` is the preconditioner's input).
+    res: Vec<Vec3>,
+    rhat: Vec<Vec3>,
+    p: Vec<Vec3>,
+    v: Vec<Vec3>,
+    s: Vec<Vec3>,
+    t: Vec<Vec3>,
+    ph: Vec<Vec3>,
+    sh: Vec<Vec3>,
+    mult: Vec<f64>,
+    normal: Vec<f64>,
+}
+
+impl Work {
+    fn ensure(&mut self, n: usize) -> Result<(), crate::memory::AllocError> {
+        if self.rhat.len() != n {
+            let v = || try_filled([0.0; 3], n, "the coupled friction solver's vectors");
+            self.res = v()?;
+            self.rhat = v()?;
+            self.p = v()?;
+            self.v = v()?;
+            self.s = v()?;
+            self.t = v()?;
+            self.ph = v()?;
+            self.sh = v()?;
+        }
+        Ok(())
+    }
+}
+
+/// The friction forces `scale_k * mu_k * dir_k` of the links added to `f` (slave +, master
+/// nodes -w), in the order of the links.
+fn spread(links: &[FrictionLink], scale: &[f64], f: &mut [Vec3]) {
+    for (l, &c) in links.iter().zip(scale) {
+        let g: Vec3 = std::array::from_fn(|i| c * l.dir[i]);
+        if let Some(s) = l.slave {
+            f[s] = crate::math::add(&f[s], &g);
+        }
+        for &(m, w) in &l.masters {
+            f[m] = crate::math::sub(&f[m], &crate::math::scale(&g, w));
+        }
+    }
+}
+
+/// The normal force of each link (on its owner rank, shared): from the multipliers `mult`
+/// of a force that holds the friction magnitudes `held` (or none: `held` false), the normal
+/// force with the friction at mu times it, N = (n0 - m held) / (1 - m mu) with m the link's
+/// `own` coupling. Collective.
+fn normals<C: Comm + ?Sized>(
+    comm: &C,
+    links: &[FrictionLink],
+    mult: &[f64],
+    held: bool,
+    out: &mut Vec<f64>,
+) {
+    out.clear();
+    out.extend(links.iter().map(|l| {
+        let g = 1.0 - l.own * l.mu;
+        match l.row {
+            // Friction that feeds its own normal force at mu m >= 1/2: not a contraction
+            // worth coupling; held as it is.
+            Some(_) if !(g >= 0.5) => f64::NEG_INFINITY,
+            Some(i) => (mult[i] - if held { l.own * l.held } else { 0.0 }) / g,
+            None => f64::NEG_INFINITY,
+        }
+    }));
+    comm.max_f64(out);
+    for x in out.iter_mut() {
+        // A node whose normal row was dropped (in the span of rows that take precedence)
+        // has no multiplier of its own: its friction stays as held.
+        if !x.is_finite() {
+            *x = f64::NAN;
+        }
+    }
+}
+
+/// A residual this many times the starting one ends the coupled solve (the plain one
+/// takes over).
+const DIVERGED: f64 = 1e6;
+
+impl Cg {
+    /// Solves the linear model problem with the links' friction coupled to their normal
+    /// forces (see the module). Falls back to the plain solve, friction as held, when
+    /// BiCGStab breaks down or does not converge. Returns the outcome.
+    pub fn solve_coupled<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+        links: &[FrictionLink],
+    ) -> Result<ModelOutcome, SolveFailure> {
+        let linear = pb.asm.linear && !pb.loads.is_follower();
+        if !linear || links.is_empty() {
+            return self.solve(pb, u, s);
+        }
+        let start = u.to_vec();
+        match self.bicgstab(pb, u, s, links) {
+            Ok(Some(outcome)) => Ok(outcome),
+            Ok(None) => {
+                u.copy_from_slice(&start);
+                self.solve(pb, u, s)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// fi, fe (with the coupled friction) and the residual at `u`; returns (|r|, reference).
+    fn coupled_residual<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        links: &[FrictionLink],
+    ) -> Result<(f64, f64), SolveFailure> {
+        pb.forces(u, &mut self.fi, &mut self.fe)?;
+        for a in 0..self.q.len() {
+            self.q[a] = crate::math::sub(&self.fe[a], &self.fi[a]);
+        }
+        let work = &mut self.coupled;
+        work.mult.clear();
+        work.mult.resize(pb.cons.num_rows(), 0.0);
+        pb.cons.reduce(pb.comm, &mut self.q, Some(&mut work.mult));
+        normals(pb.comm, links, &work.mult, true, &mut work.normal);
+        for (x, l) in work.normal.iter_mut().zip(links) {
+            *x = if x.is_nan() { 0.0 } else { l.mu * *x - l.held };
+        }
+        spread(links, &work.normal, &mut self.fe);
+        residual(pb.comm, pb.cons, &self.fi, &self.fe, &mut self.r);
+        if self.coupled.res.len() == self.r.len() {
+            self.coupled.res.copy_from_slice(&self.r);
+        }
+        Ok(pb.measure(&self.r, &self.fi, &self.fe))
+    }
+
+    /// out = A y: the coupled operator on a vector of the free variables (its expansion to
+    /// all displacements left in `pu`).
+    fn coupled_apply<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        links: &[FrictionLink],
+        which: Which,
+    ) -> Result<(), SolveFailure> {
+        let comm = pb.comm;
+        let work = &mut self.coupled;
+        let (y, out) = match which {
+            Which::P => (&work.ph, &mut work.v),
+            Which::S => (&work.sh, &mut work.t),
+        };
+        self.pu.copy_from_slice(y);
+        pb.cons.expand(comm, &mut self.pu);
+        pb.asm.mesh.exchange(comm, &mut self.pu);
+        agree(comm, pb.asm.internal_force(&self.pu, out))?;
+        crate::springs::add_action(pb.springs, &self.pu, out);
+        self.q.copy_from_slice(out);
+        work.mult.clear();
+        work.mult.resize(pb.cons.num_rows(), 0.0);
+        pb.cons.reduce(comm, &mut self.q, Some(&mut work.mult));
+        normals(comm, links, &work.mult, false, &mut work.normal);
+        // A p = T^T (K p - dF), dF the friction's change: mu dN d with dN = -N(K p).
+        for (x, l) in work.normal.iter_mut().zip(links) {
+            *x = if x.is_nan() { 0.0 } else { l.mu * *x };
+        }
+        spread(links, &work.normal, out);
+        pb.cons.reduce(comm, out, None);
+        Ok(())
+    }
+
+    /// M^-1 applied to `p` (into `ph`) or `s` (into `sh`).
+    fn coupled_precondition<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+        which: Which,
+    ) -> Result<(), SolveFailure> {
+        match which {
+            Which::P => self.r.copy_from_slice(&self.coupled.p),
+            Which::S => self.r.copy_from_slice(&self.coupled.s),
+        }
+        self.apply_preconditioner(pb, u, true, s)?;
+        match which {
+            Which::P => self.coupled.ph.copy_from_slice(&self.z),
+            Which::S => self.coupled.sh.copy_from_slice(&self.z),
+        }
+        Ok(())
+    }
+
+    /// Right-preconditioned BiCGStab on the coupled problem; None on a breakdown or when
+    /// the iteration limit is reached (the caller solves plainly instead).
+    fn bicgstab<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+        links: &[FrictionLink],
+    ) -> Result<Option<ModelOutcome>, SolveFailure> {
+        let (comm, n, nl) = (pb.comm, pb.owned(), u.len());
+        super::agree_alloc(comm, self.coupled.ensure(nl))?;
+        let (mut rnorm, reference) = self.coupled_residual(pb, u, links)?;
+        let initial = rnorm;
+        let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
+        let floor = s.reference_floor.max(roundoff);
+        let mut refv = reference.max(floor);
+        if !rnorm.is_finite() {
+            return Err(SolveFailure::NonFinite { iterations: 0 });
+        }
+        let done = |rnorm: f64, refv: f64| rnorm <= s.tolerance * refv;
+        if done(rnorm, refv) {
+            return Ok(Some(ModelOutcome {
+                iterations: 0,
+                residual: rnorm,
+                reference: refv,
+            }));
+        }
+        self.precondition(pb, u)?;
+        self.setup_coarse(pb, u, true, s)?;
+        self.setup_multilevel(pb, u, true, s)?;
+        let mut fresh = true;
+        let (mut rho, mut alpha, mut omega): (f64, f64, f64) = (1.0, 1.0, 1.0);
+        for it in 1..=s.max_iterations {
+            if self.ml_standby && it == super::SWITCH_AFTER {
+                self.switch_to_multilevel(pb, u, true, s)?;
+            }
+            let w = &mut self.coupled;
+            if fresh {
+                w.rhat.copy_from_slice(&w.res);
+                w.p.iter_mut().for_each(|x| *x = [0.0; 3]);
+                w.v.iter_mut().for_each(|x| *x = [0.0; 3]);
+                (rho, alpha, omega) = (1.0, 1.0, 1.0);
+                fresh = false;
+            }
+            let rho_new = comm::dot(comm, &w.rhat, &w.res, n);
+            if !(rho_new.abs() > 0.0) || !(omega.abs() > 0.0) {
+                return Ok(None);
+            }
+            let beta = (rho_new / rho) * (alpha / omega);
+            for a in 0..nl {
+                for i in 0..3 {
+                    w.p[a][i] = w.res[a][i] + beta * (w.p[a][i] - omega * w.v[a][i]);
+                }
+            }
+            self.coupled_precondition(pb, u, s, Which::P)?;
+            self.coupled_apply(pb, links, Which::P)?;
+            let w = &mut self.coupled;
+            let rv = comm::dot(comm, &w.rhat, &w.v, n);
+            if !(rv.abs() > 0.0) {
+                return Ok(None);
+            }
+            alpha = rho_new / rv;
+            for a in 0..nl {
+                for i in 0..3 {
+                    u[a][i] += alpha * self.pu[a][i];
+                    w.s[a][i] = w.res[a][i] - alpha * w.v[a][i];
+                }
+            }
+            let snorm = comm::norm(comm, &w.s, n);
+            if done(snorm, refv) {
+                let (rn, reference) = self.coupled_residual(pb, u, links)?;
+                rnorm = rn;
+                refv = reference.max(floor);
+                if done(rnorm, refv) {
+                    return Ok(Some(ModelOutcome {
+                        iterations: it,
+                        residual: rnorm,
+                        reference: refv,
+                    }));
+                }
+                fresh = true;
+                rho = rho_new;
+                continue;
+            }
+            self.coupled_precondition(pb, u, s, Which::S)?;
+            self.coupled_apply(pb, links, Which::S)?;
+            let w = &mut self.coupled;
+            let ts = comm::dot(comm, &w.t, &w.s, n);
+            let tt = comm::dot(comm, &w.t, &w.t, n);
+            if !(tt > 0.0) {
+                return Ok(None);
+            }
+            omega = ts / tt;
+            for a in 0..nl {
+                for i in 0..3 {
+                    u[a][i] += omega * self.pu[a][i];
+                    w.res[a][i] = w.s[a][i] - omega * w.t[a][i];
+                }
+            }
+            rho = rho_new;
+            rnorm = comm::norm(comm, &w.res, n);
+            if !(rnorm <= DIVERGED * initial) {
+                // Not finite, or grown far beyond where it began: not a solve to go on with.
+                return Ok(None);
+            }
+            if done(rnorm, refv) || it.is_multiple_of(50) {
+                // The recurrence's residual drifts from the true one: replace it, and
+                // start the recurrence again from there.
+                let (rn, reference) = self.coupled_residual(pb, u, links)?;
+                rnorm = rn;
+                refv = reference.max(floor);
+                if done(rnorm, refv) {
+                    return Ok(Some(ModelOutcome {
+                        iterations: it,
+                        residual: rnorm,
+                        reference: refv,
+                    }));
+                }
+                fresh = true;
+            }
+        }
+        Ok(None)
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Which {
+    P,
+    S,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn friction_in_the_tangent_plane_of_a_node_tied_along_its_normal_feeds_nothing() {
+        // One row, the normal; the friction direction orthogonal to it: exactly zero.
+        let m = self_coupling(&[[0.0, 1.0, 0.0]], 0, &[1.0, 0.0, 0.0]);
+        assert_eq!(m, 0.0);
+    }
+
+    #[test]
+    fn a_dirichlet_direction_beside_the_normal_passes_friction_to_it() {
+        // Rows u_x (Dirichlet) and the normal n = (-sin t, cos t, 0) of a slope at t; the
+        // friction direction down the slope d = (cos t, sin t, 0) splits as
+        // d = a e_x + b n with b = tan t: the normal row's multiplier is -tan t. Tolerance:
+        // a 2x2 Gram solve in double precision (a few ulps of tan t).
+        for deg in [10.0f64, 20.0, 45.0] {
+            let t = deg.to_radians();
+            let n = [-t.sin(), t.cos(), 0.0];
+            let d = [t.cos(), t.sin(), 0.0];
+            let m = self_coupling(&[[1.0, 0.0, 0.0], n], 1, &d);
+            assert!((m + t.tan()).abs() <= 1e-15 * (1.0 + t.tan()), "{deg}: {m}");
+        }
+    }
+}
