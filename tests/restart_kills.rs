@@ -83,16 +83,17 @@ fn trial(d: &Path, scene: &Path, input: &Path, full: &Path, delay: Duration) -> 
     outcome
 }
 
-/// Kills spread over the restart's first half second, 25 ms apart, each 0 to 25 ms into
-/// its slot (a fixed pseudo-random sequence).
-fn kill_delays() -> Vec<Duration> {
+/// Kills spread over `span` (the measured length of an uninterrupted restart), 20 slots,
+/// each kill at a fixed pseudo-random point of its slot.
+fn kill_delays(span: Duration) -> Vec<Duration> {
+    let slot = span.as_micros().max(20_000) as u64 / 20;
     let mut x: u64 = 0x2545_f491_4f6c_dd1d;
     (0..20u64)
         .map(|k| {
             x ^= x << 13;
             x ^= x >> 7;
             x ^= x << 17;
-            Duration::from_micros(25_000 * k + x % 25_000)
+            Duration::from_micros(slot * k + x % slot)
         })
         .collect()
 }
@@ -137,7 +138,16 @@ fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
     assert!(!s.success());
     let input = d.join("cut.h5.tmp");
     assert!(input.exists());
-    let delays = kill_delays();
+    // How long a restart takes uninterrupted on this machine: the kills are spread over it
+    // (a fixed window went stale when the friction scenes got faster).
+    let timed = d.join("timed.h5.tmp");
+    std::fs::copy(&input, &timed).unwrap();
+    let began = Instant::now();
+    assert!(restart_run(&scene, &timed, &d.join("timed_out.h5"))
+        .status()
+        .unwrap()
+        .success());
+    let delays = kill_delays(began.elapsed());
     // Two trials at a time, each in a directory of its own with a copy of the input.
     let outcomes: Vec<(Duration, Outcome)> = std::thread::scope(|s| {
         let handles: Vec<_> = [0usize, 1]
@@ -175,7 +185,7 @@ fn a_restart_killed_at_20_moments_always_leaves_a_file_to_continue_from() {
         "20 kills: {own} continued from the killed restart's own file, {input_used} from the untouched input ({refused} of them with an own file not yet restartable), {finished} had finished; all bitwise identical to the uninterrupted run ({:.1} s)",
         start.elapsed().as_secs_f64()
     );
-    // Most kills land inside the restart (it takes about 0.3 s), and a restart that got
+    // The kills are spread over the restart's own length, so most land inside it, and a restart that got
     // past copying the earlier steps leaves a file of its own to continue from.
     assert!(
         finished <= 10,
