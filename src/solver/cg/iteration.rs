@@ -87,6 +87,7 @@ impl Cg {
                 // of the spectrum; widened, the smoother is a contraction again.
                 if ml.smooths_fine() && widened < MAX_WIDEN {
                     ml.widen_smoother();
+                    self.ml_smoother_fp = None;
                     widened += 1;
                     st.restart = true;
                     continue;

@@ -104,6 +104,9 @@ pub struct Cg {
     coarse_stale: bool,
     /// Constraint rows when the coarse operator was measured.
     coarse_rows: usize,
+    /// Linear bodies: the fingerprint (`operator_fingerprint`) of the constrained operator
+    /// the coarse operator or the multilevel hierarchy was built from.
+    coarse_fp: Option<u64>,
     /// The multilevel preconditioner, when used.
     multilevel: Option<Multilevel>,
     /// The multilevel preconditioner waits until a model problem needs SWITCH_AFTER
@@ -115,6 +118,9 @@ pub struct Cg {
     ml_switched: bool,
     /// Constraint rows and contact rows when the fine smoother's bound was measured.
     ml_smoother_rows: [usize; 2],
+    /// Linear bodies: the fingerprint of the operator the fine smoother's bound was
+    /// measured on (None once the bound was widened).
+    ml_smoother_fp: Option<u64>,
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
     /// The assembled model problem, when asked for (`request_export`).
@@ -145,10 +151,12 @@ impl Cg {
             coarse_work: Vec::new(),
             coarse_stale: true,
             coarse_rows: 0,
+            coarse_fp: None,
             multilevel: None,
             ml_contact_rows: 0,
             ml_switched: false,
             ml_smoother_rows: [0; 2],
+            ml_smoother_fp: None,
             ml_standby: false,
             rebuild_note: None,
             export: export::ExportState::Off,
@@ -185,12 +193,14 @@ impl Cg {
     }
 
     /// Marks a new load increment (or a new attempt at one): the coarse operator and the
-    /// multilevel hierarchy are measured again at its first model problem. Within the
-    /// increment they are kept until the number of constraint rows changes by more than a
-    /// tenth: measured with an earlier constraint set they are still valid (positive)
-    /// preconditioners, only slightly less sharp ones. Measuring once per increment makes
-    /// the preconditioner a function of the increment's own state, so a run continued
-    /// from a restart file repeats the uninterrupted run bit for bit.
+    /// multilevel hierarchy are measured again at its first model problem, unless the
+    /// bodies are linear and the constrained operator is bit for bit the one they were
+    /// measured on (same fingerprint: measuring again would give the same bits). Within
+    /// the increment they are kept until the number of constraint rows changes by more
+    /// than a tenth: measured with an earlier constraint set they are still valid
+    /// (positive) preconditioners, only slightly less sharp ones. Either way the
+    /// preconditioner at an increment's start is a function of the increment's own state,
+    /// so a run continued from a restart file repeats the uninterrupted run bit for bit.
     pub fn invalidate_coarse(&mut self) {
         self.coarse_stale = true;
     }

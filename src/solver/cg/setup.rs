@@ -27,12 +27,17 @@ impl Cg {
             acc
         });
         let similar = (rows - self.coarse_rows as f64).abs() <= 0.1 * self.coarse_rows as f64;
+        if cs.is_set_up() && self.coarse_stale && linear && self.coarse_fp.is_some() {
+            // A new increment with the operator the coarse space was measured on.
+            self.coarse_stale = self.coarse_fp != Some(operator_fingerprint(pb));
+        }
         if cs.is_set_up() && similar && !self.coarse_stale {
             self.coarse = Some(cs);
             return Ok(());
         }
         self.coarse_stale = false;
         self.coarse_rows = rows as usize;
+        self.coarse_fp = linear.then(|| operator_fingerprint(pb));
         let comm = pb.comm;
         let owned = pb.owned();
         let dim = cs.dim();
@@ -90,7 +95,8 @@ impl Cg {
     }
 
     /// Builds the multilevel hierarchy when it is out of date, by the rule of the coarse
-    /// space (`invalidate_coarse`): first use, a new load increment, or the number of
+    /// space (`invalidate_coarse`): first use, a new load increment (unless the bodies are
+    /// linear and the constrained operator is the one it was built on), or the number of
     /// constraint rows changed by more than a tenth.
     pub(super) fn setup_multilevel<C: Comm + ?Sized>(
         &mut self,
@@ -117,6 +123,24 @@ impl Cg {
         let (old, old_contact) = (self.coarse_rows, self.ml_contact_rows);
         let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
         let similar = near(rows, old) && near(contact, old_contact);
+        let mut fp = None;
+        if ml.is_set_up() && self.coarse_stale && linear && self.coarse_fp.is_some() {
+            // A new increment with the operator the hierarchy was built on: building it
+            // again would give the same bits. The smoother's bound must then be the one
+            // measured on this operator too (not one measured, or widened, on another
+            // constraint set within the last increment).
+            fp = Some(operator_fingerprint(pb));
+            if fp == self.coarse_fp {
+                self.coarse_stale = false;
+                if ml.smooths_fine() && self.ml_smoother_fp != fp {
+                    self.ml_smoother_rows = [rows, contact];
+                    self.ml_smoother_fp = fp;
+                    let mut op = fine_op!(self, pb, u, linear, s);
+                    ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
+                }
+                return Ok(());
+            }
+        }
         if ml.is_set_up() && similar && !self.coarse_stale {
             // The hierarchy still serves, but the fine smoother is positive definite only
             // while its bound covers the spectrum of D^-1 A, which a new constraint set
@@ -124,6 +148,7 @@ impl Cg {
             // the cycle indefinite).
             if ml.smooths_fine() && self.ml_smoother_rows != [rows, contact] {
                 self.ml_smoother_rows = [rows, contact];
+                self.ml_smoother_fp = linear.then(|| operator_fingerprint(pb));
                 let mut op = fine_op!(self, pb, u, linear, s);
                 ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
             }
@@ -140,6 +165,13 @@ impl Cg {
         self.ml_smoother_rows = [rows, contact];
         self.coarse_stale = false;
         self.coarse_rows = rows;
+        let fp = if linear {
+            Some(fp.unwrap_or_else(|| operator_fingerprint(pb)))
+        } else {
+            None
+        };
+        self.coarse_fp = fp;
+        self.ml_smoother_fp = fp;
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
         ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
@@ -151,4 +183,53 @@ impl Cg {
         ));
         Ok(())
     }
+}
+
+/// A fingerprint of the constrained operator of linear bodies (collective, the same on
+/// any number of ranks): every owned node's constraint rows (direction, master nodes and
+/// weights) and slip springs, hashed with the node's global id, summed over the nodes.
+/// With linear bodies these are all the operator and the block-Jacobi diagonal depend on,
+/// so a coarse space or hierarchy measured on an operator of the same fingerprint is the
+/// one measuring again would give. (Two different operators share a fingerprint with a
+/// probability of about 2^-64; the preconditioner kept would still be a valid one.)
+fn operator_fingerprint<C: Comm + ?Sized>(pb: &Problem<C>) -> u64 {
+    let ids = &pb.asm.mesh.node_global;
+    let mut sum = 0u64;
+    for l in 0..pb.owned() {
+        let mut h = None;
+        for (_, row) in pb.cons.rows(l) {
+            let mut x = h.unwrap_or_else(|| mix(0x6e6f_6465, ids[l] as u64));
+            for d in row.dir {
+                x = mix(x, d.to_bits());
+            }
+            for &(m, w) in &row.masters {
+                x = mix(mix(x, m as u64), w.to_bits());
+            }
+            h = Some(mix(x, 0x0072_6f77));
+        }
+        if let Some(h) = h {
+            sum = sum.wrapping_add(h);
+        }
+    }
+    for sp in pb.springs {
+        let mut x = mix(0x7370_7269_6e67, ids[sp.node] as u64);
+        for v in sp.k.iter().flatten() {
+            x = mix(x, v.to_bits());
+        }
+        sum = sum.wrapping_add(x);
+    }
+    // The wrapping sum over all ranks, exactly: its two 32-bit halves summed apart.
+    let mut halves = [(sum & 0xffff_ffff) as i64, (sum >> 32) as i64];
+    pb.comm.sum_i64(&mut halves);
+    (halves[0] as u64).wrapping_add((halves[1] as u64) << 32)
+}
+
+/// One step of a 64-bit hash (SplitMix64's finaliser over the state and the next word).
+fn mix(h: u64, x: u64) -> u64 {
+    let mut z = (h ^ x.rotate_left(25))
+        .wrapping_add(0x9e37_79b9_7f4a_7c15)
+        .wrapping_add(h.rotate_left(7));
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
