@@ -266,21 +266,19 @@ impl Cg {
     ) -> Result<Option<ModelOutcome>, SolveFailure> {
         let (comm, n, nl) = (pb.comm, pb.owned(), u.len());
         super::agree_alloc(comm, self.coupled.ensure(nl))?;
-        let (mut rnorm, reference) = self.coupled_residual(pb, u, links)?;
-        let initial = rnorm;
         let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
-        let floor = s.reference_floor.max(roundoff);
-        let mut refv = reference.max(floor);
-        if !rnorm.is_finite() {
-            return Err(SolveFailure::NonFinite { iterations: 0 });
+        let mut g = Gauge {
+            rnorm: 0.0,
+            refv: 0.0,
+            floor: s.reference_floor.max(roundoff),
+            tolerance: s.tolerance,
+        };
+        if let Some(o) = self.true_residual(pb, u, links, &mut g, 0)? {
+            return Ok(Some(o));
         }
-        let done = |rnorm: f64, refv: f64| rnorm <= s.tolerance * refv;
-        if done(rnorm, refv) {
-            return Ok(Some(ModelOutcome {
-                iterations: 0,
-                residual: rnorm,
-                reference: refv,
-            }));
+        let initial = g.rnorm;
+        if !initial.is_finite() {
+            return Err(SolveFailure::NonFinite { iterations: 0 });
         }
         self.precondition(pb, u)?;
         self.setup_coarse(pb, u, true, s)?;
@@ -324,16 +322,9 @@ impl Cg {
                 }
             }
             let snorm = comm::norm(comm, &w.s, n);
-            if done(snorm, refv) {
-                let (rn, reference) = self.coupled_residual(pb, u, links)?;
-                rnorm = rn;
-                refv = reference.max(floor);
-                if done(rnorm, refv) {
-                    return Ok(Some(ModelOutcome {
-                        iterations: it,
-                        residual: rnorm,
-                        reference: refv,
-                    }));
+            if g.done(snorm) {
+                if let Some(o) = self.true_residual(pb, u, links, &mut g, it)? {
+                    return Ok(Some(o));
                 }
                 fresh = true;
                 rho = rho_new;
@@ -355,28 +346,56 @@ impl Cg {
                 }
             }
             rho = rho_new;
-            rnorm = comm::norm(comm, &w.res, n);
-            if !(rnorm <= DIVERGED * initial) {
+            g.rnorm = comm::norm(comm, &w.res, n);
+            if !(g.rnorm <= DIVERGED * initial) {
                 // Not finite, or grown far beyond where it began: not a solve to go on with.
                 return Ok(None);
             }
-            if done(rnorm, refv) || it.is_multiple_of(50) {
+            if g.done(g.rnorm) || it.is_multiple_of(50) {
                 // The recurrence's residual drifts from the true one: replace it, and
                 // start the recurrence again from there.
-                let (rn, reference) = self.coupled_residual(pb, u, links)?;
-                rnorm = rn;
-                refv = reference.max(floor);
-                if done(rnorm, refv) {
-                    return Ok(Some(ModelOutcome {
-                        iterations: it,
-                        residual: rnorm,
-                        reference: refv,
-                    }));
+                if let Some(o) = self.true_residual(pb, u, links, &mut g, it)? {
+                    return Ok(Some(o));
                 }
                 fresh = true;
             }
         }
         Ok(None)
+    }
+
+    /// The true residual in place of the recurrence's, into `g`: the outcome after `it`
+    /// iterations when it meets the tolerance.
+    fn true_residual<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        links: &[FrictionLink],
+        g: &mut Gauge,
+        it: usize,
+    ) -> Result<Option<ModelOutcome>, SolveFailure> {
+        let (rnorm, reference) = self.coupled_residual(pb, u, links)?;
+        g.rnorm = rnorm;
+        g.refv = reference.max(g.floor);
+        Ok(g.done(rnorm).then_some(ModelOutcome {
+            iterations: it,
+            residual: rnorm,
+            reference: g.refv,
+        }))
+    }
+}
+
+/// BiCGStab's residual norm and the reference force it is measured against.
+struct Gauge {
+    rnorm: f64,
+    refv: f64,
+    /// Lower bound of the reference (the settings' floor, round-off).
+    floor: f64,
+    tolerance: f64,
+}
+
+impl Gauge {
+    fn done(&self, rnorm: f64) -> bool {
+        rnorm <= self.tolerance * self.refv
     }
 }
 
