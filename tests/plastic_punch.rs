@@ -144,6 +144,12 @@ fn contact_curve_at() {
     let prandtl = (2.0 + std::f64::consts::PI) * SY / 3f64.sqrt();
     let disc = std::env::var("PUNCH_DISCRETIZATION").unwrap_or("node_face".into());
     let (c, cg) = contact_curve_mu(n, 0.06 * A, 12, mu, &disc);
+    for (d, pm) in &c {
+        println!(
+            "depth {d:.4}: mean pressure {pm:.3} = {:.4} of Prandtl",
+            pm / prandtl
+        );
+    }
     println!(
         "n = {n}, mu = {mu}, {disc}: rigid punch in contact: {:.2} = {:.4} of Prandtl; {cg} CG iterations",
         c.last().unwrap().1,

@@ -316,14 +316,23 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
 }
 
 impl Watch {
-    /// Records the set after an update. A state that comes back once (a node that slips,
-    /// sticks, slips again while the friction forces settle) is not yet a cycle; one that
-    /// alternates twice is.
+    /// Records the set after an update. Two states that alternate are not yet a cycle when
+    /// each has come back once (A B A B): a node that slips, sticks, and slips again while
+    /// the friction forces settle has its next reversal judged only once they have settled
+    /// (`coulomb`), so the alternation may stop at the next update. One that goes on
+    /// (A B A B A) is a cycle. (Declared at A B A B, the extreme suite's drag was cut back
+    /// twice at its first drag step: four nodes released, captured again, then stick, slip,
+    /// stick, slip; given the one update more the rule of reversals needs, they slip on.)
     fn record(&mut self, contact: &impl Enforcement) -> Result<(), SolveFailure> {
         let signature: Signature = contact.set();
         let h = &self.history;
         let n = h.len();
-        if n >= 3 && h[n - 2] == signature && h[n - 1] != signature && h[n - 3] == h[n - 1] {
+        if n >= 4
+            && h[n - 2] == signature
+            && h[n - 4] == signature
+            && h[n - 1] != signature
+            && h[n - 3] == h[n - 1]
+        {
             return Err(SolveFailure::ContactNotSettled {
                 updates: self.updates,
                 detail: cycling_detail(&h[n - 1], &signature),
