@@ -120,8 +120,8 @@ fn ironing_never_loses_the_pressed_slab_silently() {
 }
 
 /// Small kinematics, the same drag: complete with contact held, or say that small sliding
-/// was exceeded.
+/// was exceeded. (It completes: 4 to 15 slave nodes in contact at every step.)
 #[test]
-fn small_kinematics_ironing_says_small_sliding_was_exceeded() {
+fn small_kinematics_ironing_holds_contact_or_says_small_sliding_was_exceeded() {
     never_lost_silently("ironing_block_small", &["small sliding was exceeded"]);
 }
