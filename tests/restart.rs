@@ -17,6 +17,19 @@ fn killed_and_restarted_is_identical(name: &str, kill_after: usize) {
     restart::killed_and_restarted_is_identical(&paper_scene(name), &dir(name), kill_after);
 }
 
+/// The log (`-v`) of an uninterrupted run of `scene`, which must succeed.
+fn logged_run(scene: &std::path::Path, d: &std::path::Path) -> String {
+    let log = solver()
+        .args(["-v", "run"])
+        .arg(scene)
+        .arg("-o")
+        .arg(d.join("logged.h5"))
+        .output()
+        .unwrap();
+    assert!(log.status.success());
+    String::from_utf8_lossy(&log.stderr).into_owned()
+}
+
 #[test]
 fn stick_slip_mortar_killed_after_step_20_restarts_bitwise() {
     // Mortar friction: the restart state carries the ties (weights, normals, the offsets
@@ -142,15 +155,7 @@ fn a_run_whose_preconditioner_switched_restarts_bitwise() {
     )
     .unwrap();
     // The uninterrupted run does switch (else this test would not test the switch).
-    let log = solver()
-        .args(["-v", "run"])
-        .arg(&scene)
-        .arg("-o")
-        .arg(d.join("logged.h5"))
-        .output()
-        .unwrap();
-    assert!(log.status.success());
-    let text = String::from_utf8_lossy(&log.stderr);
+    let text = logged_run(&scene, &d);
     assert!(
         text.contains("switched to the multilevel preconditioner"),
         "{text}"
@@ -177,15 +182,7 @@ fn a_run_that_kept_its_multilevel_hierarchy_restarts_bitwise() {
             .replace("divisions = [10, 1, 1]", "divisions = [20, 1, 1]"),
     )
     .unwrap();
-    let log = solver()
-        .args(["-v", "run"])
-        .arg(&scene)
-        .arg("-o")
-        .arg(d.join("logged.h5"))
-        .output()
-        .unwrap();
-    assert!(log.status.success());
-    let text = String::from_utf8_lossy(&log.stderr);
+    let text = logged_run(&scene, &d);
     assert!(text.contains("preconditioner: multilevel"), "{text}");
     // Built once for the squeeze (the next build comes when the bar begins to slip, in
     // step 21 or later), so the kill below falls between two uses of a kept hierarchy.

@@ -27,9 +27,11 @@ impl Cg {
             acc
         });
         let similar = (rows - self.coarse_rows as f64).abs() <= 0.1 * self.coarse_rows as f64;
+        let mut fp = None;
         if cs.is_set_up() && self.coarse_stale && linear && self.coarse_fp.is_some() {
             // A new increment with the operator the coarse space was measured on.
-            self.coarse_stale = self.coarse_fp != Some(operator_fingerprint(pb));
+            fp = Some(operator_fingerprint(pb));
+            self.coarse_stale = self.coarse_fp != fp;
         }
         if cs.is_set_up() && similar && !self.coarse_stale {
             self.coarse = Some(cs);
@@ -37,7 +39,7 @@ impl Cg {
         }
         self.coarse_stale = false;
         self.coarse_rows = rows as usize;
-        self.coarse_fp = linear.then(|| operator_fingerprint(pb));
+        self.coarse_fp = linear.then(|| fp.unwrap_or_else(|| operator_fingerprint(pb)));
         let comm = pb.comm;
         let owned = pb.owned();
         let dim = cs.dim();
@@ -165,11 +167,7 @@ impl Cg {
         self.ml_smoother_rows = [rows, contact];
         self.coarse_stale = false;
         self.coarse_rows = rows;
-        let fp = if linear {
-            Some(fp.unwrap_or_else(|| operator_fingerprint(pb)))
-        } else {
-            None
-        };
+        let fp = linear.then(|| fp.unwrap_or_else(|| operator_fingerprint(pb)));
         self.coarse_fp = fp;
         self.ml_smoother_fp = fp;
         let mut op = fine_op!(self, pb, u, linear, s);
