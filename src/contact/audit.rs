@@ -63,23 +63,23 @@ pub fn contains(x: &[Vec3; 8], p: &Vec3) -> bool {
     xi.iter().all(|v| v.abs() <= 1.0)
 }
 
-/// Every slave node inside a master body, with its depth. Collective.
+/// Every slave node inside a master body, with its depth, except the nodes of mortar pairs
+/// in `tied` (slave node, pair; ascending). A mortar tie constrains a weighted gap, not
+/// the node's point, so a tied node may sit inside a curved master by the
+/// discretization's error; a mortar node without a tie is held by nothing, and one inside
+/// the master body was lost (released, or beyond the normal search tolerance of every
+/// master face). Collective.
 pub fn audit<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     mesh: &LocalMesh,
     u: &[Vec3],
+    tied: &[(u32, usize)],
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
     let mut found: Vec<(usize, u32)> = Vec::new();
     for (p, pair) in problem.contacts.iter().enumerate() {
-        if pair.discretization == crate::problem::Discretization::Mortar {
-            // A mortar pair constrains weighted gaps, not points: a node may sit inside
-            // the master by the discretization's error (a curved surface), and every
-            // node whose support the master covers has its weighted gap checked by the
-            // capture at each update.
-            continue;
-        }
+        let mortar = pair.discretization == crate::problem::Discretization::Mortar;
         let bodies = master_bodies(problem, p);
         let elements: Vec<usize> = (0..mesh.elements.len())
             .filter(|&e| mesh.element_owned[e] && bodies.contains(&mesh.element_body[e]))
@@ -94,6 +94,9 @@ pub fn audit<C: Comm + ?Sized>(
         let aabbs: Vec<Aabb> = corners.iter().map(bounding_box).collect();
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
         for (&s, x) in slaves[p].iter() {
+            if mortar && tied.binary_search(&(s, p)).is_ok() {
+                continue;
+            }
             let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
             let inside = bvh.intersect_aabb(&probe).any(|k| {
                 let e = elements[k as usize];
@@ -144,10 +147,10 @@ pub fn too_deep(problem: &Problem, findings: &[Finding]) -> Vec<Finding> {
         .collect()
 }
 
-/// Gap removal for the nodes found inside a master body: each is tied to the nearest
-/// master face (an active constraint on another face moves there), sticking where the
-/// pair has friction. Every rank holds the same findings and the same active set, so every
-/// rank changes it alike.
+/// Gap removal for the node-to-face nodes found inside a master body: each is tied to the
+/// nearest master face (an active constraint on another face moves there), sticking where
+/// the pair has friction. Every rank holds the same findings and the same active set, so
+/// every rank changes it alike.
 pub fn recapture(state: &mut ContactState, problem: &Problem, findings: &[Finding]) {
     for f in findings {
         let it = &f.interaction;

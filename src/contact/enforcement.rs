@@ -121,8 +121,16 @@ pub trait Enforcement: Clone + Default {
         u: &[Vec3],
     ) -> Vec<Finding>;
 
-    /// Gap removal for audit findings: each node tied to the nearest master face.
-    fn recapture(&mut self, problem: &Problem, findings: &[Finding]);
+    /// Gap removal for audit findings: each node tied to the nearest master face (a
+    /// mortar node: tied again by its weighted gap). Collective.
+    fn recapture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        findings: &[Finding],
+    );
 
     /// The signed gap of every constrained slave node this rank owns. Collective.
     fn gaps<C: Comm + ?Sized>(

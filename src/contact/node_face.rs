@@ -299,11 +299,34 @@ impl Enforcement for ContactState {
         mesh: &LocalMesh,
         u: &[Vec3],
     ) -> Vec<Finding> {
-        audit::audit(comm, problem, mesh, u)
+        let mut tied: Vec<(u32, usize)> = self
+            .active
+            .iter()
+            .filter(|a| problem.contacts[a.pair].discretization == Discretization::Mortar)
+            .map(|a| (a.slave, a.pair))
+            .collect();
+        tied.sort_unstable();
+        audit::audit(comm, problem, mesh, u, &tied)
     }
 
-    fn recapture(&mut self, problem: &Problem, findings: &[Finding]) {
-        audit::recapture(self, problem, findings)
+    fn recapture<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        findings: &[Finding],
+    ) {
+        let (mortar, node_face): (Vec<Finding>, Vec<Finding>) = findings
+            .iter()
+            .partition(|f| problem.contacts[f.pair].discretization == Discretization::Mortar);
+        audit::recapture(self, problem, &node_face);
+        // Every rank holds the same findings, so every rank takes this branch alike.
+        if !mortar.is_empty() {
+            let positions = Positions::gather(comm, problem, mesh, u, u);
+            self.mortar_recapture(problem, mesh, &positions, &mortar);
+            self.share(comm, mesh);
+        }
     }
 
     fn supports(&self, problem: &Problem) -> Vec<TieSupport> {

@@ -6,6 +6,7 @@
 
 use super::surfaces::Positions;
 use super::ties::{relative, Tie};
+use crate::contact::audit::Finding;
 use crate::contact::search::Interaction;
 use crate::contact::state::Active;
 use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
@@ -105,6 +106,43 @@ impl ContactState {
             }
         }
         changed
+    }
+
+    /// Gap removal for mortar nodes the penetration audit found inside a master body
+    /// without a tie: each slave node this rank owns is tied again, with master faces
+    /// overlapped up to its depth beyond the normal search tolerance (it was lost because
+    /// it lay deeper than that), so the next model problem puts its weighted gap at zero.
+    /// A node whose support no master face covers enough stays untied; the audit then
+    /// finds it again and the step fails. Call `share` after.
+    pub(in crate::contact) fn mortar_recapture(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        positions: &Positions,
+        findings: &[Finding],
+    ) {
+        for f in findings {
+            if mesh.owned_node(f.slave).is_none() {
+                continue;
+            }
+            let pair = &problem.contacts[f.pair];
+            let reach = pair.normal_tolerance + 2.0 * f.depth;
+            let Some(t) = positions
+                .ties_of(problem, f.pair, &[f.slave], reach)
+                .into_iter()
+                .next()
+            else {
+                continue;
+            };
+            let it = Interaction {
+                face: t.face,
+                s: [0.0, 0.0],
+                gap: t.gap,
+                normal: t.normal,
+            };
+            self.active.push(new_active(f.pair, f.slave, &it, pair.mu));
+            self.set_tie(f.pair, t);
+        }
     }
 
     fn set_tie(&mut self, p: usize, t: Tie) {

@@ -79,6 +79,19 @@ impl Positions {
     /// The ties, at the current positions, of pair `p`'s slave nodes this rank owns.
     pub fn ties(&self, problem: &Problem, p: usize, mesh: &LocalMesh) -> Vec<Tie> {
         let pair = &problem.contacts[p];
+        let wanted: Vec<u32> = pair
+            .slave_nodes
+            .iter()
+            .copied()
+            .filter(|&s| mesh.owned_node(s).is_some())
+            .collect();
+        self.ties_of(problem, p, &wanted, pair.normal_tolerance)
+    }
+
+    /// The ties, at the current positions, of pair `p`'s slave nodes in `wanted`
+    /// (ascending), with master faces overlapped up to `reach` along the normal.
+    pub fn ties_of(&self, problem: &Problem, p: usize, wanted: &[u32], reach: f64) -> Vec<Tie> {
+        let pair = &problem.contacts[p];
         let small = crate::contact::ghost::reference_normals(problem);
         let faces = |nodes: &[[u32; 4]]| -> Vec<Face> {
             nodes
@@ -89,22 +102,12 @@ impl Positions {
                 })
                 .collect()
         };
-        let wanted: Vec<u32> = pair
-            .slave_nodes
-            .iter()
-            .copied()
-            .filter(|&s| mesh.owned_node(s).is_some())
-            .collect();
         let slave: Vec<Face> = faces(&pair.slave_face_nodes)
             .into_iter()
             .filter(|f| f.nodes.iter().any(|n| wanted.binary_search(n).is_ok()))
             .collect();
-        ties(
-            &slave,
-            &faces(&pair.face_nodes),
-            &wanted,
-            pair.normal_tolerance,
-            |g| self.now(g),
-        )
+        ties(&slave, &faces(&pair.face_nodes), wanted, reach, |g| {
+            self.now(g)
+        })
     }
 }

@@ -71,7 +71,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
                 contact.friction_settled(self.problem, force_tol)
             };
-            if settled && self.audit(u, contact, &mut watch)? {
+            if settled && self.audit(t, u, contact, &mut watch)? {
                 changed = true;
                 continue;
             }
@@ -249,6 +249,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// already tied back once fails it, to be cut back. Records the deepest finding.
     fn audit(
         &mut self,
+        t: f64,
         u: &[Vec3],
         contact: &mut E,
         watch: &mut Watch,
@@ -273,7 +274,19 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             });
         }
         if !deep.is_empty() {
-            contact.recapture(self.problem, &deep);
+            if let Some(progress) = self.progress.as_mut() {
+                let d = deep
+                    .iter()
+                    .fold(deep[0], |a, &f| if f.depth > a.depth { f } else { a });
+                progress(&format!(
+                    "  t = {t}: penetration audit: {} slave node(s) inside a master body, tied back (deepest: node {} of contact '{}' by {:.3e})",
+                    deep.len(),
+                    d.slave as u64 + 1,
+                    self.problem.contacts[d.pair].name,
+                    d.depth
+                ));
+            }
+            contact.recapture(self.comm, self.problem, self.mesh, u, &deep);
             watch
                 .recaptured
                 .extend(deep.iter().map(|f| (f.slave, f.pair)));
