@@ -142,10 +142,12 @@ fn an_address_space_limit_refuses_the_run_and_force_runs_it() {
 }
 
 /// The peak the solver reports ("peak memory X MiB per rank": the largest VmHWM over the
-/// ranks) of the bench's block on block refined by `factor` on `ranks` ranks under mpirun.
-fn measured_peak(d: &Path, factor: u32, ranks: usize) -> f64 {
+/// ranks) of the bench's block on block refined by `factor` on `ranks` ranks under mpirun,
+/// with the scene's preconditioner or the one named.
+fn measured_peak(d: &Path, factor: u32, ranks: usize, preconditioner: Option<&str>) -> f64 {
     let scene = root().join("run/scenes/bench/block_on_block.toml");
-    let h5 = d.join(format!("n{}_np{ranks}.h5", 10 * factor));
+    let name = preconditioner.unwrap_or("default");
+    let h5 = d.join(format!("n{}_np{ranks}_{name}.h5", 10 * factor));
     let o = Command::new(root().join("run/mpirun"))
         .args(["-np", &ranks.to_string()])
         .arg(env!("CARGO_BIN_EXE_solver"))
@@ -155,6 +157,7 @@ fn measured_peak(d: &Path, factor: u32, ranks: usize) -> f64 {
             "--refine",
             &factor.to_string(),
         ])
+        .args(preconditioner.iter().flat_map(|&p| ["--preconditioner", p]))
         .args(["-o", h5.to_str().unwrap()])
         .output()
         .expect("mpirun runs");
@@ -185,7 +188,7 @@ fn the_estimate_is_within_25_percent_of_the_measured_peak() {
         let size = scene_size(&scene, factor).expect("counts");
         for ranks in [1, 2] {
             let est = estimate_run(&size.counts, ranks, true).per_rank();
-            let peak = measured_peak(&d, factor, ranks);
+            let peak = measured_peak(&d, factor, ranks, None);
             let rel = est / peak - 1.0;
             worst = worst.max(rel.abs());
             lines.push(format!(
@@ -196,6 +199,39 @@ fn the_estimate_is_within_25_percent_of_the_measured_peak() {
                 100.0 * rel
             ));
         }
+    }
+    eprintln!("{}", lines.join("\n"));
+    assert!(worst <= 0.25, "{}", lines.join("\n"));
+}
+
+/// The same for the multilevel preconditioner asked for by name, on one rank at n = 20 and
+/// 40 (18522 and 137842 nodes): its hierarchy is held whole on every rank, so one rank
+/// shows its share of the peak best. The build used to hold the old hierarchy and the
+/// triplets of the first coarse operator and its transpose at once: at n = 40 849.4 MiB
+/// under mpirun against the estimated 629.1 (-25.9%: this test failed; at n = 80 on 2
+/// ranks, too big for it, 4760.6 against 3489.2); since, 122.4 and 650.1 MiB against 108.0
+/// and 629.1 (-11.8%, -3.2%; n = 80 on 2 ranks 3074.1, +13.5%).
+#[test]
+fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
+    let d = dir("peaks-multilevel");
+    let scene = root().join("run/scenes/bench/block_on_block.toml");
+    let mut lines = Vec::new();
+    let mut worst: f64 = 0.0;
+    for factor in [2, 4] {
+        let mut counts = scene_size(&scene, factor).expect("counts").counts;
+        counts.two_level = false;
+        counts.multilevel = true;
+        let est = estimate_run(&counts, 1, true).per_rank();
+        let peak = measured_peak(&d, factor, 1, Some("multilevel"));
+        let rel = est / peak - 1.0;
+        worst = worst.max(rel.abs());
+        lines.push(format!(
+            "n = {}, multilevel, 1 rank: estimate {:.1} MiB, peak {:.1} MiB, {:+.1}%",
+            10 * factor,
+            est / 1048576.0,
+            peak / 1048576.0,
+            100.0 * rel
+        ));
     }
     eprintln!("{}", lines.join("\n"));
     assert!(worst <= 0.25, "{}", lines.join("\n"));

@@ -175,19 +175,49 @@ impl Csr {
         }
     }
 
-    /// (A + A^T) / 2 for a square matrix.
+    /// (A + A^T) / 2 for a square matrix (rows sorted by column, as every constructor
+    /// here leaves them): each row of A merged with the same row of A^T, an entry in both
+    /// 0.5 a + 0.5 b (the sum the triplets of both, in that order, gave before). Holds A,
+    /// A^T and the result, 36 bytes per entry of A at most: the triplets of both took 68,
+    /// the peak of a multilevel build (block on block n = 40: 4.67 million entries).
     pub fn symmetric_part(&self) -> Csr {
+        assert_eq!(self.rows, self.cols, "symmetric_part: a square matrix");
         let t = self.transpose();
-        let mut trip = Vec::with_capacity(2 * self.nnz());
-        for m in [self, &t] {
-            for i in 0..m.rows {
-                let (c, v) = m.row(i);
-                for (&j, &a) in c.iter().zip(v) {
-                    trip.push((i as u32, j, 0.5 * a));
+        let mut ptr = Vec::with_capacity(self.rows + 1);
+        ptr.push(0);
+        let mut idx = Vec::with_capacity(self.nnz());
+        let mut val = Vec::with_capacity(self.nnz());
+        for i in 0..self.rows {
+            let (ca, va) = self.row(i);
+            let (cb, vb) = t.row(i);
+            let (mut x, mut y) = (0, 0);
+            while x < ca.len() || y < cb.len() {
+                let a = ca.get(x).copied().unwrap_or(u32::MAX);
+                let b = cb.get(y).copied().unwrap_or(u32::MAX);
+                if a == b {
+                    idx.push(a);
+                    val.push(0.5 * va[x] + 0.5 * vb[y]);
+                    x += 1;
+                    y += 1;
+                } else if a < b {
+                    idx.push(a);
+                    val.push(0.5 * va[x]);
+                    x += 1;
+                } else {
+                    idx.push(b);
+                    val.push(0.5 * vb[y]);
+                    y += 1;
                 }
             }
+            ptr.push(idx.len());
         }
-        Csr::from_triplets(self.rows, self.cols, trip)
+        Csr {
+            rows: self.rows,
+            cols: self.cols,
+            ptr,
+            idx,
+            val,
+        }
     }
 
     /// Every entry as a dense row-major matrix (for the coarsest level).
@@ -275,5 +305,38 @@ mod tests {
         let s = Csr::from_triplets(2, 2, vec![(0, 1, 2.0), (1, 0, 4.0)]).symmetric_part();
         assert_eq!(s.to_dense(), vec![0.0, 3.0, 3.0, 0.0]);
         assert_eq!(m.diagonal(), vec![4.0, 0.0]);
+    }
+
+    #[test]
+    fn symmetric_part_is_the_triplet_sum_bit_for_bit() {
+        // An unsymmetric pattern (entries on one side only, on both, on the diagonal) with
+        // values whose halves round: the merge must give the entries (and bits) of the
+        // triplets of A and A^T summed in that order.
+        let mut trip = Vec::new();
+        for i in 0..9u32 {
+            for j in 0..9u32 {
+                if (i * 7 + j * 2) % 4 != 0 {
+                    trip.push((i, j, 0.1 * (i as f64 + 1.0) / (j as f64 + 3.0) - 0.37));
+                }
+            }
+        }
+        let a = Csr::from_triplets(9, 9, trip);
+        let at = a.transpose();
+        let mut both = Vec::new();
+        for m in [&a, &at] {
+            for i in 0..9 {
+                let (c, v) = m.row(i);
+                for (&j, &x) in c.iter().zip(v) {
+                    both.push((i as u32, j, 0.5 * x));
+                }
+            }
+        }
+        let expected = Csr::from_triplets(9, 9, both);
+        let s = a.symmetric_part();
+        assert_eq!(s.ptr, expected.ptr);
+        assert_eq!(s.idx, expected.idx);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&s.val), bits(&expected.val));
+        assert!(s.nnz() > a.nnz(), "the pattern was unsymmetric");
     }
 }
