@@ -159,6 +159,7 @@ impl ContactState {
             active,
             released,
             ties,
+            tangent: false,
         })
     }
 }
