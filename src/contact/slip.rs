@@ -132,17 +132,21 @@ pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
     if !(c > 0.0 && c.is_finite()) {
         return None;
     }
-    let n = a.normal;
-    let d = sub(&dir, &scale(&n, dot(&dir, &n)));
-    let l = norm(&d);
-    if !(l > 0.5) {
+    Some((c, across(&a.normal, &dir)?))
+}
+
+/// The projector onto the tangent plane of `n` across the friction direction `dir` (the
+/// plane's direction perpendicular to it); None when `dir` lies mostly along `n`.
+fn across(n: &Vec3, dir: &Vec3) -> Option<Mat3> {
+    let d = sub(dir, &scale(n, dot(dir, n)));
+    let length = norm(&d);
+    if !(length > 0.5) {
         return None;
     }
-    let d = scale(&d, 1.0 / l);
-    let p: Mat3 = std::array::from_fn(|i| {
+    let d = scale(&d, 1.0 / length);
+    Some(std::array::from_fn(|i| {
         std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
-    });
-    Some((c, p))
+    }))
 }
 
 impl ContactState {
@@ -214,16 +218,9 @@ impl ContactState {
             let Some(l) = mesh.owned_node(a.slave) else {
                 continue;
             };
-            let n = a.normal;
-            let d = sub(&dir, &scale(&n, dot(&dir, &n)));
-            let length = norm(&d);
-            if !(length > 0.5) {
+            let Some(p) = across(&a.normal, &dir) else {
                 continue;
-            }
-            let d = scale(&d, 1.0 / length);
-            let p: Mat3 = std::array::from_fn(|i| {
-                std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
-            });
+            };
             let nodal = (0..3)
                 .map(|i| dot(&p[i], &matvec(&diag[l], &p[i])))
                 .sum::<f64>()
