@@ -1,5 +1,5 @@
-//! `--large`: the block on block at about 10^6 elements (n = 80) with the two-level
-//! preconditioner, each rank count after a memory check from two pilot sizes. Its section
+//! `--large`: the block on block at about 10^6 elements (n = 80) with the two-level (or,
+//! with `--preconditioner multilevel`, the multilevel) preconditioner, each rank count after a memory check from two pilot sizes. Its section
 //! is merged into the files of an earlier normal run (`report::large`).
 
 use crate::block::{
@@ -104,17 +104,21 @@ impl MemoryEstimate {
 
 /// The memory model's estimate of the large run's peak per rank on `ranks` ranks under
 /// mpirun (what `solver check --refine 8 --ranks R` prints and `solver run` checks), MiB.
-pub fn model_estimate_mib(ranks: usize) -> Option<f64> {
+pub fn model_estimate_mib(ranks: usize, precond: Precond) -> Option<f64> {
     use solver::problem::Preconditioner;
     let scene = repo_root().join(crate::block::BLOCK_SCENE);
-    let size = solver::scene::counts::scene_size(&scene, LARGE_REFINE as u32)?
-        .with_override(Some(Preconditioner::TwoLevel));
+    let named = match precond {
+        Precond::Multilevel => Preconditioner::Multilevel,
+        _ => Preconditioner::TwoLevel,
+    };
+    let size =
+        solver::scene::counts::scene_size(&scene, LARGE_REFINE as u32)?.with_override(Some(named));
     Some(solver::memory::estimate_run(&size.counts, ranks, true).per_rank() / MIB)
 }
 
 /// The model's estimate beside the measured peak, in one sentence.
-pub fn model_text(ranks: usize, measured_mib: Option<f64>) -> String {
-    match (model_estimate_mib(ranks), measured_mib) {
+pub fn model_text(ranks: usize, precond: Precond, measured_mib: Option<f64>) -> String {
+    match (model_estimate_mib(ranks, precond), measured_mib) {
         (Some(e), Some(m)) => format!(
             "memory model {e:.1} MiB per rank, measured peak {m:.1} MiB ({:+.1}%)",
             100.0 * (e / m - 1.0)
@@ -134,6 +138,7 @@ pub enum LargeOutcome {
 
 pub struct LargeRun {
     pub ranks: usize,
+    pub precond: Precond,
     pub estimate: Result<MemoryEstimate, String>,
     pub outcome: LargeOutcome,
 }
@@ -158,6 +163,7 @@ impl LargeRun {
 /// Everything `--large` measured.
 pub struct Large {
     pub info: RunInfo,
+    pub precond: Precond,
     pub runs: Vec<LargeRun>,
     /// The first finished run's result file against the second's.
     pub compare: Option<Result<Compare, String>>,
@@ -178,15 +184,16 @@ impl Large {
 }
 
 /// The pilots, the memory check and the large run on `ranks` ranks.
-fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
+fn large_run(exe: &Path, dir: &Path, ranks: usize, precond: Precond) -> LargeRun {
     let limits = Limits::timeout(SOLVER_TIMEOUT_S);
     eprintln!(
-        "bench: large, {ranks} rank(s): pilot runs n = {:?} (two-level) for the memory estimate",
-        LARGE_PILOT.map(|f| BLOCK_BASE_N * f)
+        "bench: large, {ranks} rank(s): pilot runs n = {:?} ({}) for the memory estimate",
+        LARGE_PILOT.map(|f| BLOCK_BASE_N * f),
+        precond.label()
     );
     let pilot: Result<Vec<BlockCase>, String> = LARGE_PILOT
         .iter()
-        .map(|&f| block_case(exe, dir, f, ranks, Precond::TwoLevel, 1, &limits))
+        .map(|&f| block_case(exe, dir, f, ranks, precond, 1, &limits))
         .collect();
     let available = memory_available().map(|m| m / MIB);
     let estimate =
@@ -197,16 +204,17 @@ fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
         Ok(m) => {
             eprintln!("bench: large, {ranks} rank(s): {}", m.text(ranks));
             eprintln!(
-                "bench: large, {ranks} rank(s): n = {} ({} elements), two-level; this takes a while",
+                "bench: large, {ranks} rank(s): n = {} ({} elements), {}; this takes a while",
                 BLOCK_BASE_N * LARGE_REFINE,
-                m.elements
+                m.elements,
+                precond.label()
             );
             let limits = Limits {
                 timeout_s: LARGE_TIMEOUT_S,
                 rss_limit: None,
                 min_available: Some(LARGE_MIN_AVAILABLE),
             };
-            match block_case(exe, dir, LARGE_REFINE, ranks, Precond::TwoLevel, 1, &limits) {
+            match block_case(exe, dir, LARGE_REFINE, ranks, precond, 1, &limits) {
                 Ok(c) => LargeOutcome::Finished(Box::new(c)),
                 Err(e) => LargeOutcome::Failed(e),
             }
@@ -215,30 +223,35 @@ fn large_run(exe: &Path, dir: &Path, ranks: usize) -> LargeRun {
     match &outcome {
         LargeOutcome::Finished(c) => eprintln!(
             "bench: large, {ranks} rank(s): {}",
-            model_text(ranks, Some(c.runs.peak_mib.median))
+            model_text(ranks, precond, Some(c.runs.peak_mib.median))
         ),
         LargeOutcome::Failed(why) => eprintln!("bench: large, {ranks} rank(s) failed: {why}"),
         LargeOutcome::NotRun(why) => eprintln!("bench: large, {ranks} rank(s) not run: {why}"),
     }
     LargeRun {
         ranks,
+        precond,
         estimate,
         outcome,
     }
 }
 
 /// `bench --large`: the large runs, merged into `<out>/results.json` and `<out>/report.md`.
-pub fn run(out: &Path, ranks: &[usize]) -> Result<(), String> {
+pub fn run(out: &Path, ranks: &[usize], precond: Precond) -> Result<(), String> {
     let start = Instant::now();
     let dir = out.join("large");
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let machine = machine();
     let exe = solver_exe()?;
     eprintln!(
-        "bench: large block on block (n = {}, two-level) on {ranks:?} rank(s)",
-        BLOCK_BASE_N * LARGE_REFINE
+        "bench: large block on block (n = {}, {}) on {ranks:?} rank(s)",
+        BLOCK_BASE_N * LARGE_REFINE,
+        precond.label()
     );
-    let runs: Vec<LargeRun> = ranks.iter().map(|&r| large_run(&exe, &dir, r)).collect();
+    let runs: Vec<LargeRun> = ranks
+        .iter()
+        .map(|&r| large_run(&exe, &dir, r, precond))
+        .collect();
     let finished: Vec<&BlockCase> = runs.iter().filter_map(LargeRun::finished).collect();
     let compare = match finished.as_slice() {
         [a, b, ..] => Some(compare_results(&exe, &a.result, &b.result)),
@@ -246,6 +259,7 @@ pub fn run(out: &Path, ranks: &[usize]) -> Result<(), String> {
     };
     let large = Large {
         info: RunInfo::finish(machine, start),
+        precond,
         runs,
         compare,
     };
@@ -305,9 +319,9 @@ mod tests {
             friction: false,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
-        let got = model_estimate_mib(2).unwrap();
+        let got = model_estimate_mib(2, Precond::TwoLevel).unwrap();
         assert_eq!(got, want);
-        let text = model_text(2, Some(want / 1.1));
+        let text = model_text(2, Precond::TwoLevel, Some(want / 1.1));
         assert!(text.ends_with("MiB (+10.0%)"), "{text}");
         assert!(text.starts_with(&format!("memory model {want:.1} MiB per rank")));
     }
@@ -329,6 +343,7 @@ mod tests {
         let (a, b) = (case(20, 2, t, 239, Ok(4.4)), case(40, 2, t, 377, Ok(4.4)));
         let run = LargeRun {
             ranks: 2,
+            precond: t,
             estimate: MemoryEstimate::new(&[&a, &b], 2, Some(1e6)),
             outcome: LargeOutcome::Finished(Box::new(case(80, 2, t, 716, Ok(4.4)))),
         };

@@ -27,9 +27,10 @@
 //! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
 //! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
 //!
-//! `bench --large [--ranks 2|1|1,2] [--out DIR]` runs only the block on block at n = 80
-//! (about 10^6 elements) with the two-level preconditioner, after a memory estimate from
-//! n = 20 and 40 on the same rank count, and puts it into the same two files as a section
+//! `bench --large [--ranks 2|1|1,2] [--preconditioner two_level|multilevel] [--out DIR]` runs
+//! only the block on block at n = 80 (about 10^6 elements) with the two-level (or the
+//! multilevel) preconditioner, after a memory estimate from n = 20 and 40 on the same rank
+//! count, and puts it into the same two files as a section
 //! of its own (the other sections are left as they are; a later normal run keeps it)
 //! (`large`).
 //!
@@ -72,12 +73,13 @@ mod stats;
 mod suite;
 
 use config::Config;
+use runner::solver::Precond;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 const USAGE: &str = concat!(
     "usage: bench [--quick] [--out DIR]\n",
-    "       bench --large [--ranks R[,R]] [--out DIR]\n",
+    "       bench --large [--ranks R[,R]] [--preconditioner P] [--out DIR]\n",
     "       bench --ironing [--out DIR]\n",
     "       bench --pyamg [--out DIR]\n",
     "       bench --robustness [--quick] [--out DIR]\n",
@@ -95,6 +97,9 @@ const USAGE: &str = concat!(
     "               and auto (240 s limit per run), CalculiX beside Hertz and the bar\n",
     "               (600 s limit), in <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
+    "  --preconditioner P\n",
+    "               two_level (default) or multilevel, for --large (its section replaces an\n",
+    "               earlier one, whichever preconditioner that was)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
 
@@ -102,7 +107,7 @@ const USAGE: &str = concat!(
 #[derive(Debug, PartialEq)]
 enum Mode {
     Normal { quick: bool },
-    Large { ranks: Vec<usize> },
+    Large { ranks: Vec<usize>, precond: Precond },
     Ironing,
     Pyamg,
     Robustness { quick: bool },
@@ -123,6 +128,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut pyamg = false;
     let mut robustness = false;
     let mut ranks: Option<Vec<usize>> = None;
+    let mut precond: Option<Precond> = None;
     let mut out = PathBuf::from("out/bench");
     let mut args = args.into_iter();
     while let Some(a) = args.next() {
@@ -143,6 +149,11 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
                     _ => return Err("--ranks needs rank counts such as 2 or 1,2".into()),
                 }
             }
+            "--preconditioner" => match args.next().as_deref() {
+                Some("two_level") => precond = Some(Precond::TwoLevel),
+                Some("multilevel") => precond = Some(Precond::Multilevel),
+                _ => return Err("--preconditioner needs two_level or multilevel".into()),
+            },
             "--out" => match args.next() {
                 Some(d) => out = PathBuf::from(d),
                 None => return Err("--out needs a directory".into()),
@@ -163,6 +174,9 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if ranks.is_some() && !large {
         return Err("--ranks goes with --large only".into());
     }
+    if precond.is_some() && !large {
+        return Err("--preconditioner goes with --large only".into());
+    }
     if pyamg && (ironing || large || quick || robustness) {
         return Err("--pyamg goes with --out only".into());
     }
@@ -175,6 +189,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     } else if large {
         Mode::Large {
             ranks: ranks.unwrap_or(large::LARGE_DEFAULT_RANKS.to_vec()),
+            precond: precond.unwrap_or(Precond::TwoLevel),
         }
     } else {
         Mode::Normal { quick }
@@ -196,7 +211,7 @@ fn main() -> ExitCode {
         }
     };
     let done = match args.mode {
-        Mode::Large { ranks } => large::run(&args.out, &ranks),
+        Mode::Large { ranks, precond } => large::run(&args.out, &ranks, precond),
         Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
         Mode::Pyamg => pyamg::run(&args.out),
         Mode::Robustness { quick } => robustness::run(&args.out, quick),
@@ -233,14 +248,30 @@ mod tests {
         assert_eq!(
             parse(&["--large"]),
             Ok(Some(Args {
-                mode: Mode::Large { ranks: vec![2] },
+                mode: Mode::Large {
+                    ranks: vec![2],
+                    precond: Precond::TwoLevel
+                },
                 out: PathBuf::from("out/bench"),
             }))
         );
         assert_eq!(
             parse(&["--ranks", "2, 1", "--large"]),
             Ok(Some(Args {
-                mode: Mode::Large { ranks: vec![2, 1] },
+                mode: Mode::Large {
+                    ranks: vec![2, 1],
+                    precond: Precond::TwoLevel
+                },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--large", "--preconditioner", "multilevel"]),
+            Ok(Some(Args {
+                mode: Mode::Large {
+                    ranks: vec![2],
+                    precond: Precond::Multilevel
+                },
                 out: PathBuf::from("out/bench"),
             }))
         );
@@ -292,5 +323,19 @@ mod tests {
             );
         }
         assert_eq!(err(&["--out"]), "--out needs a directory");
+        assert_eq!(
+            err(&["--preconditioner", "multilevel"]),
+            "--preconditioner goes with --large only"
+        );
+        for bad in [
+            &["--large", "--preconditioner"][..],
+            &["--large", "--preconditioner", "jacobi"],
+        ] {
+            assert_eq!(
+                err(bad),
+                "--preconditioner needs two_level or multilevel",
+                "{bad:?}"
+            );
+        }
     }
 }

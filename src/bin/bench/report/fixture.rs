@@ -351,24 +351,29 @@ pub fn large() -> Large {
     let t = Precond::TwoLevel;
     Large {
         info: info(),
+        precond: t,
         runs: vec![
             LargeRun {
                 ranks: 1,
+                precond: t,
                 estimate: Ok(estimate(true)),
                 outcome: LargeOutcome::Finished(Box::new(case(80, 1, t, 716, Ok(4.42)))),
             },
             LargeRun {
                 ranks: 2,
+                precond: t,
                 estimate: Ok(estimate(true)),
                 outcome: LargeOutcome::Finished(Box::new(case(80, 2, t, 716, Ok(4.42)))),
             },
             LargeRun {
                 ranks: 3,
+                precond: t,
                 estimate: Err("exit code 1: x".into()),
                 outcome: LargeOutcome::NotRun("memory estimate failed: exit code 1: x".into()),
             },
             LargeRun {
                 ranks: 4,
+                precond: t,
                 estimate: Ok(estimate(false)),
                 outcome: LargeOutcome::Failed("stopped | after 21600 s".into()),
             },

@@ -12,7 +12,6 @@ use crate::large::{
 };
 use crate::results::{EarlierLarge, Results};
 use crate::runner::process::MIB;
-use crate::runner::solver::Precond;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -48,9 +47,10 @@ fn estimate_json(e: &MemoryEstimate, ranks: usize) -> J {
 }
 
 fn run_json(r: &LargeRun) -> J {
-    let head = Rec::default()
-        .put("ranks", r.ranks)
-        .put("model_estimate_mib_per_rank", model_estimate_mib(r.ranks));
+    let head = Rec::default().put("ranks", r.ranks).put(
+        "model_estimate_mib_per_rank",
+        model_estimate_mib(r.ranks, r.precond),
+    );
     let head = match &r.estimate {
         Ok(e) => head.put("memory_check", estimate_json(e, r.ranks)),
         Err(e) => head.put(
@@ -94,7 +94,7 @@ pub fn json(l: &Large) -> J {
         .put("scene", BLOCK_SCENE)
         .put("n", BLOCK_BASE_N * LARGE_REFINE)
         .put("refine", LARGE_REFINE)
-        .put("preconditioner", Precond::TwoLevel.arg())
+        .put("preconditioner", l.precond.arg())
         .put("timeout_s", LARGE_TIMEOUT_S)
         .put("min_available_mib", LARGE_MIN_AVAILABLE / MIB)
         .put("runs", J::Arr(l.runs.iter().map(run_json).collect()));
@@ -165,7 +165,7 @@ pub fn markdown(l: &Large, dir: &Path) -> String {
             w,
             "- {} rank(s): {}",
             r.ranks,
-            model_text(r.ranks, measured)
+            model_text(r.ranks, r.precond, measured)
         );
     }
     if let Some(sp) = l.speedup() {
@@ -191,8 +191,8 @@ fn intro_markdown(l: &Large, dir: &Path, w: &mut String) {
         w,
         "{} on {}, commit {}{}; load average {} at the start, {} at the end; hypervisor \
          steal {}; {:.0} s in all. `{BLOCK_SCENE}` refined by {LARGE_REFINE} (n = {} \
-         elements per edge per block), `--preconditioner two_level`, one run per rank \
-         count. Before each, two-level runs at n = {} on the same rank count measure the \
+         elements per edge per block), `--preconditioner {}`, one run per rank \
+         count. Before each, {} runs at n = {} on the same rank count measure the \
          peak memory per rank; extrapolated linearly in elements per rank it must fit \
          {LARGE_MEMORY_MARGIN} times over in the memory available, and the run is stopped \
          if the machine's available memory falls below {:.0} MiB or after {:.0} h. \
@@ -208,6 +208,8 @@ fn intro_markdown(l: &Large, dir: &Path, w: &mut String) {
         fmt_steal(i.steal),
         i.total_wall,
         BLOCK_BASE_N * LARGE_REFINE,
+        l.precond.arg(),
+        l.precond.label(),
         LARGE_PILOT
             .map(|f| (BLOCK_BASE_N * f).to_string())
             .join(" and "),
