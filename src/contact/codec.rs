@@ -159,7 +159,6 @@ impl ContactState {
             active,
             released,
             ties,
-            tangent: false,
         })
     }
 }

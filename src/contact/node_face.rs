@@ -285,14 +285,6 @@ impl Enforcement for ContactState {
         ContactState::slip_springs(self, mesh, u, diag)
     }
 
-    fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring> {
-        ContactState::tangent_springs(self, mesh, u)
-    }
-
-    fn set_tangent(&mut self, on: bool) {
-        self.tangent = on;
-    }
-
     fn set(&self) -> Vec<SetEntry> {
         self.active
             .iter()

@@ -93,9 +93,6 @@ pub struct ContactState {
     /// The ties of the active constraints of mortar pairs, ordered by (slave node, pair),
     /// frozen between contact updates.
     pub(super) ties: Vec<(usize, Tie)>,
-    /// Whether the last model problem carried Coulomb's tangent at the slipping nodes that
-    /// have one (set by the solver, alike on every rank).
-    pub(super) tangent: bool,
 }
 
 /// A tangent basis of the plane normal to n, chosen deterministically.
@@ -277,8 +274,7 @@ impl ContactState {
                 Mode::Slip { dir, magnitude } => match measured {
                     Some(slip) => {
                         let pair = &problem.contacts[a.pair];
-                        let judge = (judge_reversal, self.tangent);
-                        judge_slip(a, pair, (dir, magnitude), slip, judge, force_tol)
+                        judge_slip(a, pair, (dir, magnitude), slip, judge_reversal, force_tol)
                     }
                     None => false,
                 },

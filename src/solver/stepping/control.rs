@@ -51,7 +51,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         loop {
             let (cons, extra) = self.freeze(t, u, contact)?;
             let links = self.friction_links(&cons, contact);
-            let (outcome, springs, tangent) = self.solve_model(
+            let (outcome, springs) = self.solve_model(
                 t,
                 u,
                 (&cons, &extra, &links),
@@ -60,7 +60,6 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 &mut diag,
                 record,
             )?;
-            contact.set_tangent(tangent);
             self.check_bounded(u, outcome.iterations)?;
             let multipliers = self.row_multipliers(t, &cons, &extra, &springs);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
