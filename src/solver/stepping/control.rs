@@ -26,6 +26,22 @@ struct Watch {
     history: Vec<Signature>,
     /// Nodes the penetration audit tied back in this increment.
     recaptured: Vec<(u32, usize)>,
+    /// What the audit last tied back, as the log says it: a failure that follows names it.
+    tied_back: Option<String>,
+}
+
+impl Watch {
+    /// An element that inverts once the audit has tied nodes back was most likely crushed
+    /// by that tie (a node found deep inside a master body moved onto its surface in one
+    /// go): the failure says so.
+    fn explain(&self, e: SolveFailure) -> SolveFailure {
+        match (e, &self.tied_back) {
+            (SolveFailure::Element(m), Some(what)) => {
+                SolveFailure::Element(format!("{m}, after the penetration audit tied back {what}"))
+            }
+            (e, _) => e,
+        }
+    }
 }
 
 impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
@@ -49,17 +65,19 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         // Nodal stiffness blocks for the slipping nodes' springs, once per step.
         let mut diag = Vec::new();
         loop {
-            let (cons, extra) = self.freeze(t, u, contact)?;
+            let (cons, extra) = self.freeze(t, u, contact).map_err(|e| watch.explain(e))?;
             let links = self.friction_links(&cons, contact);
-            let (outcome, springs) = self.solve_model(
-                t,
-                u,
-                (&cons, &extra, &links),
-                contact,
-                &settings,
-                &mut diag,
-                record,
-            )?;
+            let (outcome, springs) = self
+                .solve_model(
+                    t,
+                    u,
+                    (&cons, &extra, &links),
+                    contact,
+                    &settings,
+                    &mut diag,
+                    record,
+                )
+                .map_err(|e| watch.explain(e))?;
             self.check_bounded(u, outcome.iterations)?;
             let multipliers = self.row_multipliers(t, &cons, &extra, &springs);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
@@ -274,18 +292,20 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             });
         }
         if !deep.is_empty() {
+            let d = deep
+                .iter()
+                .fold(deep[0], |a, &f| if f.depth > a.depth { f } else { a });
+            let what = format!(
+                "{} slave node(s) found inside a master body (deepest: node {} of contact '{}' by {:.3e})",
+                deep.len(),
+                d.slave as u64 + 1,
+                self.problem.contacts[d.pair].name,
+                d.depth
+            );
             if let Some(progress) = self.progress.as_mut() {
-                let d = deep
-                    .iter()
-                    .fold(deep[0], |a, &f| if f.depth > a.depth { f } else { a });
-                progress(&format!(
-                    "  t = {t}: penetration audit: {} slave node(s) inside a master body, tied back (deepest: node {} of contact '{}' by {:.3e})",
-                    deep.len(),
-                    d.slave as u64 + 1,
-                    self.problem.contacts[d.pair].name,
-                    d.depth
-                ));
+                progress(&format!("  t = {t}: penetration audit: {what}, tied back"));
             }
+            watch.tied_back = Some(what);
             contact.recapture(self.comm, self.problem, self.mesh, u, &deep);
             watch
                 .recaptured
@@ -397,4 +417,33 @@ fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> S
         "the constraint set cycles between two states: {}; normal smoothing may help",
         cycling_nodes(a, b)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_element_failure_after_a_tie_back_names_the_tie_back() {
+        let mut watch = Watch::default();
+        let inverted = || SolveFailure::Element("element 159: inverted element".into());
+        // Nothing tied back: the failure as it was.
+        assert_eq!(
+            watch.explain(inverted()).to_string(),
+            "element 159: inverted element"
+        );
+        watch.tied_back = Some(
+            "8 slave node(s) found inside a master body (deepest: node 319 of contact 'a/b' by 3.293e-1)"
+                .into(),
+        );
+        assert_eq!(
+            watch.explain(inverted()).to_string(),
+            "element 159: inverted element, after the penetration audit tied back 8 slave node(s) \
+             found inside a master body (deepest: node 319 of contact 'a/b' by 3.293e-1)"
+        );
+        // Other failures are not the tie's doing: unchanged.
+        let other = SolveFailure::NonFinite { iterations: 3 };
+        let said = other.to_string();
+        assert_eq!(watch.explain(other).to_string(), said);
+    }
 }
