@@ -6,6 +6,8 @@
 //! slip), anchored where the node stood when the model problem began: it holds the node
 //! while the model problem is solved and is unstretched once the contact loop has settled
 //! (the last model problem moves nothing), so it leaves the converged state unchanged.
+//! With linear bodies, slipping nodes beyond their stick range carry a spring of Coulomb's
+//! tangent instead (`contact::slip::coulomb_tangent`), anchored the same way.
 
 use crate::math::{matvec, Mat3, Vec3};
 

@@ -338,7 +338,10 @@ fn friction_coupled_to_the_normal_force_settles_in_a_third_of_the_updates() {
     // block dragged over a deformable base 280 in 21 (issue 18's counts). Within the model
     // problem the friction now follows the normal force of the iterate (cg/coupled.rs), and
     // slipping nodes' contact points follow the predicted slide: the updates are left with
-    // the changes of the set, the friction direction and the contact points. The counts are
+    // the changes of the set, the friction direction and the contact points. The friction
+    // direction of a node slipping beyond its stick range settles by Newton's method
+    // (Coulomb's tangent in the model problem, contact/slip.rs), which brought the rigid
+    // drag (454 updates in the issue) from 171 to 148. The counts are
     // deterministic (the same on every machine and rank count), so a bound on them is a
     // check of the algorithm, not of the machine: at most a third of the old counts.
     //
@@ -351,6 +354,7 @@ fn friction_coupled_to_the_normal_force_settles_in_a_third_of_the_updates() {
     for (name, p, old, slipping) in [
         ("bc_interaction_mu036", problem(&wedge), 133, 16),
         ("drag_deformable", load("drag_deformable"), 280, 16),
+        ("drag", load("drag"), 454, 16),
     ] {
         let (summary, s) = solve(&p);
         let updates: u64 = summary.steps.iter().map(|r| r.contact_updates).sum();
@@ -361,7 +365,7 @@ fn friction_coupled_to_the_normal_force_settles_in_a_third_of_the_updates() {
             slipping,
             "{name}"
         );
-        if name == "drag_deformable" {
+        if name != "bc_interaction_mu036" {
             let (global, body, _) = balances(&p, &s, "block");
             assert!(norm(&global) <= 1e-8 * 100.0, "{global:?}");
             assert!(norm(&body) <= 1e-8 * 100.0, "{body:?}");

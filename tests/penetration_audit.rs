@@ -153,7 +153,7 @@ fn mortar_ironing_never_loses_the_pressed_slab_silently() {
 }
 
 /// Small kinematics, the same drag: complete with contact held, or say that small sliding
-/// was exceeded. (It completes: 4 to 15 slave nodes in contact at every step.)
+/// was exceeded. (It stops at t = 1.39 saying so; whether it completes depends on the path.)
 #[test]
 fn small_kinematics_ironing_holds_contact_or_says_small_sliding_was_exceeded() {
     never_lost_silently("ironing_block_small", &["small sliding was exceeded"]);

@@ -159,6 +159,9 @@ impl ContactState {
             active,
             released,
             ties,
+            tangent: false,
+            newton_turns: Default::default(),
+            newton_off: Default::default(),
         })
     }
 }

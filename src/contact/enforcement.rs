@@ -84,6 +84,14 @@ pub trait Enforcement: Clone + Default {
     /// the nodal stiffness blocks `diag`.
     fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring>;
 
+    /// Springs of Coulomb's tangent at the slipping nodes beyond their stick range (see
+    /// `contact::slip::coulomb_tangent`), unstretched at `u`.
+    fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring>;
+
+    /// Whether the model problem just solved carried the tangent springs (the same on every
+    /// rank): the next update then sets those nodes' friction against their slip.
+    fn set_tangent(&mut self, on: bool);
+
     /// Reads the contact forces from the multipliers of the model problem's rows.
     /// Collective.
     fn read_forces<C: Comm + ?Sized>(

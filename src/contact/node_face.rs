@@ -21,6 +21,8 @@ impl Enforcement for ContactState {
     /// the point a node that turns out not to slip in this step sticks to.
     fn begin_step(&mut self) {
         self.released.clear();
+        self.newton_turns.clear();
+        self.newton_off.clear();
         for a in &mut self.active {
             a.secant = None;
             a.start = Some((a.face, a.s));
@@ -209,7 +211,12 @@ impl Enforcement for ContactState {
         changed |= self.search(problem, mesh, u, &surfaces);
         changed |= self.mortar_pairs(problem, mesh, pos, true);
         self.share(comm, mesh);
-        comm::any(comm, changed)
+        let changed = comm::any(comm, changed);
+        if changed {
+            // Newton's turns are compared between updates of one constraint set only.
+            self.newton_turns.clear();
+        }
+        changed
     }
 
     /// Signed gap of every slave node this rank owns (None where the search finds no master
@@ -283,6 +290,14 @@ impl Enforcement for ContactState {
 
     fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring> {
         ContactState::slip_springs(self, mesh, u, diag)
+    }
+
+    fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring> {
+        ContactState::tangent_springs(self, mesh, u)
+    }
+
+    fn set_tangent(&mut self, on: bool) {
+        self.tangent = on;
     }
 
     fn set(&self) -> Vec<SetEntry> {

@@ -112,7 +112,62 @@ pub(super) fn friction_direction(
     }
 }
 
+/// Coulomb's tangent across the friction direction of a slipping node whose last update
+/// measured a step's slip s beyond its stick range (k |s| > capacity, k its secant
+/// stiffness): the friction force -capacity s / |s| turns with the slip across its
+/// direction at the rate capacity / |s|. Returns that stiffness and the projector across
+/// the direction in the tangent plane; None for a node without a measured slip or still
+/// near the onset of slip (there the tangent is unbounded, and the return mapping turns
+/// the force instead).
+pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
+    let Mode::Slip { dir, magnitude } = a.mode else {
+        return None;
+    };
+    let (_, slip) = a.secant?;
+    let length = norm(&slip);
+    if !(a.slip_stiffness * length > magnitude) {
+        return None;
+    }
+    let c = magnitude / length;
+    if !(c > 0.0 && c.is_finite()) {
+        return None;
+    }
+    let n = a.normal;
+    let d = sub(&dir, &scale(&n, dot(&dir, &n)));
+    let l = norm(&d);
+    if !(l > 0.5) {
+        return None;
+    }
+    let d = scale(&d, 1.0 / l);
+    let p: Mat3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
+    });
+    Some((c, p))
+}
+
 impl ContactState {
+    /// Springs of Coulomb's tangent (`coulomb_tangent`) at the slipping nodes this rank
+    /// owns, unstretched at `u`.
+    pub fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring> {
+        let mut out = Vec::new();
+        for a in &self.active {
+            let Some(l) = mesh.owned_node(a.slave) else {
+                continue;
+            };
+            if self.newton_off.contains(&(a.slave, a.pair)) {
+                continue;
+            }
+            if let Some((c, p)) = coulomb_tangent(a) {
+                out.push(Spring {
+                    node: l,
+                    k: std::array::from_fn(|i| std::array::from_fn(|j| c * p[i][j])),
+                    anchor: u[l],
+                });
+            }
+        }
+        out
+    }
+
     /// The active slave node (node-to-face) that has slid farthest relative to its master
     /// point since the reference configuration, in face sizes of its pair: (global node id
     /// + 1, face sizes), the lowest node among equals; None without such a node. Collective.
@@ -237,5 +292,57 @@ mod tests {
             secant_stiffness(None, [1.0, 0.0, 0.0], slip, 1e-12, 2.0),
             2.0
         );
+    }
+
+    fn slipping(slip: Vec3, k: f64) -> Active {
+        Active {
+            pair: 0,
+            slave: 0,
+            face: 0,
+            s: [0.0, 0.0],
+            normal: [0.0, 1.0, 0.0],
+            mode: Mode::Slip {
+                dir: [-1.0, 0.0, 0.0],
+                magnitude: 3.0,
+            },
+            normal_force: 10.0,
+            tangential_force: [0.0; 3],
+            slip_stiffness: k,
+            secant: Some(([-3.0, 0.0, 0.0], slip)),
+            start: None,
+            reversals: 0,
+        }
+    }
+
+    #[test]
+    fn coulomb_tangent_is_the_derivative_of_the_friction_force_across_its_direction() {
+        // A node slipping 0.01 along x with a capacity of 3 (k |s| = 30 > 3): the force
+        // F(s) = -3 s / |s| turns by -300 e across the direction for a slip e along z
+        // (the tangent plane's other direction), and does not change along the normal.
+        let slip = [0.01, 0.0, 0.0];
+        let (c, p) = coulomb_tangent(&slipping(slip, 3000.0)).expect("beyond the stick range");
+        assert_eq!(c, 300.0);
+        let force = |s: Vec3| scale(&s, -3.0 / norm(&s));
+        let e = 1e-7;
+        let moved = force([0.01, 0.0, e]);
+        let fd = (moved[2] - force(slip)[2]) / e;
+        // Finite difference of first order: its error is of order e / |s| = 1e-5 relative.
+        assert!((fd + c).abs() <= 1e-4 * c, "{fd} against -{c}");
+        assert_eq!(matvec(&p, &[0.0, 0.0, 1.0]), [0.0, 0.0, 1.0]);
+        assert_eq!(matvec(&p, &[1.0, 0.0, 0.0]), [0.0, 0.0, 0.0]);
+        assert_eq!(matvec(&p, &[0.0, 1.0, 0.0]), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn no_coulomb_tangent_near_the_onset_or_without_a_slip() {
+        // k |s| = 1 < 3: still within the stick range, where the tangent 3 / |s| would
+        // exceed the node's own stiffness.
+        assert!(coulomb_tangent(&slipping([0.01, 0.0, 0.0], 100.0)).is_none());
+        let mut a = slipping([0.01, 0.0, 0.0], 3000.0);
+        a.secant = None;
+        assert!(coulomb_tangent(&a).is_none());
+        a = slipping([0.01, 0.0, 0.0], 3000.0);
+        a.mode = Mode::Stick;
+        assert!(coulomb_tangent(&a).is_none());
     }
 }

@@ -93,7 +93,21 @@ pub struct ContactState {
     /// The ties of the active constraints of mortar pairs, ordered by (slave node, pair),
     /// frozen between contact updates.
     pub(super) ties: Vec<(usize, Tie)>,
+    /// Whether the last model problem carried Coulomb's tangent at the slipping nodes that
+    /// have one (set by the solver, alike on every rank).
+    pub(super) tangent: bool,
+    /// Newton's turn of each slipping node's friction direction in the last update of this
+    /// step (owned nodes, by (slave node, pair)), and the nodes for which Newton is off for
+    /// the rest of the step: a turn that did not shrink below NEWTON_CONTRACTION of the last
+    /// (a direction that cycles, typically a node moving between master faces) goes back to
+    /// the return mapping, which contracts.
+    pub(super) newton_turns: HashMap<(u32, usize), f64>,
+    pub(super) newton_off: HashSet<(u32, usize)>,
 }
+
+/// Newton's turns of a node's friction direction must shrink by at least this factor per
+/// update (they shrink quadratically once close: 1e-2, 2.5e-4, 5e-9 on the drag).
+const NEWTON_CONTRACTION: f64 = 0.9;
 
 /// A tangent basis of the plane normal to n, chosen deterministically.
 pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
@@ -274,7 +288,24 @@ impl ContactState {
                 Mode::Slip { dir, magnitude } => match measured {
                     Some(slip) => {
                         let pair = &problem.contacts[a.pair];
-                        judge_slip(a, pair, (dir, magnitude), slip, judge_reversal, force_tol)
+                        let key = (a.slave, a.pair);
+                        let newton = self.tangent && !self.newton_off.contains(&key);
+                        // Whether judge_slip takes Newton's update (see there).
+                        let applied = newton
+                            && norm(&slip) > SLIP_NOISE * pair.face_size
+                            && super::slip::coulomb_tangent(a).is_some();
+                        let judge = (judge_reversal, newton);
+                        let sticks = judge_slip(a, pair, (dir, magnitude), slip, judge, force_tol);
+                        if let Mode::Slip { dir: new, .. } = a.mode {
+                            let turn = norm(&sub(&new, &dir));
+                            let last = self.newton_turns.insert(key, turn);
+                            if applied
+                                && last.is_some_and(|l| l > 0.0 && turn >= NEWTON_CONTRACTION * l)
+                            {
+                                self.newton_off.insert(key);
+                            }
+                        }
+                        sticks
                     }
                     None => false,
                 },

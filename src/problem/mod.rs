@@ -108,6 +108,15 @@ impl Preconditioner {
     }
 }
 
+/// True when every body is linear (small kinematics, elastic): f_int(u) = K u, and the
+/// model problem is linear (then friction is coupled to the normal force in it, and
+/// slipping nodes carry Coulomb's tangent).
+pub fn linear_models(models: &[BodyModel]) -> bool {
+    models
+        .iter()
+        .all(|m| !m.material.is_large() && !m.material.is_plastic())
+}
+
 /// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
 /// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
 /// one model problem). The standby holds the node graph and aggregates of the whole mesh

@@ -45,9 +45,7 @@ pub struct Assembly<'a> {
 impl<'a> Assembly<'a> {
     /// Fails only when the memory for the element geometry or the history is refused.
     pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Result<Self, AllocError> {
-        let linear = models
-            .iter()
-            .all(|m| !m.material.is_large() && !m.material.is_plastic());
+        let linear = crate::problem::linear_models(models);
         let needs_gauss = models
             .iter()
             .any(|m| !matches!(m.formulation, Formulation::Mean { .. }));

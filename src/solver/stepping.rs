@@ -426,7 +426,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// do not hold a body (`support::unheld_bodies`, slipping nodes tied along the normal
     /// only), or CG finds non-positive curvature, the model problem is solved (again, from
     /// the same start) with a tangential spring at each slipping node
-    /// (see `springs`). Returns the outcome and the springs it used. Collective: the
+    /// (see `springs`). Otherwise, with linear bodies, the slipping nodes beyond their
+    /// stick range carry Coulomb's tangent (`Enforcement::tangent_springs`). Returns the
+    /// outcome, the springs it used and whether they were the tangent's. Collective: the
     /// failure and the contact state are the same on every rank.
     #[allow(clippy::too_many_arguments)]
     fn solve_model(
@@ -438,13 +440,17 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         settings: &CgSettings,
         diag: &mut Vec<crate::math::Mat3>,
         record: &mut StepRecord,
-    ) -> Result<(ModelOutcome, Vec<Spring>), SolveFailure> {
+    ) -> Result<(ModelOutcome, Vec<Spring>, bool), SolveFailure> {
         let start = contact.slipping().then(|| u.to_vec());
         let mut springs = Vec::new();
         let mut with_springs = false;
+        let mut tangent = false;
         if start.is_some() && !super::support::unheld_bodies(self.problem, contact).is_empty() {
             springs = self.slip_springs(contact, u, diag);
             with_springs = true;
+        } else if start.is_some() && self.asm.linear {
+            springs = contact.tangent_springs(self.mesh, u);
+            tangent = true;
         }
         loop {
             let pb = ModelProblem {
@@ -459,7 +465,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             let e = match self.cg.solve_coupled(&pb, u, settings, links) {
                 Ok(o) => {
                     record.cg_iterations += o.iterations as u64;
-                    return Ok((o, springs));
+                    return Ok((o, springs, tangent));
                 }
                 Err(e) => e,
             };
@@ -480,6 +486,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     u.copy_from_slice(u0);
                     springs = self.slip_springs(contact, u, diag);
                     with_springs = true;
+                    tangent = false;
                 }
                 _ => return Err(e),
             }

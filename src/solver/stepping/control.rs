@@ -67,7 +67,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         loop {
             let (cons, extra) = self.freeze(t, u, contact).map_err(|e| watch.explain(e))?;
             let links = self.friction_links(&cons, contact);
-            let (outcome, springs) = self
+            let (outcome, springs, tangent) = self
                 .solve_model(
                     t,
                     u,
@@ -78,6 +78,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     record,
                 )
                 .map_err(|e| watch.explain(e))?;
+            contact.set_tangent(tangent);
             self.check_bounded(u, outcome.iterations)?;
             let multipliers = self.row_multipliers(t, &cons, &extra, &springs);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
