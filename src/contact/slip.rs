@@ -145,6 +145,16 @@ pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
     Some((c, p))
 }
 
+/// Newton's turns of a node's friction direction must shrink by at least this factor per
+/// update (they shrink quadratically once close: 1e-2, 2.5e-4, 5e-9 on the drag).
+pub(super) const NEWTON_CONTRACTION: f64 = 0.9;
+
+/// Whether Newton's `turn` of a node's direction failed to shrink against the node's `last`
+/// turn in the same constraint set (a last turn of zero, a direction kept, says nothing).
+pub(super) fn newton_stalls(turn: f64, last: f64) -> bool {
+    last > 0.0 && turn >= NEWTON_CONTRACTION * last
+}
+
 impl ContactState {
     /// Springs of Coulomb's tangent (`coulomb_tangent`) at the slipping nodes this rank
     /// owns, unstretched at `u`.
@@ -331,6 +341,19 @@ mod tests {
         assert_eq!(matvec(&p, &[0.0, 0.0, 1.0]), [0.0, 0.0, 1.0]);
         assert_eq!(matvec(&p, &[1.0, 0.0, 0.0]), [0.0, 0.0, 0.0]);
         assert_eq!(matvec(&p, &[0.0, 1.0, 0.0]), [0.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn newton_stalls_when_its_turn_does_not_shrink() {
+        // The drag's converging turns shrink quadratically: never a stall.
+        assert!(!newton_stalls(2.5e-4, 1e-2));
+        assert!(!newton_stalls(5e-9, 2.5e-4));
+        // A cycling direction turns alike each update, a diverging one more: stalls.
+        assert!(newton_stalls(1e-3, 1e-3));
+        assert!(newton_stalls(2e-3, 1e-3));
+        assert!(newton_stalls(0.95e-3, 1e-3));
+        // After a kept direction (turn 0) there is nothing to compare with.
+        assert!(!newton_stalls(1e-5, 0.0));
     }
 
     #[test]

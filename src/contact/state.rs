@@ -98,16 +98,12 @@ pub struct ContactState {
     pub(super) tangent: bool,
     /// Newton's turn of each slipping node's friction direction in the last update of this
     /// step (owned nodes, by (slave node, pair)), and the nodes for which Newton is off for
-    /// the rest of the step: a turn that did not shrink below NEWTON_CONTRACTION of the last
+    /// the rest of the step: a turn that did not shrink below `slip::NEWTON_CONTRACTION` of the last
     /// (a direction that cycles, typically a node moving between master faces) goes back to
     /// the return mapping, which contracts.
     pub(super) newton_turns: HashMap<(u32, usize), f64>,
     pub(super) newton_off: HashSet<(u32, usize)>,
 }
-
-/// Newton's turns of a node's friction direction must shrink by at least this factor per
-/// update (they shrink quadratically once close: 1e-2, 2.5e-4, 5e-9 on the drag).
-const NEWTON_CONTRACTION: f64 = 0.9;
 
 /// A tangent basis of the plane normal to n, chosen deterministically.
 pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
@@ -299,8 +295,7 @@ impl ContactState {
                         if let Mode::Slip { dir: new, .. } = a.mode {
                             let turn = norm(&sub(&new, &dir));
                             let last = self.newton_turns.insert(key, turn);
-                            if applied
-                                && last.is_some_and(|l| l > 0.0 && turn >= NEWTON_CONTRACTION * l)
+                            if applied && last.is_some_and(|l| super::slip::newton_stalls(turn, l))
                             {
                                 self.newton_off.insert(key);
                             }
