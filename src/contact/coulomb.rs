@@ -72,12 +72,19 @@ pub(super) fn judge_stick(
     false
 }
 
+/// Whether Newton's update of the friction direction applies to a slipping node whose
+/// model problem carried Coulomb's tangent: its slip `slip` is more than round-off
+/// (`noise`) and it has a tangent (beyond its stick range, see `coulomb_tangent`).
+pub(super) fn newton_applies(a: &Active, slip: &Vec3, noise: f64) -> bool {
+    norm(slip) > noise && coulomb_tangent(a).is_some()
+}
+
 /// A slipping node with the step's slip `slip`: the reversal of slip (it sticks again),
 /// or the friction force's new direction (a return mapping with the node's secant
 /// stiffness) at the capacity of the last model problem. Returns whether it sticks again.
 ///
-/// `tangent`: the model problem carried Coulomb's tangent (`coulomb_tangent`) at the
-/// nodes that have one; such a node's friction force is then set against its slip, the
+/// `newton`: the model problem carried Coulomb's tangent at this node and the slip is
+/// measurable (`newton_applies`); its friction force is then set against its slip, the
 /// Newton update of -capacity s / |s| (the drag of the extreme suite: the friction
 /// directions of a step settle in 2 or 3 updates instead of 6 to 9).
 pub(super) fn judge_slip(
@@ -85,7 +92,7 @@ pub(super) fn judge_slip(
     pair: &crate::problem::ContactPair,
     (dir, magnitude): (Vec3, f64),
     slip: Vec3,
-    (judge_reversal, tangent): (bool, bool),
+    (judge_reversal, newton): (bool, bool),
     force_tol: f64,
 ) -> bool {
     let capacity = pair.mu * a.normal_force.max(0.0);
@@ -105,7 +112,6 @@ pub(super) fn judge_slip(
     }
     let held = scale(&dir, magnitude);
     let noise = SLIP_NOISE * pair.face_size;
-    let newton = tangent && norm(&slip) > noise && coulomb_tangent(a).is_some();
     a.slip_stiffness = secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
     a.secant = Some((held, slip));
     let dir = if newton {

@@ -4,7 +4,7 @@
 //! again, and captures penetrating nodes (push) or nodes within the capture tolerance
 //! (pull). Gap removal happens when the new constraint rows are imposed.
 
-use super::coulomb::{exceeds, judge_slip, judge_stick, step_slip};
+use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, step_slip};
 use super::ghost;
 use super::mortar::enforce::{mortar_driven_slip, mortar_step_slip};
 use super::mortar::surfaces::Positions;
@@ -286,11 +286,9 @@ impl ContactState {
                         let pair = &problem.contacts[a.pair];
                         let key = (a.slave, a.pair);
                         let newton = self.tangent && !self.newton_off.contains(&key);
-                        // Whether judge_slip takes Newton's update (see there).
-                        let applied = newton
-                            && norm(&slip) > SLIP_NOISE * pair.face_size
-                            && super::slip::coulomb_tangent(a).is_some();
-                        let judge = (judge_reversal, newton);
+                        let applied =
+                            newton && newton_applies(a, &slip, SLIP_NOISE * pair.face_size);
+                        let judge = (judge_reversal, applied);
                         let sticks = judge_slip(a, pair, (dir, magnitude), slip, judge, force_tol);
                         if let Mode::Slip { dir: new, .. } = a.mode {
                             let turn = norm(&sub(&new, &dir));
