@@ -143,12 +143,18 @@ fn ironing_never_loses_the_pressed_slab_silently() {
 
 /// The same with mortar contact (run/scenes/sliding/ironing_block_mortar.toml: before mortar
 /// nodes were audited it ended "done" with no node in contact and the die 0.3 inside the
-/// slab; now it stops with a diagnosis at t = 1.04).
+/// slab; now it stops with a diagnosis near t = 1.05: the constraint set cycling, or a slab
+/// element inverted by the audit's tie-back of nodes the die's front edge ploughed under,
+/// which the failure names).
 #[test]
 fn mortar_ironing_never_loses_the_pressed_slab_silently() {
     never_lost_silently(
         "ironing_block_mortar",
-        &["inside the master body", "contact did not settle"],
+        &[
+            "inside the master body",
+            "contact did not settle",
+            "after the penetration audit tied back",
+        ],
     );
 }
 

@@ -160,6 +160,11 @@ impl ContactState {
             released,
             ties,
             tangent: false,
+            onset: false,
+            onset_springs: Default::default(),
+            steady: false,
+            held_masters: None,
+            spring_turns: Default::default(),
             newton_turns: Default::default(),
             newton_off: Default::default(),
         })

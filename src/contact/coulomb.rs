@@ -92,7 +92,7 @@ pub(super) fn judge_slip(
     pair: &crate::problem::ContactPair,
     (dir, magnitude): (Vec3, f64),
     slip: Vec3,
-    (judge_reversal, newton): (bool, bool),
+    (judge_reversal, newton, spring): (bool, bool, Option<f64>),
     force_tol: f64,
 ) -> bool {
     let capacity = pair.mu * a.normal_force.max(0.0);
@@ -112,8 +112,15 @@ pub(super) fn judge_slip(
     }
     let held = scale(&dir, magnitude);
     let noise = SLIP_NOISE * pair.face_size;
-    a.slip_stiffness = secant_stiffness(a.secant, held, slip, noise, a.slip_stiffness);
-    a.secant = Some((held, slip));
+    // The slip across the direction, which an onset spring c pulled back: the node held
+    // held - c across in all (the secant's force).
+    let across = sub(&slip, &scale(&dir, dot(&slip, &dir)));
+    let carried = match spring {
+        Some(c) => sub(&held, &scale(&across, c)),
+        None => held,
+    };
+    a.slip_stiffness = secant_stiffness(a.secant, carried, slip, noise, a.slip_stiffness);
+    a.secant = Some((carried, slip));
     let dir = if newton {
         let against = scale(&slip, -1.0 / norm(&slip));
         if norm(&sub(&against, &dir)) * norm(&held) <= force_tol {
@@ -122,7 +129,16 @@ pub(super) fn judge_slip(
             against
         }
     } else {
-        friction_direction(dir, held, slip, a.slip_stiffness, noise, force_tol)
+        match spring {
+            // The model problem carried the onset spring c across the direction: the
+            // force is turned by the spring's pull on the slip across it (the slip along
+            // the direction does not turn it).
+            // (Judged by force alone: the spring c may be stiff enough that a slip below
+            // the slip noise still pulls more than the force tolerance, and the settled
+            // state must leave no spring stretched beyond it.)
+            Some(c) => friction_direction(dir, held, across, c, 0.0, force_tol),
+            None => friction_direction(dir, held, slip, a.slip_stiffness, noise, force_tol),
+        }
     };
     a.mode = Mode::Slip {
         dir,

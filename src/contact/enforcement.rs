@@ -84,13 +84,24 @@ pub trait Enforcement: Clone + Default {
     /// the nodal stiffness blocks `diag`.
     fn slip_springs(&self, mesh: &LocalMesh, u: &[Vec3], diag: &[Mat3]) -> Vec<Spring>;
 
-    /// Springs of Coulomb's tangent at the slipping nodes beyond their stick range (see
-    /// `contact::slip::coulomb_tangent`), unstretched at `u`.
-    fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring>;
+    /// Springs at the slipping nodes: with `newton`, Coulomb's tangent where a node is
+    /// beyond its stick range (see `contact::slip::coulomb_tangent`), unstretched at `u`;
+    /// the onset spring at the others (`contact::slip::onset_spring`; `diag` holds the
+    /// structure's nodal diagonal stiffness blocks).
+    fn tangent_springs(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        newton: bool,
+        diag: &[crate::math::Mat3],
+    ) -> Vec<Spring>;
 
-    /// Whether the model problem just solved carried the tangent springs (the same on every
-    /// rank): the next update then sets those nodes' friction against their slip.
-    fn set_tangent(&mut self, on: bool);
+    /// What the model problem just solved carried (the same on every rank): Coulomb's
+    /// tangent (`newton`; the next update then sets those nodes' friction against their
+    /// slip) and the onset springs (`onset`; the update's return mapping then takes the
+    /// spring's stiffness).
+    fn set_tangent(&mut self, newton: bool, onset: bool);
 
     /// Reads the contact forces from the multipliers of the model problem's rows.
     /// Collective.

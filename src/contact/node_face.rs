@@ -23,6 +23,8 @@ impl Enforcement for ContactState {
         self.released.clear();
         self.newton_turns.clear();
         self.newton_off.clear();
+        self.steady = false;
+        self.spring_turns.clear();
         for a in &mut self.active {
             a.secant = None;
             a.start = Some((a.face, a.s));
@@ -212,9 +214,11 @@ impl Enforcement for ContactState {
         changed |= self.mortar_pairs(problem, mesh, pos, true);
         self.share(comm, mesh);
         let changed = comm::any(comm, changed);
+        self.steady = !changed;
         if changed {
             // Newton's turns are compared between updates of one constraint set only.
             self.newton_turns.clear();
+            self.spring_turns.clear();
         }
         changed
     }
@@ -292,12 +296,20 @@ impl Enforcement for ContactState {
         ContactState::slip_springs(self, mesh, u, diag)
     }
 
-    fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring> {
-        ContactState::tangent_springs(self, mesh, u)
+    fn tangent_springs(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        newton: bool,
+        diag: &[crate::math::Mat3],
+    ) -> Vec<Spring> {
+        ContactState::tangent_springs(self, problem, mesh, u, newton, diag)
     }
 
-    fn set_tangent(&mut self, on: bool) {
-        self.tangent = on;
+    fn set_tangent(&mut self, newton: bool, onset: bool) {
+        self.tangent = newton;
+        self.onset = onset;
     }
 
     fn set(&self) -> Vec<SetEntry> {

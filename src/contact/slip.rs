@@ -145,6 +145,82 @@ pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
     Some((c, p))
 }
 
+/// The onset spring's stiffness is at most this multiple of the node's own stiffness
+/// across its direction (its diagonal block): a direction then settles by about
+/// 1 / (1 + ONSET_CAP) per update near the onset, and CG sees a spring no stiffer than
+/// ten neighbours.
+pub(super) const ONSET_CAP: f64 = 10.0;
+
+/// The spring a slipping node within its stick range (no Coulomb tangent) carries across
+/// its friction direction in the model problem: Coulomb's law near the onset of slip, in
+/// the form the return mapping states it. The force is set along held - c s_perp, the part
+/// of the step's slip s across the direction taken back by a spring c; the model problem
+/// carries that spring (anchored where s_perp is zero), so it sees how the slipping nodes
+/// turn one another's forces, and the update takes the return mapping with the same c.
+/// For one node of stiffness K whose converged slip is s*, the direction's error shrinks by
+/// K (c |s*| - capacity) / ((K + c) capacity) per update: c = capacity / |s| (the slip
+/// last measured, the exact value once it is s*), at most ONSET_CAP times `nodal`, the
+/// node's own stiffness across the direction. Returns c, the projector across the
+/// direction in the tangent plane and the slip across it, s_perp; None without a measured
+/// slip or a stiffness.
+pub(super) fn onset_spring(a: &Active, nodal: &Mat3) -> Option<(f64, Mat3, Vec3)> {
+    let Mode::Slip { dir, magnitude } = a.mode else {
+        return None;
+    };
+    let (_, slip) = a.secant?;
+    let n = a.normal;
+    let d = sub(&dir, &scale(&n, dot(&dir, &n)));
+    let l = norm(&d);
+    if !(l > 0.5 && magnitude > 0.0) {
+        return None;
+    }
+    let d = scale(&d, 1.0 / l);
+    let p: Mat3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
+    });
+    let k = (0..3)
+        .map(|i| dot(&p[i], &matvec(nodal, &p[i])))
+        .sum::<f64>();
+    if !(k > 0.0 && k.is_finite()) {
+        return None;
+    }
+    let cap = ONSET_CAP * k;
+    let length = norm(&slip);
+    let c = if length * cap > magnitude {
+        magnitude / length
+    } else {
+        cap
+    };
+    c.is_finite().then(|| (c, p, matvec(&p, &slip)))
+}
+
+/// For each pair, whether every master node is prescribed in all three directions (a
+/// rigid tool): the master point then does not move within a model problem, and a spring
+/// on the slave node alone measures the slip.
+pub(super) fn held_masters(problem: &Problem) -> Vec<bool> {
+    let mut dirs: std::collections::HashMap<u32, Vec<Vec3>> = std::collections::HashMap::new();
+    for bc in &problem.dirichlet {
+        for &n in &problem.node_sets[bc.node_set].nodes {
+            dirs.entry(n).or_default().push(bc.direction);
+        }
+    }
+    let full = |n: &u32| {
+        let Some(d) = dirs.get(n) else { return false };
+        // Rank 3: some three of the prescribed directions span space.
+        d.iter().any(|a| {
+            d.iter().any(|b| {
+                let c = crate::math::cross(a, b);
+                norm(&c) > 1e-9 && d.iter().any(|e| dot(&c, e).abs() > 1e-9)
+            })
+        })
+    };
+    problem
+        .contacts
+        .iter()
+        .map(|p| p.face_nodes.iter().flatten().all(full))
+        .collect()
+}
+
 /// Newton's turns of a node's friction direction must shrink by at least this factor per
 /// update (they shrink quadratically once close: 1e-2, 2.5e-4, 5e-9 on the drag).
 pub(super) const NEWTON_CONTRACTION: f64 = 0.9;
@@ -156,24 +232,52 @@ pub(super) fn newton_stalls(turn: f64, last: f64) -> bool {
 }
 
 impl ContactState {
-    /// Springs of Coulomb's tangent (`coulomb_tangent`) at the slipping nodes this rank
-    /// owns, unstretched at `u`.
-    pub fn tangent_springs(&self, mesh: &LocalMesh, u: &[Vec3]) -> Vec<Spring> {
+    /// Springs at the slipping nodes this rank owns: with `newton`, Coulomb's tangent
+    /// (`coulomb_tangent`) where a node has one, unstretched at `u`; at the others, the
+    /// onset spring (`onset_spring`, with the structure's nodal stiffness blocks `diag`),
+    /// anchored where the node's slip across its direction is zero, once the last update
+    /// left the set unchanged (while nodes still start and stop slipping, the directions
+    /// turn by up to a radian per update, far beyond the spring's linearisation: the
+    /// bolted clamp's first step then never settled). The onset springs' stiffnesses are
+    /// kept for the update's return mapping.
+    pub fn tangent_springs(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        newton: bool,
+        diag: &[Mat3],
+    ) -> Vec<Spring> {
         let mut out = Vec::new();
+        self.onset_springs.clear();
+        if self.held_masters.is_none() {
+            self.held_masters = Some(held_masters(problem));
+        }
+        let held = self.held_masters.clone().unwrap_or_default();
         for a in &self.active {
             let Some(l) = mesh.owned_node(a.slave) else {
                 continue;
             };
-            if self.newton_off.contains(&(a.slave, a.pair)) {
-                continue;
-            }
-            if let Some((c, p)) = coulomb_tangent(a) {
-                out.push(Spring {
-                    node: l,
-                    k: std::array::from_fn(|i| std::array::from_fn(|j| c * p[i][j])),
-                    anchor: u[l],
-                });
-            }
+            let key = (a.slave, a.pair);
+            let tangent = (newton && !self.newton_off.contains(&key))
+                .then(|| coulomb_tangent(a))
+                .flatten();
+            let (c, p, anchor) = match tangent {
+                Some((c, p)) => (c, p, u[l]),
+                None if !self.steady || self.newton_off.contains(&key) || !held[a.pair] => continue,
+                None => match onset_spring(a, &diag[l]) {
+                    Some((c, p, across)) => {
+                        self.onset_springs.insert(key, c);
+                        (c, p, sub(&u[l], &across))
+                    }
+                    None => continue,
+                },
+            };
+            out.push(Spring {
+                node: l,
+                k: std::array::from_fn(|i| std::array::from_fn(|j| c * p[i][j])),
+                anchor,
+            });
         }
         out
     }
@@ -354,6 +458,30 @@ mod tests {
         assert!(newton_stalls(0.95e-3, 1e-3));
         // After a kept direction (turn 0) there is nothing to compare with.
         assert!(!newton_stalls(1e-5, 0.0));
+    }
+
+    #[test]
+    fn onset_spring_is_capacity_over_slip_capped_at_ten_times_the_node() {
+        // Capacity 3, the node's own stiffness across its direction (z) 100: a slip of
+        // 0.01 gives capacity / |s| = 300 (below 10 x 100), a slip of 1e-4 would give
+        // 30000, capped at 1000. The spring acts across the direction in the tangent
+        // plane (z here: the normal is y, the direction x), and the slip across it is
+        // the slip's z part.
+        let nodal: Mat3 = [[50.0, 0.0, 0.0], [0.0, 70.0, 0.0], [0.0, 0.0, 100.0]];
+        let (c, p, across) =
+            onset_spring(&slipping([-0.01, 0.0, 0.0], 1.0), &nodal).expect("a spring");
+        assert_eq!(c, 300.0);
+        assert_eq!(across, [0.0, 0.0, 0.0]);
+        assert_eq!(matvec(&p, &[1.0, 2.0, 3.0]), [0.0, 0.0, 3.0]);
+        let (c, _, across) =
+            onset_spring(&slipping([-1e-4, 0.0, 2e-5], 1.0), &nodal).expect("a spring");
+        assert_eq!(c, ONSET_CAP * 100.0);
+        assert_eq!(across, [0.0, 0.0, 2e-5]);
+        // No measured slip, or no stiffness across the direction: no spring.
+        let mut a = slipping([-0.01, 0.0, 0.0], 1.0);
+        a.secant = None;
+        assert!(onset_spring(&a, &nodal).is_none());
+        assert!(onset_spring(&slipping([-0.01, 0.0, 0.0], 1.0), &[[0.0; 3]; 3]).is_none());
     }
 
     #[test]

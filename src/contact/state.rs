@@ -96,6 +96,21 @@ pub struct ContactState {
     /// Whether the last model problem carried Coulomb's tangent at the slipping nodes that
     /// have one (set by the solver, alike on every rank).
     pub(super) tangent: bool,
+    /// Whether the last model problem carried the onset springs (`slip::onset_spring`) at
+    /// the slipping nodes without Coulomb's tangent (set by the solver, alike on every rank).
+    pub(super) onset: bool,
+    /// The onset springs' stiffnesses of the last model problem, by (slave node, pair), at
+    /// the nodes this rank owns.
+    pub(super) onset_springs: HashMap<(u32, usize), f64>,
+    /// Whether the last update left the constraint set unchanged (alike on every rank);
+    /// false when a step begins.
+    pub(super) steady: bool,
+    /// Per pair, whether its master nodes are all prescribed (`slip::held_masters`),
+    /// found at the first use.
+    pub(super) held_masters: Option<Vec<bool>>,
+    /// The turn of each slipping node's friction direction (owned nodes) in the last
+    /// update that followed a model problem with its onset spring.
+    pub(super) spring_turns: HashMap<(u32, usize), f64>,
     /// Newton's turn of each slipping node's friction direction in the last update of this
     /// step (owned nodes, by (slave node, pair)), and the nodes for which Newton is off for
     /// the rest of the step: a turn that did not shrink below `slip::NEWTON_CONTRACTION` of the last
@@ -288,7 +303,13 @@ impl ContactState {
                         let newton = self.tangent && !self.newton_off.contains(&key);
                         let applied =
                             newton && newton_applies(a, &slip, SLIP_NOISE * pair.face_size);
-                        let judge = (judge_reversal, applied);
+                        // The onset spring the model problem carried, as the tangent
+                        // springs chose it from this same state.
+                        let spring = self
+                            .onset
+                            .then(|| self.onset_springs.get(&key).copied())
+                            .flatten();
+                        let judge = (judge_reversal, applied, spring);
                         let sticks = judge_slip(a, pair, (dir, magnitude), slip, judge, force_tol);
                         if let Mode::Slip { dir: new, .. } = a.mode {
                             let turn = norm(&sub(&new, &dir));
@@ -296,6 +317,12 @@ impl ContactState {
                             if applied && last.is_some_and(|l| super::slip::newton_stalls(turn, l))
                             {
                                 self.newton_off.insert(key);
+                            }
+                            if spring.is_some() {
+                                let last = self.spring_turns.insert(key, turn);
+                                if last.is_some_and(|l| turn > l) {
+                                    self.newton_off.insert(key);
+                                }
                             }
                         }
                         sticks

@@ -420,6 +420,15 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     }
 }
 
+/// Which springs of the slipping nodes a model problem carried (see `solve_model`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Carried {
+    /// Coulomb's tangent beyond the stick range (linear bodies).
+    pub newton: bool,
+    /// The onset springs (`contact::slip::onset_spring`).
+    pub onset: bool,
+}
+
 impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// Solves the model problem at time `t`. A friction force is a load, so a body held
     /// only by slipping nodes is a mechanism within the model problem: when the supports
@@ -427,30 +436,34 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     /// only), or CG finds non-positive curvature, the model problem is solved (again, from
     /// the same start) with a tangential spring at each slipping node
     /// (see `springs`). Otherwise, with linear bodies, the slipping nodes beyond their
-    /// stick range carry Coulomb's tangent (`Enforcement::tangent_springs`). Returns the
-    /// outcome, the springs it used and whether they were the tangent's. Collective: the
-    /// failure and the contact state are the same on every rank.
+    /// stick range carry Coulomb's tangent, and (any bodies) those within it on a rigid
+    /// master the onset spring (`Enforcement::tangent_springs`). Returns the outcome, the
+    /// springs it used and which they were. Collective: the failure and the contact state
+    /// are the same on every rank.
     #[allow(clippy::too_many_arguments)]
     fn solve_model(
         &mut self,
         t: f64,
         u: &mut [Vec3],
         (cons, extra, links): (&Constraints, &[Vec3], &[super::cg::FrictionLink]),
-        contact: &E,
+        contact: &mut E,
         settings: &CgSettings,
         diag: &mut Vec<crate::math::Mat3>,
         record: &mut StepRecord,
-    ) -> Result<(ModelOutcome, Vec<Spring>, bool), SolveFailure> {
+    ) -> Result<(ModelOutcome, Vec<Spring>, Carried), SolveFailure> {
         let start = contact.slipping().then(|| u.to_vec());
         let mut springs = Vec::new();
         let mut with_springs = false;
         let mut tangent = false;
+        let mut onset = false;
         if start.is_some() && !super::support::unheld_bodies(self.problem, contact).is_empty() {
             springs = self.slip_springs(contact, u, diag);
             with_springs = true;
-        } else if start.is_some() && self.asm.linear {
-            springs = contact.tangent_springs(self.mesh, u);
-            tangent = true;
+        } else if start.is_some() {
+            self.nodal_diagonal(u, diag);
+            springs = contact.tangent_springs(self.problem, self.mesh, u, self.asm.linear, diag);
+            tangent = self.asm.linear;
+            onset = true;
         }
         loop {
             let pb = ModelProblem {
@@ -465,7 +478,14 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             let e = match self.cg.solve_coupled(&pb, u, settings, links) {
                 Ok(o) => {
                     record.cg_iterations += o.iterations as u64;
-                    return Ok((o, springs, tangent));
+                    return Ok((
+                        o,
+                        springs,
+                        Carried {
+                            newton: tangent,
+                            onset,
+                        },
+                    ));
                 }
                 Err(e) => e,
             };
@@ -487,6 +507,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     springs = self.slip_springs(contact, u, diag);
                     with_springs = true;
                     tangent = false;
+                    onset = false;
                 }
                 _ => return Err(e),
             }
@@ -503,12 +524,18 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         u: &[Vec3],
         diag: &mut Vec<crate::math::Mat3>,
     ) -> Vec<Spring> {
+        self.nodal_diagonal(u, diag);
+        contact.slip_springs(self.mesh, u, diag)
+    }
+
+    /// The structure's nodal diagonal stiffness blocks at `u` into `diag`, once per step
+    /// (when `diag` is empty).
+    fn nodal_diagonal(&self, u: &[Vec3], diag: &mut Vec<crate::math::Mat3>) {
         if diag.is_empty() {
             diag.resize(self.mesh.num_nodes(), [[0.0; 3]; 3]);
             // An element that fails here fails the model problem too.
             let _ = self.asm.diagonal(u, diag);
         }
-        contact.slip_springs(self.mesh, u, diag)
     }
 }
 

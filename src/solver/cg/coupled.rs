@@ -14,10 +14,15 @@
 //! are corrected, (mu N - held) d, so the solution is the fixed point the contact updates
 //! converge to: the next update finds every magnitude at its capacity.
 //!
+//! Nonlinear bodies (no follower loads): Newton's method on the same residual, each step
+//! BiCGStab on the tangent at the step's start (a finite difference of the internal
+//! forces) until the linearised residual is a tenth of the true one; a step that does not
+//! reduce the true residual, or fails (an inverted element), hands over to the plain solve.
+//!
 //! Every reduction is an exact dot product or a maximum of values only their owner rank
 //! holds (the others hold minus infinity), so 1, 2 and 3 ranks agree bitwise.
 
-use super::{agree, residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure};
+use super::{agree, max_abs, residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
@@ -80,6 +85,10 @@ pub(super) struct Work {
     sh: Vec<Vec3>,
     mult: Vec<f64>,
     normal: Vec<f64>,
+    /// Nonlinear bodies: the point the operator is linearised at (the last true residual's)
+    /// and that residual's norm.
+    base: Vec<Vec3>,
+    base_rnorm: f64,
 }
 
 impl Work {
@@ -94,6 +103,7 @@ impl Work {
             self.t = v()?;
             self.ph = v()?;
             self.sh = v()?;
+            self.base = v()?;
         }
         Ok(())
     }
@@ -160,14 +170,20 @@ impl Cg {
         s: &CgSettings,
         links: &[FrictionLink],
     ) -> Result<ModelOutcome, SolveFailure> {
-        let linear = pb.asm.linear && !pb.loads.is_follower();
-        if !linear || links.is_empty() {
+        if pb.loads.is_follower() || links.is_empty() {
             return self.solve(pb, u, s);
         }
+        let linear = pb.asm.linear;
         let start = u.to_vec();
-        match self.bicgstab(pb, u, s, links) {
+        match self.bicgstab(pb, u, s, links, linear) {
             Ok(Some(outcome)) => Ok(outcome),
             Ok(None) => {
+                u.copy_from_slice(&start);
+                self.solve(pb, u, s)
+            }
+            // A Newton step of a nonlinear body that inverts an element (or fails
+            // otherwise short of memory): the plain solve, friction as held, decides.
+            Err(e) if !linear && !matches!(e, SolveFailure::OutOfMemory(_)) => {
                 u.copy_from_slice(&start);
                 self.solve(pb, u, s)
             }
@@ -198,6 +214,8 @@ impl Cg {
         residual(pb.comm, pb.cons, &self.fi, &self.fe, &mut self.r);
         if self.coupled.res.len() == self.r.len() {
             self.coupled.res.copy_from_slice(&self.r);
+            // Nonlinear bodies: the operator is linearised here from now on (Newton).
+            self.coupled.base.copy_from_slice(u);
         }
         Ok(pb.measure(&self.r, &self.fi, &self.fe))
     }
@@ -207,8 +225,10 @@ impl Cg {
     fn coupled_apply<C: Comm + ?Sized>(
         &mut self,
         pb: &Problem<C>,
+        s: &CgSettings,
         links: &[FrictionLink],
         which: Which,
+        linear: bool,
     ) -> Result<(), SolveFailure> {
         let comm = pb.comm;
         let work = &mut self.coupled;
@@ -219,8 +239,26 @@ impl Cg {
         self.pu.copy_from_slice(y);
         pb.cons.expand(comm, &mut self.pu);
         pb.asm.mesh.exchange(comm, &mut self.pu);
-        agree(comm, pb.asm.internal_force(&self.pu, out))?;
-        crate::springs::add_action(pb.springs, &self.pu, out);
+        if linear {
+            agree(comm, pb.asm.internal_force(&self.pu, out))?;
+            crate::springs::add_action(pb.springs, &self.pu, out);
+        } else {
+            // The tangent at the linearisation point by a finite difference of the
+            // internal forces (with the springs'; the loads do not follow the body).
+            let pmax = max_abs(comm, &self.pu, pb.owned()).max(f64::MIN_POSITIVE);
+            let eps = 1e-7 * s.length_scale / pmax;
+            for a in 0..self.pu.len() {
+                for i in 0..3 {
+                    self.trial[a][i] = work.base[a][i] + eps * self.pu[a][i];
+                }
+            }
+            pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+            for a in 0..self.pu.len() {
+                for i in 0..3 {
+                    out[a][i] = (self.fi_trial[a][i] - self.fi[a][i]) / eps;
+                }
+            }
+        }
         self.q.copy_from_slice(out);
         work.mult.clear();
         work.mult.resize(pb.cons.num_rows(), 0.0);
@@ -242,12 +280,13 @@ impl Cg {
         u: &mut [Vec3],
         s: &CgSettings,
         which: Which,
+        linear: bool,
     ) -> Result<(), SolveFailure> {
         match which {
             Which::P => self.r.copy_from_slice(&self.coupled.p),
             Which::S => self.r.copy_from_slice(&self.coupled.s),
         }
-        self.apply_preconditioner(pb, u, true, s)?;
+        self.apply_preconditioner(pb, u, linear, s)?;
         match which {
             Which::P => self.coupled.ph.copy_from_slice(&self.z),
             Which::S => self.coupled.sh.copy_from_slice(&self.z),
@@ -263,6 +302,7 @@ impl Cg {
         u: &mut [Vec3],
         s: &CgSettings,
         links: &[FrictionLink],
+        linear: bool,
     ) -> Result<Option<ModelOutcome>, SolveFailure> {
         let (comm, n, nl) = (pb.comm, pb.owned(), u.len());
         super::agree_alloc(comm, self.coupled.ensure(nl))?;
@@ -280,14 +320,15 @@ impl Cg {
         if !initial.is_finite() {
             return Err(SolveFailure::NonFinite { iterations: 0 });
         }
+        self.coupled.base_rnorm = initial;
         self.precondition(pb, u)?;
-        self.setup_coarse(pb, u, true, s)?;
-        self.setup_multilevel(pb, u, true, s)?;
+        self.setup_coarse(pb, u, linear, s)?;
+        self.setup_multilevel(pb, u, linear, s)?;
         let mut fresh = true;
         let (mut rho, mut alpha, mut omega): (f64, f64, f64) = (1.0, 1.0, 1.0);
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == super::SWITCH_AFTER {
-                self.switch_to_multilevel(pb, u, true, s)?;
+                self.switch_to_multilevel(pb, u, linear, s)?;
             }
             let w = &mut self.coupled;
             if fresh {
@@ -307,8 +348,8 @@ impl Cg {
                     w.p[a][i] = w.res[a][i] + beta * (w.p[a][i] - omega * w.v[a][i]);
                 }
             }
-            self.coupled_precondition(pb, u, s, Which::P)?;
-            self.coupled_apply(pb, links, Which::P)?;
+            self.coupled_precondition(pb, u, s, Which::P, linear)?;
+            self.coupled_apply(pb, s, links, Which::P, linear)?;
             let w = &mut self.coupled;
             let rv = comm::dot(comm, &w.rhat, &w.v, n);
             if !(rv.abs() > 0.0) {
@@ -322,16 +363,16 @@ impl Cg {
                 }
             }
             let snorm = comm::norm(comm, &w.s, n);
-            if g.done(snorm) {
-                if let Some(o) = self.true_residual(pb, u, links, &mut g, it)? {
-                    return Ok(Some(o));
+            if g.done(snorm) || newton_step_done(linear, snorm, w.base_rnorm) {
+                if let Some(o) = self.newton_residual(pb, u, links, &mut g, it, linear)? {
+                    return Ok(o);
                 }
                 fresh = true;
                 rho = rho_new;
                 continue;
             }
-            self.coupled_precondition(pb, u, s, Which::S)?;
-            self.coupled_apply(pb, links, Which::S)?;
+            self.coupled_precondition(pb, u, s, Which::S, linear)?;
+            self.coupled_apply(pb, s, links, Which::S, linear)?;
             let w = &mut self.coupled;
             let ts = comm::dot(comm, &w.t, &w.s, n);
             let tt = comm::dot(comm, &w.t, &w.t, n);
@@ -351,14 +392,42 @@ impl Cg {
                 // Not finite, or grown far beyond where it began: not a solve to go on with.
                 return Ok(None);
             }
-            if g.done(g.rnorm) || it.is_multiple_of(50) {
+            if g.done(g.rnorm)
+                || it.is_multiple_of(50)
+                || newton_step_done(linear, g.rnorm, self.coupled.base_rnorm)
+            {
                 // The recurrence's residual drifts from the true one: replace it, and
-                // start the recurrence again from there.
-                if let Some(o) = self.true_residual(pb, u, links, &mut g, it)? {
-                    return Ok(Some(o));
+                // start the recurrence again from there (for a nonlinear body, from the
+                // tangent at the new point: Newton's next step).
+                if let Some(o) = self.newton_residual(pb, u, links, &mut g, it, linear)? {
+                    return Ok(o);
                 }
                 fresh = true;
             }
+        }
+        Ok(None)
+    }
+
+    /// The true residual in place of the recurrence's (see `true_residual`); for a
+    /// nonlinear body also the end of a Newton step: Some(None) when the step did not
+    /// reduce the residual (the plain solve takes over), Some(outcome) when converged.
+    fn newton_residual<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        links: &[FrictionLink],
+        g: &mut Gauge,
+        it: usize,
+        linear: bool,
+    ) -> Result<Option<Option<ModelOutcome>>, SolveFailure> {
+        if let Some(o) = self.true_residual(pb, u, links, g, it)? {
+            return Ok(Some(Some(o)));
+        }
+        if !linear {
+            if !(g.rnorm < self.coupled.base_rnorm) {
+                return Ok(Some(None));
+            }
+            self.coupled.base_rnorm = g.rnorm;
         }
         Ok(None)
     }
@@ -382,6 +451,14 @@ impl Cg {
             reference: g.refv,
         }))
     }
+}
+
+/// A Newton step ends (nonlinear bodies) when the linearised residual is this fraction of
+/// the true residual the step began from.
+const NEWTON_FORCING: f64 = 0.1;
+
+fn newton_step_done(linear: bool, rnorm: f64, base: f64) -> bool {
+    !linear && rnorm <= NEWTON_FORCING * base
 }
 
 /// BiCGStab's residual norm and the reference force it is measured against.

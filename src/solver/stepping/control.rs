@@ -78,7 +78,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     record,
                 )
                 .map_err(|e| watch.explain(e))?;
-            contact.set_tangent(tangent);
+            contact.set_tangent(tangent.newton, tangent.onset);
             self.check_bounded(u, outcome.iterations)?;
             let multipliers = self.row_multipliers(t, &cons, &extra, &springs);
             let force_tol = settings.tolerance * outcome.reference.max(settings.reference_floor);
