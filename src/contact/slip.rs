@@ -132,17 +132,29 @@ pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
     if !(c > 0.0 && c.is_finite()) {
         return None;
     }
-    let n = a.normal;
-    let d = sub(&dir, &scale(&n, dot(&dir, &n)));
+    Some((c, across_direction(&dir, &a.normal)?))
+}
+
+/// The projector onto the tangent plane's direction across the friction direction `dir`
+/// (the plane normal to `n`); None when `dir` lies mostly along the normal.
+fn across_direction(dir: &Vec3, n: &Vec3) -> Option<Mat3> {
+    let d = sub(dir, &scale(n, dot(dir, n)));
     let l = norm(&d);
     if !(l > 0.5) {
         return None;
     }
     let d = scale(&d, 1.0 / l);
-    let p: Mat3 = std::array::from_fn(|i| {
+    Some(std::array::from_fn(|i| {
         std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
-    });
-    Some((c, p))
+    }))
+}
+
+/// A node's own stiffness along the directions `p` projects on: the trace of p K p for its
+/// diagonal block K.
+fn stiffness_along(p: &Mat3, nodal: &Mat3) -> f64 {
+    (0..3)
+        .map(|i| dot(&p[i], &matvec(nodal, &p[i])))
+        .sum::<f64>()
 }
 
 /// The onset spring's stiffness is at most this multiple of the node's own stiffness
@@ -168,19 +180,11 @@ pub(super) fn onset_spring(a: &Active, nodal: &Mat3) -> Option<(f64, Mat3, Vec3)
         return None;
     };
     let (_, slip) = a.secant?;
-    let n = a.normal;
-    let d = sub(&dir, &scale(&n, dot(&dir, &n)));
-    let l = norm(&d);
-    if !(l > 0.5 && magnitude > 0.0) {
+    if !(magnitude > 0.0) {
         return None;
     }
-    let d = scale(&d, 1.0 / l);
-    let p: Mat3 = std::array::from_fn(|i| {
-        std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
-    });
-    let k = (0..3)
-        .map(|i| dot(&p[i], &matvec(nodal, &p[i])))
-        .sum::<f64>();
+    let p = across_direction(&dir, &a.normal)?;
+    let k = stiffness_along(&p, nodal);
     if !(k > 0.0 && k.is_finite()) {
         return None;
     }
@@ -250,10 +254,9 @@ impl ContactState {
     ) -> Vec<Spring> {
         let mut out = Vec::new();
         self.onset_springs.clear();
-        if self.held_masters.is_none() {
-            self.held_masters = Some(held_masters(problem));
-        }
-        let held = self.held_masters.clone().unwrap_or_default();
+        let held = self
+            .held_masters
+            .get_or_insert_with(|| held_masters(problem));
         for a in &self.active {
             let Some(l) = mesh.owned_node(a.slave) else {
                 continue;
@@ -331,20 +334,10 @@ impl ContactState {
             let Some(l) = mesh.owned_node(a.slave) else {
                 continue;
             };
-            let n = a.normal;
-            let d = sub(&dir, &scale(&n, dot(&dir, &n)));
-            let length = norm(&d);
-            if !(length > 0.5) {
+            let Some(p) = across_direction(&dir, &a.normal) else {
                 continue;
-            }
-            let d = scale(&d, 1.0 / length);
-            let p: Mat3 = std::array::from_fn(|i| {
-                std::array::from_fn(|j| crate::math::IDENTITY[i][j] - n[i] * n[j] - d[i] * d[j])
-            });
-            let nodal = (0..3)
-                .map(|i| dot(&p[i], &matvec(&diag[l], &p[i])))
-                .sum::<f64>()
-                .max(0.0);
+            };
+            let nodal = stiffness_along(&p, &diag[l]).max(0.0);
             // The node's own stiffness across the direction. (The consistent tangent,
             // capacity / |slip|, is unbounded at the start of a step and made the contact
             // loop wander in the measurements; see the README.)
