@@ -17,6 +17,8 @@ use crate::problem::Problem;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Point;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::Triangle;
 use std::collections::BTreeMap;
 
 /// A slave node found inside a master body.
@@ -29,6 +31,21 @@ pub struct Finding {
     pub depth: f64,
     /// The node's interaction with that face (gap removal puts it there).
     pub interaction: Interaction,
+    /// The nearest boundary face of the master bodies that is not in the pair's master
+    /// surface, when it is nearer than `depth`: where the node most likely entered the
+    /// body, unresisted (the contact definition leaves that face out).
+    pub entry: Option<Entry>,
+}
+
+/// A boundary face of a master body outside the master surface, near a finding.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Entry {
+    /// Global element index (0-based) and local face (0..5), as a side set's `faces` lists
+    /// them (there 1-based elements).
+    pub element: u32,
+    pub face: u8,
+    /// Distance from the node to the face.
+    pub distance: f64,
 }
 
 /// Whether `p` lies inside the hexahedron with corners `x` (trilinear map, inverted by
@@ -117,6 +134,7 @@ pub fn audit<C: Comm + ?Sized>(
         return Vec::new();
     }
     let surfaces = gather_masters(comm, problem, mesh, u, &found);
+    let others = gather_other_faces(comm, problem, mesh, u, &found);
     found
         .into_iter()
         .filter_map(|(p, s)| {
@@ -124,14 +142,82 @@ pub fn audit<C: Comm + ?Sized>(
             let surface = surfaces[p].as_ref()?;
             let it = surface.nearest(&x)?;
             let xc = surface.point(it.face, &it.s)?;
+            let depth = norm(&sub(&x, &xc));
             Some(Finding {
                 pair: p,
                 slave: s,
-                depth: norm(&sub(&x, &xc)),
+                depth,
                 interaction: it,
+                entry: nearest_entry(&others[p], &x).filter(|e| e.distance < depth),
             })
         })
         .collect()
+}
+
+/// The face of `faces` (element, local face, corners) nearest to `x`; ties go to the first
+/// in the list, which every rank holds in the same order.
+fn nearest_entry(faces: &[(u32, u8, [Vec3; 4])], x: &Vec3) -> Option<Entry> {
+    let p = Point::new(x[0], x[1], x[2]);
+    let mut best: Option<Entry> = None;
+    for (e, k, c) in faces {
+        let v = c.map(|q| Point::new(q[0], q[1], q[2]));
+        let d = [[0, 1, 2], [0, 2, 3]]
+            .iter()
+            .map(|t| Triangle::new(v[t[0]], v[t[1]], v[t[2]]).distance_to_local_point(&p, true))
+            .fold(f64::INFINITY, f64::min);
+        if best.is_none_or(|b| d < b.distance) {
+            best = Some(Entry {
+                element: *e,
+                face: *k,
+                distance: d,
+            });
+        }
+    }
+    best
+}
+
+/// The boundary faces of each wanted pair's master bodies that are not master faces of
+/// the pair, at the current configuration, on every rank in (element, face) order (empty
+/// for the other pairs). Collective; called only when the audit found a node inside.
+fn gather_other_faces<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    found: &[(usize, u32)],
+) -> Vec<Vec<(u32, u8, [Vec3; 4])>> {
+    let boundary = problem.mesh.boundary_faces();
+    let mut mine: Vec<(usize, u32, u32, [f64; 12])> = Vec::new();
+    for (p, pair) in problem.contacts.iter().enumerate() {
+        if !found.iter().any(|f| f.0 == p) {
+            continue;
+        }
+        let bodies = master_bodies(problem, p);
+        let mut masters = pair.master_faces.clone();
+        masters.sort_unstable();
+        for &(e, k) in &boundary {
+            if !bodies.contains(&problem.mesh.element_body[e as usize])
+                || masters.binary_search(&(e, k)).is_ok()
+                || mesh.owned_element(e).is_none()
+            {
+                continue;
+            }
+            let c: [Vec3; 4] = problem.mesh.face_nodes(e, k).map(|n| {
+                let l = mesh
+                    .local_node(n)
+                    .expect("a face node of an owned element is local");
+                position(mesh, u, l)
+            });
+            mine.push((p, e, k as u32, ghost::flat(&c)));
+        }
+    }
+    let mut out = vec![Vec::new(); problem.contacts.len()];
+    let mut all = message::all_gather(comm, &mine);
+    all.sort_unstable_by_key(|a| (a.0, a.1, a.2));
+    for (p, e, k, c) in all {
+        out[p].push((e, k as u8, ghost::corners_of(&c)));
+    }
+    out
 }
 
 /// The findings deeper than their pair's capture tolerance (at least round-off of the face
@@ -323,6 +409,36 @@ mod tests {
         assert!(!contains(&x, &[1.01, 0.5, 0.5]));
         assert!(!contains(&x, &[0.5, -0.01, 0.5]));
         assert!(!contains(&x, &[5.0, 5.0, 5.0]));
+    }
+
+    #[test]
+    fn the_nearest_face_outside_the_master_surface() {
+        // Two faces of the unit cube: z = 1 (element 7, face 5) and x = 1 (element 7, face
+        // 1). Distances are exact in binary for these points (the closest points are the
+        // projections onto the planes, or an edge point).
+        let top = [
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ];
+        let side = [
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 1.0, 1.0],
+            [1.0, 0.0, 1.0],
+        ];
+        let faces = [(7, 5, top), (7, 1, side)];
+        let e = nearest_entry(&faces, &[0.75, 0.5, 0.875]).expect("a face");
+        assert_eq!((e.element, e.face, e.distance), (7, 5, 0.125));
+        let e = nearest_entry(&faces, &[0.875, 0.5, 0.5]).expect("a face");
+        assert_eq!((e.element, e.face, e.distance), (7, 1, 0.125));
+        // Beyond the edge both faces share: the edge point (1, 0.5, 1) is nearest to each,
+        // at sqrt(0.5^2 + 1) (the tie goes to the first face listed).
+        let e = nearest_entry(&faces, &[1.5, 0.5, 2.0]).expect("a face");
+        assert_eq!((e.element, e.face), (7, 5));
+        assert!((e.distance - 1.25f64.sqrt()).abs() <= 1e-15);
+        assert!(nearest_entry(&[], &[0.0; 3]).is_none());
     }
 
     #[test]

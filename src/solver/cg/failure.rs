@@ -39,6 +39,9 @@ pub enum SolveFailure {
         tolerance: f64,
         /// Under small kinematics: the message then says that small sliding was exceeded.
         small_kinematics: bool,
+        /// A boundary face of the master body outside the master surface that is nearer to
+        /// the node than the master surface: element (1-based), local face, distance.
+        entry: Option<Box<(u64, u8, f64)>>,
     },
 }
 
@@ -75,11 +78,14 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::ContactNotSettled { updates, detail } => {
                 write!(f, "contact did not settle after {updates} contact updates: {detail}")
             }
-            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics } => {
+            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics, entry } => {
                 write!(
                     f,
                     "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
                 )?;
+                if let Some((element, face, distance)) = entry.as_deref() {
+                    write!(f, "; it is nearer ({distance:.3e}) to a face of the master body that is not in the master surface, faces = [[{element}, {face}]]: nothing holds a slave node there, so it entered the body unresisted; add the master body's faces the slave surface can reach (e.g. a die's front face) to the master side set")?;
+                }
                 if *small_kinematics {
                     write!(f, "; small sliding was exceeded: under kinematics = \"small\" the master faces keep their reference normals, which holds only while the bodies slide and rotate little; kinematics = \"large\" follows the sliding")?;
                 }

@@ -290,19 +290,30 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     .body_models
                     .iter()
                     .all(|m| !m.material.is_large()),
+                entry: f
+                    .entry
+                    .map(|e| Box::new((e.element as u64 + 1, e.face, e.distance))),
             });
         }
         if !deep.is_empty() {
             let d = deep
                 .iter()
                 .fold(deep[0], |a, &f| if f.depth > a.depth { f } else { a });
-            let what = format!(
+            let mut what = format!(
                 "{} slave node(s) found inside a master body (deepest: node {} of contact '{}' by {:.3e})",
                 deep.len(),
                 d.slave as u64 + 1,
                 self.problem.contacts[d.pair].name,
                 d.depth
             );
+            if let Some(e) = d.entry {
+                what += &format!(
+                    ", nearer ({:.3e}) to faces = [[{}, {}]], which is not in the master surface",
+                    e.distance,
+                    e.element as u64 + 1,
+                    e.face
+                );
+            }
             if let Some(progress) = self.progress.as_mut() {
                 progress(&format!("  t = {t}: penetration audit: {what}, tied back"));
             }
