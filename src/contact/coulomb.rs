@@ -17,6 +17,20 @@ pub(super) fn exceeds(a: &Active, mu: f64, force_tol: f64) -> bool {
     ft > capacity * (1.0 + 1e-9) && ft > force_tol
 }
 
+/// Whether a node leaves the constraint set as tensile: its normal force pulls (beyond
+/// `force_tol`), unless it sticks and carries a tangential force beyond its capacity. Such
+/// a node's normal force is that of a node held tangentially too, and the stick may be
+/// what pulls it off (a die dragging the slab's surface along stretches it behind the
+/// die's edge); it slips first, at the capacity of its normal force, zero (the onset of
+/// `judge_stick`), and leaves the set if its normal force still pulls once it slides.
+/// Released at once, such a node springs back into the master body it was pressed by,
+/// further than the search's normal tolerance when the bodies were pressed deeper than
+/// that (the block die of `run/scenes/sliding/`).
+pub(super) fn tensile(a: &Active, mu: f64, force_tol: f64) -> bool {
+    let slips_first = a.mode == Mode::Stick && exceeds(a, mu, force_tol);
+    a.normal_force < -force_tol && !slips_first
+}
+
 /// The slip since the start of the step, relative to the master point. The face is held
 /// unless the node has moved beyond the ghosting margin of its face (a body running
 /// away); then the search releases it, and the slip test has nothing to measure against.
@@ -145,4 +159,44 @@ pub(super) fn judge_slip(
         magnitude: capacity,
     };
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::search::Interaction;
+    use super::super::state::new_active;
+    use super::*;
+
+    fn node(normal_force: f64, tangential: f64, mode: Mode) -> Active {
+        let it = Interaction {
+            face: 0,
+            s: [0.0; 2],
+            normal: [0.0, 1.0, 0.0],
+            gap: 0.0,
+        };
+        let mut a = new_active(0, 7, &it, 0.3);
+        a.normal_force = normal_force;
+        a.tangential_force = [tangential, 0.0, 0.0];
+        a.mode = mode;
+        a
+    }
+
+    #[test]
+    fn a_tensile_node_that_sticks_with_a_tangential_force_slips_before_it_is_released() {
+        let tol = 1e-6;
+        let slip = Mode::Slip {
+            dir: [1.0, 0.0, 0.0],
+            magnitude: 0.0,
+        };
+        // Sticking, pulled off, carrying a tangential force: slips first.
+        assert!(!tensile(&node(-1.0, 0.5, Mode::Stick), 0.3, tol));
+        // Sticking, pulled off, no tangential force beyond the tolerance: released.
+        assert!(tensile(&node(-1.0, 0.5 * tol, Mode::Stick), 0.3, tol));
+        // Slipping or frictionless and pulled off: released.
+        assert!(tensile(&node(-1.0, 0.5, slip), 0.3, tol));
+        assert!(tensile(&node(-1.0, 0.0, Mode::Free), 0.0, tol));
+        // Pulled within the tolerance, or pressed: kept.
+        assert!(!tensile(&node(-0.5 * tol, 0.0, slip), 0.3, tol));
+        assert!(!tensile(&node(1.0, 0.1, Mode::Stick), 0.3, tol));
+    }
 }

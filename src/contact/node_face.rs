@@ -205,7 +205,7 @@ impl Enforcement for ContactState {
         start: &[Vec3],
         force_tol: f64,
     ) -> bool {
-        let mut changed = self.release_tensile(force_tol);
+        let mut changed = self.release_tensile(problem, force_tol);
         let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
         let positions = self.mortar_positions(comm, problem, mesh, (u, start));
         let pos = positions.as_ref();

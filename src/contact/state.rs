@@ -4,7 +4,7 @@
 //! again, and captures penetrating nodes (push) or nodes within the capture tolerance
 //! (pull). Gap removal happens when the new constraint rows are imposed.
 
-use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, step_slip};
+use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, step_slip, tensile};
 use super::ghost;
 use super::mortar::enforce::{mortar_driven_slip, mortar_step_slip};
 use super::mortar::surfaces::Positions;
@@ -224,13 +224,13 @@ impl ContactState {
         })
     }
 
-    /// Release: a node whose contact force is tensile (beyond `force_tol`) leaves the set
-    /// and is not pulled back in by the capture tolerance in this step.
-    pub(super) fn release_tensile(&mut self, force_tol: f64) -> bool {
+    /// Release: a node whose contact force is tensile (`tensile`) leaves the set and is not
+    /// pulled back in by the capture tolerance in this step.
+    pub(super) fn release_tensile(&mut self, problem: &Problem, force_tol: f64) -> bool {
         let mut changed = false;
         let mut kept = Vec::with_capacity(self.active.len());
         for a in self.active.drain(..) {
-            if a.normal_force < -force_tol {
+            if tensile(&a, problem.contacts[a.pair].mu, force_tol) {
                 if !self.released.contains(&(a.slave, a.pair)) {
                     self.released.push((a.slave, a.pair));
                 }
