@@ -150,6 +150,18 @@ fn ironing_never_loses_the_pressed_slab_silently() {
     }
 }
 
+/// The same die with its front and back faces in the master surface
+/// (run/scenes/sliding/ironing_block_faces.toml): nothing is left for the slab to enter the
+/// die by, and it completes, with contact held at every step and no node inside. (It
+/// stopped at t = 1.27 before a sticking node pulled off by its stick slipped before it was
+/// released: released at once, the node sprang back into the die, the audit tied it back,
+/// and the step cycled.)
+#[test]
+fn ironing_with_the_die_faces_it_ploughs_with_completes() {
+    let (completed, failure) = never_lost_silently("ironing_block_faces", &[]);
+    assert!(completed, "ironing_block_faces: {failure}");
+}
+
 /// The same with mortar contact (run/scenes/sliding/ironing_block_mortar.toml: before mortar
 /// nodes were audited it ended "done" with no node in contact and the die 0.3 inside the
 /// slab; now it stops with a diagnosis near t = 1.05: the constraint set cycling, or a slab
