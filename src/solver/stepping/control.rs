@@ -369,7 +369,17 @@ impl Watch {
     /// twice at its first drag step: four nodes released, captured again, then stick, slip,
     /// stick, slip; given the one update more the rule of reversals needs, they slip on.)
     fn record(&mut self, contact: &impl Enforcement) -> Result<(), SolveFailure> {
-        let signature: Signature = contact.set();
+        self.record_set(contact.set())
+    }
+
+    /// `record` for a given set. Besides the alternation above, a longer cycle: the set
+    /// comes back to the same state after the same number of updates twice over, with
+    /// stretches in between where it holds while the friction forces settle (runs of equal
+    /// sets A^a B^b A^a B^b, then A again, with the first A run complete). A slipping node
+    /// whose slip settles along its friction force is stuck by the reversal rule, slips
+    /// again and settles into the same state: the block die of run/scenes/sliding/ at 300
+    /// drag steps repeated a period of 10 updates until the update limit.
+    fn record_set(&mut self, signature: Signature) -> Result<(), SolveFailure> {
         let h = &self.history;
         let n = h.len();
         if n >= 4
@@ -381,6 +391,16 @@ impl Watch {
             return Err(SolveFailure::ContactNotSettled {
                 updates: self.updates,
                 detail: cycling_detail(&h[n - 1], &signature),
+            });
+        }
+        if let Some(period) = repeats(&self.history, &signature) {
+            let n = self.history.len();
+            return Err(SolveFailure::ContactNotSettled {
+                updates: self.updates,
+                detail: format!(
+                    "the constraint set comes back to the same states every {period} contact updates: {}",
+                    cycling_nodes(&self.history[n - 1], &signature)
+                ),
             });
         }
         self.history.push(signature);
@@ -403,6 +423,31 @@ impl Watch {
             detail,
         }
     }
+}
+
+/// The period of a cycle of `history` followed by `next` (see `Watch::record_set`): the
+/// runs of equal sets end A^a B^b A^a B^b, preceded by another run, and `next` is A again.
+fn repeats(history: &[Signature], next: &Signature) -> Option<usize> {
+    if history.last() == Some(next) {
+        return None;
+    }
+    // The runs (first index, length) of the last five, from the end.
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut end = history.len();
+    while end > 0 && runs.len() < 5 {
+        let mut start = end - 1;
+        while start > 0 && history[start - 1] == history[end - 1] {
+            start -= 1;
+        }
+        runs.push((start, end - start));
+        end = start;
+    }
+    if runs.len() < 5 {
+        return None;
+    }
+    let [b2, a2, b1, a1] = [runs[0], runs[1], runs[2], runs[3]];
+    let same = |x: (usize, usize), y: (usize, usize)| history[x.0] == history[y.0] && x.1 == y.1;
+    (history[a2.0] == *next && same(a1, a2) && same(b1, b2)).then_some(a2.1 + b2.1)
 }
 
 /// Names the nodes whose constraints differ between two states.
@@ -434,6 +479,39 @@ fn cycling_detail(a: &[(u32, usize, u32, u8)], b: &[(u32, usize, u32, u8)]) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_set_that_comes_back_after_the_same_stretches_twice_is_a_cycle() {
+        let a: Signature = vec![(336, 0, 14, 0)];
+        let b: Signature = vec![(336, 0, 14, 1)];
+        let c: Signature = vec![(336, 0, 13, 0)];
+        let mut watch = Watch::default();
+        // C (the approach), then A A A B, A A A B: the next A closes two equal periods.
+        let mut seq = vec![c.clone()];
+        for _ in 0..2 {
+            seq.extend([a.clone(), a.clone(), a.clone(), b.clone()]);
+        }
+        for s in &seq {
+            assert!(watch.record_set(s.clone()).is_ok());
+        }
+        let e = watch.record_set(a.clone()).expect_err("a cycle");
+        assert!(e
+            .to_string()
+            .contains("comes back to the same states every 4 contact updates: slave node 337"));
+        // Stretches of different lengths (still settling): not yet a cycle; nor is a first
+        // A run that is not known to be complete (no run before it).
+        let mut watch = Watch::default();
+        let seq = [&c, &a, &a, &a, &b, &a, &a, &b];
+        for s in seq {
+            assert!(watch.record_set(s.clone()).is_ok());
+        }
+        assert!(watch.record_set(a.clone()).is_ok());
+        let mut watch = Watch::default();
+        for s in [&a, &a, &b, &a, &a, &b] {
+            assert!(watch.record_set(s.clone()).is_ok());
+        }
+        assert!(watch.record_set(a.clone()).is_ok());
+    }
 
     #[test]
     fn an_element_failure_after_a_tie_back_names_the_tie_back() {
