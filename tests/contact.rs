@@ -521,6 +521,72 @@ tolerance = {TOL:?}
     )
 }
 
+/// run/scenes/friction/overhang.toml: a block 1.04 wide on a plate 1 wide (every plate node
+/// fixed; nu = 0, mu = 0.3): its
+/// bottom edges overhang the plate's edges by 0.02, within the tangential tolerance (0.05),
+/// so the bottom nodes there touch the plate's edge and stick to the point of the edge
+/// their projection is clamped to. Pressed by d = 1e-3 (top: u_y = -d, u_x = u_z = 0), the
+/// exact answer is uniaxial: every bottom node stays where it is (u = 0: the plate does not
+/// move and a stuck node does not slide), every contact force is normal, and the normal
+/// resultant is E d A / H with A = 1.04 (in the element space, so exact to round-off).
+/// A stick tie that held the node on the edge point itself pulled those nodes 0.02 in x.
+#[test]
+fn a_node_stuck_beyond_the_edge_of_its_master_face_stays_where_it_is() {
+    let text = std::fs::read_to_string(format!(
+        "{}/run/scenes/friction/overhang.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("the scene is in the repository");
+    let p = problem(&text);
+    let (_, state) = solve(&p);
+    let bottom = nodes_at_y(&p, 1, 0.0);
+    assert_eq!(bottom.len(), 15);
+    let overhanging = bottom
+        .iter()
+        .filter(|&&s| p.mesh.coords[s][0] < 0.0 || p.mesh.coords[s][0] > 1.0)
+        .count();
+    assert_eq!(overhanging, 6, "two rows of three bottom nodes overhang");
+    let statuses: Vec<u8> = bottom.iter().map(|&s| state.contact_status[s]).collect();
+    assert!(
+        statuses.iter().all(|&s| s == 1),
+        "every bottom node must stick: {statuses:?}"
+    );
+    // Stuck on the fixed plate: u = 0 to round-off of the constraint projection, measured
+    // against the pressing displacement d (as in coulomb_block_sticks_below_the_friction_limit).
+    let moved = bottom
+        .iter()
+        .map(|&s| {
+            let u = state.displacement[s];
+            (u[0].hypot(u[1]).hypot(u[2]) / PRESS, s)
+        })
+        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+    assert!(
+        moved.0 <= 1e-12,
+        "bottom node {} at x = {} moved by {:.3e} d",
+        moved.1 + 1,
+        p.mesh.coords[moved.1][0],
+        moved.0
+    );
+    // Uniaxial: N = E d A / H, the friction resultant zero (resultants, 1e-10, see the top
+    // of the file).
+    let mut f = [0.0; 3];
+    for &s in &bottom {
+        for d in 0..3 {
+            f[d] += state.contact_force[s][d];
+        }
+    }
+    let n_exact = 1.0e6 * PRESS * 1.04;
+    assert!(
+        (f[1] - n_exact).abs() <= 1e-10 * n_exact,
+        "N = {} (exact {n_exact})",
+        f[1]
+    );
+    assert!(
+        f[0].hypot(f[2]) <= 1e-10 * n_exact,
+        "tangential resultant {f:?}"
+    );
+}
+
 #[test]
 fn block_pressed_then_lifted_off_carries_nothing() {
     let press = "{ end = 1.0, steps = 5 }";

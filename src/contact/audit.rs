@@ -256,6 +256,7 @@ pub fn recapture(state: &mut ContactState, problem: &Problem, findings: &[Findin
             face: it.face,
             s: it.s,
             normal: it.normal,
+            offset: it.offset,
             mode: if problem.contacts[f.pair].mu > 0.0 {
                 Mode::Stick
             } else {

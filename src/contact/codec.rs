@@ -11,8 +11,13 @@ use crate::problem::Problem;
 /// Words of one active constraint (the restart file's layout): pair, slave, face, s (2),
 /// normal (3), mode (tag, direction (3), magnitude), normal force, tangential force (3),
 /// slip stiffness, secant (flag, force (3), slip (3)), start (flag, face, s (2)),
-/// reversals.
+/// reversals; then, for a node beyond its face's edge now or at the step's start, its
+/// offset (3) and the start's (3), marked by the mode's tag plus EXTENDED. A node without
+/// offsets keeps the layout written before offsets were kept, so those files read as
+/// before and their words are unchanged.
 const ACTIVE_WORDS: usize = 30;
+const OFFSET_WORDS: usize = 6;
+const EXTENDED: u32 = 3;
 
 impl Message for Active {
     fn write(&self, w: &mut Writer<'_>) {
@@ -21,17 +26,20 @@ impl Message for Active {
         w.id(self.face);
         w.reals(&self.s);
         w.reals(&self.normal);
+        let start_offset = self.start.map_or([0.0; 3], |(_, _, o)| o);
+        let extended = self.offset != [0.0; 3] || start_offset != [0.0; 3];
+        let mark = if extended { EXTENDED } else { 0 };
         match self.mode {
             Mode::Free => {
-                w.id(0);
+                w.id(mark);
                 w.pad(4);
             }
             Mode::Stick => {
-                w.id(1);
+                w.id(1 + mark);
                 w.pad(4);
             }
             Mode::Slip { dir, magnitude } => {
-                w.id(2);
+                w.id(2 + mark);
                 w.reals(&dir);
                 w.real(magnitude);
             }
@@ -49,13 +57,17 @@ impl Message for Active {
         }
         w.flag(self.start.is_some());
         match self.start {
-            Some((face, s)) => {
+            Some((face, s, _)) => {
                 w.id(face);
                 w.reals(&s);
             }
             None => w.pad(3),
         }
         w.id(self.reversals);
+        if extended {
+            w.reals(&self.offset);
+            w.reals(&start_offset);
+        }
     }
 
     fn read(r: &mut Reader) -> Option<Self> {
@@ -67,11 +79,12 @@ impl Message for Active {
         let tag = r.id()?;
         let dir = r.reals()?;
         let magnitude = r.real()?;
-        let mode = match tag {
+        let extended = tag >= EXTENDED;
+        let mode = match tag % EXTENDED {
+            _ if tag >= 2 * EXTENDED => return None,
             0 => Mode::Free,
             1 => Mode::Stick,
-            2 => Mode::Slip { dir, magnitude },
-            _ => return None,
+            _ => Mode::Slip { dir, magnitude },
         };
         let normal_force = r.real()?;
         let tangential_force = r.reals()?;
@@ -85,18 +98,23 @@ impl Message for Active {
             false => r.skip(3).map(|_| None)?,
         };
         let reversals = r.id()?;
+        let (offset, start_offset) = match extended {
+            true => (r.reals()?, r.reals()?),
+            false => ([0.0; 3], [0.0; 3]),
+        };
         Some(Active {
             pair,
             slave,
             face,
             s,
             normal,
+            offset,
             mode,
             normal_force,
             tangential_force,
             slip_stiffness,
             secant,
-            start,
+            start: start.map(|(f, s)| (f, s, start_offset)),
             reversals,
         })
     }
@@ -107,7 +125,8 @@ impl ContactState {
     /// mortar ties), for a restart.
     pub fn encode(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let active = message::encode(&self.active);
-        debug_assert_eq!(active.len(), ACTIVE_WORDS * self.active.len());
+        debug_assert!(active.len() >= ACTIVE_WORDS * self.active.len());
+        debug_assert!(active.len() <= (ACTIVE_WORDS + OFFSET_WORDS) * self.active.len());
         (
             active,
             message::encode(&self.released),
@@ -133,7 +152,7 @@ impl ContactState {
             a.pair < pairs.len()
                 && (a.slave as usize) < nodes
                 && face_ok(a.pair, a.face)
-                && a.start.is_none_or(|(f, _)| face_ok(a.pair, f))
+                && a.start.is_none_or(|(f, _, _)| face_ok(a.pair, f))
                 && finite(a)
         };
         let released_ok = |&(s, p): &(u32, usize)| (s as usize) < nodes && p < pairs.len();
@@ -172,7 +191,56 @@ impl ContactState {
 }
 
 fn finite(a: &Active) -> bool {
-    let mut words = Vec::with_capacity(ACTIVE_WORDS);
+    let mut words = Vec::with_capacity(ACTIVE_WORDS + OFFSET_WORDS);
     message::push(&mut words, a);
     words.iter().all(|x| x.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::comm::message;
+
+    fn active(offset: [f64; 3], start_offset: [f64; 3]) -> Active {
+        Active {
+            pair: 0,
+            slave: 12,
+            face: 3,
+            s: [-1.0, 0.25],
+            normal: [0.0, 1.0, 0.0],
+            offset,
+            mode: Mode::Slip {
+                dir: [1.0, 0.0, 0.0],
+                magnitude: 2.5,
+            },
+            normal_force: 8.0,
+            tangential_force: [0.5, 0.0, 0.0],
+            slip_stiffness: 40.0,
+            secant: Some(([1.0, 0.0, 0.0], [0.01, 0.0, 0.0])),
+            start: Some((2, [1.0, 0.5], start_offset)),
+            reversals: 1,
+        }
+    }
+
+    /// A node without offsets keeps the 30-word layout written before offsets were kept
+    /// (so restart files of earlier runs read as before); one beyond an edge, now or at
+    /// the step's start, takes 6 words more; both read back exactly, in one list.
+    #[test]
+    fn offsets_beyond_an_edge_round_trip_and_plain_nodes_keep_the_old_layout() {
+        let plain = active([0.0; 3], [0.0; 3]);
+        let beyond = active([-0.02, 0.0, 0.0], [0.0; 3]);
+        let started = active([0.0; 3], [0.0, 0.0, 0.03]);
+        assert_eq!(message::encode(&[plain]).len(), ACTIVE_WORDS);
+        assert_eq!(
+            message::encode(&[beyond]).len(),
+            ACTIVE_WORDS + OFFSET_WORDS
+        );
+        let list = [plain, beyond, started, plain];
+        let back: Vec<Active> = message::decode(&message::encode(&list)).expect("decodes");
+        assert_eq!(back, list);
+        // A mode tag (word 8) beyond the extended ones is not a constraint.
+        let mut words = message::encode(&[plain]);
+        words[8] = (2 * EXTENDED) as f64;
+        assert!(message::decode::<Active>(&words).is_none());
+    }
 }

@@ -118,9 +118,10 @@ pub(super) fn judge_slip(
         a.reversals += 1;
         a.mode = Mode::Stick;
         a.secant = None;
-        if let Some((face, s)) = a.start {
+        if let Some((face, s, offset)) = a.start {
             a.face = face;
             a.s = s;
+            a.offset = offset;
         }
         return true;
     }
@@ -173,6 +174,7 @@ mod tests {
             s: [0.0; 2],
             normal: [0.0, 1.0, 0.0],
             gap: 0.0,
+            offset: [0.0; 3],
         };
         let mut a = new_active(0, 7, &it, 0.3);
         a.normal_force = normal_force;

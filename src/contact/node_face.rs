@@ -27,7 +27,7 @@ impl Enforcement for ContactState {
         self.spring_turns.clear();
         for a in &mut self.active {
             a.secant = None;
-            a.start = Some((a.face, a.s));
+            a.start = Some((a.face, a.s, a.offset));
             a.reversals = 0;
         }
     }

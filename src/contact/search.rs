@@ -12,6 +12,10 @@ use parry3d_f64::math::Point;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use std::collections::HashMap;
 
+/// A node beyond a face's edge by less than this fraction of the face size sits on the
+/// edge (round-off of the projection): its interaction has no offset.
+const BEYOND_NOISE: f64 = 1e-10;
+
 /// A slave node's interaction with a master face (the paper's section 3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interaction {
@@ -25,6 +29,10 @@ pub struct Interaction {
     /// Signed normal distance of the slave node from the contact point: negative is
     /// penetration. The push-back vector is -sign(gap) * normal.
     pub gap: f64,
+    /// Where the node sits beyond the face's edge, across the normal: the part of its
+    /// offset from the contact point that the clamped projection leaves (zero for a node
+    /// that projects onto the face, or beyond it by round-off only).
+    pub offset: Vec3,
 }
 
 /// The master surface of one pair at the current configuration: all of its faces, or on
@@ -214,6 +222,8 @@ impl<'a> MasterSurface<'a> {
             None => n_face,
         };
         let gap = dot(&d, &n);
+        let across = sub(&d, &scale(&n, gap));
+        let beyond = clamped != s && norm(&across) > BEYOND_NOISE * self.pair.face_size;
         Some((
             norm(&d),
             Interaction {
@@ -221,6 +231,7 @@ impl<'a> MasterSurface<'a> {
                 s: clamped,
                 normal: n,
                 gap,
+                offset: if beyond { across } else { [0.0; 3] },
             },
         ))
     }

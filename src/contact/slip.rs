@@ -19,8 +19,9 @@ pub(super) const SLIP_NOISE: f64 = 1e-10;
 /// taken (the solver's error would dominate it); the last estimate is kept.
 const SECANT_MIN: f64 = 1e-7;
 
-/// How far a sticking node sits from its stick point along the master surface, when more
-/// than round-off (on the rank that owns the node). Its tie rows hold it there unless rows
+/// How far a sticking node sits from its stick point along the master surface (the master
+/// point plus the node's offset beyond an edge), when more than round-off (on the rank
+/// that owns the node). Its tie rows hold it there unless rows
 /// that take precedence (Dirichlet rows, another pair's normal) drive it along the master:
 /// then the node moves relative to the master and Coulomb's law makes it slip.
 pub(super) fn driven_slip(
@@ -37,6 +38,8 @@ pub(super) fn driven_slip(
     for j in 0..4 {
         d = sub(&d, &scale(&now[j], w[j]));
     }
+    // Beyond its face's edge a node is held at its offset from the edge's point.
+    let d = sub(&d, &a.offset);
     let d = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
     let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
     (norm(&d) > noise).then_some(d)
@@ -408,6 +411,7 @@ mod tests {
             face: 0,
             s: [0.0, 0.0],
             normal: [0.0, 1.0, 0.0],
+            offset: [0.0; 3],
             mode: Mode::Slip {
                 dir: [-1.0, 0.0, 0.0],
                 magnitude: 3.0,

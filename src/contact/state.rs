@@ -52,6 +52,11 @@ pub struct Active {
     pub face: u32,
     pub s: [f64; 2],
     pub normal: Vec3,
+    /// The slave's offset from its master point across the normal, which a stick holds:
+    /// nonzero for a node beyond its face's edge (within the search's tangential
+    /// tolerance), which the clamped projection ties to a point of the edge (node-to-face;
+    /// zero for mortar, whose ties hold their own offsets).
+    pub offset: Vec3,
     pub mode: Mode,
     /// Normal contact force on the slave from the last model problem (compressive > 0).
     pub normal_force: f64,
@@ -64,9 +69,9 @@ pub struct Active {
     /// stick force, or the friction force) with the slip measured after it: one end of the
     /// next secant. Cleared when a step begins.
     pub secant: Option<(Vec3, Vec3)>,
-    /// The master point (face, coordinates) the node sat on when the step began; None for
-    /// a node captured during the step.
-    pub start: Option<(u32, [f64; 2])>,
+    /// The master point (face, coordinates, offset) the node sat on when the step began;
+    /// None for a node captured during the step.
+    pub start: Option<(u32, [f64; 2], Vec3)>,
     /// How often the node's slip reversed (slip -> stick) in this step.
     pub reversals: u32,
 }
@@ -189,10 +194,12 @@ impl ContactState {
             } else {
                 vec![(0, a.normal)]
             };
-            // A sticking mortar node is held where its tie put it relative to its
-            // master point (a node-to-face tie point is the node's projection: zero).
+            // A sticking node is held where its tie put it relative to its master point:
+            // a mortar tie's offset; a node-to-face tie point is the node's projection,
+            // offset only beyond the face's edge.
             let held = match self.tie(a.slave, a.pair) {
                 Some(t) if tangents_pass => t.offset,
+                _ if tangents_pass => a.offset,
                 _ => [0.0; 3],
             };
             for (c, dir) in dirs {
@@ -379,7 +386,7 @@ impl ContactState {
                     .or_else(|| surfaces[p].search(&x));
                 match (index.get(&(s, p)), found) {
                     (Some(&k), found) => {
-                        if self.follow(k, found, (s, p), &released) {
+                        if self.follow(k, found, (s, p), &released, pair.face_size) {
                             gone[k] = true;
                             changed = true;
                         }
@@ -438,6 +445,7 @@ impl ContactState {
                 a.face = it.face;
                 a.s = it.s;
                 a.normal = it.normal;
+                a.offset = it.offset;
             }
         }
     }
@@ -451,6 +459,7 @@ impl ContactState {
         found: Option<Interaction>,
         sp: (u32, usize),
         released: &HashSet<(u32, usize)>,
+        pair_size: f64,
     ) -> bool {
         let a = &mut self.active[k];
         if a.mode == Mode::Stick {
@@ -458,17 +467,19 @@ impl ContactState {
         }
         match found {
             Some(it) => {
-                // Moving the contact point (also onto a neighbouring face) is
-                // not a change of the set: the equilibrium query after the
+                // Moving the contact point (also onto a neighbouring face, or along
+                // an edge the node has passed) is not a change of the set: the equilibrium query after the
                 // next model problem judges it. Round-off-sized moves are
                 // ignored so the loop can settle.
                 let moved = it.face != a.face
                     || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
-                    || norm(&sub(&it.normal, &a.normal)) > 1e-12;
+                    || norm(&sub(&it.normal, &a.normal)) > 1e-12
+                    || norm(&sub(&it.offset, &a.offset)) > 1e-12 * pair_size;
                 if moved {
                     a.face = it.face;
                     a.s = it.s;
                     a.normal = it.normal;
+                    a.offset = it.offset;
                 }
                 false
             }
@@ -526,6 +537,7 @@ pub(super) fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> 
         face: it.face,
         s: it.s,
         normal: it.normal,
+        offset: it.offset,
         mode: if mu > 0.0 { Mode::Stick } else { Mode::Free },
         normal_force: 0.0,
         tangential_force: [0.0; 3],

@@ -76,6 +76,7 @@ impl ContactState {
                             s: [0.0, 0.0],
                             gap: t.gap,
                             normal: t.normal,
+                            offset: [0.0; 3],
                         };
                         self.active.push(new_active(p, t.slave, &it, pair.mu));
                         self.set_tie(p, t);
@@ -139,6 +140,7 @@ impl ContactState {
                 s: [0.0, 0.0],
                 gap: t.gap,
                 normal: t.normal,
+                offset: [0.0; 3],
             };
             self.active.push(new_active(f.pair, f.slave, &it, pair.mu));
             self.set_tie(f.pair, t);
