@@ -134,8 +134,7 @@ pub fn audit<C: Comm + ?Sized>(
         return Vec::new();
     }
     let surfaces = gather_masters(comm, problem, mesh, u, &found);
-    let others = gather_other_faces(comm, problem, mesh, u, &found);
-    found
+    let mut findings: Vec<Finding> = found
         .into_iter()
         .filter_map(|(p, s)| {
             let x = slaves[p][&s];
@@ -148,10 +147,27 @@ pub fn audit<C: Comm + ?Sized>(
                 slave: s,
                 depth,
                 interaction: it,
-                entry: nearest_entry(&others[p], &x).filter(|e| e.distance < depth),
+                entry: None,
             })
         })
-        .collect()
+        .collect();
+    // The face a node entered by is named only in what the step does with a node too deep
+    // (`too_deep`), so only those are measured against the master bodies' other faces
+    // (every rank holds the same findings, so every rank takes part alike or none does).
+    // A node sitting on the master surface, found inside by round-off, costs no more.
+    let deep: Vec<(usize, u32)> = findings
+        .iter()
+        .filter(|f| is_deep(problem, f))
+        .map(|f| (f.pair, f.slave))
+        .collect();
+    if !deep.is_empty() {
+        let others = gather_other_faces(comm, problem, mesh, u, &deep);
+        for f in findings.iter_mut().filter(|f| is_deep(problem, f)) {
+            let x = slaves[f.pair][&f.slave];
+            f.entry = nearest_entry(&others[f.pair], &x).filter(|e| e.distance < f.depth);
+        }
+    }
+    findings
 }
 
 /// The face of `faces` (element, local face, corners) nearest to `x`; ties go to the first
@@ -178,7 +194,7 @@ fn nearest_entry(faces: &[(u32, u8, [Vec3; 4])], x: &Vec3) -> Option<Entry> {
 
 /// The boundary faces of each wanted pair's master bodies that are not master faces of
 /// the pair, at the current configuration, on every rank in (element, face) order (empty
-/// for the other pairs). Collective; called only when the audit found a node inside.
+/// for the other pairs). Collective; called only when the audit found a node too deep.
 fn gather_other_faces<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
@@ -225,12 +241,15 @@ fn gather_other_faces<C: Comm + ?Sized>(
 pub fn too_deep(problem: &Problem, findings: &[Finding]) -> Vec<Finding> {
     findings
         .iter()
-        .filter(|f| {
-            let pair = &problem.contacts[f.pair];
-            f.depth > pair.capture_tolerance.max(1e-10 * pair.face_size)
-        })
+        .filter(|f| is_deep(problem, f))
         .copied()
         .collect()
+}
+
+/// Whether a finding is deeper than its pair's capture tolerance (`too_deep`).
+fn is_deep(problem: &Problem, f: &Finding) -> bool {
+    let pair = &problem.contacts[f.pair];
+    f.depth > pair.capture_tolerance.max(1e-10 * pair.face_size)
 }
 
 /// Gap removal for the node-to-face nodes found inside a master body: each is tied to the

@@ -171,14 +171,36 @@ impl<'a> MasterSurface<'a> {
     /// The interaction of a slave node at `x` with the nearest face held, however far
     /// away: the search of the penetration audit, which must not depend on the search
     /// tolerances. Ties go to the lowest face index, as in `search`.
+    ///
+    /// The faces whose boxes (inflated by the search tolerances, `pad`) hold `x` are
+    /// measured first: a face at distance d <= pad holds the projected point within its
+    /// box, so when the nearest of them is within half of `pad` (ties included) it is the
+    /// nearest of all, the same answer as measuring every face. Otherwise every face is
+    /// measured. (The audit of a mesh of 10^6 elements measured its 6400 master faces for
+    /// each of 6561 nodes sitting on them: 22 s a step.)
     pub fn nearest(&self, x: &Vec3) -> Option<Interaction> {
-        let candidates: Vec<(f64, Interaction)> = (0..self.faces.len() as u32)
-            .filter_map(|k| self.project_within(k, x, f64::INFINITY, f64::INFINITY))
+        let measure = |k: u32| self.project_within(k, x, f64::INFINITY, f64::INFINITY);
+        let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
+        let near: Vec<(f64, Interaction)> = self
+            .bvh
+            .intersect_aabb(&probe)
+            .filter_map(measure)
             .collect();
+        let pad = self
+            .pair
+            .normal_tolerance
+            .max(self.pair.tangential_tolerance);
+        let tie = 1e-12 * self.pair.face_size;
+        let closest = near.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+        let candidates = if closest + tie <= 0.5 * pad {
+            near
+        } else {
+            (0..self.faces.len() as u32).filter_map(measure).collect()
+        };
         let nearest = candidates.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
         candidates
             .into_iter()
-            .filter(|c| c.0 <= nearest + 1e-12 * self.pair.face_size)
+            .filter(|c| c.0 <= nearest + tie)
             .min_by_key(|c| c.1.face)
             .map(|(_, it)| it)
     }
