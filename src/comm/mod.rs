@@ -42,6 +42,9 @@ pub trait Comm {
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
     /// Every rank receives every rank's `local`, in rank order.
     fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
+    /// `all_gather_f64` for blocks of one length on every rank, into `out` (rank r's block
+    /// at r * local.len(); out.len() = size * local.len()), allocating nothing.
+    fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]);
 }
 
 /// Reproducible global dot product of the first `n` nodes (the owned ones) of two nodal

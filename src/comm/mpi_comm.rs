@@ -176,6 +176,11 @@ impl Comm for MpiComm {
         split(&buf, &counts, &displs)
     }
 
+    fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]) {
+        debug_assert_eq!(out.len(), local.len() * self.size());
+        self.world.all_gather_into(local, out);
+    }
+
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>) {
         let p = self.world.process_at_rank(root as i32);
         let mut len = data.len() as u64;

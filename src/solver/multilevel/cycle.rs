@@ -46,16 +46,33 @@ struct Level {
     t: Vec<f64>,
 }
 
-/// A sparse level seen by the smoother.
-struct Sparse<'a> {
-    a: &'a Csr,
-    dinv: &'a BlockInverse,
+/// How the first coarse level's operator is applied: whole on this rank (`Whole`), or by
+/// rows split over the ranks and gathered (`super::Split`). Either way each entry of the
+/// product is the same row sum (`Csr::mul_rows_into`), so the same bits.
+pub trait Product {
+    fn mul(&mut self, a: &Csr, x: &[f64], y: &mut [f64]);
 }
 
-impl Space for Sparse<'_> {
+/// The whole product on this rank.
+pub struct Whole;
+
+impl Product for Whole {
+    fn mul(&mut self, a: &Csr, x: &[f64], y: &mut [f64]) {
+        a.mul_into(x, y);
+    }
+}
+
+/// A sparse level seen by the smoother.
+struct Sparse<'a, P: Product> {
+    a: &'a Csr,
+    dinv: &'a BlockInverse,
+    product: &'a mut P,
+}
+
+impl<P: Product> Space for Sparse<'_, P> {
     type Error = Infallible;
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
-        self.a.mul_into(x, y);
+        self.product.mul(self.a, x, y);
         Ok(())
     }
     fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
@@ -170,7 +187,11 @@ impl Hierarchy {
             }
             let n = a.rows;
             let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            let mut sp = Sparse { a: &a, dinv: &dinv };
+            let mut sp = Sparse {
+                a: &a,
+                dinv: &dinv,
+                product: &mut Whole,
+            };
             let Ok(cheb) = Chebyshev::estimate(&mut sp, degree, &mut v, &mut y, &mut w);
             let p = smooth(&a, &dinv, cheb.lmax, &tent.p);
             let pt = p.transpose();
@@ -256,7 +277,12 @@ impl Hierarchy {
             for i in 0..n {
                 self.levels[0].b[i] = rhs[i] - self.res[i];
             }
-            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb);
+            cycle(
+                &mut self.levels,
+                &mut self.coarsest,
+                &mut self.cb,
+                &mut Whole,
+            );
             for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
@@ -281,6 +307,11 @@ impl Hierarchy {
 
     /// x = V(b): one V-cycle on the first coarse level (x need not be zero on entry).
     pub fn solve(&mut self, b: &[f64], x: &mut [f64]) {
+        self.solve_with(b, x, &mut Whole);
+    }
+
+    /// `solve`, the first coarse level's operator applied by `top`.
+    pub fn solve_with<P: Product>(&mut self, b: &[f64], x: &mut [f64], top: &mut P) {
         if self.levels.is_empty() {
             x.copy_from_slice(b);
             self.coarsest.solve(x);
@@ -291,12 +322,12 @@ impl Hierarchy {
             if sweep == 0 {
                 self.levels[0].b.copy_from_slice(b);
             } else {
-                self.levels[0].a.mul_into(x, &mut self.res);
+                top.mul(&self.levels[0].a, x, &mut self.res);
                 for ((bl, bi), ri) in self.levels[0].b.iter_mut().zip(b).zip(&self.res) {
                     *bl = bi - ri;
                 }
             }
-            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb);
+            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
             for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
@@ -304,19 +335,20 @@ impl Hierarchy {
     }
 }
 
-/// levels[0].x = V(levels[0].b).
-fn cycle(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64]) {
+/// levels[0].x = V(levels[0].b), the first level's operator applied by `top`.
+fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64], top: &mut P) {
     let (lv, rest) = levels.split_first_mut().expect("a level");
     lv.x.fill(0.0);
     lv.r.copy_from_slice(&lv.b);
     let mut sp = Sparse {
         a: &lv.a,
         dinv: &lv.dinv,
+        product: &mut *top,
     };
     let Ok(()) = lv
         .cheb
         .smooth(&mut sp, &mut lv.r, &mut lv.x, &mut lv.d, &mut lv.t);
-    lv.a.mul_into(&lv.x, &mut lv.t);
+    top.mul(&lv.a, &lv.x, &mut lv.t);
     for i in 0..lv.r.len() {
         lv.r[i] = lv.b[i] - lv.t[i];
     }
@@ -328,7 +360,7 @@ fn cycle(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64]) {
         }
         Some(next) => {
             lv.pt.mul_into(&lv.r, &mut next.b);
-            cycle(rest, coarsest, cb);
+            cycle(rest, coarsest, cb, &mut Whole);
             &rest[0].x
         }
     };
@@ -336,10 +368,15 @@ fn cycle(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64]) {
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }
-    lv.a.mul_into(&lv.x, &mut lv.t);
+    top.mul(&lv.a, &lv.x, &mut lv.t);
     for i in 0..lv.r.len() {
         lv.r[i] = lv.b[i] - lv.t[i];
     }
+    let mut sp = Sparse {
+        a: &lv.a,
+        dinv: &lv.dinv,
+        product: &mut *top,
+    };
     let Ok(()) = lv
         .cheb
         .smooth(&mut sp, &mut lv.r, &mut lv.x, &mut lv.d, &mut lv.t);

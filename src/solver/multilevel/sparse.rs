@@ -80,13 +80,32 @@ impl Csr {
     /// y = A x.
     pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
         for (i, yi) in y.iter_mut().enumerate().take(self.rows) {
-            let (c, v) = self.row(i);
-            let mut s = 0.0;
-            for (&j, &a) in c.iter().zip(v) {
-                s += a * x[j as usize];
-            }
-            *yi = s;
+            *yi = self.row_times(i, x);
         }
+    }
+
+    /// y = rows `first..first + y.len()` of A x (rows beyond the last give 0): the same
+    /// bits as `mul_into`'s, row by row.
+    pub fn mul_rows_into(&self, x: &[f64], first: usize, y: &mut [f64]) {
+        for (k, yi) in y.iter_mut().enumerate() {
+            let i = first + k;
+            *yi = if i < self.rows {
+                self.row_times(i, x)
+            } else {
+                0.0
+            };
+        }
+    }
+
+    /// Row i of A times x.
+    #[inline]
+    fn row_times(&self, i: usize, x: &[f64]) -> f64 {
+        let (c, v) = self.row(i);
+        let mut s = 0.0;
+        for (&j, &a) in c.iter().zip(v) {
+            s += a * x[j as usize];
+        }
+        s
     }
 
     /// y = A^T x (scattered by rows of A, in row order).
@@ -265,6 +284,29 @@ mod tests {
             }
         }
         Csr::from_triplets(rows, cols, t)
+    }
+
+    /// Rows split into blocks (the last one padded, as `multilevel::Split` splits them over
+    /// ranks) give the bits of the whole product, with non-integer entries whose sums round.
+    #[test]
+    fn a_product_by_blocks_of_rows_is_the_whole_product_bit_for_bit() {
+        let a = sample(11, 9, 3);
+        let x: Vec<f64> = (0..9).map(|j| 1.0 / (j as f64 + 3.0)).collect();
+        let mut whole = vec![0.0; 11];
+        a.mul_into(&x, &mut whole);
+        for ranks in 1..=4usize {
+            let l = 11usize.div_ceil(ranks);
+            let mut all = vec![f64::NAN; l * ranks];
+            for (r, block) in all.chunks_mut(l).enumerate() {
+                a.mul_rows_into(&x, r * l, block);
+            }
+            assert!(all[11..].iter().all(|&v| v == 0.0), "padding is zero");
+            let same = all[..11]
+                .iter()
+                .zip(&whole)
+                .all(|(p, q)| p.to_bits() == q.to_bits());
+            assert!(same, "{ranks} blocks: {:?} vs {whole:?}", &all[..11]);
+        }
     }
 
     #[test]
