@@ -313,3 +313,91 @@ impl<'a> MasterSurface<'a> {
             .map(|(c, _)| interpolate(c, &face::shape(s[0], s[1])))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Discretization;
+
+    /// A master surface of m x m faces on the dome y = 0.3 (x^2 + z^2) over [0, 1]^2, the
+    /// faces' normals up (+y), search tolerances 0.05 (normal) and 0.02 (tangential).
+    fn dome(m: usize) -> (ContactPair, Vec<Vec3>) {
+        let h = 1.0 / m as f64;
+        let id = |i: usize, k: usize| (i * (m + 1) + k) as u32;
+        let mut coords = Vec::new();
+        for i in 0..=m {
+            for k in 0..=m {
+                let (x, z) = (i as f64 * h, k as f64 * h);
+                coords.push([x, 0.3 * (x * x + z * z), z]);
+            }
+        }
+        let mut face_nodes = Vec::new();
+        for i in 0..m {
+            for k in 0..m {
+                face_nodes.push([id(i, k), id(i, k + 1), id(i + 1, k + 1), id(i + 1, k)]);
+            }
+        }
+        let n = face_nodes.len();
+        let pair = ContactPair {
+            name: "dome".into(),
+            master_faces: (0..n as u32).map(|f| (f, 2)).collect(),
+            face_nodes,
+            neighbours: vec![[None; 4]; n],
+            slave_nodes: Vec::new(),
+            slave_faces: Vec::new(),
+            slave_face_nodes: Vec::new(),
+            discretization: Discretization::NodeFace,
+            mu: 0.0,
+            normal_tolerance: 0.05,
+            tangential_tolerance: 0.02,
+            capture_tolerance: 1e-7,
+            smoothing_width: None,
+            face_size: h,
+        };
+        (pair, coords)
+    }
+
+    /// The nearest face found through the search boxes is the one measuring every face
+    /// finds (the audit's answer before the boxes were used), bit for bit: for points on the
+    /// surface, just inside and outside it (the boxes' answer), and far from it (every face
+    /// measured), over a pseudo-random cloud.
+    #[test]
+    fn the_nearest_face_through_the_boxes_is_the_nearest_of_all() {
+        let (pair, coords) = dome(8);
+        let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
+        let every = |x: &Vec3| {
+            let all: Vec<(f64, Interaction)> = (0..surface.num_faces() as u32)
+                .filter_map(|k| surface.project_within(k, x, f64::INFINITY, f64::INFINITY))
+                .collect();
+            let nearest = all.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+            all.into_iter()
+                .filter(|c| c.0 <= nearest + 1e-12 * pair.face_size)
+                .min_by_key(|c| c.1.face)
+                .map(|(_, it)| it)
+        };
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for trial in 0..3000 {
+            let (mut x, z) = (1.2 * next() - 0.1, 1.2 * next() - 0.1);
+            if trial % 5 == 0 {
+                // On a line of edges: faces tie, the lower index wins.
+                x = (x * 8.0).round() / 8.0;
+            }
+            // On the surface or within 0.02 of it (answered through the boxes, pad 0.05),
+            // or up to 0.6 away (mostly every face measured).
+            let off = match trial % 3 {
+                0 => 0.0,
+                1 => 0.04 * next() - 0.02,
+                _ => 1.2 * next() - 0.6,
+            };
+            let p = [x, 0.3 * (x * x + z * z) + off, z];
+            let near = surface.nearest(&p);
+            assert_eq!(near, every(&p), "at {p:?}");
+        }
+    }
+}
