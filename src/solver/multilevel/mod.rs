@@ -69,12 +69,7 @@ pub struct Multilevel {
     degree: usize,
     global_ids: Vec<u32>,
     owned: usize,
-    b1: Vec<f64>,
-    x1: Vec<f64>,
-    /// The first coarse level's product split over the ranks (`Split`): this rank's rows
-    /// and every rank's, gathered (empty on one rank).
-    split_rows: Vec<f64>,
-    split_all: Vec<f64>,
+    coarse: CoarseVectors,
     fx: Vec<Vec3>,
     fr: Vec<Vec3>,
     fd: Vec<Vec3>,
@@ -174,24 +169,7 @@ impl Multilevel {
             degree,
             global_ids: mesh.node_global.clone(),
             owned: mesh.num_owned_nodes,
-            b1: vec![0.0; dim],
-            x1: vec![0.0; dim],
-            split_rows: vec![
-                0.0;
-                if comm.size() > 1 {
-                    dim.div_ceil(comm.size())
-                } else {
-                    0
-                }
-            ],
-            split_all: vec![
-                0.0;
-                if comm.size() > 1 {
-                    dim.div_ceil(comm.size()) * comm.size()
-                } else {
-                    0
-                }
-            ],
+            coarse: CoarseVectors::new(comm, dim),
             fx: v(),
             fr: v(),
             fd: v(),
@@ -237,7 +215,7 @@ impl Multilevel {
         let buf = measure::Probe {
             v: &mut self.fx,
             av: &mut self.fr,
-            coeff: &mut self.b1,
+            coeff: &mut self.coarse.b,
         };
         let kc = measure::measure(
             comm,
@@ -331,18 +309,8 @@ impl Multilevel {
             for (z, (m, r)) in z.iter_mut().zip(minv.iter().zip(r)) {
                 *z = matvec(m, r);
             }
-            self.transfer.aggregates.restrict(comm, r, &mut self.b1);
-            coarse_solve(
-                comm,
-                h,
-                &self.b1,
-                &mut self.x1,
-                &mut self.split_rows,
-                &mut self.split_all,
-            );
-            self.transfer
-                .aggregates
-                .prolong_add(cons, owned, &self.x1, z);
+            self.coarse
+                .correct(comm, h, &self.transfer, (cons, owned), r, z);
             return Ok(());
         };
         let mut f = Fine {
@@ -359,20 +327,8 @@ impl Multilevel {
         let (df, tf) = (self.fd.as_flattened_mut(), self.ft.as_flattened_mut());
         cheb.smooth(&mut f, rf, zf, df, tf)?;
         residual(&mut f, r, zf, rf, tf)?;
-        self.transfer
-            .aggregates
-            .restrict(comm, &self.fr, &mut self.b1);
-        coarse_solve(
-            comm,
-            h,
-            &self.b1,
-            &mut self.x1,
-            &mut self.split_rows,
-            &mut self.split_all,
-        );
-        self.transfer
-            .aggregates
-            .prolong_add(cons, owned, &self.x1, z);
+        self.coarse
+            .correct(comm, h, &self.transfer, (cons, owned), &self.fr, z);
         let (zf, rf) = (z.as_flattened_mut(), self.fr.as_flattened_mut());
         let tf = self.ft.as_flattened_mut();
         residual(&mut f, r, zf, rf, tf)?;
@@ -380,20 +336,52 @@ impl Multilevel {
     }
 }
 
-/// x = V(b) on the coarse levels, the first level's products split over the ranks when
-/// there are several (`Split`).
-fn coarse_solve<C: Comm + ?Sized>(
-    comm: &C,
-    h: &mut Hierarchy,
-    b: &[f64],
-    x: &mut [f64],
-    rows: &mut [f64],
-    all: &mut [f64],
-) {
-    if rows.is_empty() {
-        h.solve(b, x);
-    } else {
-        h.solve_with(b, x, &mut Split { comm, rows, all });
+/// The first coarse level's vectors: the restricted residual `b`, the correction `x`, and
+/// the buffers of its products split over the ranks (`Split`: this rank's rows and every
+/// rank's, gathered; empty on one rank).
+struct CoarseVectors {
+    b: Vec<f64>,
+    x: Vec<f64>,
+    split_rows: Vec<f64>,
+    split_all: Vec<f64>,
+}
+
+impl CoarseVectors {
+    fn new<C: Comm + ?Sized>(comm: &C, dim: usize) -> Self {
+        let rows = if comm.size() > 1 {
+            dim.div_ceil(comm.size())
+        } else {
+            0
+        };
+        CoarseVectors {
+            b: vec![0.0; dim],
+            x: vec![0.0; dim],
+            split_rows: vec![0.0; rows],
+            split_all: vec![0.0; rows * comm.size()],
+        }
+    }
+
+    /// z += Q V(Q^T r) on the owned nodes (`cons` and `owned` as `prolong_add` takes them):
+    /// the coarse correction, the first level's products split over the ranks when there
+    /// are several. Collective.
+    fn correct<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        h: &mut Hierarchy,
+        transfer: &Transfer,
+        (cons, owned): (&Constraints, usize),
+        r: &[Vec3],
+        z: &mut [Vec3],
+    ) {
+        transfer.aggregates.restrict(comm, r, &mut self.b);
+        if self.split_rows.is_empty() {
+            h.solve(&self.b, &mut self.x);
+        } else {
+            let rows = &mut self.split_rows;
+            let all = &mut self.split_all;
+            h.solve_with(&self.b, &mut self.x, &mut Split { comm, rows, all });
+        }
+        transfer.aggregates.prolong_add(cons, owned, &self.x, z);
     }
 }
 
