@@ -223,8 +223,11 @@ fn estimates_within_25_percent(
 /// shows its share of the peak best. The build used to hold the old hierarchy and the
 /// triplets of the first coarse operator and its transpose at once: at n = 40 849.4 MiB
 /// under mpirun against the estimated 629.1 (-25.9%: this test failed; at n = 80 on 2
-/// ranks, too big for it, 4760.6 against 3489.2); since, 122.4 and 650.1 MiB against 108.0
-/// and 629.1 (-11.8%, -3.2%; n = 80 on 2 ranks 3074.1, +13.5%).
+/// ranks, too big for it, 4760.6 against 3489.2); then 122.4 and 650.1 MiB against 108.0
+/// and 629.1 (-11.8%, -3.2%; n = 80 on 2 ranks 3074.1, +13.5%). Since the first coarse
+/// operator is written in place and the prolongator's products merged by rows (no
+/// triplet lists): 99.2 and 557.7 MiB against 95.2 and 533.4 (-4.0%, -4.4%; n = 80 on 2
+/// ranks 2509.8 against 2751.0, +9.6%).
 #[test]
 fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
     let scene = root().join("run/scenes/bench/block_on_block.toml");

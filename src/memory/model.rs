@@ -53,14 +53,17 @@ const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
-/// The multilevel hierarchy, held on every rank for the whole mesh: its smoothed
-/// prolongator dominates, a row per unknown (3 per node) with 6 rigid-body modes of each of
-/// the about 8 aggregates the smoothing reaches, a value and a column index (12 bytes)
-/// each. (Measured on the block on block with multilevel by name: 110.6, 625.0 and 3074.1
-/// MiB per rank at 18522, 137842 and 1062882 nodes, against the estimated 98.0, 619.1 and
-/// 3489.2; the last on 2 ranks. The peak is the build's: the first coarse operator, its
-/// transpose and their symmetric part, 36 bytes per entry, about 140 entries per row.)
-const MULTILEVEL_PER_NODE: f64 = 3.0 * 6.0 * 8.0 * 12.0;
+/// The multilevel hierarchy, built on every rank for the whole mesh, at the peak of its
+/// build: the first coarse operator (about 34 entries per node, a value and a column index,
+/// 12 bytes each: 400 bytes), the products its next level is built from (A P_tent, then
+/// D^-1 A P_tent, then A P: about 15 entries per node each, 180 bytes), the smoothed
+/// prolongator and its transpose (70 bytes each), the aggregates, colours and graph. The
+/// build writes the first coarse operator in place and merges rows instead of sorting
+/// triplet lists (the triplets were 36 bytes per entry of the first coarse operator and
+/// six times the entries of A P_tent). Measured on the block on block with multilevel by
+/// name: 99.2 and 557.7 MiB on one rank at 18522 and 137842 nodes, 2509.8 MiB per rank on
+/// 2 ranks at 1062882 nodes, against the estimated 95.2, 533.4 and 2751.0.
+const MULTILEVEL_PER_NODE: f64 = 1000.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;

@@ -218,8 +218,10 @@ impl<'a> Assembly<'a> {
     /// `internal_force` for a field that vanishes on most elements (the coarse space's
     /// probes): an element whose eight displacements are all zero contributes exactly zero
     /// (no elastic material carries an initial stress; it is used only when every body is
-    /// linear, so never with a plastic body's residual stresses) and is skipped. Adding a zero never
-    /// changes a sum, so the result is bitwise that of `internal_force`.
+    /// linear, so never with a plastic body's residual stresses) and is skipped before its
+    /// geometry is read (an element whose reference geometry failed is reported by the
+    /// step's forces, computed before any probe). Adding a zero never changes a sum, so the
+    /// result is bitwise that of `internal_force`.
     pub fn internal_force_sparse(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
         self.element_forces(u, f, true)
     }
@@ -236,11 +238,11 @@ impl<'a> Assembly<'a> {
         f.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let ue = self.gather(e, u);
             if skip_zero && ue.iter().all(|v| v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) {
                 continue;
             }
+            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let m = &self.models[self.mesh.element_body[e] as usize];
             let gauss = self.gauss.get(e);
             let hist = self.hist(e);

@@ -75,9 +75,22 @@ impl BlockInverse {
     }
 
     /// D^-1 M for a sparse M of the level's rows (row p of the result combines the rows
-    /// of p's node block).
+    /// of p's node block). Entry (p, j) is the sum over q of inv[p][q] m[q][j] in the order
+    /// of q, from its first term, over the q with inv[p][q] != 0 whose row has column j,
+    /// written row by row (no triplets: their list, six times the entries of M, was the
+    /// peak of a multilevel build).
     pub fn left_multiply(&self, m: &Csr) -> Csr {
-        let mut trip = Vec::with_capacity(m.nnz());
+        let mut out = Csr {
+            rows: m.rows,
+            cols: m.cols,
+            ptr: Vec::with_capacity(m.rows + 1),
+            idx: Vec::with_capacity(m.nnz()),
+            val: Vec::with_capacity(m.nnz()),
+        };
+        out.ptr.push(0);
+        let mut acc = vec![0.0f64; m.cols];
+        let mut seen = vec![false; m.cols];
+        let mut cols: Vec<u32> = Vec::new();
         for i in 0..self.node_ptr.len() - 1 {
             let (lo, hi) = (self.node_ptr[i], self.node_ptr[i + 1]);
             let b = hi - lo;
@@ -90,12 +103,27 @@ impl BlockInverse {
                     }
                     let (c, v) = m.row(lo + q);
                     for (&j, &x) in c.iter().zip(v) {
-                        trip.push(((lo + p) as u32, j, w * x));
+                        let j = j as usize;
+                        if seen[j] {
+                            acc[j] += w * x;
+                        } else {
+                            seen[j] = true;
+                            acc[j] = w * x;
+                            cols.push(j as u32);
+                        }
                     }
                 }
+                cols.sort_unstable();
+                for &j in &cols {
+                    out.idx.push(j);
+                    out.val.push(acc[j as usize]);
+                    seen[j as usize] = false;
+                }
+                cols.clear();
+                out.ptr.push(out.idx.len());
             }
         }
-        Csr::from_triplets(m.rows, m.cols, trip)
+        out
     }
 }
 

@@ -5,6 +5,7 @@
 //! result on any number of ranks, no communication. Buffers are allocated once, at setup.
 
 use super::aggregation::{aggregate, Graph};
+use super::block_rows::BlockRows;
 use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
@@ -32,9 +33,42 @@ const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
 
+/// A level's operator: sparse rows while the hierarchy is built, the first level's then
+/// held as this rank's rows in blocks (`Hierarchy::keep_rows`).
+pub enum Op {
+    Sparse(Csr),
+    Rows(BlockRows),
+}
+
+impl Op {
+    /// The sparse operator of a level being built.
+    fn csr(&self) -> &Csr {
+        match self {
+            Op::Sparse(a) => a,
+            Op::Rows(_) => unreachable!("a level's sparse rows are used only while it is built"),
+        }
+    }
+
+    /// y = A x (the whole product: a sparse level, or rows in blocks held whole).
+    pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
+        match self {
+            Op::Sparse(a) => a.mul_into(x, y),
+            Op::Rows(r) => r.mul_rows_into(x, 0, y),
+        }
+    }
+
+    /// y = rows `first..first + y.len()` of A x, the same bits as `mul_into`'s.
+    pub fn mul_rows_into(&self, x: &[f64], first: usize, y: &mut [f64]) {
+        match self {
+            Op::Sparse(a) => a.mul_rows_into(x, first, y),
+            Op::Rows(r) => r.mul_rows_into(x, first, y),
+        }
+    }
+}
+
 /// One coarse level: its operator, smoother, prolongator to the next and buffers.
 struct Level {
-    a: Csr,
+    a: Op,
     dinv: BlockInverse,
     cheb: Chebyshev,
     p: Csr,
@@ -50,21 +84,21 @@ struct Level {
 /// rows split over the ranks and gathered (`super::Split`). Either way each entry of the
 /// product is the same row sum (`Csr::mul_rows_into`), so the same bits.
 pub trait Product {
-    fn mul(&mut self, a: &Csr, x: &[f64], y: &mut [f64]);
+    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
 }
 
 /// The whole product on this rank.
 pub struct Whole;
 
 impl Product for Whole {
-    fn mul(&mut self, a: &Csr, x: &[f64], y: &mut [f64]) {
+    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
         a.mul_into(x, y);
     }
 }
 
 /// A sparse level seen by the smoother.
 struct Sparse<'a, P: Product> {
-    a: &'a Csr,
+    a: &'a Op,
     dinv: &'a BlockInverse,
     product: &'a mut P,
 }
@@ -187,17 +221,18 @@ impl Hierarchy {
             }
             let n = a.rows;
             let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let op = Op::Sparse(a);
             let mut sp = Sparse {
-                a: &a,
+                a: &op,
                 dinv: &dinv,
                 product: &mut Whole,
             };
             let Ok(cheb) = Chebyshev::estimate(&mut sp, degree, &mut v, &mut y, &mut w);
-            let p = smooth(&a, &dinv, cheb.lmax, &tent.p);
+            let p = smooth(op.csr(), &dinv, cheb.lmax, &tent.p);
             let pt = p.transpose();
-            let ac = pt.matmul(&a.matmul(&p)).symmetric_part();
+            let ac = pt.matmul(&op.csr().matmul(&p)).symmetric_part();
             levels.push(Level {
-                a,
+                a: op,
                 dinv,
                 cheb,
                 p,
@@ -238,7 +273,7 @@ impl Hierarchy {
         if self.rate <= SLOW_RATE {
             return;
         }
-        let a = &self.levels[0].a;
+        let a = self.levels[0].a.csr();
         let Some((perm, counts)) = SparseCholesky::analyse(a, node_ptr, FILL * a.nnz()) else {
             return;
         };
@@ -256,8 +291,8 @@ impl Hierarchy {
     /// RATE_CYCLES cycles, in the 2-norm over the unknowns with stiffness).
     fn v_cycle_rate(&mut self) -> f64 {
         let lv = &self.levels[0];
-        let n = lv.a.rows;
-        let live: Vec<bool> = lv.a.diagonal().iter().map(|&d| d > 0.0).collect();
+        let n = lv.a.csr().rows;
+        let live: Vec<bool> = lv.a.csr().diagonal().iter().map(|&d| d > 0.0).collect();
         let x_true: Vec<f64> = (0..n)
             .map(|i| if live[i] { hash_value(i as u64) } else { 0.0 })
             .collect();
@@ -291,6 +326,22 @@ impl Hierarchy {
             (err(&x) / e0).powf(1.0 / RATE_CYCLES as f64)
         } else {
             0.0
+        }
+    }
+
+    /// Keeps of the first level's operator only rows first..first + len, in blocks
+    /// (`BlockRows`), once the hierarchy is built: the cycle then applies it only through
+    /// a product of those rows (`super::Split`, or `Whole` when they are all of them).
+    /// Nothing changes when the first level was factored, or its unknowns are not in
+    /// nodes of six.
+    pub fn keep_rows(&mut self, first: usize, len: usize) {
+        let Some(lv) = self.levels.first_mut() else {
+            return;
+        };
+        if let Op::Sparse(a) = &lv.a {
+            if let Some(rows) = BlockRows::new(a, first, len) {
+                lv.a = Op::Rows(rows);
+            }
         }
     }
 

@@ -22,6 +22,7 @@
 //! whole coarse hierarchy and runs the same cycle; fine-level dot products are exact.
 
 pub mod aggregation;
+pub mod block_rows;
 pub mod blocks;
 pub mod colouring;
 pub mod cycle;
@@ -96,7 +97,7 @@ struct Split<'a, C: Comm + ?Sized> {
 }
 
 impl<C: Comm + ?Sized> cycle::Product for Split<'_, C> {
-    fn mul(&mut self, a: &sparse::Csr, x: &[f64], y: &mut [f64]) {
+    fn mul(&mut self, a: &cycle::Op, x: &[f64], y: &mut [f64]) {
         a.mul_rows_into(x, self.comm.rank() * self.rows.len(), self.rows);
         self.comm.all_gather_equal_f64(self.rows, self.all);
         y.copy_from_slice(&self.all[..y.len()]);
@@ -209,9 +210,14 @@ impl Multilevel {
         // 3489). Nothing below uses it; a build that fails leaves none, and the next use
         // builds one.
         self.hierarchy = None;
+        let clock = std::time::Instant::now();
+        let mut phases = [0.0f64; 4];
+        let mut lap =
+            |i: usize| phases[i] = clock.elapsed().as_secs_f64() - phases.iter().sum::<f64>();
         let ties = Ties::gather(comm, cons, mesh, self.graph.len());
         let na = self.transfer.num_aggregates;
         let col = Colouring::new(&self.graph, &self.transfer.agg_of, na, &ties);
+        lap(0);
         let buf = measure::Probe {
             v: &mut self.fx,
             av: &mut self.fr,
@@ -226,17 +232,27 @@ impl Multilevel {
             buf,
             |v, av| op.apply(v, av),
         )?;
+        lap(1);
         let node_ptr: Vec<usize> = (0..=na).map(|k| MODES * k).collect();
         let b = self.transfer.nullspace(&self.origin, self.length);
         let body = self.transfer.body.clone();
-        let h = Hierarchy::build(kc, node_ptr, b, body, COARSE_DEGREE, COARSE_SWEEPS);
+        let mut h = Hierarchy::build(kc, node_ptr, b, body, COARSE_DEGREE, COARSE_SWEEPS);
+        // This rank's rows of the first level (`Split`), or all of them on one rank.
+        let rows = self.coarse.split_rows.len();
+        if rows > 0 {
+            h.keep_rows(comm.rank() * rows, rows);
+        } else {
+            h.keep_rows(0, self.transfer.dim());
+        }
+        lap(2);
         self.fine = None;
         if self.degree > 0 && linear {
             self.estimate_smoother(comm, minv, op)?;
         }
+        lap(3);
         self.builds += 1;
         self.summary = format!(
-            "multilevel: {} fine aggregates, {} colours, coarse levels of {:?} unknowns ({:?} non-zeros), {}, {}",
+            "multilevel: {} fine aggregates, {} colours, coarse levels of {:?} unknowns ({:?} non-zeros), {}, {}; colouring {:.3} s, measuring ({} operator applications) {:.3} s, coarse levels {:.3} s, fine smoother {:.3} s",
             na,
             col.num_colours,
             h.sizes,
@@ -245,7 +261,12 @@ impl Multilevel {
             match self.fine {
                 Some(c) => format!("fine Chebyshev degree {}", c.degree),
                 None => "additive fine level".to_string(),
-            }
+            },
+            phases[0],
+            col.num_colours * MODES,
+            phases[1],
+            phases[2],
+            phases[3]
         );
         self.hierarchy = Some(h);
         Ok(())

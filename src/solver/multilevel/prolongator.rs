@@ -78,35 +78,49 @@ pub fn tentative(
 }
 
 /// P = (I - omega D^-1 A) P_tent, omega = 4 / (3 lmax(D^-1 A)), D the node-block diagonal;
-/// rows of unknowns without stiffness (left out of D^-1) are left as they are.
+/// rows of unknowns without stiffness (left out of D^-1) are left as they are. Each row
+/// merges the two sorted rows: t - omega x where both have the column, exact zeros left
+/// out.
 pub fn smooth(a: &Csr, dinv: &BlockInverse, lmax: f64, pt: &Csr) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
     let ap = dinv.left_multiply(&a.matmul(pt));
-    let mut trip = Vec::with_capacity(ap.nnz() + pt.nnz());
+    let mut p = Csr {
+        rows: pt.rows,
+        cols: pt.cols,
+        ptr: Vec::with_capacity(pt.rows + 1),
+        idx: Vec::with_capacity(ap.nnz() + pt.nnz()),
+        val: Vec::with_capacity(ap.nnz() + pt.nnz()),
+    };
+    p.ptr.push(0);
+    let push = |p: &mut Csr, j: u32, v: f64| {
+        if v != 0.0 {
+            p.idx.push(j);
+            p.val.push(v);
+        }
+    };
     for i in 0..pt.rows {
-        let (c, v) = pt.row(i);
-        for (&j, &x) in c.iter().zip(v) {
-            trip.push((i as u32, j, x));
-        }
-        let (c, v) = ap.row(i);
-        for (&j, &x) in c.iter().zip(v) {
-            trip.push((i as u32, j, -omega * x));
-        }
-    }
-    let mut p = Csr::from_triplets(pt.rows, pt.cols, trip);
-    // Drop exact zeros (rows of dead unknowns).
-    if p.val.contains(&0.0) {
-        let mut t = Vec::with_capacity(p.nnz());
-        for i in 0..p.rows {
-            let (c, v) = p.row(i);
-            for (&j, &x) in c.iter().zip(v) {
-                if x != 0.0 {
-                    t.push((i as u32, j, x));
-                }
+        let (ct, vt) = pt.row(i);
+        let (ca, va) = ap.row(i);
+        let (mut x, mut y) = (0, 0);
+        while x < ct.len() || y < ca.len() {
+            let s = ct.get(x).copied().unwrap_or(u32::MAX);
+            let t = ca.get(y).copied().unwrap_or(u32::MAX);
+            if s == t {
+                push(&mut p, s, vt[x] + -omega * va[y]);
+                x += 1;
+                y += 1;
+            } else if s < t {
+                push(&mut p, s, vt[x]);
+                x += 1;
+            } else {
+                push(&mut p, t, -omega * va[y]);
+                y += 1;
             }
         }
-        p = Csr::from_triplets(p.rows, p.cols, t);
+        p.ptr.push(p.idx.len());
     }
+    p.idx.shrink_to_fit();
+    p.val.shrink_to_fit();
     p
 }
 
