@@ -184,7 +184,7 @@ impl ExactSum {
 
     /// Adds the product `a*b` (exactly, unless it underflows below `2^-969`;
     /// see the [module documentation](self)).
-    #[inline]
+    #[inline(always)]
     pub fn add_product(&mut self, a: f64, b: f64) {
         self.reserve_load(2);
         self.limbs[LOAD] += 2;

@@ -153,6 +153,8 @@ pub struct Hierarchy {
     rate: f64,
     /// Entries of the sparse factor of the first coarse level, when it replaced the levels.
     factored: Option<usize>,
+    /// The first level's unknowns by node, until `finish`.
+    first_nodes: Vec<usize>,
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
@@ -258,23 +260,44 @@ impl Hierarchy {
             res: vec![0.0; n1],
             rate: 0.0,
             factored: None,
+            first_nodes: Vec::new(),
         };
-        h.factor_if_slow(&first_nodes);
+        h.first_nodes = first_nodes;
         h
     }
 
-    /// Replaces the levels by a sparse factor of the first coarse level when a V-cycle
-    /// reduces its error slowly and the factor fits the fill budget.
-    fn factor_if_slow(&mut self, node_ptr: &[usize]) {
-        if self.levels.is_empty() {
+    /// Completes a build: keeps of the first level's operator only rows first..first + len,
+    /// in blocks (`BlockRows`; the cycle then applies it only through `top`, a product of
+    /// those rows: `super::Split`, or `Whole` when they are all of them), measures the
+    /// V-cycle's rate with `top`, and replaces the levels by a sparse factor of the first
+    /// one when that rate is slow and the factor fits the fill budget. The rate is the same
+    /// bits whichever product measures it. The first level stays sparse when its unknowns
+    /// are not in nodes of six.
+    pub fn finish<P: Product>(&mut self, top: &mut P, first: usize, len: usize) {
+        let node_ptr = std::mem::take(&mut self.first_nodes);
+        let Some(lv) = self.levels.first_mut() else {
             return;
-        }
-        self.rate = self.v_cycle_rate();
+        };
+        let Op::Sparse(a) = std::mem::replace(&mut lv.a, Op::Sparse(Csr::default())) else {
+            unreachable!("a hierarchy is finished once")
+        };
+        let live: Vec<bool> = a.diagonal().iter().map(|&d| d > 0.0).collect();
+        let spare = match BlockRows::new(&a, first, len) {
+            Some(rows) => {
+                lv.a = Op::Rows(rows);
+                Some(a)
+            }
+            None => {
+                lv.a = Op::Sparse(a);
+                None
+            }
+        };
+        self.rate = self.v_cycle_rate(&live, top);
         if self.rate <= SLOW_RATE {
             return;
         }
-        let a = self.levels[0].a.csr();
-        let Some((perm, counts)) = SparseCholesky::analyse(a, node_ptr, FILL * a.nnz()) else {
+        let a = spare.as_ref().unwrap_or_else(|| self.levels[0].a.csr());
+        let Some((perm, counts)) = SparseCholesky::analyse(a, &node_ptr, FILL * a.nnz()) else {
             return;
         };
         let f = SparseCholesky::new(a, perm, &counts);
@@ -286,18 +309,17 @@ impl Hierarchy {
         self.nonzeros.truncate(1);
     }
 
-    /// The error reduction per V-cycle on the first coarse level, as a stationary
-    /// iteration from zero towards a fixed pseudo-random solution (geometric mean over
-    /// RATE_CYCLES cycles, in the 2-norm over the unknowns with stiffness).
-    fn v_cycle_rate(&mut self) -> f64 {
-        let lv = &self.levels[0];
-        let n = lv.a.csr().rows;
-        let live: Vec<bool> = lv.a.csr().diagonal().iter().map(|&d| d > 0.0).collect();
+    /// The error reduction per V-cycle on the first coarse level (`live`: its unknowns
+    /// with stiffness), as a stationary iteration from zero towards a fixed pseudo-random
+    /// solution (geometric mean over RATE_CYCLES cycles, in the 2-norm over the live
+    /// unknowns), the first level's operator applied by `top`.
+    fn v_cycle_rate<P: Product>(&mut self, live: &[bool], top: &mut P) -> f64 {
+        let n = live.len();
         let x_true: Vec<f64> = (0..n)
             .map(|i| if live[i] { hash_value(i as u64) } else { 0.0 })
             .collect();
         let mut rhs = vec![0.0; n];
-        lv.a.mul_into(&x_true, &mut rhs);
+        top.mul(&self.levels[0].a, &x_true, &mut rhs);
         let mut x = vec![0.0; n];
         let err = |x: &[f64]| -> f64 {
             (0..n)
@@ -308,16 +330,11 @@ impl Hierarchy {
         };
         let e0 = err(&x);
         for _ in 0..RATE_CYCLES {
-            self.levels[0].a.mul_into(&x, &mut self.res);
+            top.mul(&self.levels[0].a, &x, &mut self.res);
             for i in 0..n {
                 self.levels[0].b[i] = rhs[i] - self.res[i];
             }
-            cycle(
-                &mut self.levels,
-                &mut self.coarsest,
-                &mut self.cb,
-                &mut Whole,
-            );
+            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
             for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
@@ -326,22 +343,6 @@ impl Hierarchy {
             (err(&x) / e0).powf(1.0 / RATE_CYCLES as f64)
         } else {
             0.0
-        }
-    }
-
-    /// Keeps of the first level's operator only rows first..first + len, in blocks
-    /// (`BlockRows`), once the hierarchy is built: the cycle then applies it only through
-    /// a product of those rows (`super::Split`, or `Whole` when they are all of them).
-    /// Nothing changes when the first level was factored, or its unknowns are not in
-    /// nodes of six.
-    pub fn keep_rows(&mut self, first: usize, len: usize) {
-        let Some(lv) = self.levels.first_mut() else {
-            return;
-        };
-        if let Op::Sparse(a) = &lv.a {
-            if let Some(rows) = BlockRows::new(a, first, len) {
-                lv.a = Op::Rows(rows);
-            }
         }
     }
 
@@ -472,6 +473,7 @@ mod tests {
             let node_ptr: Vec<usize> = (0..=n).collect();
             let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
             let mut h = Hierarchy::build(a.clone(), node_ptr, b, vec![0; n], 2, 1);
+            h.finish(&mut Whole, 0, n);
             assert!(h.sizes.len() >= 2, "{:?}", h.sizes);
             let x_true: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();
             let mut rhs = vec![0.0; n];

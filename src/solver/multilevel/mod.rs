@@ -240,9 +240,15 @@ impl Multilevel {
         // This rank's rows of the first level (`Split`), or all of them on one rank.
         let rows = self.coarse.split_rows.len();
         if rows > 0 {
-            h.keep_rows(comm.rank() * rows, rows);
+            let first = comm.rank() * rows;
+            let split = &mut Split {
+                comm,
+                rows: &mut self.coarse.split_rows,
+                all: &mut self.coarse.split_all,
+            };
+            h.finish(split, first, rows);
         } else {
-            h.keep_rows(0, self.transfer.dim());
+            h.finish(&mut cycle::Whole, 0, self.transfer.dim());
         }
         lap(2);
         self.fine = None;
