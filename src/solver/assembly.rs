@@ -212,36 +212,48 @@ impl<'a> Assembly<'a> {
 
     /// f = f_int(u) on every local node (complete on owned nodes).
     pub fn internal_force(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
-        self.element_forces(u, f, false)
+        self.element_forces(u, f, None)
     }
 
     /// `internal_force` for a field that vanishes on most elements (the coarse space's
     /// probes): an element whose eight displacements are all zero contributes exactly zero
     /// (no elastic material carries an initial stress; it is used only when every body is
-    /// linear, so never with a plastic body's residual stresses) and is skipped before its
-    /// geometry is read (an element whose reference geometry failed is reported by the
-    /// step's forces, computed before any probe). Adding a zero never changes a sum, so the
-    /// result is bitwise that of `internal_force`.
-    pub fn internal_force_sparse(&self, u: &[Vec3], f: &mut [Vec3]) -> Result<(), ElementError> {
-        self.element_forces(u, f, true)
+    /// linear, so never with a plastic body's residual stresses) and is skipped, told by
+    /// `nonzero` (one flag per local node, set here: whether the node's displacement is
+    /// not zero) before its displacements or geometry are read (an element whose
+    /// reference geometry failed is reported by the step's forces, computed before any
+    /// probe). Adding a zero never changes a sum, so the result is bitwise that of
+    /// `internal_force`.
+    pub fn internal_force_sparse(
+        &self,
+        u: &[Vec3],
+        f: &mut [Vec3],
+        nonzero: &mut [bool],
+    ) -> Result<(), ElementError> {
+        for (z, v) in nonzero.iter_mut().zip(u) {
+            *z = v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0;
+        }
+        self.element_forces(u, f, Some(nonzero))
     }
 
     /// The element loop of both: each element's force summed into its nodes in element
-    /// order; `skip_zero` skips elements whose displacements are all zero.
+    /// order; with `nonzero`, elements none of whose nodes is flagged are skipped.
     #[inline]
     fn element_forces(
         &self,
         u: &[Vec3],
         f: &mut [Vec3],
-        skip_zero: bool,
+        nonzero: Option<&[bool]>,
     ) -> Result<(), ElementError> {
         f.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
-            let ue = self.gather(e, u);
-            if skip_zero && ue.iter().all(|v| v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) {
-                continue;
+            if let Some(nz) = nonzero {
+                if self.mesh.elements[e].iter().all(|&n| !nz[n as usize]) {
+                    continue;
+                }
             }
+            let ue = self.gather(e, u);
             let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
             let m = &self.models[self.mesh.element_body[e] as usize];
             let gauss = self.gauss.get(e);

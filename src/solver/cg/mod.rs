@@ -28,6 +28,7 @@ macro_rules! fine_op {
             trial: &mut $cg.trial,
             fi_trial: &mut $cg.fi_trial,
             fe_trial: &mut $cg.fe_trial,
+            nonzero: &mut $cg.nonzero,
         }
     };
 }
@@ -95,6 +96,8 @@ pub struct Cg {
     trial: Vec<Vec3>,
     fi_trial: Vec<Vec3>,
     fe_trial: Vec<Vec3>,
+    /// Which nodes of a probe are not zero (`Assembly::internal_force_sparse`).
+    nonzero: Vec<bool>,
     diag: Vec<Mat3>,
     minv: Vec<Mat3>,
     /// The coarse space of the two-level preconditioner, when used.
@@ -145,6 +148,7 @@ impl Cg {
             trial: v()?,
             fi_trial: v()?,
             fe_trial: v()?,
+            nonzero: try_filled(false, n, "the probes' node flags")?,
             diag: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
             minv: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
             coarse: None,

@@ -97,6 +97,8 @@ pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     pub(super) trial: &'b mut [Vec3],
     pub(super) fi_trial: &'b mut [Vec3],
     pub(super) fe_trial: &'b mut [Vec3],
+    /// One flag per local node for `internal_force_sparse`.
+    pub(super) nonzero: &'b mut [bool],
 }
 
 impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
@@ -106,7 +108,7 @@ impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
         pb.cons.expand(comm, x);
         pb.asm.mesh.exchange(comm, x);
         if self.linear {
-            agree(comm, pb.asm.internal_force_sparse(x, y))?;
+            agree(comm, pb.asm.internal_force_sparse(x, y, self.nonzero))?;
             // The slipping nodes' springs are part of the model problem's operator (the
             // nonlinear branch gets them through the forces): without them the cycle would
             // smooth with a diagonal that has them against an operator that has not.

@@ -59,7 +59,9 @@ impl Cg {
                 pb.asm.mesh.exchange(comm, &mut self.pu);
                 if linear {
                     // A probe is non-zero on one colour's aggregates only.
-                    let r = pb.asm.internal_force_sparse(&self.pu, &mut self.q);
+                    let r = pb
+                        .asm
+                        .internal_force_sparse(&self.pu, &mut self.q, &mut self.nonzero);
                     if let Err(e) = agree(comm, r) {
                         result = Err(e);
                         break 'probes;
