@@ -1,8 +1,10 @@
 //! The coarse levels and their V-cycle: assembled sparse operators A_(l+1) = P^T A_l P
 //! with smoothed-aggregation prolongators, a Chebyshev smoother on each, a dense direct
-//! solve on the coarsest. Every rank holds the whole hierarchy (built from the same data in
-//! the same order) and runs the same cycle on the same coarse vector: bitwise the same
-//! result on any number of ranks, no communication. Buffers are allocated once, at setup.
+//! solve on the coarsest. Every rank builds the whole hierarchy (from the same data in the
+//! same order) and runs the same cycle on the same coarse vector: bitwise the same result
+//! on any number of ranks. Once built (`Hierarchy::finish`), the first level's operator is
+//! kept as this rank's rows only, applied through a `Product` that gathers every rank's
+//! rows (the only communication). Buffers are allocated once, at setup.
 
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;

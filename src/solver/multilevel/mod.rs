@@ -18,8 +18,10 @@
 //! application (used for nonlinear bodies, whose operator is a finite difference).
 //!
 //! Bitwise the same on any number of ranks: aggregates and colours come from global data;
-//! restriction sums each aggregate on one rank in global node order; every rank holds the
-//! whole coarse hierarchy and runs the same cycle; fine-level dot products are exact.
+//! restriction sums each aggregate on one rank in global node order; every rank builds the
+//! whole coarse hierarchy and runs the same cycle, each keeping and applying its rows of
+//! the first coarse operator (`Split`: every entry the same row sum whoever computes it);
+//! fine-level dot products are exact.
 
 pub mod aggregation;
 pub mod block_rows;
