@@ -142,3 +142,23 @@ pub fn lowest_error<C: Comm + ?Sized>(comm: &C, local: Option<(i64, String)>) ->
     comm.broadcast_bytes(root, &mut bytes);
     Some(String::from_utf8_lossy(&bytes).into_owned())
 }
+
+#[cfg(test)]
+mod dispatch_tests {
+    use super::*;
+
+    /// The exact dot product with the processor's fused multiply-add (where it has one)
+    /// rounds to the bits of the portable one, on terms whose products round.
+    #[test]
+    fn the_dispatched_dot_gives_the_bits_of_the_portable_one() {
+        let a: Vec<Vec3> = (0..1000)
+            .map(|k| std::array::from_fn(|i| ((3 * k + i) as f64 * 0.37).sin() * 1e3))
+            .collect();
+        let b: Vec<Vec3> = (0..1000)
+            .map(|k| std::array::from_fn(|i| 1.0 / ((3 * k + i) as f64 + 0.7)))
+            .collect();
+        let comm = serial::SerialComm;
+        let want = local_dot(&a, &b, a.len()).to_f64();
+        assert_eq!(dot(&comm, &a, &b, a.len()).to_bits(), want.to_bits());
+    }
+}
