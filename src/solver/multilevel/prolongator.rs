@@ -84,44 +84,7 @@ pub fn tentative(
 pub fn smooth(a: &Csr, dinv: &BlockInverse, lmax: f64, pt: &Csr) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
     let ap = dinv.left_multiply(&a.matmul(pt));
-    let mut p = Csr {
-        rows: pt.rows,
-        cols: pt.cols,
-        ptr: Vec::with_capacity(pt.rows + 1),
-        idx: Vec::with_capacity(ap.nnz() + pt.nnz()),
-        val: Vec::with_capacity(ap.nnz() + pt.nnz()),
-    };
-    p.ptr.push(0);
-    let push = |p: &mut Csr, j: u32, v: f64| {
-        if v != 0.0 {
-            p.idx.push(j);
-            p.val.push(v);
-        }
-    };
-    for i in 0..pt.rows {
-        let (ct, vt) = pt.row(i);
-        let (ca, va) = ap.row(i);
-        let (mut x, mut y) = (0, 0);
-        while x < ct.len() || y < ca.len() {
-            let s = ct.get(x).copied().unwrap_or(u32::MAX);
-            let t = ca.get(y).copied().unwrap_or(u32::MAX);
-            if s == t {
-                push(&mut p, s, vt[x] + -omega * va[y]);
-                x += 1;
-                y += 1;
-            } else if s < t {
-                push(&mut p, s, vt[x]);
-                x += 1;
-            } else {
-                push(&mut p, t, -omega * va[y]);
-                y += 1;
-            }
-        }
-        p.ptr.push(p.idx.len());
-    }
-    p.idx.shrink_to_fit();
-    p.val.shrink_to_fit();
-    p
+    pt.merge(&ap, |t, x| t + -omega * x, |t| t, |x| -omega * x, true)
 }
 
 #[cfg(test)]

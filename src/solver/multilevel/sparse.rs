@@ -202,34 +202,58 @@ impl Csr {
     pub fn symmetric_part(&self) -> Csr {
         assert_eq!(self.rows, self.cols, "symmetric_part: a square matrix");
         let t = self.transpose();
+        self.merge(
+            &t,
+            |a, b| 0.5 * a + 0.5 * b,
+            |a| 0.5 * a,
+            |b| 0.5 * b,
+            false,
+        )
+    }
+
+    /// Row by row, the sorted union of the entries of `self` and `b` (of the same shape):
+    /// `both(a, b)` where both have the column, `only_a(a)` or `only_b(b)` where one has;
+    /// with `drop_zeros`, entries that come out exactly zero are left out.
+    pub fn merge(
+        &self,
+        b: &Csr,
+        both: impl Fn(f64, f64) -> f64,
+        only_a: impl Fn(f64) -> f64,
+        only_b: impl Fn(f64) -> f64,
+        drop_zeros: bool,
+    ) -> Csr {
+        assert_eq!((self.rows, self.cols), (b.rows, b.cols), "merge: one shape");
         let mut ptr = Vec::with_capacity(self.rows + 1);
         ptr.push(0);
-        let mut idx = Vec::with_capacity(self.nnz());
-        let mut val = Vec::with_capacity(self.nnz());
+        let mut idx = Vec::with_capacity(self.nnz().max(b.nnz()));
+        let mut val = Vec::with_capacity(self.nnz().max(b.nnz()));
         for i in 0..self.rows {
             let (ca, va) = self.row(i);
-            let (cb, vb) = t.row(i);
+            let (cb, vb) = b.row(i);
             let (mut x, mut y) = (0, 0);
             while x < ca.len() || y < cb.len() {
-                let a = ca.get(x).copied().unwrap_or(u32::MAX);
-                let b = cb.get(y).copied().unwrap_or(u32::MAX);
-                if a == b {
-                    idx.push(a);
-                    val.push(0.5 * va[x] + 0.5 * vb[y]);
+                let s = ca.get(x).copied().unwrap_or(u32::MAX);
+                let t = cb.get(y).copied().unwrap_or(u32::MAX);
+                let (j, v) = if s == t {
                     x += 1;
                     y += 1;
-                } else if a < b {
-                    idx.push(a);
-                    val.push(0.5 * va[x]);
+                    (s, both(va[x - 1], vb[y - 1]))
+                } else if s < t {
                     x += 1;
+                    (s, only_a(va[x - 1]))
                 } else {
-                    idx.push(b);
-                    val.push(0.5 * vb[y]);
                     y += 1;
+                    (t, only_b(vb[y - 1]))
+                };
+                if !drop_zeros || v != 0.0 {
+                    idx.push(j);
+                    val.push(v);
                 }
             }
             ptr.push(idx.len());
         }
+        idx.shrink_to_fit();
+        val.shrink_to_fit();
         Csr {
             rows: self.rows,
             cols: self.cols,
