@@ -99,9 +99,10 @@ fn a_scene_of_10_to_the_11_elements_is_refused_before_allocating() {
 #[test]
 fn an_address_space_limit_refuses_the_run_and_force_runs_it() {
     let d = dir("prlimit");
-    // 80^3 = 512000 fully integrated elements: about 1.4 GiB (estimate), against 1 GiB of
-    // address space, of which the libraries take part before the scene is read.
-    let scene = bar(&d, [80, 80, 80]);
+    // 120^3 = 1728000 fully integrated elements of one shape: about 1.6 GiB (estimate),
+    // against 1 GiB of address space, of which the libraries take part before the scene
+    // is read.
+    let scene = bar(&d, [120, 120, 120]);
     let size = scene_size(&scene, 1).expect("counts from the divisions");
     let need = estimate_run(&size.counts, 1, false).per_rank();
     let limit: u64 = 1 << 30;
@@ -125,7 +126,7 @@ fn an_address_space_limit_refuses_the_run_and_force_runs_it() {
     let (_, err) = text(&refused);
     assert_eq!(refused.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("error: not enough memory: 512000 elements"),
+        err.contains("error: not enough memory: 1728000 elements"),
         "{err}"
     );
     assert!(err.contains("(address space limit 1.0 GiB"), "{err}");

@@ -133,6 +133,7 @@ mod tests {
             elements: 1_000_000,
             nodes: 1_000_000,
             full_elements: 1_000_000,
+            shaped_elements: 1_000_000,
             two_level: false,
             multilevel: false,
             friction: false,

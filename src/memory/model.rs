@@ -17,6 +17,9 @@ pub struct Counts {
     /// Elements of fully integrated bodies (`integration = "full"`, also with
     /// `mean_dilatation`): their Gauss-point gradients are kept.
     pub full_elements: u64,
+    /// Elements that keep a reference geometry of their own: all but those of linear
+    /// bodies' generated blocks, which share a few shapes (`solver::shapes`).
+    pub shaped_elements: u64,
     /// The two-level preconditioner will be used (its dense coarse operator).
     pub two_level: bool,
     /// The multilevel hierarchy will be built (also under `auto` on meshes of 301 to
@@ -39,9 +42,12 @@ const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + 2.0 * (72.0 + 16.0);
 // freed before the rank's share is built, so it is not part of the peak (the 2-rank peaks
 // at n = 40 are 4% and 13% below the counts without it).
 /// The rank's elements: local connectivity (32), global id (4), owned flag (1), body (4),
-/// reference geometry (`Result<Geometry>`, 312) and the step's stress (48).
-const LOCAL_PER_ELEMENT: f64 = 41.0 + 312.0 + 48.0;
-/// Gauss-point gradients of a fully integrated element (`GaussGeometry`).
+/// the index of its shape (8) and the step's stress (48).
+const LOCAL_PER_ELEMENT: f64 = 41.0 + 8.0 + 48.0;
+/// The reference geometry of an element (`Geometry`, 304), held per element but for linear
+/// bodies whose elements share shapes.
+const SHAPE_PER_ELEMENT: f64 = 304.0;
+/// Gauss-point gradients of a fully integrated element shape (`GaussGeometry`).
 const GAUSS_PER_ELEMENT: f64 = 1600.0;
 /// The rank's nodes: coordinates, global id, owner (32); the CG vectors (11 x 24) and the
 /// 3x3 diagonal and its inverse (2 x 72); the displacement and its previous value and the
@@ -116,12 +122,13 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     let ranks = ranks.max(1);
     let (e, n) = (c.elements as f64, c.nodes as f64);
     let whole_mesh = e * GLOBAL_PER_ELEMENT + n * GLOBAL_PER_NODE;
-    let full_share = if c.elements == 0 {
-        0.0
+    let (full_share, shaped_share) = if c.elements == 0 {
+        (0.0, 0.0)
     } else {
-        c.full_elements as f64 / e
+        (c.full_elements as f64 / e, c.shaped_elements as f64 / e)
     };
-    let per_element = LOCAL_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT;
+    let per_element =
+        LOCAL_PER_ELEMENT + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT);
     let per_node = LOCAL_PER_NODE + if c.friction { FRICTION_PER_NODE } else { 0.0 };
     let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
     let coarse = if c.two_level {

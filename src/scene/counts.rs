@@ -2,11 +2,11 @@
 //! from `divisions` without building the mesh, for the memory estimate that comes before
 //! any allocation (`solver check`, `solver run`).
 
-use super::types::{BodyDef, Integration, SceneFile};
+use super::types::{BodyDef, Integration, MaterialDef, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
-use crate::problem::{Preconditioner, Problem, TWO_LEVEL_NODES};
+use crate::problem::{Kinematics, Preconditioner, Problem, TWO_LEVEL_NODES};
 use std::path::Path;
 
 /// Node and element ids are 32-bit, and some sums double them: the mesh may have at most
@@ -92,6 +92,13 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         if b.integration == Integration::Full {
             counts.full_elements = counts.full_elements.saturating_add(e);
         }
+        // A generated block of a linear body shares its few shapes (`solver::shapes`);
+        // any other body's elements keep their own geometry.
+        let linear = matches!(b.material, MaterialDef::LinearElastic { .. })
+            && raw.kinematics == Kinematics::Small;
+        if !linear {
+            counts.shaped_elements = counts.shaped_elements.saturating_add(e);
+        }
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
             beyond_ids = Some(SceneError {
                 file: file.clone(),
@@ -145,6 +152,9 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             elements: m.num_elements() as u64,
             nodes,
             full_elements,
+            // Conservative: which elements share shapes is known once the assembly
+            // counts them.
+            shaped_elements: m.num_elements() as u64,
             two_level: two_level(p.solver.preconditioner, nodes),
             multilevel: multilevel(p.solver.preconditioner, nodes),
             friction: p.contacts.iter().any(|c| c.mu > 0.0),

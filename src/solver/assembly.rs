@@ -5,9 +5,10 @@
 use crate::fem::{element, hex8, history, ElementFailure, Formulation};
 use crate::material::PlasticState;
 use crate::math::{Mat3, Vec3, ZERO33};
-use crate::memory::{try_filled, try_with_capacity, AllocError};
+use crate::memory::{try_filled, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
+use crate::solver::shapes::{Elements, Plan, Shapes};
 
 /// A failure inside one element, with its global (1-based) id.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,12 +28,10 @@ pub struct Assembly<'a> {
     pub models: &'a [BodyModel],
     /// True when every body is linear (small kinematics): then f_int(u) = K u.
     pub linear: bool,
-    /// Reference geometry of every local element (mean gradients, volume), computed once:
-    /// the kernels would otherwise spend a third of a run recomputing it. 216 bytes each.
-    geometry: Vec<Result<element::Geometry, ElementFailure>>,
-    /// Gradients at the Gauss points of every local element (1600 bytes each), kept only
-    /// when some body is fully integrated (empty when every body uses `Mean`).
-    gauss: Vec<element::GaussGeometry>,
+    /// Reference geometry of every local element (mean gradients, volume, and the Gauss-point
+    /// gradients when some body is fully integrated), computed once per distinct element
+    /// shape: the kernels would otherwise spend a third of a run recomputing it.
+    shapes: Shapes,
     /// Committed integration-point history of the plastic elements: element `e` owns
     /// `history[offset[e]..offset[e + 1]]`. Both empty when no body is plastic, so such a
     /// scene pays nothing. Only `commit` writes it, after a step converges; a step that is
@@ -43,34 +42,28 @@ pub struct Assembly<'a> {
 }
 
 impl<'a> Assembly<'a> {
-    /// Fails only when the memory for the element geometry or the history is refused.
-    pub fn new(mesh: &'a LocalMesh, models: &'a [BodyModel]) -> Result<Self, AllocError> {
+    /// `plan` says which bodies are evaluated by element matrices (`shapes::Plan` of the
+    /// whole mesh; the default for none). Fails only when the memory for the element
+    /// geometry or the history is refused.
+    pub fn new(
+        mesh: &'a LocalMesh,
+        models: &'a [BodyModel],
+        plan: &Plan,
+    ) -> Result<Self, AllocError> {
         let linear = crate::problem::linear_models(models);
         let needs_gauss = models
             .iter()
             .any(|m| !matches!(m.formulation, Formulation::Mean { .. }));
-        let ne = mesh.elements.len();
-        let mut geometry = try_with_capacity(ne, "the element geometry")?;
-        let mut gauss = try_with_capacity(
-            if needs_gauss { ne } else { 0 },
-            "the Gauss-point gradients",
+        let shapes = Shapes::new(
+            &Elements {
+                count: mesh.elements.len(),
+                coords: &|e| mesh.element_coords(e),
+                body: &|e| mesh.element_body[e] as usize,
+            },
+            models,
+            needs_gauss,
+            plan,
         )?;
-        for e in 0..ne {
-            match element::geometry(&mesh.element_coords(e)) {
-                Ok((g, gg)) => {
-                    geometry.push(Ok(g));
-                    if needs_gauss {
-                        gauss.push(gg);
-                    }
-                }
-                Err(k) => {
-                    geometry.push(Err(k));
-                    if needs_gauss {
-                        gauss.push(element::GaussGeometry::default());
-                    }
-                }
-            }
-        }
         let mut offset = Vec::new();
         if models.iter().any(|m| m.material.is_plastic()) {
             offset.push(0u32);
@@ -88,8 +81,7 @@ impl<'a> Assembly<'a> {
             mesh,
             models,
             linear,
-            geometry,
-            gauss,
+            shapes,
             offset,
             history: try_filled(PlasticState::default(), states, "the plastic history")?,
             scratch: Vec::new(),
@@ -125,11 +117,11 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
             let ue = self.gather(e, u);
             history::update_with(
                 geo,
-                self.gauss.get(e),
+                gauss,
                 &ue,
                 &m.material,
                 m.formulation,
@@ -154,10 +146,10 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let h = self.hist(e);
-            out.push(match (&self.geometry[e], h.is_empty()) {
-                (Ok(geo), false) => {
+            out.push(match (self.shapes.get(e), h.is_empty()) {
+                (Ok((geo, gauss)), false) => {
                     let m = &self.models[self.mesh.element_body[e] as usize];
-                    history::mean_eqps(geo, self.gauss.get(e), m.formulation, h)
+                    history::mean_eqps(geo, gauss, m.formulation, h)
                 }
                 _ => 0.0,
             });
@@ -254,9 +246,13 @@ impl<'a> Assembly<'a> {
                 }
             }
             let ue = self.gather(e, u);
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            if let Some(k) = self.shapes.matrix(e) {
+                element::matrix_force(k, &ue, &mut fe);
+                self.scatter(e, &fe, f);
+                continue;
+            }
+            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let gauss = self.gauss.get(e);
             let hist = self.hist(e);
             element::internal_force_with(
                 geo,
@@ -268,14 +264,20 @@ impl<'a> Assembly<'a> {
                 &mut fe,
             )
             .map_err(|k| self.fail(e, k))?;
-            for (a, &n) in self.mesh.elements[e].iter().enumerate() {
-                let fa = &mut f[n as usize];
-                fa[0] += fe[a][0];
-                fa[1] += fe[a][1];
-                fa[2] += fe[a][2];
-            }
+            self.scatter(e, &fe, f);
         }
         Ok(())
+    }
+
+    /// Adds element `e`'s nodal forces into `f`.
+    #[inline(always)]
+    fn scatter(&self, e: usize, fe: &[Vec3; 8], f: &mut [Vec3]) {
+        for (a, &n) in self.mesh.elements[e].iter().enumerate() {
+            let fa = &mut f[n as usize];
+            fa[0] += fe[a][0];
+            fa[1] += fe[a][1];
+            fa[2] += fe[a][2];
+        }
     }
 
     /// Nodal 3x3 diagonal blocks of the tangent at u.
@@ -285,8 +287,7 @@ impl<'a> Assembly<'a> {
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
             let ue = self.gather(e, u);
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
-            let gauss = self.gauss.get(e);
+            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
             let hist = self.hist(e);
             element::diagonal_blocks_with(
                 geo,
@@ -346,11 +347,11 @@ impl<'a> Assembly<'a> {
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
             let ue = self.gather(e, u);
-            let geo = self.geometry[e].as_ref().map_err(|&k| self.fail(e, k))?;
+            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
             out.push(
                 element::average_cauchy_with(
                     geo,
-                    self.gauss.get(e),
+                    gauss,
                     &ue,
                     &m.material,
                     m.formulation,

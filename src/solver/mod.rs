@@ -9,6 +9,7 @@ pub mod coarse;
 pub mod multilevel;
 pub use crate::constraints;
 pub mod loads;
+pub mod shapes;
 pub use crate::springs;
 pub mod stepping;
 pub mod support;

@@ -147,7 +147,11 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             comm,
             problem,
             mesh,
-            asm: Assembly::new(mesh, &problem.body_models)?,
+            asm: Assembly::new(
+                mesh,
+                &problem.body_models,
+                &super::shapes::Plan::new(&problem.mesh, &problem.body_models),
+            )?,
             loads: Loads::new(problem, mesh),
             dirichlet,
             cg: {

@@ -16,6 +16,7 @@ pub use solver::problem::{PiecewiseLinear, Problem};
 pub use solver::run::{run as run_analysis, RunOptions};
 pub use solver::scene::{load_scene_refined, parse_scene, Kinematics};
 pub use solver::solver::assembly::Assembly;
+pub use solver::solver::shapes::Plan;
 
 /// A scene the bench generated, parsed as the solver would parse a file.
 pub fn parse(text: &str) -> Result<Problem, String> {

@@ -2,7 +2,7 @@
 //! analysis driver on one rank, against the exact uniaxial-stress field.
 
 use crate::api::{
-    dot, local_mesh, norm, parse, run_analysis, scale, sub, Assembly, Problem, RunOptions,
+    dot, local_mesh, norm, parse, run_analysis, scale, sub, Assembly, Plan, Problem, RunOptions,
     SerialComm, Vec3,
 };
 use crate::config::Config;
@@ -219,7 +219,10 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
 /// iteration.
 fn force_call(problem: &Problem) -> Result<Stat, String> {
     let local = local_mesh(problem)?;
-    let asm = Assembly::new(&local, &problem.body_models)?;
+    // The element loop as the solver runs it (element matrices for linear bodies whose
+    // elements share shapes).
+    let plan = Plan::new(&problem.mesh, &problem.body_models);
+    let asm = Assembly::new(&local, &problem.body_models, &plan)?;
     let u = smooth_field(&local.coords);
     let mut f = vec![[0.0; 3]; local.num_nodes()];
     Ok(time_it(5, || {

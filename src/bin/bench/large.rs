@@ -314,6 +314,7 @@ mod tests {
             elements: 2 * 80 * 80 * 80,
             nodes: 2 * 81 * 81 * 81,
             full_elements: 2 * 80 * 80 * 80,
+            shaped_elements: 0,
             two_level: true,
             multilevel: false,
             friction: false,

@@ -52,6 +52,22 @@ const fn hg_base() -> [[f64; 8]; 4] {
     b
 }
 
+/// The element's shape: its coordinates relative to its first node. Elements that are
+/// translated copies of each other have the same shape bit for bit when their coordinates
+/// lie on one grid (`solver::shapes`: the differences of grid values are exact), so the
+/// elements of a regular mesh (a structured box, an extruded or transfinite Gmsh mesh)
+/// share a few shapes, and one computed geometry (`geometry` of the shape) serves each.
+#[inline]
+pub fn reference_shape(x: &[Vec3; 8]) -> [Vec3; 8] {
+    let mut d = [[0.0; 3]; 8];
+    for a in 1..8 {
+        for i in 0..3 {
+            d[a][i] = x[a][i] - x[0][i];
+        }
+    }
+    d
+}
+
 #[inline]
 pub fn geometry(x: &[Vec3; 8]) -> Result<(Geometry, GaussGeometry), ElementFailure> {
     let mut gauss = GaussGeometry::default();

@@ -5,16 +5,19 @@
 //!
 //! One concept per file: `geometry` (the reference-configuration data and the Gauss-point
 //! array helpers), `kinematics` (deformation gradient, mean dilatation), `force` (internal
-//! force), `tangent` (diagonal blocks of the tangent) and `stress` (average Cauchy stress).
+//! force), `matrix` (the stiffness matrix of a linear element), `tangent` (diagonal blocks
+//! of the tangent) and `stress` (average Cauchy stress).
 
 mod force;
 mod geometry;
 mod kinematics;
+mod matrix;
 mod stress;
 mod tangent;
 
 pub use force::{internal_force, internal_force_with};
-pub use geometry::{geometry, volume, GaussGeometry, Geometry};
+pub use geometry::{geometry, reference_shape, volume, GaussGeometry, Geometry};
+pub use matrix::{element_matrix, matrix_force, ElementMatrix};
 pub use stress::{average_cauchy, average_cauchy_with};
 pub use tangent::{diagonal_blocks, diagonal_blocks_with};
 
