@@ -92,11 +92,13 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         if b.integration == Integration::Full {
             counts.full_elements = counts.full_elements.saturating_add(e);
         }
-        // A generated block of a linear body shares its few shapes (`solver::shapes`);
-        // any other body's elements keep their own geometry.
-        let linear = matches!(b.material, MaterialDef::LinearElastic { .. })
+        // A linear body's generated box shares its few shapes (`solver::shapes`); any
+        // other body's elements keep their own geometry (a block given by its corners
+        // too: its elements differ in shape unless it is a parallelepiped).
+        let shared = b.box_.is_some()
+            && matches!(b.material, MaterialDef::LinearElastic { .. })
             && raw.kinematics == Kinematics::Small;
-        if !linear {
+        if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);
         }
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
