@@ -84,6 +84,9 @@ pub fn run_from<C: Comm + ?Sized>(
     }
     let refused = stepper.coarse_note.starts_with("preconditioner: refused");
     log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
+    if let Some(note) = &stepper.shapes_note {
+        log.at(2, note);
+    }
     if let Some(c) = continued {
         let with_pressure = continue_from(
             comm,

@@ -39,6 +39,8 @@ const ELEMENTS_PER_MATRIX: usize = 8;
 pub struct Plan {
     pub matrices: Vec<bool>,
     pub grid: f64,
+    /// The number of shapes of each body evaluated by matrices (0 for the others).
+    pub shapes: Vec<usize>,
 }
 
 impl Plan {
@@ -52,13 +54,13 @@ impl Plan {
         let Some(grid) = grid(mesh) else {
             return Plan::default();
         };
-        let matrices = mesh
+        let shapes: Vec<usize> = mesh
             .bodies
             .iter()
             .zip(models)
             .map(|(b, m)| {
                 if m.material.is_large() || m.material.is_plastic() || b.num_elements == 0 {
-                    return false;
+                    return 0;
                 }
                 let most = b.num_elements / ELEMENTS_PER_MATRIX;
                 let mut seen = std::collections::HashSet::new();
@@ -70,13 +72,35 @@ impl Plan {
                     }
                     seen.insert(h.finish());
                     if seen.len() > most {
-                        return false;
+                        return 0;
                     }
                 }
-                true
+                seen.len()
             })
             .collect();
-        Plan { matrices, grid }
+        Plan {
+            matrices: shapes.iter().map(|&k| k > 0).collect(),
+            grid,
+            shapes,
+        }
+    }
+
+    /// The log's line on the bodies evaluated by element matrices, when there are any.
+    pub fn describe(&self, mesh: &GlobalMesh) -> Option<String> {
+        let bodies: Vec<String> = mesh
+            .bodies
+            .iter()
+            .zip(&self.shapes)
+            .filter(|(_, &k)| k > 0)
+            .map(|(b, k)| format!("'{}' ({} elements, {k} shapes)", b.name, b.num_elements))
+            .collect();
+        (!bodies.is_empty()).then(|| {
+            format!(
+                "element matrices (linear bodies of repeated element shapes, one stiffness \
+                 matrix per shape): {}",
+                bodies.join(", ")
+            )
+        })
     }
 
     fn matrix(&self, body: usize) -> bool {
@@ -277,6 +301,10 @@ mod tests {
         };
         let plan = Plan::new(&mesh, &models);
         assert_eq!(plan.matrices, [true]);
+        assert!(plan
+            .describe(&mesh)
+            .unwrap()
+            .contains("'block' (1872 elements, "));
         let raw = shapes(&Plan::default());
         let snapped = shapes(&plan);
         // At most 4 spacings per direction on the grid (the grid's spacing and the

@@ -94,6 +94,8 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     extra: Vec<Vec3>,
     /// Which preconditioner the run uses, for the log.
     pub coarse_note: String,
+    /// Which bodies are evaluated by element matrices, for the log (none: no line).
+    pub shapes_note: Option<String>,
     /// Depth of the deepest slave node the last step's penetration audit found inside a
     /// master body (0 when none).
     audit_depth: f64,
@@ -143,15 +145,12 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             }
         }
         let zero = |what| crate::memory::try_filled([0.0; 3], n, what);
+        let plan = super::shapes::Plan::new(&problem.mesh, &problem.body_models);
         Ok(Stepper {
             comm,
             problem,
             mesh,
-            asm: Assembly::new(
-                mesh,
-                &problem.body_models,
-                &super::shapes::Plan::new(&problem.mesh, &problem.body_models),
-            )?,
+            asm: Assembly::new(mesh, &problem.body_models, &plan)?,
             loads: Loads::new(problem, mesh),
             dirichlet,
             cg: {
@@ -165,6 +164,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 cg
             },
             coarse_note,
+            shapes_note: plan.describe(&problem.mesh),
             u: zero("the displacement")?,
             u_prev: zero("the previous displacement")?,
             time: problem.start_time,
