@@ -125,6 +125,12 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
 /// assumes.
 pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 
+/// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
+/// ratio 0.49 and above): `auto` then picks the multilevel preconditioner
+/// (`solver::choice`), and the body is not evaluated by element matrices
+/// (`solver::shapes::Plan`).
+pub const NEARLY_INCOMPRESSIBLE: f64 = 49.0;
+
 /// Meshes from this many nodes up use the two-level preconditioner by default.
 pub const TWO_LEVEL_NODES: usize = 20_000;
 

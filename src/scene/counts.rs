@@ -6,7 +6,7 @@ use super::types::{BodyDef, Integration, MaterialDef, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
-use crate::problem::{Kinematics, Preconditioner, Problem, TWO_LEVEL_NODES};
+use crate::problem::{Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES};
 use std::path::Path;
 
 /// Node and element ids are 32-bit, and some sums double them: the mesh may have at most
@@ -95,8 +95,11 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         // A linear body's generated box shares its few shapes (`solver::shapes`); any
         // other body's elements keep their own geometry (a block given by its corners
         // too: its elements differ in shape unless it is a parallelepiped).
+        // Not when nearly incompressible: bulk over shear modulus 2 (1 + nu) / (3 (1 - 2 nu))
+        // at least 49 (`problem::NEARLY_INCOMPRESSIBLE`).
         let shared = b.box_.is_some()
-            && matches!(b.material, MaterialDef::LinearElastic { .. })
+            && matches!(b.material, MaterialDef::LinearElastic { nu, .. }
+                if 2.0 * (1.0 + nu) < NEARLY_INCOMPRESSIBLE * 3.0 * (1.0 - 2.0 * nu))
             && raw.kinematics == Kinematics::Small;
         if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);

@@ -13,16 +13,14 @@
 use crate::comm::Comm;
 use crate::material::Material;
 use crate::mesh::local::LocalMesh;
-use crate::problem::{Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
+use crate::problem::{
+    Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
+};
 use crate::solver::cg::SWITCH_AFTER;
 use crate::solver::coarse::CoarseSpace;
 use crate::solver::multilevel::transfer::SINGLETON_NODES;
 use crate::solver::multilevel::{Multilevel, FINE_DEGREE};
 use crate::solver::support::held_by_contact_alone;
-
-/// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
-/// ratio 0.49 and above).
-const NEARLY_INCOMPRESSIBLE: f64 = 49.0;
 
 /// The names of the bodies whose bulk modulus is at least NEARLY_INCOMPRESSIBLE times
 /// their shear modulus.
