@@ -230,7 +230,7 @@ fn estimates_within_25_percent(
 /// triplet lists): 99.2 and 557.7 MiB against 95.2 and 533.4 (-4.0%, -4.4%; n = 80 on 2
 /// ranks 2509.8 against 2751.0, +9.6%). With element matrices (the blocks' elements share
 /// a few shapes): 71.0 and 346.0 MiB against 66.1 and 301.0 (-6.9%, -13.0%; n = 80 on 2
-/// ranks 1567.0 against 1798.4, +14.8%).
+/// ranks 1575.5 against 1798.4, +14.1%).
 #[test]
 fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
     let scene = root().join("run/scenes/bench/block_on_block.toml");

@@ -70,7 +70,7 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// name: 99.2 and 557.7 MiB on one rank at 18522 and 137842 nodes, 2509.8 MiB per rank on
 /// 2 ranks at 1062882 nodes, against the estimated 95.2, 533.4 and 2751.0; with element
 /// matrices (the blocks' elements share shapes, no geometry per element) 71.0, 346.0 and
-/// 1567.0 MiB against 66.1, 301.0 and 1798.4.
+/// 1575.5 MiB against 66.1, 301.0 and 1798.4.
 const MULTILEVEL_PER_NODE: f64 = 1000.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
