@@ -131,6 +131,13 @@ pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 /// (`solver::shapes::Plan`).
 pub const NEARLY_INCOMPRESSIBLE: f64 = 49.0;
 
+/// Whether the material's bulk modulus is at least NEARLY_INCOMPRESSIBLE times its shear
+/// modulus.
+pub fn nearly_incompressible(material: &crate::material::Material) -> bool {
+    let (lambda, mu) = material.lambda_mu();
+    lambda + 2.0 * mu / 3.0 >= NEARLY_INCOMPRESSIBLE * mu
+}
+
 /// Meshes from this many nodes up use the two-level preconditioner by default.
 pub const TWO_LEVEL_NODES: usize = 20_000;
 

@@ -11,11 +11,8 @@
 //!   MULTILEVEL_STANDBY_NODES.
 
 use crate::comm::Comm;
-use crate::material::Material;
 use crate::mesh::local::LocalMesh;
-use crate::problem::{
-    Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
-};
+use crate::problem::{Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
 use crate::solver::cg::SWITCH_AFTER;
 use crate::solver::coarse::CoarseSpace;
 use crate::solver::multilevel::transfer::SINGLETON_NODES;
@@ -30,10 +27,7 @@ fn nearly_incompressible(problem: &Problem) -> Vec<String> {
         .bodies
         .iter()
         .zip(&problem.body_models)
-        .filter(|(_, model)| {
-            let (lambda, mu) = Material::lambda_mu(&model.material);
-            lambda + 2.0 * mu / 3.0 >= NEARLY_INCOMPRESSIBLE * mu
-        })
+        .filter(|(_, model)| crate::problem::nearly_incompressible(&model.material))
         .map(|(body, _)| body.name.clone())
         .collect()
 }

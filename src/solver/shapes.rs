@@ -19,7 +19,7 @@ use crate::fem::{element, ElementFailure};
 use crate::math::Vec3;
 use crate::memory::{try_with_capacity, AllocError};
 use crate::mesh::GlobalMesh;
-use crate::problem::{BodyModel, NEARLY_INCOMPRESSIBLE};
+use crate::problem::{nearly_incompressible, BodyModel};
 use std::collections::HashMap;
 
 /// Bits of the largest coordinate's binade that the grid keeps.
@@ -68,8 +68,7 @@ impl Plan {
                 // with K / G; the Gauss-point kernel forms the volumetric strain first
                 // (incompressible_mean, nu = 0.4999: 65 CG iterations with the kernel,
                 // 757 with matrices to the same residual; nu = 0.45 and 0.49 the same).
-                let (lambda, mu) = m.material.lambda_mu();
-                if lambda + 2.0 * mu / 3.0 >= NEARLY_INCOMPRESSIBLE * mu {
+                if nearly_incompressible(&m.material) {
                     return 0;
                 }
                 let most = b.num_elements / ELEMENTS_PER_MATRIX;
