@@ -91,6 +91,7 @@ fn default_sigpipe() {
 }
 
 fn main() -> ExitCode {
+    solver::memory::guard::return_freed_memory();
     let cli = Cli::parse();
     let verbosity = if cli.quiet { 0 } else { 1 + cli.verbose };
     if matches!(cli.command, Command::Post(_) | Command::Check { .. }) {

@@ -14,7 +14,7 @@ use crate::fem::hex8;
 use crate::math::{inverse, matvec, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Point;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query::PointQuery;
@@ -98,17 +98,33 @@ pub fn audit<C: Comm + ?Sized>(
     for (p, pair) in problem.contacts.iter().enumerate() {
         let mortar = pair.discretization == crate::problem::Discretization::Mortar;
         let bodies = master_bodies(problem, p);
-        let elements: Vec<usize> = (0..mesh.elements.len())
-            .filter(|&e| mesh.element_owned[e] && bodies.contains(&mesh.element_body[e]))
-            .collect();
-        if elements.is_empty() || pair.slave_nodes.is_empty() {
+        if slaves[p].is_empty() {
             continue;
         }
-        let corners: Vec<[Vec3; 8]> = elements
-            .iter()
-            .map(|&e| std::array::from_fn(|a| position(mesh, u, mesh.elements[e][a] as usize)))
-            .collect();
-        let aabbs: Vec<Aabb> = corners.iter().map(bounding_box).collect();
+        // Only the master elements whose box meets the box of the pair's slave nodes can
+        // hold one (a point of a hexahedron is a convex combination of its corners): the
+        // others are left out of the tree (a whole master body's corners were a step's
+        // largest transient at 10^6 elements).
+        let near = bounding_box_of(slaves[p].values());
+        let mut elements: Vec<usize> = Vec::new();
+        let mut corners: Vec<[Vec3; 8]> = Vec::new();
+        let mut aabbs: Vec<Aabb> = Vec::new();
+        for e in 0..mesh.elements.len() {
+            if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
+                continue;
+            }
+            let x: [Vec3; 8] =
+                std::array::from_fn(|a| position(mesh, u, mesh.elements[e][a] as usize));
+            let b = bounding_box(&x);
+            if b.intersects(&near) {
+                elements.push(e);
+                corners.push(x);
+                aabbs.push(b);
+            }
+        }
+        if elements.is_empty() {
+            continue;
+        }
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
         for (&s, x) in slaves[p].iter() {
             if mortar && tied.binary_search(&(s, p)).is_ok() {
@@ -308,6 +324,22 @@ fn bounding_box(x: &[Vec3; 8]) -> Aabb {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in x {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    Aabb::new(
+        Point::new(lo[0], lo[1], lo[2]),
+        Point::new(hi[0], hi[1], hi[2]),
+    )
+}
+
+/// The box of some points.
+fn bounding_box_of<'a>(points: impl Iterator<Item = &'a Vec3>) -> Aabb {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
         for i in 0..3 {
             lo[i] = lo[i].min(p[i]);
             hi[i] = hi[i].max(p[i]);

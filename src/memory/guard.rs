@@ -24,6 +24,21 @@ pub(super) fn fallible<T>(f: impl FnOnce() -> T) -> T {
 /// The system allocator with a clean exit when it refuses.
 pub struct Guard;
 
+/// Every allocation of 1 MiB or more gets pages of its own, given back to the system when
+/// it is freed. glibc's default raises that threshold to the size of the largest block
+/// freed so far (up to 32 MiB), after which the multilevel build's many temporary buffers
+/// of a few MiB come from the heap and stay resident once freed: block on block n = 80
+/// on 2 ranks, 161 MiB more resident at the second hierarchy build than at the first, and
+/// a peak 1285 MiB per rank instead of 1230. Call once, first thing in `main`.
+pub fn return_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets a parameter of the C allocator; called before any thread
+    // or allocation of the program's own.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 1 << 20);
+    }
+}
+
 /// Writes the error without allocating (the allocator just failed) and exits with 1.
 fn refused(size: usize) -> ! {
     let mut buf = [0u8; 200];

@@ -9,7 +9,7 @@
 //! same (column) order from +0.0. The entries a block holds that the sparse rows left out
 //! are zeros, and adding a zero product to a sum that started at +0.0 never changes it.
 
-use super::sparse::Csr;
+use super::sparse::{Csr, Rows};
 
 /// Unknowns per block: the rigid-body modes of an aggregate.
 pub const B: usize = 6;
@@ -26,16 +26,32 @@ pub struct BlockRows {
     col: Vec<u32>,
     /// B x B values of every block, row-major.
     val: Vec<f64>,
+    /// One bit per value: whether the sparse rows held it (`to_csr`).
+    present: Vec<u64>,
+    /// Columns of the operator.
+    columns: usize,
 }
 
 impl BlockRows {
     /// Rows first..first + len of `a` (clipped to its rows), whose unknowns come in nodes
     /// of B. None when the rows are not grouped so.
     pub fn new(a: &Csr, first: usize, len: usize) -> Option<Self> {
-        if !a.rows.is_multiple_of(B) || !a.cols.is_multiple_of(B) {
+        Self::of_rows(|r| a.row(r), (a.rows, a.cols), first, len)
+    }
+
+    /// `new` for an operator of `(rows, cols)` whose row r is `row(r)` (only rows first..
+    /// first + len are asked for).
+    pub fn of_rows<'a>(
+        row: impl Fn(usize) -> (&'a [u32], &'a [f64]),
+        (rows, cols): (usize, usize),
+        first: usize,
+        len: usize,
+    ) -> Option<Self> {
+        if !rows.is_multiple_of(B) || !cols.is_multiple_of(B) {
             return None;
         }
-        let end = (first + len).min(a.rows);
+        let columns = cols;
+        let end = (first + len).min(rows);
         let block_first = first / B;
         let block_end = end.div_ceil(B).max(block_first);
         let mut ptr = Vec::with_capacity(block_end - block_first + 1);
@@ -45,7 +61,7 @@ impl BlockRows {
         for bi in block_first..block_end {
             let start = cols.len();
             for r in B * bi..B * (bi + 1) {
-                cols.extend(a.row(r).0.iter().map(|&j| j / B as u32));
+                cols.extend(row(r).0.iter().map(|&j| j / B as u32));
             }
             cols[start..].sort_unstable();
             let mut w = start;
@@ -61,17 +77,20 @@ impl BlockRows {
         cols.shrink_to_fit();
         // Pass 2: the values.
         let mut val = vec![0.0; B * B * cols.len()];
+        let mut present = vec![0u64; val.len().div_ceil(64)];
         for (i, bi) in (block_first..block_end).enumerate() {
             let blocks = &cols[ptr[i]..ptr[i + 1]];
             for r in 0..B {
-                let (c, v) = a.row(B * bi + r);
+                let (c, v) = row(B * bi + r);
                 let mut t = 0;
                 for (&j, &x) in c.iter().zip(v) {
                     let bj = j / B as u32;
                     while blocks[t] != bj {
                         t += 1;
                     }
-                    val[B * B * (ptr[i] + t) + B * r + (j as usize % B)] = x;
+                    let at = B * B * (ptr[i] + t) + B * r + (j as usize % B);
+                    val[at] = x;
+                    present[at / 64] |= 1 << (at % 64);
                 }
             }
         }
@@ -82,12 +101,54 @@ impl BlockRows {
             ptr,
             col: cols,
             val,
+            present,
+            columns,
         })
+    }
+
+    /// Entries of the sparse rows held.
+    pub fn nnz(&self) -> usize {
+        self.present.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    /// Row r (held) as the sparse row it was made from, into `cols` and `vals`.
+    pub fn row_into(&self, r: usize, cols: &mut Vec<u32>, vals: &mut Vec<f64>) {
+        cols.clear();
+        vals.clear();
+        assert!(
+            r >= self.first && r < self.first + self.len,
+            "BlockRows: the rows held"
+        );
+        let i = r / B - self.block_first;
+        let r = r % B;
+        for b in self.ptr[i]..self.ptr[i + 1] {
+            for c in 0..B {
+                let at = B * B * b + B * r + c;
+                if self.present[at / 64] & (1 << (at % 64)) != 0 {
+                    cols.push(B as u32 * self.col[b] + c as u32);
+                    vals.push(self.val[at]);
+                }
+            }
+        }
+    }
+
+    /// The rows held as the sparse rows they were made from (numbered from the first held
+    /// one, global columns): the same entries and bits.
+    pub fn to_csr(&self) -> Csr {
+        let mut out = Csr::empty(self.columns);
+        let (mut cols, mut vals) = (Vec::new(), Vec::new());
+        for r in self.first..self.first + self.len {
+            self.row_into(r, &mut cols, &mut vals);
+            out.idx.extend_from_slice(&cols);
+            out.val.extend_from_slice(&vals);
+            out.end_row();
+        }
+        out
     }
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        8 * (self.ptr.len() + self.val.len()) + 4 * self.col.len()
+        8 * (self.ptr.len() + self.val.len() + self.present.len()) + 4 * self.col.len()
     }
 
     /// y = rows `first..first + y.len()` of A x (rows beyond the operator's give 0), for
@@ -120,6 +181,30 @@ impl BlockRows {
     }
 }
 
+/// The rows of a `BlockRows` handed out as sparse rows (`sparse::Rows`).
+pub struct View<'a> {
+    pub rows: &'a BlockRows,
+    cols: Vec<u32>,
+    vals: Vec<f64>,
+}
+
+impl<'a> View<'a> {
+    pub fn new(rows: &'a BlockRows) -> Self {
+        View {
+            rows,
+            cols: Vec::new(),
+            vals: Vec::new(),
+        }
+    }
+}
+
+impl Rows for View<'_> {
+    fn row(&mut self, r: usize) -> (&[u32], &[f64]) {
+        self.rows.row_into(r, &mut self.cols, &mut self.vals);
+        (&self.cols, &self.vals)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,6 +224,7 @@ mod tests {
                 }
             }
         }
+        t.push((1, 2, 0.0));
         let a = Csr::from_triplets(n, n, t);
         let x: Vec<f64> = (0..n).map(|j| (j as f64 * 0.37).sin()).collect();
         let mut whole = vec![0.0; n];
@@ -156,6 +242,19 @@ mod tests {
                         want.to_bits(),
                         "ranks {ranks} rank {r} row {k}"
                     );
+                }
+                // The sparse rows come back: the same entries (an explicit zero
+                // included) and bits.
+                let back = rows.to_csr();
+                assert_eq!(
+                    (back.rows, back.cols),
+                    ((n.min((r + 1) * l)).saturating_sub(r * l), n)
+                );
+                for k in 0..back.rows {
+                    let ((c, v), (wc, wv)) = (back.row(k), a.row(r * l + k));
+                    assert_eq!(c, wc, "ranks {ranks} rank {r} row {k}");
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(v), bits(wv));
                 }
             }
         }

@@ -8,7 +8,7 @@
 //! out of the inverse (they relax to zero), like the coarsest direct solve does.
 
 use super::direct::Dense;
-use super::sparse::Csr;
+use super::sparse::{Csr, Offset, Rows};
 
 /// Per node, the dense inverse of its diagonal block (row-major, size b x b for a node of
 /// b unknowns).
@@ -22,11 +22,19 @@ pub struct BlockInverse {
 impl BlockInverse {
     /// The inverses of the diagonal blocks of `a` (unknowns grouped by `node_ptr`).
     pub fn new(a: &Csr, node_ptr: &[usize]) -> Self {
-        let nodes = node_ptr.len() - 1;
-        let mut off = Vec::with_capacity(nodes + 1);
+        let inv = Self::inverses(&mut Offset { a, first: 0 }, node_ptr, 0..node_ptr.len() - 1);
+        Self::from_inverses(node_ptr, inv)
+    }
+
+    /// The inverses of the diagonal blocks of `nodes` (b x b values, row-major, for a node
+    /// of b unknowns, node after node); `a` gives the rows of the level's operator.
+    pub fn inverses(
+        a: &mut impl Rows,
+        node_ptr: &[usize],
+        nodes: std::ops::Range<usize>,
+    ) -> Vec<f64> {
         let mut inv = Vec::new();
-        off.push(0);
-        for i in 0..nodes {
+        for i in nodes {
             let (lo, hi) = (node_ptr[i], node_ptr[i + 1]);
             let b = hi - lo;
             let mut block = vec![0.0; b * b];
@@ -52,8 +60,24 @@ impl BlockInverse {
                 }
             }
             inv.extend_from_slice(&cols);
-            off.push(inv.len());
         }
+        inv
+    }
+
+    /// From the inverses of every node's block (`inverses` over all nodes, or its pieces
+    /// concatenated in node order).
+    pub fn from_inverses(node_ptr: &[usize], inv: Vec<f64>) -> Self {
+        let mut off = Vec::with_capacity(node_ptr.len());
+        off.push(0);
+        for w in node_ptr.windows(2) {
+            let b = w[1] - w[0];
+            off.push(off.last().expect("one offset") + b * b);
+        }
+        assert_eq!(
+            *off.last().expect("one offset"),
+            inv.len(),
+            "one inverse per node"
+        );
         BlockInverse {
             node_ptr: node_ptr.to_vec(),
             off,
@@ -74,56 +98,90 @@ impl BlockInverse {
         }
     }
 
+    /// Nodes of the level.
+    pub fn nodes(&self) -> usize {
+        self.node_ptr.len() - 1
+    }
+
+    /// The unknowns of node i.
+    pub fn unknowns(&self, i: usize) -> std::ops::Range<usize> {
+        self.node_ptr[i]..self.node_ptr[i + 1]
+    }
+
     /// D^-1 M for a sparse M of the level's rows (row p of the result combines the rows
     /// of p's node block). Entry (p, j) is the sum over q of inv[p][q] m[q][j] in the order
     /// of q, from its first term, over the q with inv[p][q] != 0 whose row has column j,
     /// written row by row (no triplets: their list, six times the entries of M, was the
     /// peak of a multilevel build).
     pub fn left_multiply(&self, m: &Csr) -> Csr {
-        let mut out = Csr {
-            rows: m.rows,
-            cols: m.cols,
-            ptr: Vec::with_capacity(m.rows + 1),
-            idx: Vec::with_capacity(m.nnz()),
-            val: Vec::with_capacity(m.nnz()),
-        };
-        out.ptr.push(0);
-        let mut acc = vec![0.0f64; m.cols];
-        let mut seen = vec![false; m.cols];
-        let mut cols: Vec<u32> = Vec::new();
-        for i in 0..self.node_ptr.len() - 1 {
-            let (lo, hi) = (self.node_ptr[i], self.node_ptr[i + 1]);
-            let b = hi - lo;
-            let inv = &self.inv[self.off[i]..self.off[i + 1]];
-            for p in 0..b {
-                for q in 0..b {
-                    let w = inv[p * b + q];
-                    if w == 0.0 {
-                        continue;
-                    }
-                    let (c, v) = m.row(lo + q);
-                    for (&j, &x) in c.iter().zip(v) {
-                        let j = j as usize;
-                        if seen[j] {
-                            acc[j] += w * x;
-                        } else {
-                            seen[j] = true;
-                            acc[j] = w * x;
-                            cols.push(j as u32);
-                        }
-                    }
-                }
-                cols.sort_unstable();
-                for &j in &cols {
-                    out.idx.push(j);
-                    out.val.push(acc[j as usize]);
-                    seen[j as usize] = false;
-                }
-                cols.clear();
-                out.ptr.push(out.idx.len());
-            }
+        let mut out = Csr::empty(m.cols);
+        out.ptr.reserve(m.rows);
+        out.idx.reserve(m.nnz());
+        out.val.reserve(m.nnz());
+        let mut ws = NodeProduct::new(m.cols);
+        for i in 0..self.nodes() {
+            let lo = self.node_ptr[i];
+            self.left_multiply_node(i, |q| m.row(lo + q), &mut ws, &mut out);
         }
         out
+    }
+
+    /// Pushes to `out` the rows of node i of D^-1 M, given that node's rows of M (`row(q)`:
+    /// the node's q-th row), by `left_multiply`'s rule.
+    pub fn left_multiply_node<'m>(
+        &self,
+        i: usize,
+        row: impl Fn(usize) -> (&'m [u32], &'m [f64]),
+        ws: &mut NodeProduct,
+        out: &mut Csr,
+    ) {
+        let b = self.node_ptr[i + 1] - self.node_ptr[i];
+        let inv = &self.inv[self.off[i]..self.off[i + 1]];
+        for p in 0..b {
+            for q in 0..b {
+                let w = inv[p * b + q];
+                if w == 0.0 {
+                    continue;
+                }
+                let (c, v) = row(q);
+                for (&j, &x) in c.iter().zip(v) {
+                    let j = j as usize;
+                    if ws.seen[j] {
+                        ws.acc[j] += w * x;
+                    } else {
+                        ws.seen[j] = true;
+                        ws.acc[j] = w * x;
+                        ws.cols.push(j as u32);
+                    }
+                }
+            }
+            ws.cols.sort_unstable();
+            for &j in &ws.cols {
+                out.idx.push(j);
+                out.val.push(ws.acc[j as usize]);
+                ws.seen[j as usize] = false;
+            }
+            ws.cols.clear();
+            out.end_row();
+        }
+    }
+}
+
+/// The workspace of `BlockInverse::left_multiply_node`.
+pub struct NodeProduct {
+    acc: Vec<f64>,
+    seen: Vec<bool>,
+    cols: Vec<u32>,
+}
+
+impl NodeProduct {
+    /// For matrices of `cols` columns.
+    pub fn new(cols: usize) -> Self {
+        NodeProduct {
+            acc: vec![0.0; cols],
+            seen: vec![false; cols],
+            cols: Vec::new(),
+        }
     }
 }
 

@@ -12,12 +12,12 @@ use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
-use super::sparse::{node_of, Csr};
+use super::sparse::{node_of, triple_product, Csr, Offset, Rows, TRIPLE_BLOCKS};
 use super::sparse_cholesky::SparseCholesky;
 use std::convert::Infallible;
 
 /// Levels with at most this many unknowns of positive stiffness are solved directly.
-const COARSEST: usize = 900;
+pub const COARSEST: usize = 900;
 /// A V-cycle that reduces the first coarse level's error by less than this per cycle is
 /// replaced by a sparse factor of that level (when it fits FILL). Measured rates (and what
 /// the factor did): block on block n = 20 and 30: 0.56 and 0.57 (the fine smoother limits
@@ -68,18 +68,54 @@ impl Op {
     }
 }
 
-/// One coarse level: its operator, smoother, prolongator to the next and buffers.
+/// One coarse level: its operator, smoother, the transpose of its prolongator to the next
+/// (restriction P^T r is its product, prolongation P x its transposed product: each entry
+/// of P x gets its terms in the order of P's row, so the same bits as with P held too,
+/// which was as large again) and buffers.
 struct Level {
     a: Op,
     dinv: BlockInverse,
     cheb: Chebyshev,
-    p: Csr,
     pt: Csr,
     b: Vec<f64>,
     x: Vec<f64>,
     r: Vec<f64>,
     d: Vec<f64>,
     t: Vec<f64>,
+}
+
+impl Level {
+    /// A level of `n` unknowns.
+    fn new(a: Op, dinv: BlockInverse, cheb: Chebyshev, pt: Csr, n: usize) -> Self {
+        Level {
+            a,
+            dinv,
+            cheb,
+            pt,
+            b: vec![0.0; n],
+            x: vec![0.0; n],
+            r: vec![0.0; n],
+            d: vec![0.0; n],
+            t: vec![0.0; n],
+        }
+    }
+}
+
+/// The first coarse level built from its rows split over the ranks (`super::first`): this
+/// rank's rows in blocks, and what every rank holds whole.
+pub struct FirstLevel {
+    pub rows: BlockRows,
+    pub dinv: BlockInverse,
+    pub cheb: Chebyshev,
+    pub pt: Csr,
+    /// Unknowns of the level.
+    pub n: usize,
+    /// Non-zeros of the whole level's operator.
+    pub nnz: usize,
+    /// The level's unknowns by node.
+    pub node_ptr: Vec<usize>,
+    /// Its unknowns with stiffness (a positive diagonal).
+    pub live: Vec<bool>,
 }
 
 /// How the first coarse level's operator is applied: whole on this rank (`Whole`), or by
@@ -157,6 +193,8 @@ pub struct Hierarchy {
     factored: Option<usize>,
     /// The first level's unknowns by node, until `finish`.
     first_nodes: Vec<usize>,
+    /// The first level's unknowns with stiffness, when it was built elsewhere (`above`).
+    first_live: Vec<bool>,
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
@@ -168,7 +206,30 @@ fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize], body: &[u32]) -> (G
     let nodes = node_ptr.len() - 1;
     let node_of = node_of(node_ptr);
     let mut edges = Vec::new();
-    for p in 0..a.rows {
+    strong_edges(
+        &mut Offset { a, first: 0 },
+        0..a.rows,
+        diag,
+        &node_of,
+        body,
+        &mut edges,
+    );
+    (
+        Graph::from_edges(nodes, &edges),
+        active_nodes(diag, node_ptr),
+    )
+}
+
+/// The edges of the strength graph (`strength_graph`) that `rows` of `a` give.
+pub fn strong_edges(
+    a: &mut impl Rows,
+    rows: std::ops::Range<usize>,
+    diag: &[f64],
+    node_of: &[u32],
+    body: &[u32],
+    edges: &mut Vec<(u32, u32)>,
+) {
+    for p in rows {
         let (c, v) = a.row(p);
         for (&q, &x) in c.iter().zip(v) {
             let (i, j) = (node_of[p], node_of[q as usize]);
@@ -178,10 +239,19 @@ fn strength_graph(a: &Csr, diag: &[f64], node_ptr: &[usize], body: &[u32]) -> (G
             }
         }
     }
-    let active = (0..nodes)
+}
+
+/// The nodes with an unknown of positive stiffness.
+pub fn active_nodes(diag: &[f64], node_ptr: &[usize]) -> Vec<bool> {
+    (0..node_ptr.len() - 1)
         .map(|i| (node_ptr[i]..node_ptr[i + 1]).any(|p| diag[p] > 0.0))
-        .collect();
-    (Graph::from_edges(nodes, &edges), active)
+        .collect()
+}
+
+/// Whether aggregation no longer coarsens a level of `n` unknowns into `coarse`: the
+/// level is then solved directly.
+pub fn stops_coarsening(coarse: usize, n: usize) -> bool {
+    coarse * 10 > n * 9
 }
 
 impl Hierarchy {
@@ -219,7 +289,7 @@ impl Hierarchy {
                 }
             }
             let tent = tentative(&agg, na, &node_ptr, &b);
-            if tent.p.cols * 10 > a.rows * 9 {
+            if stops_coarsening(tent.p.cols, a.rows) {
                 // Aggregation no longer coarsens: stop here (solved directly).
                 break;
             }
@@ -234,19 +304,10 @@ impl Hierarchy {
             let Ok(cheb) = Chebyshev::estimate(&mut sp, degree, &mut v, &mut y, &mut w);
             let p = smooth(op.csr(), &dinv, cheb.lmax, &tent.p);
             let pt = p.transpose();
-            let ac = pt.matmul(&op.csr().matmul(&p)).symmetric_part();
-            levels.push(Level {
-                a: op,
-                dinv,
-                cheb,
-                p,
-                pt,
-                b: vec![0.0; n],
-                x: vec![0.0; n],
-                r: vec![0.0; n],
-                d: vec![0.0; n],
-                t: vec![0.0; n],
-            });
+            let ac = triple_product(&pt, op.csr(), &p, TRIPLE_BLOCKS).symmetric_part();
+            // The cycle prolongs with P^T (`Csr::mul_transpose_into`): P itself goes.
+            drop(p);
+            levels.push(Level::new(op, dinv, cheb, pt, n));
             a = ac;
             node_ptr = tent.node_ptr;
             b = tent.b;
@@ -263,9 +324,24 @@ impl Hierarchy {
             rate: 0.0,
             factored: None,
             first_nodes: Vec::new(),
+            first_live: Vec::new(),
         };
         h.first_nodes = first_nodes;
         h
+    }
+
+    /// The hierarchy of a first level built elsewhere (`first`) above `rest`, the
+    /// hierarchy of that level's coarse operator.
+    pub fn above(first: FirstLevel, mut rest: Hierarchy) -> Hierarchy {
+        let n = first.n;
+        let level = Level::new(Op::Rows(first.rows), first.dinv, first.cheb, first.pt, n);
+        rest.levels.insert(0, level);
+        rest.sizes.insert(0, n);
+        rest.nonzeros.insert(0, first.nnz);
+        rest.res = vec![0.0; n];
+        rest.first_nodes = first.node_ptr;
+        rest.first_live = first.live;
+        rest
     }
 
     /// Completes a build: keeps of the first level's operator only rows first..first + len,
@@ -274,31 +350,51 @@ impl Hierarchy {
     /// V-cycle's rate with `top`, and replaces the levels by a sparse factor of the first
     /// one when that rate is slow and the factor fits the fill budget. The rate is the same
     /// bits whichever product measures it. The first level stays sparse when its unknowns
-    /// are not in nodes of six.
-    pub fn finish<P: Product>(&mut self, top: &mut P, first: usize, len: usize) {
+    /// are not in nodes of six. A first level already held in blocks (`above`) gives
+    /// `whole` its rows as sparse rows for the whole operator, only for the factor
+    /// (collective where the rows are split: every rank gets the same rate, so all ask or
+    /// none).
+    pub fn finish<P: Product>(
+        &mut self,
+        top: &mut P,
+        first: usize,
+        len: usize,
+        whole: impl FnOnce(Csr) -> Csr,
+    ) {
         let node_ptr = std::mem::take(&mut self.first_nodes);
         let Some(lv) = self.levels.first_mut() else {
             return;
         };
-        let Op::Sparse(a) = std::mem::replace(&mut lv.a, Op::Sparse(Csr::default())) else {
-            unreachable!("a hierarchy is finished once")
-        };
-        let live: Vec<bool> = a.diagonal().iter().map(|&d| d > 0.0).collect();
-        let spare = match BlockRows::new(&a, first, len) {
-            Some(rows) => {
-                lv.a = Op::Rows(rows);
-                Some(a)
+        let spare = match std::mem::replace(&mut lv.a, Op::Sparse(Csr::default())) {
+            Op::Sparse(a) => {
+                self.first_live = a.diagonal().iter().map(|&d| d > 0.0).collect();
+                match BlockRows::new(&a, first, len) {
+                    Some(rows) => {
+                        lv.a = Op::Rows(rows);
+                        Some(a)
+                    }
+                    None => {
+                        lv.a = Op::Sparse(a);
+                        None
+                    }
+                }
             }
-            None => {
-                lv.a = Op::Sparse(a);
+            Op::Rows(rows) => {
+                lv.a = Op::Rows(rows);
                 None
             }
         };
+        let live = std::mem::take(&mut self.first_live);
         self.rate = self.v_cycle_rate(&live, top);
         if self.rate <= SLOW_RATE {
             return;
         }
-        let a = spare.as_ref().unwrap_or_else(|| self.levels[0].a.csr());
+        let spare = match (spare, &self.levels[0].a) {
+            (Some(a), _) => a,
+            (None, Op::Sparse(a)) => a.clone(),
+            (None, Op::Rows(rows)) => whole(rows.to_csr()),
+        };
+        let a = &spare;
         let Some((perm, counts)) = SparseCholesky::analyse(a, &node_ptr, FILL * a.nnz()) else {
             return;
         };
@@ -418,7 +514,7 @@ fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f6
             &rest[0].x
         }
     };
-    lv.p.mul_into(xc, &mut lv.t);
+    lv.pt.mul_transpose_into(xc, &mut lv.t);
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }
@@ -475,7 +571,7 @@ mod tests {
             let node_ptr: Vec<usize> = (0..=n).collect();
             let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
             let mut h = Hierarchy::build(a.clone(), node_ptr, b, vec![0; n], 2, 1);
-            h.finish(&mut Whole, 0, n);
+            h.finish(&mut Whole, 0, n, |_| unreachable!("built whole"));
             assert!(h.sizes.len() >= 2, "{:?}", h.sizes);
             let x_true: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();
             let mut rhs = vec![0.0; n];

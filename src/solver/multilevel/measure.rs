@@ -10,6 +10,7 @@ use super::transfer::Transfer;
 use crate::comm::Comm;
 use crate::constraints::Constraints;
 use crate::math::Vec3;
+use std::ops::Range;
 
 /// Buffers of the fine level used while measuring.
 pub struct Probe<'b> {
@@ -18,15 +19,18 @@ pub struct Probe<'b> {
     pub coeff: &'b mut [f64],
 }
 
-/// Measures Kc; `apply(v, av)` sets av = T^T A T v on the owned nodes (v may be changed).
-/// The result is symmetrised: (Kc + Kc^T) / 2. Collective.
+/// Measures the rows of Kc of the aggregates `held` (this rank's share; every rank probes
+/// and restricts the same, so each sees every measured value); `apply(v, av)` sets
+/// av = T^T A T v on the owned nodes (v may be changed). The result is the symmetric part
+/// (Kc + Kc^T) / 2, its rows numbered from the first held one, columns global. Collective.
 ///
 /// Kc is written straight into its rows (`Blocks`): the pattern is known from the
 /// colouring before the first probe, so no triplet list is sorted, and the symmetric part
-/// is taken in place. That holds 13 bytes per entry where triplets, their sort, the
-/// matrix, its transpose and their symmetric part held up to 36 (the peak of a build);
-/// the result is the same matrix, bit for bit: an entry is kept where either measured
-/// value was non-zero, and is 0.5 a + 0.5 b of the two.
+/// is formed as the values arrive: an entry (k, l; j, m) is measured at aggregate k when
+/// j's colour is probed in mode m, and its mirror (j, m; k, l), at aggregate j when k's
+/// colour is probed in mode l; the entry is 0.5 a + 0.5 b of the two (a value never
+/// measured counts 0) and is kept where either was non-zero. A rank holds only its rows
+/// (13 bytes per entry), where every rank held the whole Kc.
 #[allow(clippy::too_many_arguments)]
 pub fn measure<C: Comm + ?Sized, E>(
     comm: &C,
@@ -35,9 +39,10 @@ pub fn measure<C: Comm + ?Sized, E>(
     cons: &Constraints,
     owned: usize,
     buf: Probe,
+    held: Range<usize>,
     mut apply: impl FnMut(&mut [Vec3], &mut [Vec3]) -> Result<(), E>,
 ) -> Result<Csr, E> {
-    let mut kc = Blocks::new(col, tr.num_aggregates);
+    let mut kc = Blocks::new(col, tr.num_aggregates, held);
     for c in 0..col.num_colours {
         for m in 0..MODES {
             tr.aggregates.probe(cons, &col.colour, c, m, owned, buf.v);
@@ -45,51 +50,88 @@ pub fn measure<C: Comm + ?Sized, E>(
             tr.aggregates.restrict(comm, buf.av, buf.coeff);
             for &(k, j) in col.pairs(c) {
                 let (k, j) = (k as usize, j as usize);
-                let t = kc.slot(k, j);
-                for l in 0..MODES {
-                    let i = kc.at(k, l, t, m);
-                    kc.val[i] = buf.coeff[MODES * k + l];
+                let coeff = &buf.coeff[MODES * k..MODES * (k + 1)];
+                if kc.holds(k) {
+                    let t = kc.slot(k, j);
+                    for (l, &x) in coeff.iter().enumerate() {
+                        let p = kc.at(k, l, t, m);
+                        kc.arrive(p, x, MEASURED);
+                    }
+                }
+                if kc.holds(j) {
+                    let s = kc.slot(j, k);
+                    for (l, &x) in coeff.iter().enumerate() {
+                        let q = kc.at(j, m, s, l);
+                        kc.arrive(q, x, MIRRORED);
+                    }
                 }
             }
         }
     }
-    Ok(kc.symmetric_part())
+    Ok(kc.finish())
 }
 
-/// Kc in rows of 6 x 6 blocks while it is measured: aggregate k couples to the aggregates
-/// js[ptr[k]..ptr[k + 1]] (increasing; the pattern of the colouring made symmetric), and
-/// row (k, l) holds columns (j, m) for those j in order, m = 0..5.
+/// An entry's own measured value has arrived.
+const MEASURED: u8 = 1;
+/// Its mirror's has.
+const MIRRORED: u8 = 2;
+/// Both have, and the entry is kept (either was non-zero).
+const KEPT: u8 = 4;
+
+/// The held rows of Kc in 6 x 6 blocks while it is measured: aggregate k couples to the
+/// aggregates js[ptr[k - lo]..ptr[k - lo + 1]] (increasing; the pattern of the colouring
+/// made symmetric), and row (k, l) holds columns (j, m) for those j in order, m = 0..5.
 struct Blocks {
+    /// Aggregates in all (columns: six per aggregate).
+    total: usize,
+    lo: usize,
     ptr: Vec<usize>,
     js: Vec<u32>,
     val: Vec<f64>,
+    state: Vec<u8>,
 }
 
 impl Blocks {
-    fn new(col: &Colouring, na: usize) -> Self {
+    fn new(col: &Colouring, total: usize, held: Range<usize>) -> Self {
         let mut pairs: Vec<(u32, u32)> = Vec::new();
-        for k in 0..na {
+        for k in 0..total {
             for &(_, j) in col.seen(k) {
-                pairs.push((k as u32, j));
-                pairs.push((j, k as u32));
+                if held.contains(&k) {
+                    pairs.push((k as u32, j));
+                }
+                if held.contains(&(j as usize)) {
+                    pairs.push((j, k as u32));
+                }
             }
         }
         pairs.sort_unstable();
         pairs.dedup();
-        let mut ptr = vec![0usize; na + 1];
+        let mut ptr = vec![0usize; held.len() + 1];
         for &(k, _) in &pairs {
-            ptr[k as usize + 1] += 1;
+            ptr[k as usize - held.start + 1] += 1;
         }
-        for k in 0..na {
+        for k in 0..held.len() {
             ptr[k + 1] += ptr[k];
         }
         let js: Vec<u32> = pairs.into_iter().map(|(_, j)| j).collect();
-        let val = vec![0.0; MODES * MODES * js.len()];
-        Blocks { ptr, js, val }
+        let n = MODES * MODES * js.len();
+        Blocks {
+            total,
+            lo: held.start,
+            ptr,
+            js,
+            val: vec![0.0; n],
+            state: vec![0; n],
+        }
+    }
+
+    fn holds(&self, k: usize) -> bool {
+        k >= self.lo && k - self.lo < self.ptr.len() - 1
     }
 
     /// The place of aggregate j among those k couples to.
     fn slot(&self, k: usize, j: usize) -> usize {
+        let k = k - self.lo;
         let row = &self.js[self.ptr[k]..self.ptr[k + 1]];
         row.binary_search(&(j as u32))
             .expect("the pattern holds every coupling of the colouring")
@@ -97,39 +139,34 @@ impl Blocks {
 
     /// The entry of row (k, l) and column (js[ptr[k] + t], m).
     fn at(&self, k: usize, l: usize, t: usize, m: usize) -> usize {
+        let k = k - self.lo;
         let n = self.ptr[k + 1] - self.ptr[k];
         MODES * MODES * self.ptr[k] + MODES * (l * n + t) + m
     }
 
-    /// (Kc + Kc^T) / 2 as a Csr, in place: each pair of mirrored entries becomes
-    /// 0.5 a + 0.5 b (the same sum either way round); pairs of which neither was measured
-    /// non-zero are left out, as the triplets left them out.
-    fn symmetric_part(mut self) -> Csr {
-        let na = self.ptr.len() - 1;
-        let mut keep = vec![false; self.val.len()];
-        for k in 0..na {
-            for t in 0..self.ptr[k + 1] - self.ptr[k] {
-                let j = self.js[self.ptr[k] + t] as usize;
-                if j < k {
-                    continue;
-                }
-                let s = self.slot(j, k);
-                for l in 0..MODES {
-                    let m0 = if j == k { l } else { 0 };
-                    for m in m0..MODES {
-                        let (p, q) = (self.at(k, l, t, m), self.at(j, m, s, l));
-                        let (a, b) = (self.val[p], self.val[q]);
-                        let v = 0.5 * a + 0.5 * b;
-                        self.val[p] = v;
-                        self.val[q] = 0.5 * b + 0.5 * a;
-                        let live = a != 0.0 || b != 0.0;
-                        keep[p] = live;
-                        keep[q] = live;
-                    }
-                }
-            }
+    /// Value x of kind `kind` (MEASURED or MIRRORED) for entry p: the first of the two is
+    /// kept until the second comes, then the entry is 0.5 a + 0.5 b (the same sum in
+    /// either order). A value that came already is not taken again.
+    fn arrive(&mut self, p: usize, x: f64, kind: u8) {
+        let s = self.state[p];
+        if s & kind != 0 {
+            return;
         }
-        // Compaction, row by row, in place.
+        if s == 0 {
+            self.val[p] = x;
+            self.state[p] = kind;
+        } else {
+            let y = self.val[p];
+            self.val[p] = 0.5 * y + 0.5 * x;
+            self.state[p] = MEASURED | MIRRORED | if x != 0.0 || y != 0.0 { KEPT } else { 0 };
+        }
+    }
+
+    /// The held rows as a Csr (rows numbered from the first held one, global columns),
+    /// compacted in place: an entry of which only one value came is 0.5 x + 0.5 * 0 and
+    /// is kept when x is non-zero; one of which none came is left out.
+    fn finish(mut self) -> Csr {
+        let na = self.ptr.len() - 1;
         let rows = MODES * na;
         let mut ptr = Vec::with_capacity(rows + 1);
         ptr.push(0usize);
@@ -141,8 +178,14 @@ impl Blocks {
             for _l in 0..MODES {
                 for &j in blocks {
                     for m in 0..MODES {
-                        if keep[from] {
-                            self.val[out] = self.val[from];
+                        let (s, x) = (self.state[from], self.val[from]);
+                        let keep = match s {
+                            0 => None,
+                            MEASURED | MIRRORED => (x != 0.0).then_some(0.5 * x + 0.5 * 0.0),
+                            _ => (s & KEPT != 0).then_some(x),
+                        };
+                        if let Some(v) = keep {
+                            self.val[out] = v;
                             idx.push(MODES as u32 * j + m as u32);
                             out += 1;
                         }
@@ -152,13 +195,13 @@ impl Blocks {
                 ptr.push(out);
             }
         }
-        drop(keep);
+        drop(self.state);
         self.val.truncate(out);
         self.val.shrink_to_fit();
         idx.shrink_to_fit();
         Csr {
             rows,
-            cols: rows,
+            cols: MODES * self.total,
             ptr,
             idx,
             val: self.val,

@@ -18,10 +18,12 @@
 //! application (used for nonlinear bodies, whose operator is a finite difference).
 //!
 //! Bitwise the same on any number of ranks: aggregates and colours come from global data;
-//! restriction sums each aggregate on one rank in global node order; every rank builds the
-//! whole coarse hierarchy and runs the same cycle, each keeping and applying its rows of
-//! the first coarse operator (`Split`: every entry the same row sum whoever computes it);
-//! fine-level dot products are exact.
+//! restriction sums each aggregate on one rank in global node order; each rank measures
+//! and keeps only its rows of the first coarse operator, from which the levels below are
+//! built with every sum in the order the whole operator gives it (`first`); every rank
+//! builds those levels whole and runs the same cycle, applying its rows of the first
+//! coarse operator (`Split`: every entry the same row sum whoever computes it); fine-level
+//! dot products are exact.
 
 pub mod aggregation;
 pub mod block_rows;
@@ -29,6 +31,7 @@ pub mod blocks;
 pub mod colouring;
 pub mod cycle;
 pub mod direct;
+pub mod first;
 pub mod measure;
 pub mod prolongator;
 pub mod smoother;
@@ -87,8 +90,8 @@ pub struct Multilevel {
 }
 
 /// The first coarse level's operator applied by rows split over the ranks: rank r computes
-/// rows r L to (r + 1) L - 1 (L = ceil(rows / ranks)) and every rank gathers the whole
-/// product. Each entry is the row sum the whole product computes (`Csr::mul_rows_into`),
+/// rows r L to (r + 1) L - 1 (L = 6 ceil(aggregates / ranks), the rows it holds:
+/// `first::held`) and every rank gathers the whole product. Each entry is the row sum the whole product computes (`Csr::mul_rows_into`),
 /// so the cycle is the same bits on any number of ranks, at half the memory traffic on two
 /// (this level's products were a fifth of the 10^6-element block on block's run, every
 /// rank computing all of them).
@@ -172,7 +175,7 @@ impl Multilevel {
             degree,
             global_ids: mesh.node_global.clone(),
             owned: mesh.num_owned_nodes,
-            coarse: CoarseVectors::new(comm, dim),
+            coarse: CoarseVectors::new(comm, transfer.num_aggregates),
             fx: v(),
             fr: v(),
             fd: v(),
@@ -225,6 +228,7 @@ impl Multilevel {
             av: &mut self.fr,
             coeff: &mut self.coarse.b,
         };
+        let held = first::held(comm, na);
         let kc = measure::measure(
             comm,
             &mut self.transfer,
@@ -232,13 +236,13 @@ impl Multilevel {
             cons,
             self.owned,
             buf,
+            held.clone(),
             |v, av| op.apply(v, av),
         )?;
         lap(1);
-        let node_ptr: Vec<usize> = (0..=na).map(|k| MODES * k).collect();
         let b = self.transfer.nullspace(&self.origin, self.length);
         let body = self.transfer.body.clone();
-        let mut h = Hierarchy::build(kc, node_ptr, b, body, COARSE_DEGREE, COARSE_SWEEPS);
+        let mut h = first::build(comm, kc, held, na, b, body, COARSE_DEGREE, COARSE_SWEEPS);
         // This rank's rows of the first level (`Split`), or all of them on one rank.
         let rows = self.coarse.split_rows.len();
         if rows > 0 {
@@ -248,9 +252,9 @@ impl Multilevel {
                 rows: &mut self.coarse.split_rows,
                 all: &mut self.coarse.split_all,
             };
-            h.finish(split, first, rows);
+            h.finish(split, first, rows, |own| first::gather_rows(comm, &own));
         } else {
-            h.finish(&mut cycle::Whole, 0, self.transfer.dim());
+            h.finish(&mut cycle::Whole, 0, self.transfer.dim(), |own| own);
         }
         lap(2);
         self.fine = None;
@@ -376,9 +380,10 @@ struct CoarseVectors {
 }
 
 impl CoarseVectors {
-    fn new<C: Comm + ?Sized>(comm: &C, dim: usize) -> Self {
+    fn new<C: Comm + ?Sized>(comm: &C, aggregates: usize) -> Self {
+        let dim = MODES * aggregates;
         let rows = if comm.size() > 1 {
-            dim.div_ceil(comm.size())
+            first::rows_per_rank(comm, aggregates)
         } else {
             0
         };

@@ -3,8 +3,8 @@
 //! modes restricted to the aggregate; the coarse modes are the coefficients), and one
 //! damped Jacobi step smooths it, P = (I - omega D^-1 A) P_tent with omega = 4 / (3 lmax).
 
-use super::blocks::BlockInverse;
-use super::sparse::Csr;
+use super::blocks::{BlockInverse, NodeProduct};
+use super::sparse::{merge_row, Csr, MergeRule, Offset, RowProduct, Rows};
 
 /// Near-nullspace vectors per unknown.
 pub const MODES: usize = 6;
@@ -80,11 +80,46 @@ pub fn tentative(
 /// P = (I - omega D^-1 A) P_tent, omega = 4 / (3 lmax(D^-1 A)), D the node-block diagonal;
 /// rows of unknowns without stiffness (left out of D^-1) are left as they are. Each row
 /// merges the two sorted rows: t - omega x where both have the column, exact zeros left
-/// out.
+/// out. Computed node by node (the node's rows of A P_tent, then of D^-1 A P_tent, then
+/// of P), the same bits as the whole products `dinv.left_multiply(&a.matmul(pt))` merged
+/// with P_tent, without holding either product (each as large as P: two of the
+/// products at the peak of a multilevel build).
 pub fn smooth(a: &Csr, dinv: &BlockInverse, lmax: f64, pt: &Csr) -> Csr {
+    let p = smooth_nodes(&mut Offset { a, first: 0 }, dinv, lmax, pt, 0..dinv.nodes());
+    assert_eq!(p.rows, a.rows, "smooth: the nodes cover every unknown");
+    p
+}
+
+/// The rows of P (`smooth`) of the unknowns of `nodes`; `a` gives the rows of A (asked
+/// only for those unknowns).
+pub fn smooth_nodes(
+    a: &mut impl Rows,
+    dinv: &BlockInverse,
+    lmax: f64,
+    pt: &Csr,
+    nodes: std::ops::Range<usize>,
+) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
-    let ap = dinv.left_multiply(&a.matmul(pt));
-    pt.merge(&ap, |t, x| t + -omega * x, |t| t, |x| -omega * x, true)
+    let mut prod = RowProduct::new(pt.cols);
+    let mut ws = NodeProduct::new(pt.cols);
+    let (mut apt, mut dapt) = (Csr::empty(pt.cols), Csr::empty(pt.cols));
+    let mut out = Csr::empty(pt.cols);
+    let rule: MergeRule = (&|t, x| t + -omega * x, &|t| t, &|x| -omega * x);
+    for i in nodes {
+        let rows = dinv.unknowns(i);
+        apt.clear_rows();
+        for r in rows.clone() {
+            prod.push_row(a.row(r), |k| pt.row(k), &mut apt);
+        }
+        dapt.clear_rows();
+        dinv.left_multiply_node(i, |q| apt.row(q), &mut ws, &mut dapt);
+        for (q, r) in rows.enumerate() {
+            merge_row(pt.row(r), dapt.row(q), rule, true, &mut out);
+        }
+    }
+    out.idx.shrink_to_fit();
+    out.val.shrink_to_fit();
+    out
 }
 
 #[cfg(test)]
@@ -150,5 +185,61 @@ mod tests {
         for v in y {
             assert!((v - 1.0).abs() < 1e-15, "{v}");
         }
+        // Node by node, the same bits as the whole products merged.
+        let whole = t.p.merge(
+            &dinv.left_multiply(&a.matmul(&t.p)),
+            |t, x| t + -(4.0 / 6.0) * x,
+            |t| t,
+            |x| -(4.0 / 6.0) * x,
+            true,
+        );
+        assert_eq!((&p.ptr, &p.idx), (&whole.ptr, &whole.idx));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&p.val), bits(&whole.val));
+    }
+
+    #[test]
+    fn smoothing_node_by_node_is_the_whole_products_bit_for_bit() {
+        // Nodes of three unknowns, a diagonally dominant operator and a prolongator whose
+        // entries round: the node-by-node rows must be those of the whole products.
+        let n = 12;
+        let mut trip = Vec::new();
+        for i in 0..n as u32 {
+            trip.push((i, i, 10.0 + 0.37 * i as f64));
+            for j in 0..n as u32 {
+                if i != j && (i * 5 + j * 3) % 4 == 0 {
+                    trip.push((i, j, 0.1 / (1.3 + (i + j) as f64)));
+                    trip.push((j, i, 0.1 / (1.3 + (i + j) as f64)));
+                }
+            }
+        }
+        let a = Csr::from_triplets(n, n, trip);
+        let node_ptr = [0usize, 3, 6, 9, 12];
+        let dinv = BlockInverse::new(&a, &node_ptr);
+        let mut t = Vec::new();
+        for i in 0..n as u32 {
+            for j in 0..4u32 {
+                if (i + 2 * j) % 3 != 1 {
+                    t.push((i, j, 0.7 / (i as f64 + 1.9) + 0.11 * j as f64));
+                }
+            }
+        }
+        let pt = Csr::from_triplets(n, 4, t);
+        let lmax = 1.7;
+        let omega = 4.0 / (3.0 * lmax);
+        let p = smooth(&a, &dinv, lmax, &pt);
+        let whole = pt.merge(
+            &dinv.left_multiply(&a.matmul(&pt)),
+            |t, x| t + -omega * x,
+            |t| t,
+            |x| -omega * x,
+            true,
+        );
+        assert_eq!(
+            (p.rows, &p.ptr, &p.idx),
+            (whole.rows, &whole.ptr, &whole.idx)
+        );
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&p.val), bits(&whole.val));
     }
 }

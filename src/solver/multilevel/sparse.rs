@@ -108,13 +108,11 @@ impl Csr {
         s
     }
 
-    /// y = A^T x (scattered by rows of A, in row order).
+    /// y = A^T x (scattered by rows of A, in row order): each y_j gets its terms in the
+    /// order of row j of A^T, so the same bits as `self.transpose().mul_into(x, y)`.
     pub fn mul_transpose_into(&self, x: &[f64], y: &mut [f64]) {
         y.iter_mut().for_each(|v| *v = 0.0);
         for (i, &xi) in x.iter().enumerate().take(self.rows) {
-            if xi == 0.0 {
-                continue;
-            }
             let (c, v) = self.row(i);
             for (&j, &a) in c.iter().zip(v) {
                 y[j as usize] += a * xi;
@@ -155,43 +153,37 @@ impl Csr {
     /// A B (Gustavson's row-by-row product; every entry summed in a fixed order).
     pub fn matmul(&self, b: &Csr) -> Csr {
         assert_eq!(self.cols, b.rows, "matmul: inner dimensions differ");
-        let mut acc = vec![0.0f64; b.cols];
-        let mut seen = vec![false; b.cols];
-        let mut cols: Vec<u32> = Vec::new();
-        let mut ptr = Vec::with_capacity(self.rows + 1);
-        ptr.push(0);
-        let mut idx = Vec::new();
-        let mut val = Vec::new();
+        let mut prod = RowProduct::new(b.cols);
+        let mut out = Csr::empty(b.cols);
         for i in 0..self.rows {
-            let (ca, va) = self.row(i);
-            for (&k, &a) in ca.iter().zip(va) {
-                let (cb, vb) = b.row(k as usize);
-                for (&j, &bv) in cb.iter().zip(vb) {
-                    let j = j as usize;
-                    if !seen[j] {
-                        seen[j] = true;
-                        cols.push(j as u32);
-                    }
-                    acc[j] += a * bv;
-                }
-            }
-            cols.sort_unstable();
-            for &j in &cols {
-                idx.push(j);
-                val.push(acc[j as usize]);
-                acc[j as usize] = 0.0;
-                seen[j as usize] = false;
-            }
-            cols.clear();
-            ptr.push(idx.len());
+            prod.push_row(self.row(i), |k| b.row(k), &mut out);
         }
+        out
+    }
+
+    /// A matrix of no rows yet and `cols` columns, to which rows are pushed.
+    pub fn empty(cols: usize) -> Csr {
         Csr {
-            rows: self.rows,
-            cols: b.cols,
-            ptr,
-            idx,
-            val,
+            rows: 0,
+            cols,
+            ptr: vec![0],
+            idx: Vec::new(),
+            val: Vec::new(),
         }
+    }
+
+    /// Removes every row (keeping the allocations).
+    pub fn clear_rows(&mut self) {
+        self.rows = 0;
+        self.ptr.truncate(1);
+        self.idx.clear();
+        self.val.clear();
+    }
+
+    /// Closes the row whose entries were pushed last.
+    pub fn end_row(&mut self) {
+        self.ptr.push(self.idx.len());
+        self.rows += 1;
     }
 
     /// (A + A^T) / 2 for a square matrix (rows sorted by column, as every constructor
@@ -223,44 +215,22 @@ impl Csr {
         drop_zeros: bool,
     ) -> Csr {
         assert_eq!((self.rows, self.cols), (b.rows, b.cols), "merge: one shape");
-        let mut ptr = Vec::with_capacity(self.rows + 1);
-        ptr.push(0);
-        let mut idx = Vec::with_capacity(self.nnz().max(b.nnz()));
-        let mut val = Vec::with_capacity(self.nnz().max(b.nnz()));
+        let mut out = Csr::empty(self.cols);
+        out.ptr.reserve(self.rows);
+        out.idx.reserve(self.nnz().max(b.nnz()));
+        out.val.reserve(self.nnz().max(b.nnz()));
         for i in 0..self.rows {
-            let (ca, va) = self.row(i);
-            let (cb, vb) = b.row(i);
-            let (mut x, mut y) = (0, 0);
-            while x < ca.len() || y < cb.len() {
-                let s = ca.get(x).copied().unwrap_or(u32::MAX);
-                let t = cb.get(y).copied().unwrap_or(u32::MAX);
-                let (j, v) = if s == t {
-                    x += 1;
-                    y += 1;
-                    (s, both(va[x - 1], vb[y - 1]))
-                } else if s < t {
-                    x += 1;
-                    (s, only_a(va[x - 1]))
-                } else {
-                    y += 1;
-                    (t, only_b(vb[y - 1]))
-                };
-                if !drop_zeros || v != 0.0 {
-                    idx.push(j);
-                    val.push(v);
-                }
-            }
-            ptr.push(idx.len());
+            merge_row(
+                self.row(i),
+                b.row(i),
+                (&both, &only_a, &only_b),
+                drop_zeros,
+                &mut out,
+            );
         }
-        idx.shrink_to_fit();
-        val.shrink_to_fit();
-        Csr {
-            rows: self.rows,
-            cols: self.cols,
-            ptr,
-            idx,
-            val,
-        }
+        out.idx.shrink_to_fit();
+        out.val.shrink_to_fit();
+        out
     }
 
     /// Every entry as a dense row-major matrix (for the coarsest level).
@@ -273,6 +243,259 @@ impl Csr {
             }
         }
         d
+    }
+}
+
+/// Rows of a matrix handed out one at a time by row number (each valid until the next).
+pub trait Rows {
+    fn row(&mut self, r: usize) -> (&[u32], &[f64]);
+}
+
+/// The rows of a Csr numbered from `first` (its row i is row first + i).
+pub struct Offset<'a> {
+    pub a: &'a Csr,
+    pub first: usize,
+}
+
+impl Rows for Offset<'_> {
+    fn row(&mut self, r: usize) -> (&[u32], &[f64]) {
+        self.a.row(r - self.first)
+    }
+}
+
+/// What `merge_row` makes of an entry in both rows, only in the first, only in the second.
+pub type MergeRule<'f> = (
+    &'f dyn Fn(f64, f64) -> f64,
+    &'f dyn Fn(f64) -> f64,
+    &'f dyn Fn(f64) -> f64,
+);
+
+/// Pushes to `out` the sorted union of two sorted rows (`Csr::merge`'s rule) and closes
+/// the row.
+pub fn merge_row(
+    (ca, va): (&[u32], &[f64]),
+    (cb, vb): (&[u32], &[f64]),
+    (both, only_a, only_b): MergeRule,
+    drop_zeros: bool,
+    out: &mut Csr,
+) {
+    let (mut x, mut y) = (0, 0);
+    while x < ca.len() || y < cb.len() {
+        let s = ca.get(x).copied().unwrap_or(u32::MAX);
+        let t = cb.get(y).copied().unwrap_or(u32::MAX);
+        let (j, v) = if s == t {
+            x += 1;
+            y += 1;
+            (s, both(va[x - 1], vb[y - 1]))
+        } else if s < t {
+            x += 1;
+            (s, only_a(va[x - 1]))
+        } else {
+            y += 1;
+            (t, only_b(vb[y - 1]))
+        };
+        if !drop_zeros || v != 0.0 {
+            out.idx.push(j);
+            out.val.push(v);
+        }
+    }
+    out.end_row();
+}
+
+/// The workspace of a product A B computed a row at a time (Gustavson): a row of A times
+/// B, every entry summed over the row's entries in their order, the columns sorted. The
+/// one routine behind `Csr::matmul` and the products that do not hold a whole factor
+/// (`triple_product`, `prolongator::smooth`): their entries are the same bits.
+pub struct RowProduct {
+    acc: Vec<f64>,
+    seen: Vec<bool>,
+    cols: Vec<u32>,
+}
+
+impl RowProduct {
+    /// For products with `cols` columns.
+    pub fn new(cols: usize) -> Self {
+        RowProduct {
+            acc: vec![0.0; cols],
+            seen: vec![false; cols],
+            cols: Vec::new(),
+        }
+    }
+
+    /// Starts the next row's sums from the entries of `row` (a partial sum computed
+    /// earlier, `triple_product_part`) instead of from zero.
+    pub fn seed(&mut self, (c, v): (&[u32], &[f64])) {
+        for (&j, &x) in c.iter().zip(v) {
+            self.seen[j as usize] = true;
+            self.acc[j as usize] = x;
+            self.cols.push(j);
+        }
+    }
+
+    /// Pushes to `out` the row (ca, va) of A times B (`b_row(k)`: row k of B) and closes it.
+    pub fn push_row<'b>(
+        &mut self,
+        (ca, va): (&[u32], &[f64]),
+        b_row: impl Fn(usize) -> (&'b [u32], &'b [f64]),
+        out: &mut Csr,
+    ) {
+        for (&k, &a) in ca.iter().zip(va) {
+            let (cb, vb) = b_row(k as usize);
+            for (&j, &bv) in cb.iter().zip(vb) {
+                let j = j as usize;
+                if !self.seen[j] {
+                    self.seen[j] = true;
+                    self.cols.push(j as u32);
+                }
+                self.acc[j] += a * bv;
+            }
+        }
+        self.cols.sort_unstable();
+        for &j in &self.cols {
+            out.idx.push(j);
+            out.val.push(self.acc[j as usize]);
+            self.acc[j as usize] = 0.0;
+            self.seen[j as usize] = false;
+        }
+        self.cols.clear();
+        out.end_row();
+    }
+}
+
+/// Blocks of rows of P^T in which `triple_product` computes P^T A P: the rows of A P one
+/// block needs are held at a time (about an eighth of A P where the whole was held, one of
+/// the products at the peak of a multilevel build); a row of A P that two blocks need is
+/// computed twice. (Block on block n = 80, 2 ranks, a build's coarse levels: 3.0 s holding
+/// A P whole; 4, 8, 16 blocks: 3.9, 4.3, 4.8 s with the first level split over the ranks.)
+pub const TRIPLE_BLOCKS: usize = 8;
+
+/// P^T A P from P and its transpose `pt`: the same entries, bit for bit, as
+/// `pt.matmul(&a.matmul(p))`, without holding A P. The rows of P^T are taken in `blocks`
+/// blocks; for each, the rows of A P its entries need are computed (each exactly as the
+/// whole product computes it), then the block's rows of P^T times them.
+pub fn triple_product(pt: &Csr, a: &Csr, p: &Csr, blocks: usize) -> Csr {
+    assert_eq!(
+        (pt.cols, a.rows, a.cols),
+        (a.rows, a.cols, p.rows),
+        "triple_product: shapes"
+    );
+    triple_product_part(pt, &mut Offset { a, first: 0 }, 0..a.rows, p, blocks, None)
+}
+
+/// The part of P^T A P that the rows `ks` of A contribute (`a`: the rows of A, asked only
+/// for k in `ks`), continuing `seed`, the part of the rows of A before `ks`: each
+/// entry's sum goes on from the seed's value over the terms of k in `ks`, in the order of
+/// k, so the parts of consecutive ranges of rows, each seeded with the one before, end
+/// with `triple_product`'s bits. An entry some term reached is kept (also when it sums to
+/// zero), as the whole product keeps it.
+pub fn triple_product_part(
+    pt: &Csr,
+    a: &mut impl Rows,
+    ks: std::ops::Range<usize>,
+    p: &Csr,
+    blocks: usize,
+    seed: Option<&Csr>,
+) -> Csr {
+    let mut inner = RowProduct::new(p.cols);
+    let mut outer = RowProduct::new(p.cols);
+    let mut slot = vec![u32::MAX; ks.len()];
+    let mut need: Vec<u32> = Vec::new();
+    let mut ap = Csr::empty(p.cols);
+    let mut out = Csr::empty(p.cols);
+    out.ptr.reserve(pt.rows);
+    // Row i of P^T restricted to `ks` (its columns are sorted).
+    let part = |i: usize| {
+        let (c, v) = pt.row(i);
+        let lo = c.partition_point(|&k| (k as usize) < ks.start);
+        let hi = c.partition_point(|&k| (k as usize) < ks.end);
+        (&c[lo..hi], &v[lo..hi])
+    };
+    let per = pt.rows.div_ceil(blocks.max(1)).max(1);
+    let mut start = 0;
+    while start < pt.rows {
+        let end = (start + per).min(pt.rows);
+        for i in start..end {
+            for &k in part(i).0 {
+                let s = k as usize - ks.start;
+                if slot[s] == u32::MAX {
+                    slot[s] = 0;
+                    need.push(k);
+                }
+            }
+        }
+        need.sort_unstable();
+        ap.clear_rows();
+        for (n, &k) in need.iter().enumerate() {
+            slot[k as usize - ks.start] = n as u32;
+            inner.push_row(a.row(k as usize), |m| p.row(m), &mut ap);
+        }
+        for i in start..end {
+            if let Some(seed) = seed {
+                outer.seed(seed.row(i));
+            }
+            let row = |k: usize| ap.row(slot[k - ks.start] as usize);
+            outer.push_row(part(i), row, &mut out);
+        }
+        for &k in &need {
+            slot[k as usize - ks.start] = u32::MAX;
+        }
+        need.clear();
+        start = end;
+    }
+    out
+}
+
+impl Csr {
+    /// The matrix as bytes (`from_bytes` reads them back), to send between ranks.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut b = Vec::with_capacity(24 + 8 * self.ptr.len() + 12 * self.nnz());
+        for x in [self.rows, self.cols, self.nnz()] {
+            b.extend_from_slice(&(x as u64).to_le_bytes());
+        }
+        for &x in &self.ptr {
+            b.extend_from_slice(&(x as u64).to_le_bytes());
+        }
+        for &x in &self.idx {
+            b.extend_from_slice(&x.to_le_bytes());
+        }
+        for &x in &self.val {
+            b.extend_from_slice(&x.to_bits().to_le_bytes());
+        }
+        b
+    }
+
+    /// Appends the rows of a matrix written by `to_bytes` (of the same columns).
+    pub fn append_bytes(&mut self, b: &[u8]) {
+        let u64_at =
+            |o: usize| u64::from_le_bytes(b[o..o + 8].try_into().expect("8 bytes")) as usize;
+        let (rows, cols, nnz) = (u64_at(0), u64_at(8), u64_at(16));
+        assert_eq!(cols, self.cols, "append_bytes: one number of columns");
+        let base = self.idx.len();
+        let mut o = 24;
+        for r in 1..=rows {
+            self.ptr.push(base + u64_at(o + 8 * r));
+        }
+        o += 8 * (rows + 1);
+        self.idx.extend(
+            b[o..o + 4 * nnz]
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes(c.try_into().expect("4 bytes"))),
+        );
+        o += 4 * nnz;
+        self.val.extend(
+            b[o..o + 8 * nnz]
+                .chunks_exact(8)
+                .map(|c| f64::from_bits(u64::from_le_bytes(c.try_into().expect("8 bytes")))),
+        );
+        self.rows += rows;
+    }
+
+    /// A matrix written by `to_bytes`.
+    pub fn from_bytes(b: &[u8]) -> Csr {
+        let cols = u64::from_le_bytes(b[8..16].try_into().expect("8 bytes")) as usize;
+        let mut m = Csr::empty(cols);
+        m.append_bytes(b);
+        m
     }
 }
 
@@ -358,6 +581,51 @@ mod tests {
         let mut yt = vec![0.0; 5];
         a.mul_transpose_into(&xt, &mut yt);
         assert_eq!(yt, dense_mul(&at.to_dense(), &xt, 5, 7, 1));
+    }
+
+    /// Entries that round: the products below must give the whole products' bits.
+    fn rounding(rows: usize, cols: usize, seed: u32) -> Csr {
+        let mut t = Vec::new();
+        for i in 0..rows as u32 {
+            for j in 0..cols as u32 {
+                if (i * 7 + j * 3 + seed) % 5 < 2 {
+                    t.push((
+                        i,
+                        j,
+                        0.1 * (i as f64 + 1.3) / (j as f64 + 2.7) - 0.041 * seed as f64,
+                    ));
+                }
+            }
+        }
+        Csr::from_triplets(rows, cols, t)
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    #[test]
+    fn the_triple_product_by_blocks_is_the_whole_product_bit_for_bit() {
+        let a = rounding(13, 13, 1).symmetric_part();
+        let p = rounding(13, 5, 2);
+        let pt = p.transpose();
+        let whole = pt.matmul(&a.matmul(&p));
+        for blocks in [1, 2, 3, 5, 16] {
+            let t = triple_product(&pt, &a, &p, blocks);
+            assert_eq!((t.rows, t.cols), (5, 5));
+            assert_eq!(
+                (&t.ptr, &t.idx),
+                (&whole.ptr, &whole.idx),
+                "{blocks} blocks"
+            );
+            assert_eq!(bits(&t.val), bits(&whole.val), "{blocks} blocks");
+        }
+        // Prolongation by the transpose's scattered product: P's row products' bits.
+        let x: Vec<f64> = (0..5).map(|j| 0.3 / (j as f64 + 0.7) - 0.2).collect();
+        let (mut y, mut z) = (vec![0.0; 13], vec![1.0; 13]);
+        p.mul_into(&x, &mut y);
+        pt.mul_transpose_into(&x, &mut z);
+        assert_eq!(bits(&y), bits(&z));
     }
 
     #[test]

@@ -1,0 +1,221 @@
+//! The first coarse level built from its rows split over the ranks. Rank r holds the rows
+//! of aggregates r L .. (r + 1) L (L = ceil(aggregates / ranks), `held`), as measured
+//! (`measure`), and builds from them what the levels below need, each piece the same bits
+//! as `cycle::Hierarchy::build` computes it from the whole operator:
+//!
+//! - the diagonal, the inverses of the node blocks and the strength graph's edges, row by
+//!   row, gathered;
+//! - the smoother's bound, by products of the held rows gathered (`Split`'s rule);
+//! - the smoothed prolongator's rows of the held nodes, gathered whole (every rank needs
+//!   P^T for the cycle and P's rows to form P^T A P);
+//! - P^T A P in turns: rank 0 sums the terms of its rows of A, each rank then goes on
+//!   from the sums the rank before it sent, in the order of the rows, so every entry is
+//!   the one sum the whole product forms (`sparse::triple_product_part`).
+//!
+//! The levels below are built whole on every rank, as before. A rank so holds its rows
+//! of the first coarse operator instead of all of them (on the block on block at n = 80,
+//! 35 million entries: half of them on each of 2 ranks). Where the first level is itself
+//! the coarsest (few unknowns, or aggregation does not coarsen it), its rows are gathered
+//! and it is built whole.
+
+use super::aggregation::{aggregate, Graph};
+use super::block_rows::{BlockRows, View};
+use super::blocks::BlockInverse;
+use super::cycle::{self, FirstLevel, Hierarchy};
+use super::prolongator::{smooth_nodes, tentative, MODES};
+use super::smoother::{hash_value, Chebyshev, Space};
+use super::sparse::{node_of, triple_product_part, Csr, TRIPLE_BLOCKS};
+use crate::comm::Comm;
+use std::convert::Infallible;
+use std::ops::Range;
+
+/// The aggregates whose rows of the first coarse level this rank holds.
+pub fn held<C: Comm + ?Sized>(comm: &C, aggregates: usize) -> Range<usize> {
+    let per = aggregates.div_ceil(comm.size()).max(1);
+    let lo = (comm.rank() * per).min(aggregates);
+    lo..(lo + per).min(aggregates)
+}
+
+/// Rows of the first coarse level per rank (the last rank's padded): `held`'s count, in
+/// unknowns.
+pub fn rows_per_rank<C: Comm + ?Sized>(comm: &C, aggregates: usize) -> usize {
+    MODES * aggregates.div_ceil(comm.size()).max(1)
+}
+
+/// Every rank's rows (`rows`, numbered from the first held one) gathered into the whole
+/// matrix, rank after rank (collective).
+pub fn gather_rows<C: Comm + ?Sized>(comm: &C, rows: &Csr) -> Csr {
+    let mut whole = Csr::empty(rows.cols);
+    for r in 0..comm.size() {
+        let mut bytes = if r == comm.rank() {
+            rows.to_bytes()
+        } else {
+            Vec::new()
+        };
+        comm.broadcast_bytes(r, &mut bytes);
+        whole.append_bytes(&bytes);
+    }
+    whole
+}
+
+/// Every rank's values, in rank order.
+fn gather<C: Comm + ?Sized>(comm: &C, mine: &[f64]) -> Vec<f64> {
+    comm.all_gather_f64(mine).concat()
+}
+
+/// The first level's products while it is built: the held rows, gathered.
+struct HeldRows<'a, C: Comm + ?Sized> {
+    comm: &'a C,
+    rows: &'a BlockRows,
+    first: usize,
+    dinv: &'a BlockInverse,
+    mine: Vec<f64>,
+    all: Vec<f64>,
+}
+
+impl<C: Comm + ?Sized> Space for HeldRows<'_, C> {
+    type Error = Infallible;
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
+        self.rows.mul_rows_into(x, self.first, &mut self.mine);
+        self.comm.all_gather_equal_f64(&self.mine, &mut self.all);
+        y.copy_from_slice(&self.all[..y.len()]);
+        Ok(())
+    }
+    fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
+        self.dinv.apply(r, z);
+    }
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    }
+    fn start(&self, v: &mut [f64]) {
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = hash_value(i as u64);
+        }
+    }
+}
+
+/// Builds the hierarchy from this rank's rows of the first coarse level (`rows`, those of
+/// the aggregates `held` of `aggregates`, numbered from the first held one), its
+/// near-nullspace `b` and the bodies of its nodes (collective). The rows are kept in
+/// blocks from the start (`BlockRows`, which gives each sparse row back, bit for bit): the
+/// sparse rows and the blocks were both held through the build, the largest part of its
+/// peak.
+#[allow(clippy::too_many_arguments)]
+pub fn build<C: Comm + ?Sized>(
+    comm: &C,
+    rows: Csr,
+    held: Range<usize>,
+    aggregates: usize,
+    b: Vec<[f64; MODES]>,
+    body: Vec<u32>,
+    degree: usize,
+    sweeps: usize,
+) -> Hierarchy {
+    let n = MODES * aggregates;
+    let first = MODES * held.start;
+    let node_ptr: Vec<usize> = (0..=aggregates).map(|k| MODES * k).collect();
+    let own_diag: Vec<f64> = (0..rows.rows)
+        .map(|i| {
+            let (c, v) = rows.row(i);
+            c.binary_search(&((first + i) as u32)).map_or(0.0, |k| v[k])
+        })
+        .collect();
+    let diag = gather(comm, &own_diag);
+    let whole = |rows: Csr| {
+        let a = gather_rows(comm, &rows);
+        drop(rows);
+        Hierarchy::build(a, node_ptr.clone(), b.clone(), body.clone(), degree, sweeps)
+    };
+    if diag.iter().filter(|&&d| d > 0.0).count() <= cycle::COARSEST {
+        return whole(rows);
+    }
+    let blocks = BlockRows::of_rows(|r| rows.row(r - first), (n, n), first, MODES * held.len())
+        .expect("the first level's unknowns come six to an aggregate");
+    drop(rows);
+    let mut view = View::new(&blocks);
+    // Node-block relaxation, the strength graph and the aggregates of the next level.
+    let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
+    let dinv = BlockInverse::from_inverses(&node_ptr, gather(comm, &inv));
+    let node_of = node_of(&node_ptr);
+    let mut edges = Vec::new();
+    let ks = first..first + MODES * held.len();
+    cycle::strong_edges(&mut view, ks.clone(), &diag, &node_of, &body, &mut edges);
+    // Each node pair comes once for every entry between them: once is enough.
+    edges.sort_unstable();
+    edges.dedup();
+    let flat: Vec<f64> = edges
+        .iter()
+        .flat_map(|&(i, j)| [i as f64, j as f64])
+        .collect();
+    drop(edges);
+    let flat = gather(comm, &flat);
+    let edges: Vec<(u32, u32)> = flat
+        .chunks_exact(2)
+        .map(|e| (e[0] as u32, e[1] as u32))
+        .collect();
+    drop(flat);
+    let graph = Graph::from_edges(aggregates, &edges);
+    drop(edges);
+    let active = cycle::active_nodes(&diag, &node_ptr);
+    let (agg, nc) = aggregate(&graph, &active);
+    drop(graph);
+    let mut coarse_body = vec![0u32; nc];
+    for (i, &k) in agg.iter().enumerate() {
+        if k != u32::MAX {
+            coarse_body[k as usize] = body[i];
+        }
+    }
+    let tent = tentative(&agg, nc, &node_ptr, &b);
+    if cycle::stops_coarsening(tent.p.cols, n) {
+        return whole(blocks.to_csr());
+    }
+    // The smoother's bound, by products of the held rows.
+    let per = rows_per_rank(comm, aggregates);
+    let mut space = HeldRows {
+        comm,
+        rows: &blocks,
+        first,
+        dinv: &dinv,
+        mine: vec![0.0; per],
+        all: vec![0.0; per * comm.size()],
+    };
+    let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let Ok(cheb) = Chebyshev::estimate(&mut space, degree, &mut v, &mut y, &mut w);
+    drop((v, y, w, space));
+    // P's rows of the held nodes, gathered; P^T; P^T A P in turns.
+    let own_p = smooth_nodes(&mut view, &dinv, cheb.lmax, &tent.p, held.clone());
+    let p = gather_rows(comm, &own_p);
+    drop(own_p);
+    let pt = p.transpose();
+    let mut sums: Option<Csr> = None;
+    for r in 0..comm.size() {
+        let mut bytes = Vec::new();
+        if r == comm.rank() {
+            let part =
+                triple_product_part(&pt, &mut view, ks.clone(), &p, TRIPLE_BLOCKS, sums.as_ref());
+            bytes = part.to_bytes();
+            if comm.size() == 1 {
+                sums = Some(part);
+                continue;
+            }
+        }
+        comm.broadcast_bytes(r, &mut bytes);
+        sums = Some(Csr::from_bytes(&bytes));
+    }
+    drop(p);
+    let ac = sums.expect("one rank at least").symmetric_part();
+    let rest = Hierarchy::build(ac, tent.node_ptr, tent.b, coarse_body, degree, sweeps);
+    let nnz = gather(comm, &[blocks.nnz() as f64]).iter().sum::<f64>() as usize;
+    let live = diag.iter().map(|&d| d > 0.0).collect();
+    let first_level = FirstLevel {
+        rows: blocks,
+        dinv,
+        cheb,
+        pt,
+        n,
+        nnz,
+        node_ptr,
+        live,
+    };
+    Hierarchy::above(first_level, rest)
+}
