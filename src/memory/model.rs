@@ -59,19 +59,19 @@ const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
-/// The multilevel hierarchy, built on every rank for the whole mesh, at the peak of its
-/// build: the first coarse operator (about 34 entries per node, a value and a column index,
-/// 12 bytes each: 400 bytes), the products its next level is built from (A P_tent, then
-/// D^-1 A P_tent, then A P: about 15 entries per node each, 180 bytes), the smoothed
-/// prolongator and its transpose (70 bytes each), the aggregates, colours and graph. The
-/// build writes the first coarse operator in place and merges rows instead of sorting
-/// triplet lists (the triplets were 36 bytes per entry of the first coarse operator and
-/// six times the entries of A P_tent). Measured on the block on block with multilevel by
-/// name: 99.2 and 557.7 MiB on one rank at 18522 and 137842 nodes, 2509.8 MiB per rank on
-/// 2 ranks at 1062882 nodes, against the estimated 95.2, 533.4 and 2751.0; with element
-/// matrices (the blocks' elements share shapes, no geometry per element) 71.0, 346.0 and
-/// 1575.5 MiB against 66.1, 301.0 and 1798.4.
-const MULTILEVEL_PER_NODE: f64 = 1000.0;
+/// The multilevel hierarchy at the peak of its build, per node of the whole mesh: a part
+/// split over the ranks, the rows of the first coarse operator each rank measures and
+/// keeps (about 34 entries per node, written as sparse rows at 13 bytes, then held in 6 x 6
+/// blocks at 8.1), and a part every rank holds whole (the smoothed prolongator and its
+/// transpose, about 11 entries per node at 12 bytes each while the next level is formed,
+/// the node graph, aggregates and colours). How the bytes divide between the two was
+/// calibrated on the block on block with multilevel by name at n = 40 (137842 nodes) on 1
+/// and 2 ranks, 275.8 and 187.3 MiB against the estimated 274.7 and 187.1; then n = 20 on
+/// one rank and n = 40 on 3 ranks, and n = 80 (1062882 nodes) on 2 ranks, 1147.8 MiB
+/// against 1241.0 (+8.1%). Before each rank kept only its rows (1000 bytes per node on
+/// every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
+const MULTILEVEL_SPLIT_PER_NODE: f64 = 700.0;
+const MULTILEVEL_WHOLE_PER_NODE: f64 = 100.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;
@@ -143,7 +143,7 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         let dim = 6.0 * aggregates;
         8.0 * dim * dim
     } else if c.multilevel {
-        n * MULTILEVEL_PER_NODE
+        n * (MULTILEVEL_WHOLE_PER_NODE + MULTILEVEL_SPLIT_PER_NODE / ranks as f64)
     } else {
         0.0
     };
