@@ -8,7 +8,7 @@
 //! out of the inverse (they relax to zero), like the coarsest direct solve does.
 
 use super::direct::Dense;
-use super::sparse::{Csr, Offset, Rows};
+use super::sparse::{Csr, Offset, RowProduct, Rows};
 
 /// Per node, the dense inverse of its diagonal block (row-major, size b x b for a node of
 /// b unknowns).
@@ -118,7 +118,7 @@ impl BlockInverse {
         out.ptr.reserve(m.rows);
         out.idx.reserve(m.nnz());
         out.val.reserve(m.nnz());
-        let mut ws = NodeProduct::new(m.cols);
+        let mut ws = RowProduct::new(m.cols);
         for i in 0..self.nodes() {
             let lo = self.node_ptr[i];
             self.left_multiply_node(i, |q| m.row(lo + q), &mut ws, &mut out);
@@ -132,7 +132,7 @@ impl BlockInverse {
         &self,
         i: usize,
         row: impl Fn(usize) -> (&'m [u32], &'m [f64]),
-        ws: &mut NodeProduct,
+        ws: &mut RowProduct,
         out: &mut Csr,
     ) {
         let b = self.node_ptr[i + 1] - self.node_ptr[i];
@@ -163,24 +163,6 @@ impl BlockInverse {
             }
             ws.cols.clear();
             out.end_row();
-        }
-    }
-}
-
-/// The workspace of `BlockInverse::left_multiply_node`.
-pub struct NodeProduct {
-    acc: Vec<f64>,
-    seen: Vec<bool>,
-    cols: Vec<u32>,
-}
-
-impl NodeProduct {
-    /// For matrices of `cols` columns.
-    pub fn new(cols: usize) -> Self {
-        NodeProduct {
-            acc: vec![0.0; cols],
-            seen: vec![false; cols],
-            cols: Vec::new(),
         }
     }
 }

@@ -135,10 +135,10 @@ impl Product for Whole {
 }
 
 /// A sparse level seen by the smoother.
-struct Sparse<'a, P: Product> {
-    a: &'a Op,
-    dinv: &'a BlockInverse,
-    product: &'a mut P,
+pub(super) struct Sparse<'a, P: Product> {
+    pub(super) a: &'a Op,
+    pub(super) dinv: &'a BlockInverse,
+    pub(super) product: &'a mut P,
 }
 
 impl<P: Product> Space for Sparse<'_, P> {

@@ -21,12 +21,12 @@
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::{BlockRows, View};
 use super::blocks::BlockInverse;
-use super::cycle::{self, FirstLevel, Hierarchy};
+use super::cycle::{self, FirstLevel, Hierarchy, Op};
 use super::prolongator::{smooth_nodes, tentative, MODES};
-use super::smoother::{hash_value, Chebyshev, Space};
+use super::smoother::Chebyshev;
 use super::sparse::{node_of, triple_product_part, Csr, TRIPLE_BLOCKS};
+use super::Split;
 use crate::comm::Comm;
-use std::convert::Infallible;
 use std::ops::Range;
 
 /// The aggregates whose rows of the first coarse level this rank holds.
@@ -61,37 +61,6 @@ pub fn gather_rows<C: Comm + ?Sized>(comm: &C, rows: &Csr) -> Csr {
 /// Every rank's values, in rank order.
 fn gather<C: Comm + ?Sized>(comm: &C, mine: &[f64]) -> Vec<f64> {
     comm.all_gather_f64(mine).concat()
-}
-
-/// The first level's products while it is built: the held rows, gathered.
-struct HeldRows<'a, C: Comm + ?Sized> {
-    comm: &'a C,
-    rows: &'a BlockRows,
-    first: usize,
-    dinv: &'a BlockInverse,
-    mine: Vec<f64>,
-    all: Vec<f64>,
-}
-
-impl<C: Comm + ?Sized> Space for HeldRows<'_, C> {
-    type Error = Infallible;
-    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
-        self.rows.mul_rows_into(x, self.first, &mut self.mine);
-        self.comm.all_gather_equal_f64(&self.mine, &mut self.all);
-        y.copy_from_slice(&self.all[..y.len()]);
-        Ok(())
-    }
-    fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
-        self.dinv.apply(r, z);
-    }
-    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
-        a.iter().zip(b).map(|(x, y)| x * y).sum()
-    }
-    fn start(&self, v: &mut [f64]) {
-        for (i, x) in v.iter_mut().enumerate() {
-            *x = hash_value(i as u64);
-        }
-    }
 }
 
 /// Builds the hierarchy from this rank's rows of the first coarse level (`rows`, those of
@@ -169,19 +138,27 @@ pub fn build<C: Comm + ?Sized>(
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }
-    // The smoother's bound, by products of the held rows.
+    // The smoother's bound, by products of the held rows gathered (`Split`).
     let per = rows_per_rank(comm, aggregates);
-    let mut space = HeldRows {
+    let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);
+    let op = Op::Rows(blocks);
+    let product = &mut Split {
         comm,
-        rows: &blocks,
-        first,
+        rows: &mut mine,
+        all: &mut all,
+    };
+    let mut space = cycle::Sparse {
+        a: &op,
         dinv: &dinv,
-        mine: vec![0.0; per],
-        all: vec![0.0; per * comm.size()],
+        product,
     };
     let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let Ok(cheb) = Chebyshev::estimate(&mut space, degree, &mut v, &mut y, &mut w);
-    drop((v, y, w, space));
+    drop((v, y, w, mine, all));
+    let Op::Rows(blocks) = op else {
+        unreachable!("the first level's rows are blocks")
+    };
+    let mut view = View::new(&blocks);
     // P's rows of the held nodes, gathered; P^T; P^T A P in turns.
     let own_p = smooth_nodes(&mut view, &dinv, cheb.lmax, &tent.p, held.clone());
     let p = gather_rows(comm, &own_p);

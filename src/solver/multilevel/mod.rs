@@ -95,10 +95,10 @@ pub struct Multilevel {
 /// so the cycle is the same bits on any number of ranks, at half the memory traffic on two
 /// (this level's products were a fifth of the 10^6-element block on block's run, every
 /// rank computing all of them).
-struct Split<'a, C: Comm + ?Sized> {
-    comm: &'a C,
-    rows: &'a mut [f64],
-    all: &'a mut [f64],
+pub(super) struct Split<'a, C: Comm + ?Sized> {
+    pub(super) comm: &'a C,
+    pub(super) rows: &'a mut [f64],
+    pub(super) all: &'a mut [f64],
 }
 
 impl<C: Comm + ?Sized> cycle::Product for Split<'_, C> {

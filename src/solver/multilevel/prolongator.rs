@@ -3,7 +3,7 @@
 //! modes restricted to the aggregate; the coarse modes are the coefficients), and one
 //! damped Jacobi step smooths it, P = (I - omega D^-1 A) P_tent with omega = 4 / (3 lmax).
 
-use super::blocks::{BlockInverse, NodeProduct};
+use super::blocks::BlockInverse;
 use super::sparse::{merge_row, Csr, MergeRule, Offset, RowProduct, Rows};
 
 /// Near-nullspace vectors per unknown.
@@ -101,7 +101,7 @@ pub fn smooth_nodes(
 ) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
     let mut prod = RowProduct::new(pt.cols);
-    let mut ws = NodeProduct::new(pt.cols);
+    let mut ws = RowProduct::new(pt.cols);
     let (mut apt, mut dapt) = (Csr::empty(pt.cols), Csr::empty(pt.cols));
     let mut out = Csr::empty(pt.cols);
     let rule: MergeRule = (&|t, x| t + -omega * x, &|t| t, &|x| -omega * x);

@@ -305,11 +305,12 @@ pub fn merge_row(
 /// The workspace of a product A B computed a row at a time (Gustavson): a row of A times
 /// B, every entry summed over the row's entries in their order, the columns sorted. The
 /// one routine behind `Csr::matmul` and the products that do not hold a whole factor
-/// (`triple_product`, `prolongator::smooth`): their entries are the same bits.
+/// (`triple_product`, `prolongator::smooth`): their entries are the same bits. Also the
+/// workspace of `BlockInverse::left_multiply_node`.
 pub struct RowProduct {
-    acc: Vec<f64>,
-    seen: Vec<bool>,
-    cols: Vec<u32>,
+    pub(super) acc: Vec<f64>,
+    pub(super) seen: Vec<bool>,
+    pub(super) cols: Vec<u32>,
 }
 
 impl RowProduct {
