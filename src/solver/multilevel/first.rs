@@ -31,9 +31,16 @@ use std::ops::Range;
 
 /// The aggregates whose rows of the first coarse level this rank holds.
 pub fn held<C: Comm + ?Sized>(comm: &C, aggregates: usize) -> Range<usize> {
-    let per = aggregates.div_ceil(comm.size()).max(1);
-    let lo = (comm.rank() * per).min(aggregates);
-    lo..(lo + per).min(aggregates)
+    held_by(aggregates, comm.size(), comm.rank())
+}
+
+/// The aggregates rank `rank` of `ranks` holds: `per` = ceil(aggregates / ranks) from
+/// rank * per on (fewer on the last, none past the end), so that its rows start where
+/// `Split` places them (rank * 6 per) even when it holds none.
+fn held_by(aggregates: usize, ranks: usize, rank: usize) -> Range<usize> {
+    let per = aggregates.div_ceil(ranks).max(1);
+    let lo = rank * per;
+    lo..(lo + per).min(aggregates).max(lo)
 }
 
 /// Rows of the first coarse level per rank (the last rank's padded): `held`'s count, in
@@ -195,4 +202,28 @@ pub fn build<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_held_aggregates_tile_the_level_and_start_where_split_places_them() {
+        for aggregates in [1usize, 5, 151, 1000] {
+            for ranks in 1..=100 {
+                let per = aggregates.div_ceil(ranks);
+                let mut next = 0;
+                for rank in 0..ranks {
+                    let h = held_by(aggregates, ranks, rank);
+                    assert_eq!(h.start, rank * per, "{aggregates} {ranks} {rank}");
+                    if !h.is_empty() {
+                        assert_eq!(h.start, next);
+                        next = h.end;
+                    }
+                }
+                assert_eq!(next, aggregates, "{aggregates} aggregates on {ranks} ranks");
+            }
+        }
+    }
 }
