@@ -472,6 +472,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         loop {
             let pb = ModelProblem {
                 comm: self.comm,
+                global: &self.problem.mesh,
                 asm: &self.asm,
                 loads: &self.loads,
                 cons,

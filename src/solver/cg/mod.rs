@@ -53,6 +53,7 @@ use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::memory::{try_filled, AllocError};
+use crate::mesh::GlobalMesh;
 
 /// With `preconditioner = "auto"` on meshes below the two-level threshold, CG starts with
 /// block Jacobi and moves to the multilevel preconditioner at this iteration of a model
@@ -245,6 +246,8 @@ fn agree_alloc<C: Comm + ?Sized, T>(comm: &C, r: Result<T, AllocError>) -> Resul
 
 pub struct Problem<'a, C: Comm + ?Sized> {
     pub comm: &'a C,
+    /// The whole mesh (the multilevel preconditioner's colouring follows its node graph).
+    pub global: &'a GlobalMesh,
     pub asm: &'a Assembly<'a>,
     pub loads: &'a Loads,
     pub cons: &'a Constraints,

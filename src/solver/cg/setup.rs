@@ -174,7 +174,15 @@ impl Cg {
         self.ml_smoother_fp = fp;
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
-        ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
+        ml.setup(
+            pb.comm,
+            pb.global,
+            pb.cons,
+            pb.asm.mesh,
+            &self.minv,
+            &mut op,
+            linear,
+        )?;
         self.rebuild_note = Some(format!(
             "{} (build {}: {why}; {:.3} s)",
             ml.summary,

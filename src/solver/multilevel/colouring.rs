@@ -7,7 +7,7 @@
 //! (reduce). Computed from global data (the node graph, every rank's tie rows gathered in
 //! global order), greedily in aggregate order: the same on any number of ranks.
 
-use super::aggregation::Graph;
+use super::aggregation::{Graph, NodeElements};
 use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::mesh::local::LocalMesh;
@@ -108,9 +108,47 @@ fn close(set: &mut Vec<u32>, mark: &mut [u32], stamp: u32, next: impl Fn(usize) 
     }
 }
 
+/// The neighbours of every node of a graph: a node's neighbours, each at least once, in any
+/// order (the colouring uses the sets only).
+pub trait Neighbours {
+    /// Nodes of the graph.
+    fn nodes(&self) -> usize;
+    fn each(&self, a: usize, f: impl FnMut(u32));
+}
+
+impl Neighbours for Graph {
+    fn nodes(&self) -> usize {
+        self.len()
+    }
+    fn each(&self, a: usize, f: impl FnMut(u32)) {
+        self.neighbours(a).iter().copied().for_each(f);
+    }
+}
+
+/// The node graph of a hexahedral mesh from the elements around each node (a node itself
+/// comes among its neighbours, and some twice).
+pub struct MeshNeighbours<'a> {
+    pub around: &'a NodeElements,
+    pub elements: &'a [[u32; 8]],
+}
+
+impl Neighbours for MeshNeighbours<'_> {
+    fn nodes(&self) -> usize {
+        self.around.len()
+    }
+    fn each(&self, a: usize, f: impl FnMut(u32)) {
+        self.around.each_neighbour(self.elements, a, f);
+    }
+}
+
 /// reach[reach_ptr[j]..reach_ptr[j + 1]]: the aggregates a probe on aggregate j reaches.
-fn reach_of(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> (Vec<usize>, Vec<u32>) {
-    let n = graph.len();
+fn reach_of(
+    graph: &impl Neighbours,
+    agg_of: &[u32],
+    num_aggs: usize,
+    ties: &Ties,
+) -> (Vec<usize>, Vec<u32>) {
+    let n = graph.nodes();
     let mut members: Vec<Vec<u32>> = vec![Vec::new(); num_aggs];
     for a in 0..n {
         members[agg_of[a] as usize].push(a as u32);
@@ -135,12 +173,12 @@ fn reach_of(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> (Vec
                 mark[a as usize] = stamp2;
                 near.push(a);
             }
-            for &b in graph.neighbours(a as usize) {
+            graph.each(a as usize, |b| {
                 if mark[b as usize] != stamp2 {
                     mark[b as usize] = stamp2;
                     near.push(b);
                 }
-            }
+            });
         }
         close(&mut near, &mut mark, stamp2, |a| ties.masters(a).to_vec());
         for &a in &near {
@@ -193,7 +231,7 @@ fn greedy_colours(
 
 impl Colouring {
     /// Colours the aggregates `agg_of` (of every global node) of the node graph with ties.
-    pub fn new(graph: &Graph, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> Self {
+    pub fn new(graph: &impl Neighbours, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> Self {
         let (reach_ptr, reach) = reach_of(graph, agg_of, num_aggs, ties);
         let (colour, num_colours, seen_by) = greedy_colours(&reach_ptr, &reach, num_aggs);
         let mut seen_ptr = vec![0usize];
@@ -259,5 +297,37 @@ mod tests {
         let c = Colouring::new(&g, &agg_of, 6, &Ties::from_pairs(12, vec![(11, 0)]));
         assert!(c.seen(0).iter().any(|&(_, j)| j == 5));
         assert!(c.seen(5).iter().any(|&(_, j)| j == 0));
+    }
+
+    #[test]
+    fn the_mesh_neighbours_colour_as_the_node_graph_does() {
+        // Three elements in a row (16 nodes), aggregates of four nodes, a tie from the far
+        // end's node to the first: the colouring from the elements around each node is
+        // the one from the node graph.
+        let mut elements = Vec::new();
+        for e in 0..3u32 {
+            let b = 4 * e;
+            elements.push([b, b + 4, b + 5, b + 1, b + 2, b + 6, b + 7, b + 3]);
+        }
+        let mesh = crate::mesh::GlobalMesh {
+            coords: vec![[0.0; 3]; 16],
+            elements,
+            element_body: vec![0; 3],
+            bodies: Vec::new(),
+        };
+        let around = NodeElements::of_mesh(&mesh);
+        let by_elements = MeshNeighbours {
+            around: &around,
+            elements: &mesh.elements,
+        };
+        let graph = Graph::of_mesh(&mesh);
+        let agg_of: Vec<u32> = (0..16).map(|a| a / 4).collect();
+        for ties in [vec![], vec![(15, 0)], vec![(15, 0), (12, 3)]] {
+            let a = Colouring::new(&graph, &agg_of, 4, &Ties::from_pairs(16, ties.clone()));
+            let b = Colouring::new(&by_elements, &agg_of, 4, &Ties::from_pairs(16, ties));
+            assert_eq!((&a.colour, a.num_colours), (&b.colour, b.num_colours));
+            assert_eq!((&a.seen_ptr, &a.seen), (&b.seen_ptr, &b.seen));
+            assert_eq!(a.by_colour, b.by_colour);
+        }
     }
 }

@@ -251,6 +251,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
     ) -> Vec<f64> {
         let pb = ModelProblem {
             comm: self.comm,
+            global: &self.problem.mesh,
             asm: &self.asm,
             loads: &self.loads,
             cons,
