@@ -248,6 +248,17 @@ pub fn active_nodes(diag: &[f64], node_ptr: &[usize]) -> Vec<bool> {
         .collect()
 }
 
+/// The body of every aggregate (`agg`: the aggregate of every node, u32::MAX for none).
+pub fn coarse_bodies(agg: &[u32], aggregates: usize, body: &[u32]) -> Vec<u32> {
+    let mut coarse = vec![0u32; aggregates];
+    for (i, &k) in agg.iter().enumerate() {
+        if k != u32::MAX {
+            coarse[k as usize] = body[i];
+        }
+    }
+    coarse
+}
+
 /// Whether aggregation no longer coarsens a level of `n` unknowns into `coarse`: the
 /// level is then solved directly.
 pub fn stops_coarsening(coarse: usize, n: usize) -> bool {
@@ -282,12 +293,7 @@ impl Hierarchy {
             let dinv = BlockInverse::new(&a, &node_ptr);
             let (graph, active) = strength_graph(&a, &diag, &node_ptr, &body);
             let (agg, na) = aggregate(&graph, &active);
-            let mut coarse_body = vec![0u32; na];
-            for (i, &k) in agg.iter().enumerate() {
-                if k != u32::MAX {
-                    coarse_body[k as usize] = body[i];
-                }
-            }
+            let coarse_body = coarse_bodies(&agg, na, &body);
             let tent = tentative(&agg, na, &node_ptr, &b);
             if stops_coarsening(tent.p.cols, a.rows) {
                 // Aggregation no longer coarsens: stop here (solved directly).

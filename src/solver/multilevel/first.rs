@@ -112,35 +112,9 @@ pub fn build<C: Comm + ?Sized>(
     // Node-block relaxation, the strength graph and the aggregates of the next level.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
     let dinv = BlockInverse::from_inverses(&node_ptr, gather(comm, &inv));
-    let node_of = node_of(&node_ptr);
-    let mut edges = Vec::new();
     let ks = first..first + MODES * held.len();
-    cycle::strong_edges(&mut view, ks.clone(), &diag, &node_of, &body, &mut edges);
-    // Each node pair comes once for every entry between them: once is enough.
-    edges.sort_unstable();
-    edges.dedup();
-    let flat: Vec<f64> = edges
-        .iter()
-        .flat_map(|&(i, j)| [i as f64, j as f64])
-        .collect();
-    drop(edges);
-    let flat = gather(comm, &flat);
-    let edges: Vec<(u32, u32)> = flat
-        .chunks_exact(2)
-        .map(|e| (e[0] as u32, e[1] as u32))
-        .collect();
-    drop(flat);
-    let graph = Graph::from_edges(aggregates, &edges);
-    drop(edges);
-    let active = cycle::active_nodes(&diag, &node_ptr);
-    let (agg, nc) = aggregate(&graph, &active);
-    drop(graph);
-    let mut coarse_body = vec![0u32; nc];
-    for (i, &k) in agg.iter().enumerate() {
-        if k != u32::MAX {
-            coarse_body[k as usize] = body[i];
-        }
-    }
+    let (agg, nc) = next_aggregates(comm, &mut view, ks, &diag, &node_ptr, &body);
+    let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
     let tent = tentative(&agg, nc, &node_ptr, &b);
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
@@ -166,28 +140,7 @@ pub fn build<C: Comm + ?Sized>(
         unreachable!("the first level's rows are blocks")
     };
     let mut view = View::new(&blocks);
-    // P's rows of the held nodes, gathered; P^T; P^T A P in turns.
-    let own_p = smooth_nodes(&mut view, &dinv, cheb.lmax, &tent.p, held.clone());
-    let p = gather_rows(comm, &own_p);
-    drop(own_p);
-    let pt = p.transpose();
-    let mut sums: Option<Csr> = None;
-    for r in 0..comm.size() {
-        let mut bytes = Vec::new();
-        if r == comm.rank() {
-            let part =
-                triple_product_part(&pt, &mut view, ks.clone(), &p, TRIPLE_BLOCKS, sums.as_ref());
-            bytes = part.to_bytes();
-            if comm.size() == 1 {
-                sums = Some(part);
-                continue;
-            }
-        }
-        comm.broadcast_bytes(r, &mut bytes);
-        sums = Some(Csr::from_bytes(&bytes));
-    }
-    drop(p);
-    let ac = sums.expect("one rank at least").symmetric_part();
+    let (pt, ac) = galerkin(comm, &mut view, held.clone(), &dinv, cheb.lmax, &tent.p);
     let rest = Hierarchy::build(ac, tent.node_ptr, tent.b, coarse_body, degree, sweeps);
     let nnz = gather(comm, &[blocks.nnz() as f64]).iter().sum::<f64>() as usize;
     let live = diag.iter().map(|&d| d > 0.0).collect();
@@ -202,6 +155,71 @@ pub fn build<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest)
+}
+
+/// The aggregates of the level below (and their number), from the strength graph's edges
+/// of this rank's rows `ks`, gathered (collective).
+fn next_aggregates<C: Comm + ?Sized>(
+    comm: &C,
+    view: &mut View,
+    ks: Range<usize>,
+    diag: &[f64],
+    node_ptr: &[usize],
+    body: &[u32],
+) -> (Vec<u32>, usize) {
+    let mut edges = Vec::new();
+    cycle::strong_edges(view, ks, diag, &node_of(node_ptr), body, &mut edges);
+    // Each node pair comes once for every entry between them: once is enough.
+    edges.sort_unstable();
+    edges.dedup();
+    let flat: Vec<f64> = edges
+        .iter()
+        .flat_map(|&(i, j)| [i as f64, j as f64])
+        .collect();
+    drop(edges);
+    let flat = gather(comm, &flat);
+    let edges: Vec<(u32, u32)> = flat
+        .chunks_exact(2)
+        .map(|e| (e[0] as u32, e[1] as u32))
+        .collect();
+    drop(flat);
+    let graph = Graph::from_edges(node_ptr.len() - 1, &edges);
+    drop(edges);
+    aggregate(&graph, &cycle::active_nodes(diag, node_ptr))
+}
+
+/// P^T and P^T A P (its symmetric part) from this rank's rows of A (those of the nodes
+/// `held`): P's rows of the held nodes, gathered whole; P^T; P^T A P in turns, each rank
+/// going on from the sums of the rank before it (collective).
+fn galerkin<C: Comm + ?Sized>(
+    comm: &C,
+    view: &mut View,
+    held: Range<usize>,
+    dinv: &BlockInverse,
+    lmax: f64,
+    tentative: &Csr,
+) -> (Csr, Csr) {
+    let ks = MODES * held.start..MODES * held.end;
+    let own_p = smooth_nodes(view, dinv, lmax, tentative, held);
+    let p = gather_rows(comm, &own_p);
+    drop(own_p);
+    let pt = p.transpose();
+    let mut sums: Option<Csr> = None;
+    for r in 0..comm.size() {
+        let mut bytes = Vec::new();
+        if r == comm.rank() {
+            let part = triple_product_part(&pt, view, ks.clone(), &p, TRIPLE_BLOCKS, sums.as_ref());
+            bytes = part.to_bytes();
+            if comm.size() == 1 {
+                sums = Some(part);
+                continue;
+            }
+        }
+        comm.broadcast_bytes(r, &mut bytes);
+        sums = Some(Csr::from_bytes(&bytes));
+    }
+    drop(p);
+    (pt, sums.expect("one rank at least").symmetric_part())
 }
 
 #[cfg(test)]
