@@ -181,6 +181,7 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         output: Some(output),
         verbosity: args.verbosity,
         export_operator: args.export_operator.clone(),
+        final_state: false,
     };
     match run_from(comm, &problem, &opts, args.restart) {
         Ok((summary, _)) if summary.failure.is_some() => {

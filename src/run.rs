@@ -16,7 +16,7 @@ mod gather;
 mod plastic;
 mod restart;
 pub use driver::run_from;
-use fields::step_output;
+use fields::{write_fields, LocalFields};
 use gather::Gather;
 pub use restart::check_restart;
 
@@ -29,6 +29,10 @@ pub struct RunOptions {
     /// Where the first model problem that needs a CG iteration goes, assembled
     /// (`export`); one rank only.
     pub export_operator: Option<PathBuf>,
+    /// Keep the last step's fields on rank 0 for the returned [`GlobalState`]; without, the
+    /// state comes back empty and rank 0 frees each step's gathered fields as soon as they
+    /// are written (the command line, which has the result file).
+    pub final_state: bool,
 }
 
 /// The run's outcome as every rank sees it.

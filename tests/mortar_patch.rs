@@ -499,6 +499,7 @@ fn multi_constraint_errors(disc: &str) -> Errors {
             output: Some(dir.join("multi_constraint_nonmatching.h5")),
             verbosity: 0,
             export_operator: None,
+            final_state: true,
         },
     )
     .expect("run starts");

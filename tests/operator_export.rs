@@ -50,6 +50,7 @@ fn exported_operator_is_the_matrix_free_operator() {
             output: None,
             verbosity: 0,
             export_operator: Some(dir.clone()),
+            final_state: true,
         },
     )
     .unwrap();

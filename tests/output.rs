@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use solver::output::{
-    layout, OutputBody, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepOutput,
-    StepStats,
+    layout, OutputBody, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepField,
+    StepOutput, StepStats,
 };
 use solver::post::{self, PostCommand};
 
@@ -395,6 +395,59 @@ fn finish_failed_names_the_file_as_failed() {
     assert_eq!(a.wall_time, Some(3.0));
     let info = post::info_text(&failed).unwrap();
     assert!(info.contains("failed: Newton iteration diverged"), "{info}");
+}
+
+#[test]
+fn a_step_written_field_by_field_is_the_step_written_whole() {
+    // The run writes each field as it is gathered (`write_field`, `end_step`); the file must
+    // be the one `append_step` writes, bit for bit (post compare's default), and a field
+    // missing, not finite or of the wrong length must be refused.
+    let dir = test_dir("field_by_field");
+    let mesh = synthetic_mesh();
+    let whole = write_synthetic(&dir, "whole", 3);
+    let path = dir.join("fields.h5");
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let step = synthetic_step(s, &mesh);
+        // In the order the run gathers them.
+        let mut fields = step.fields();
+        fields.reverse();
+        for f in fields {
+            w.write_field(f).unwrap();
+        }
+        w.end_step(step.time, &step.stats).unwrap();
+        assert_eq!(w.steps(), s + 1);
+    }
+    let fields = w.finish(12.5).unwrap();
+    assert_eq!(ResultFile::open(&fields).unwrap().num_steps(), 3);
+    let report = post::compare_files(&whole, &fields, 0.0).unwrap();
+    assert!(report.bitwise_identical(), "{report:?}");
+    assert!(
+        report.only_in_a.is_empty() && report.only_in_b.is_empty(),
+        "{report:?}"
+    );
+
+    let path = dir.join("refused.h5");
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    let mut step = synthetic_step(0, &mesh);
+    w.write_field(StepField::Displacement(&step.displacement))
+        .unwrap();
+    let err = w.end_step(step.time, &step.stats).unwrap_err();
+    assert!(err.to_string().contains(layout::STRESS), "{err}");
+    step.reaction[4][1] = f64::NAN;
+    let err = w
+        .write_field(StepField::Reaction(&step.reaction))
+        .unwrap_err();
+    assert!(matches!(err, OutputError::NonFinite { .. }), "{err}");
+    assert!(
+        err.to_string().contains("node 4 (id 9), component 1"),
+        "{err}"
+    );
+    let err = w
+        .write_field(StepField::Stress(&step.stress[1..]))
+        .unwrap_err();
+    assert!(err.to_string().contains("2 values for 3 elements"), "{err}");
+    assert_eq!(w.steps(), 0, "no step was completed");
 }
 
 #[test]

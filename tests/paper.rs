@@ -32,6 +32,7 @@ fn run_text(text: &str, file: &str) -> (Verification, GlobalState, Option<String
             output: Some(path.clone()),
             verbosity: 0,
             export_operator: None,
+            final_state: true,
         },
     )
     .expect("run starts");

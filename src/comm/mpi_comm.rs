@@ -70,11 +70,16 @@ fn varcount_gather<T: Equivalence + Default + Clone>(
             let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
             root.gather_varcount_into_root(local, &mut part);
         }
-        counts
-            .iter()
-            .zip(&displs)
-            .map(|(&c, &d)| buf[d as usize..(d + c) as usize].to_vec())
-            .collect()
+        // Split from the last rank's part down, each part cut off and the rest shrunk: the
+        // parts and what is left of the buffer are never more than the whole and one part
+        // (a copy of every part beside the buffer was twice the whole on rank 0).
+        let mut parts: Vec<Vec<T>> = Vec::with_capacity(counts.len());
+        for &d in displs.iter().rev() {
+            parts.push(buf.split_off(d as usize));
+            buf.shrink_to_fit();
+        }
+        parts.reverse();
+        parts
     } else {
         root.gather_into(&n);
         root.gather_varcount_into(local);

@@ -248,6 +248,122 @@ pub(crate) fn check_finite(
     }
 }
 
+/// One per-node or per-element field of a step: what [`super::ResultWriter::write_field`]
+/// writes, one at a time, so that a large run's rank 0 holds one gathered field and not the
+/// whole step.
+#[derive(Clone, Copy, Debug)]
+pub enum StepField<'a> {
+    Displacement(&'a [[f64; 3]]),
+    Stress(&'a [[f64; 6]]),
+    Reaction(&'a [[f64; 3]]),
+    ContactForce(&'a [[f64; 3]]),
+    ContactStatus(&'a [u8]),
+    ContactGap(&'a [f64]),
+    ContactPressure(&'a [f64]),
+    PlasticStrain(&'a [f64]),
+}
+
+impl StepField<'_> {
+    /// Every field a step has (contact pressure and plastic strain only where given).
+    pub const REQUIRED: [&'static str; 6] = [
+        layout::DISPLACEMENT,
+        layout::STRESS,
+        layout::REACTION,
+        layout::CONTACT_FORCE,
+        layout::CONTACT_STATUS,
+        layout::CONTACT_GAP,
+    ];
+
+    /// The dataset the field is written to.
+    pub fn dataset(&self) -> &'static str {
+        match self {
+            StepField::Displacement(_) => layout::DISPLACEMENT,
+            StepField::Stress(_) => layout::STRESS,
+            StepField::Reaction(_) => layout::REACTION,
+            StepField::ContactForce(_) => layout::CONTACT_FORCE,
+            StepField::ContactStatus(_) => layout::CONTACT_STATUS,
+            StepField::ContactGap(_) => layout::CONTACT_GAP,
+            StepField::ContactPressure(_) => layout::CONTACT_PRESSURE,
+            StepField::PlasticStrain(_) => layout::PLASTIC_STRAIN,
+        }
+    }
+
+    /// (values, whether per element).
+    fn len_per(&self) -> (usize, bool) {
+        match self {
+            StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => {
+                (v.len(), false)
+            }
+            StepField::Stress(v) => (v.len(), true),
+            StepField::ContactStatus(v) => (v.len(), false),
+            StepField::ContactGap(v) | StepField::ContactPressure(v) => (v.len(), false),
+            StepField::PlasticStrain(v) => (v.len(), true),
+        }
+    }
+
+    /// A value per node or per element, every value finite, every contact status one of
+    /// 0..3 (named by node and its id, or by element), as [`StepOutput`]'s own check says.
+    pub(crate) fn validate(
+        &self,
+        file: &Path,
+        node_ids: &[u64],
+        elements: usize,
+    ) -> Result<(), OutputError> {
+        self.check_length(file, node_ids.len(), elements)?;
+        self.check_values(file, node_ids)
+    }
+
+    fn check_length(&self, file: &Path, nodes: usize, elements: usize) -> Result<(), OutputError> {
+        let (found, per_element) = self.len_per();
+        let (expected, what) = if per_element {
+            (elements, "elements")
+        } else {
+            (nodes, "nodes")
+        };
+        if found == expected {
+            return Ok(());
+        }
+        Err(OutputError::Invalid {
+            file: file.to_path_buf(),
+            dataset: self.dataset().to_string(),
+            message: format!("{found} values for {expected} {what}"),
+        })
+    }
+
+    fn check_values(&self, file: &Path, node_ids: &[u64]) -> Result<(), OutputError> {
+        let dataset = self.dataset();
+        let node = |i: usize| format!("node {i} (id {})", node_ids[i]);
+        match *self {
+            StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => {
+                for (i, x) in v.iter().enumerate() {
+                    check_finite(file, dataset, x, |k| format!("{}, component {k}", node(i)))?;
+                }
+                Ok(())
+            }
+            StepField::Stress(v) => {
+                for (e, x) in v.iter().enumerate() {
+                    check_finite(file, dataset, x, |k| format!("element {e}, component {k}"))?;
+                }
+                Ok(())
+            }
+            StepField::ContactGap(v) | StepField::ContactPressure(v) => {
+                check_finite(file, dataset, v, node)
+            }
+            StepField::PlasticStrain(v) => {
+                check_finite(file, dataset, v, |e| format!("element {e}"))
+            }
+            StepField::ContactStatus(v) => match v.iter().position(|&s| s > 3) {
+                None => Ok(()),
+                Some(i) => Err(OutputError::Invalid {
+                    file: file.to_path_buf(),
+                    dataset: dataset.into(),
+                    message: format!("{} has status {}, expected 0..3", node(i), v[i]),
+                }),
+            },
+        }
+    }
+}
+
 impl StepOutput {
     /// Checks lengths against the mesh and that every value is finite.
     pub(crate) fn validate(
@@ -256,141 +372,67 @@ impl StepOutput {
         node_ids: &[u64],
         elements: usize,
     ) -> Result<(), OutputError> {
-        self.check_lengths(file, node_ids.len(), elements)?;
-        self.check_values(file, node_ids)?;
-        self.check_stats(file)
+        let fields = self.fields();
+        for f in &fields {
+            f.check_length(file, node_ids.len(), elements)?;
+        }
+        check_time(file, self.time)?;
+        for f in &fields {
+            f.check_values(file, node_ids)?;
+        }
+        check_stats(file, &self.stats)
     }
 
-    /// Every dataset has a value per node or per element.
-    fn check_lengths(&self, file: &Path, nodes: usize, elements: usize) -> Result<(), OutputError> {
-        let length = |dataset: &str, found: usize, expected: usize, what: &str| {
-            if found == expected {
-                Ok(())
-            } else {
-                Err(OutputError::Invalid {
-                    file: file.to_path_buf(),
-                    dataset: dataset.to_string(),
-                    message: format!("{found} values for {expected} {what}"),
-                })
-            }
-        };
-        length(
-            layout::DISPLACEMENT,
-            self.displacement.len(),
-            nodes,
-            "nodes",
-        )?;
-        length(layout::STRESS, self.stress.len(), elements, "elements")?;
-        length(layout::REACTION, self.reaction.len(), nodes, "nodes")?;
-        length(
-            layout::CONTACT_FORCE,
-            self.contact_force.len(),
-            nodes,
-            "nodes",
-        )?;
-        length(
-            layout::CONTACT_STATUS,
-            self.contact_status.len(),
-            nodes,
-            "nodes",
-        )?;
-        length(layout::CONTACT_GAP, self.contact_gap.len(), nodes, "nodes")?;
+    /// The step's fields, the contact pressure and the plastic strain where it has them.
+    pub fn fields(&self) -> Vec<StepField<'_>> {
+        let mut f = vec![
+            StepField::Displacement(&self.displacement),
+            StepField::Stress(&self.stress),
+            StepField::Reaction(&self.reaction),
+            StepField::ContactForce(&self.contact_force),
+            StepField::ContactStatus(&self.contact_status),
+            StepField::ContactGap(&self.contact_gap),
+        ];
         if !self.contact_pressure.is_empty() {
-            length(
-                layout::CONTACT_PRESSURE,
-                self.contact_pressure.len(),
-                nodes,
-                "nodes",
-            )?;
+            f.push(StepField::ContactPressure(&self.contact_pressure));
         }
         if !self.plastic_strain.is_empty() {
-            length(
-                layout::PLASTIC_STRAIN,
-                self.plastic_strain.len(),
-                elements,
-                "elements",
-            )?;
+            f.push(StepField::PlasticStrain(&self.plastic_strain));
         }
-        Ok(())
+        f
     }
+}
 
-    /// Every value finite, every contact status one of 0..3 (named by node and its id).
-    fn check_values(&self, file: &Path, node_ids: &[u64]) -> Result<(), OutputError> {
-        check_finite(file, layout::PLASTIC_STRAIN, &self.plastic_strain, |e| {
-            format!("element {e}")
-        })?;
+/// The step's time finite.
+pub(crate) fn check_time(file: &Path, time: f64) -> Result<(), OutputError> {
+    check_finite(file, layout::TIME, &[time], |_| "the step's time".into())
+}
 
-        check_finite(file, layout::TIME, &[self.time], |_| {
-            "the step's time".into()
-        })?;
-        let node_vectors = [
-            (layout::DISPLACEMENT, &self.displacement),
-            (layout::REACTION, &self.reaction),
-            (layout::CONTACT_FORCE, &self.contact_force),
-        ];
-        for (dataset, values) in node_vectors {
-            for (i, v) in values.iter().enumerate() {
-                check_finite(file, dataset, v, |k| {
-                    format!("node {i} (id {}), component {k}", node_ids[i])
-                })?;
-            }
-        }
-        for (e, s) in self.stress.iter().enumerate() {
-            check_finite(file, layout::STRESS, s, |k| {
-                format!("element {e}, component {k}")
-            })?;
-        }
-        check_finite(file, layout::CONTACT_GAP, &self.contact_gap, |i| {
-            format!("node {i} (id {})", node_ids[i])
-        })?;
-        check_finite(
-            file,
-            layout::CONTACT_PRESSURE,
-            &self.contact_pressure,
-            |i| format!("node {i} (id {})", node_ids[i]),
-        )?;
-        if let Some(i) = self.contact_status.iter().position(|&s| s > 3) {
-            return Err(OutputError::Invalid {
-                file: file.to_path_buf(),
-                dataset: layout::CONTACT_STATUS.into(),
-                message: format!(
-                    "node {i} (id {}) has status {}, expected 0..3",
-                    node_ids[i], self.contact_status[i]
-                ),
-            });
-        }
-        Ok(())
+/// The step's statistics finite, the penetration not negative.
+pub(crate) fn check_stats(file: &Path, stats: &StepStats) -> Result<(), OutputError> {
+    check_finite(file, layout::STATS_RESIDUAL, &[stats.residual], |_| {
+        "the step's residual".into()
+    })?;
+    check_finite(file, layout::STATS_WALL_TIME, &[stats.wall_time], |_| {
+        "the step's wall time".into()
+    })?;
+    check_finite(
+        file,
+        layout::STATS_MAX_PENETRATION,
+        &[stats.max_penetration],
+        |_| "the step's largest penetration".into(),
+    )?;
+    if stats.max_penetration < 0.0 {
+        return Err(OutputError::Invalid {
+            file: file.to_path_buf(),
+            dataset: layout::STATS_MAX_PENETRATION.into(),
+            message: format!(
+                "the step's largest penetration is {}, expected >= 0",
+                stats.max_penetration
+            ),
+        });
     }
-
-    /// The step's statistics finite, the penetration not negative.
-    fn check_stats(&self, file: &Path) -> Result<(), OutputError> {
-        check_finite(file, layout::STATS_RESIDUAL, &[self.stats.residual], |_| {
-            "the step's residual".into()
-        })?;
-        check_finite(
-            file,
-            layout::STATS_WALL_TIME,
-            &[self.stats.wall_time],
-            |_| "the step's wall time".into(),
-        )?;
-        check_finite(
-            file,
-            layout::STATS_MAX_PENETRATION,
-            &[self.stats.max_penetration],
-            |_| "the step's largest penetration".into(),
-        )?;
-        if self.stats.max_penetration < 0.0 {
-            return Err(OutputError::Invalid {
-                file: file.to_path_buf(),
-                dataset: layout::STATS_MAX_PENETRATION.into(),
-                message: format!(
-                    "the step's largest penetration is {}, expected >= 0",
-                    self.stats.max_penetration
-                ),
-            });
-        }
-        Ok(())
-    }
+    Ok(())
 }
 
 /// Everything a run needs to continue after its last written step, in global node order.

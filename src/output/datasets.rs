@@ -6,7 +6,7 @@ use std::path::Path;
 use hdf5::types::VarLenUnicode;
 use hdf5::H5Type;
 
-use super::data::{StepOutput, StepStats};
+use super::data::{StepField, StepOutput, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::layout;
 
@@ -216,97 +216,68 @@ impl StepDatasets {
         step: &StepOutput,
     ) -> Result<(), OutputError> {
         if self.contact_pressure.is_some() && step.contact_pressure.is_empty() {
-            return Err(OutputError::Invalid {
-                file: p.to_path_buf(),
-                dataset: layout::CONTACT_PRESSURE.into(),
-                message: format!("step {i} has no contact pressure, the steps before it have"),
-            });
+            return Err(self.no_pressure(p, i));
         }
-        self.append_plastic_strain(file, p, i, step)?;
-        self.append_contact_pressure(file, p, i, step)?;
-        self.append_fields(p, i, step)?;
+        for f in step.fields() {
+            self.append_field(file, p, i, f)?;
+        }
         self.append_stats(p, i, &step.stats)?;
         append_scalar(&self.time, p, layout::TIME, i, step.time)
     }
 
-    /// Writes the plastic strain of row `i`, creating its dataset at the first step that has one.
-    fn append_plastic_strain(
+    /// The error for row `i` without a contact pressure when the rows before have one.
+    pub(super) fn no_pressure(&self, p: &Path, i: usize) -> OutputError {
+        OutputError::Invalid {
+            file: p.to_path_buf(),
+            dataset: layout::CONTACT_PRESSURE.into(),
+            message: format!("step {i} has no contact pressure, the steps before it have"),
+        }
+    }
+
+    /// Writes one field as row `i` of its dataset. The plastic strain's dataset is created
+    /// with the first step that has one; the contact pressure's with row 0 when that step has
+    /// one (see [`StepDatasets::contact_pressure`]), and later rows are dropped without it.
+    pub(super) fn append_field(
         &mut self,
         file: &hdf5::File,
         p: &Path,
         i: usize,
-        step: &StepOutput,
+        field: StepField<'_>,
     ) -> Result<(), OutputError> {
-        if !step.plastic_strain.is_empty() {
-            if self.plastic_strain.is_none() {
-                let n = step.plastic_strain.len();
-                self.plastic_strain =
-                    Some(step_dataset::<f64>(file, p, layout::PLASTIC_STRAIN, &[n])?);
+        let name = field.dataset();
+        match field {
+            StepField::Displacement(v) => append_rows(&self.displacement, p, name, i, v),
+            StepField::Stress(v) => append_rows(&self.stress, p, name, i, v),
+            StepField::Reaction(v) => append_rows(&self.reaction, p, name, i, v),
+            StepField::ContactForce(v) => append_rows(&self.contact_force, p, name, i, v),
+            StepField::ContactStatus(v) => append_per_item(&self.contact_status, p, name, i, v),
+            StepField::ContactGap(v) => append_per_item(&self.contact_gap, p, name, i, v),
+            StepField::PlasticStrain(v) => {
+                if self.plastic_strain.is_none() {
+                    self.plastic_strain = Some(step_dataset::<f64>(file, p, name, &[v.len()])?);
+                }
+                let ds = self.plastic_strain.as_ref().expect("created");
+                append_per_item(ds, p, name, i, v)
             }
-            let ds = self.plastic_strain.as_ref().expect("created");
-            append_per_item(ds, p, layout::PLASTIC_STRAIN, i, &step.plastic_strain)?;
+            StepField::ContactPressure(v) => {
+                if i == 0 && self.contact_pressure.is_none() {
+                    self.contact_pressure = Some(step_dataset::<f64>(file, p, name, &[v.len()])?);
+                }
+                match &self.contact_pressure {
+                    Some(ds) => append_per_item(ds, p, name, i, v),
+                    None => Ok(()),
+                }
+            }
         }
-        Ok(())
-    }
-
-    /// Writes the contact pressure of row `i`, creating its dataset at row 0 when the step has
-    /// one (see [`StepDatasets::contact_pressure`]).
-    fn append_contact_pressure(
-        &mut self,
-        file: &hdf5::File,
-        p: &Path,
-        i: usize,
-        step: &StepOutput,
-    ) -> Result<(), OutputError> {
-        if step.contact_pressure.is_empty() {
-            return Ok(());
-        }
-        if i == 0 && self.contact_pressure.is_none() {
-            let n = step.contact_pressure.len();
-            self.contact_pressure = Some(step_dataset::<f64>(
-                file,
-                p,
-                layout::CONTACT_PRESSURE,
-                &[n],
-            )?);
-        }
-        match &self.contact_pressure {
-            Some(ds) => append_per_item(ds, p, layout::CONTACT_PRESSURE, i, &step.contact_pressure),
-            None => Ok(()),
-        }
-    }
-
-    /// Writes the nodal and contact fields of row `i`.
-    fn append_fields(&self, p: &Path, i: usize, step: &StepOutput) -> Result<(), OutputError> {
-        let d = self;
-        append_rows(
-            &d.displacement,
-            p,
-            layout::DISPLACEMENT,
-            i,
-            &step.displacement,
-        )?;
-        append_rows(&d.stress, p, layout::STRESS, i, &step.stress)?;
-        append_rows(&d.reaction, p, layout::REACTION, i, &step.reaction)?;
-        append_rows(
-            &d.contact_force,
-            p,
-            layout::CONTACT_FORCE,
-            i,
-            &step.contact_force,
-        )?;
-        append_per_item(
-            &d.contact_status,
-            p,
-            layout::CONTACT_STATUS,
-            i,
-            &step.contact_status,
-        )?;
-        append_per_item(&d.contact_gap, p, layout::CONTACT_GAP, i, &step.contact_gap)
     }
 
     /// Writes the solver statistics of row `i`: the counts, then the real numbers.
-    fn append_stats(&self, p: &Path, i: usize, s: &StepStats) -> Result<(), OutputError> {
+    pub(super) fn append_stats(
+        &self,
+        p: &Path,
+        i: usize,
+        s: &StepStats,
+    ) -> Result<(), OutputError> {
         let d = self;
         let counts = [
             (

@@ -28,7 +28,7 @@ mod writer;
 mod xdmf;
 
 pub use data::{
-    contact_status, OutputBody, OutputMesh, RestartState, RunInfo, StepOutput, StepStats,
+    contact_status, OutputBody, OutputMesh, RestartState, RunInfo, StepField, StepOutput, StepStats,
 };
 pub use error::OutputError;
 pub use layout::ResultPaths;

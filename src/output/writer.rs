@@ -2,7 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::data::{check_finite, OutputMesh, RestartState, RunInfo, StepOutput};
+use super::data::{
+    check_finite, check_stats, check_time, OutputMesh, RestartState, RunInfo, StepField,
+    StepOutput, StepStats,
+};
 use super::datasets::{set_attr, set_str_attr, write_rows, write_vec, StepDatasets};
 use super::error::{Hdf5Context, OutputError};
 use super::layout::{self, ResultPaths};
@@ -32,6 +35,8 @@ pub struct ResultWriter {
     restart: RestartSlots,
     /// The first write that failed: nothing is written or published after it.
     broken: Option<String>,
+    /// The datasets written of the step begun by `write_field` and not yet ended.
+    pending: Vec<&'static str>,
     _lock: OutputLock,
 }
 
@@ -156,6 +161,7 @@ impl ResultWriter {
             times: Vec::new(),
             restart: RestartSlots::default(),
             broken: None,
+            pending: Vec::new(),
             _lock: lock,
         })
     }
@@ -207,6 +213,65 @@ impl ResultWriter {
             .and_then(|()| self.file.flush().at(&p, "/ (flush)"));
         self.check(r)?;
         self.times.push(step.time);
+        Ok(())
+    }
+
+    /// Writes one field of the next step (the step is complete once [`end_step`] wrote its
+    /// time): rank 0 of a large run need not hold the whole step at once. Refuses a field
+    /// of the wrong length or with a value that is not finite, as [`append_step`] does;
+    /// fields written before a refused one stay as rows past the last complete step, which
+    /// readers do not count.
+    ///
+    /// [`end_step`]: Self::end_step
+    /// [`append_step`]: Self::append_step
+    pub fn write_field(&mut self, field: StepField<'_>) -> Result<(), OutputError> {
+        let r = self.check(Ok(()));
+        r?;
+        let p = self.tmp.clone();
+        field.validate(&p, &self.node_ids, self.elements)?;
+        let i = self.times.len();
+        let r = self.datasets.append_field(&self.file, &p, i, field);
+        self.check(r)?;
+        self.pending.push(field.dataset());
+        Ok(())
+    }
+
+    /// Completes the step whose fields [`write_field`](Self::write_field) wrote: its
+    /// statistics, then its time, then a flush. Refused when a field is missing.
+    pub fn end_step(&mut self, time: f64, stats: &StepStats) -> Result<(), OutputError> {
+        let r = self.check(Ok(()));
+        r?;
+        let p = self.tmp.clone();
+        let i = self.times.len();
+        let written = std::mem::take(&mut self.pending);
+        let mut required = StepField::REQUIRED.to_vec();
+        if self.datasets.contact_pressure.is_some() {
+            required.push(super::layout::CONTACT_PRESSURE);
+        }
+        if let Some(missing) = required.iter().find(|d| !written.contains(d)) {
+            return Err(OutputError::Invalid {
+                file: p,
+                dataset: missing.to_string(),
+                message: format!("step {i} was ended without this field"),
+            });
+        }
+        check_time(&p, time)?;
+        check_stats(&p, stats)?;
+        let r = self
+            .datasets
+            .append_stats(&p, i, stats)
+            .and_then(|()| {
+                super::datasets::append_scalar(
+                    &self.datasets.time,
+                    &p,
+                    super::layout::TIME,
+                    i,
+                    time,
+                )
+            })
+            .and_then(|()| self.file.flush().at(&p, "/ (flush)"));
+        self.check(r)?;
+        self.times.push(time);
         Ok(())
     }
 

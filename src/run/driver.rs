@@ -5,8 +5,8 @@
 use super::gather::Gather;
 use super::restart::{self, Continued};
 use super::{
-    output_mesh, peak_memory, plastic, step_output, ActiveConstraint, GlobalState, RunOptions,
-    RunSummary,
+    output_mesh, peak_memory, plastic, write_fields, ActiveConstraint, GlobalState, LocalFields,
+    RunOptions, RunSummary,
 };
 use crate::comm::{self, Comm};
 use crate::contact::state::Mode;
@@ -335,29 +335,32 @@ fn step_through<C: Comm + ?Sized>(
         if !(write || last) {
             continue;
         }
-        let (s, err) = step_output(comm, problem, stepper, gather, local, rec);
+        let (fields, err) = LocalFields::new(comm, problem, stepper, local);
         if let Some(e) = comm::first_error(comm, err) {
             failure = Some(e);
             break;
         }
-        if let Err(e) = write_step(
+        let keep = last && opts.final_state;
+        let kept = match write_step(
             comm,
-            stepper,
+            (problem, stepper),
             (gather, local),
             writer.as_deref_mut(),
             progress,
-            step,
-            write,
-            &s,
+            (step, write, keep),
+            (fields, &rec),
         ) {
-            failure = Some(e);
-            break;
-        }
+            Ok(kept) => kept,
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        };
         // Test hook: die here as a killed run would (the restart test).
         if std::env::var("SOLVER_TEST_ABORT_AFTER_STEP").ok() == Some(step.to_string()) {
             std::process::abort();
         }
-        if last {
+        if let Some(s) = kept {
             state = final_state(problem, stepper, s);
         }
     }
@@ -423,33 +426,45 @@ fn report_step(
     }
 }
 
-/// Appends the step to the result file (when `write`) with the restart state after it.
-/// Collective: an error on rank 0 is every rank's.
-#[allow(clippy::too_many_arguments)]
+/// Appends the step to the result file (when `write`; field by field as it is gathered,
+/// see [`write_fields`]) with the restart state after it, and gives the step back when
+/// `keep`. The restart state's displacement is the step's, gathered once. Collective: an
+/// error on rank 0 is every rank's.
 fn write_step<C: Comm + ?Sized>(
     comm: &C,
-    stepper: &Stepper<C>,
+    (problem, stepper): (&Problem, &Stepper<C>),
     (gather, local): (&Gather, &LocalMesh),
     mut writer: Option<&mut ResultWriter>,
     progress: &mut Progress,
-    step: usize,
-    write: bool,
-    s: &StepOutput,
-) -> Result<(), String> {
-    let mut local_err = None;
-    if let Some(w) = writer.as_deref_mut().filter(|_| write && comm.is_root()) {
-        local_err = w.append_step(s).err().map(|e| e.to_string());
-    }
+    (step, write, keep): (usize, bool, bool),
+    (fields, rec): (LocalFields, &StepRecord),
+) -> Result<Option<StepOutput>, String> {
+    let (displacement, kept, mut local_err) = write_fields(
+        comm,
+        problem,
+        stepper,
+        (gather, local),
+        fields,
+        rec,
+        writer.as_deref_mut(),
+        (write, keep),
+    );
     if write {
         progress.rows_written += 1;
-        let r = restart::restart_state(comm, stepper, gather, local, step, progress.rows_written);
+        let r = restart::restart_state(
+            comm,
+            stepper,
+            (gather, local),
+            (step, progress.rows_written),
+            displacement,
+        );
         if let Some(w) = writer.filter(|_| local_err.is_none()) {
             local_err = w.write_restart(&r).err().map(|e| e.to_string());
         }
     }
     match comm::first_error(comm, local_err) {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(kept),
     }
 }
 

@@ -4,14 +4,14 @@
 //! statistics.
 
 use super::{plastic, Gather};
-use crate::comm::Comm;
+use crate::comm::{self, Comm};
 use crate::constraints::RowKind;
 use crate::contact::state::Mode;
 use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::output::contact_status;
-use crate::output::{StepOutput, StepStats};
+use crate::output::{ResultWriter, StepField, StepOutput, StepStats};
 use crate::problem::Problem;
 use crate::solver::{StepRecord, Stepper};
 
@@ -83,23 +83,88 @@ fn contact_fields<C: Comm + ?Sized>(
     (status, gap)
 }
 
-/// The step's results in global order on rank 0 (collective), and an element failure of
-/// the stress recovery on this rank.
-pub(super) fn step_output<C: Comm + ?Sized>(
+/// A step's fields on this rank (its owned nodes and elements), before they are gathered.
+pub(super) struct LocalFields {
+    stress: Vec<[f64; 6]>,
+    reaction: Vec<Vec3>,
+    contact_force: Vec<Vec3>,
+    status: Vec<[f64; 1]>,
+    gap: Vec<[f64; 1]>,
+}
+
+impl LocalFields {
+    /// The fields, and an element failure of the stress recovery on this rank (collective).
+    pub(super) fn new<C: Comm + ?Sized>(
+        comm: &C,
+        problem: &Problem,
+        stepper: &Stepper<C>,
+        local: &LocalMesh,
+    ) -> (Self, Option<String>) {
+        let (stress, err) = match stepper.assembly().owned_stresses(&stepper.u) {
+            Ok(s) => (s, None),
+            Err(e) => (Vec::new(), Some(e.to_string())),
+        };
+        let (reaction, mut contact_force) = constraint_forces(stepper, local);
+        let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
+        let f = LocalFields {
+            stress,
+            reaction,
+            contact_force,
+            status,
+            gap,
+        };
+        (f, err)
+    }
+
+    /// Every value finite (and the owned displacement).
+    fn finite(&self, u: &[Vec3]) -> bool {
+        let ok = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        ok(self.stress.as_flattened())
+            && ok(self.reaction.as_flattened())
+            && ok(self.contact_force.as_flattened())
+            && ok(self.gap.as_flattened())
+            && ok(u.as_flattened())
+    }
+}
+
+/// Where the gathered fields go on rank 0: written one at a time as they come (`writer`),
+/// kept for a whole [`StepOutput`] (`kept`), or both.
+struct Sink<'w> {
+    writer: Option<&'w mut ResultWriter>,
+    err: Option<String>,
+    kept: Option<StepOutput>,
+}
+
+impl Sink<'_> {
+    fn put(&mut self, f: StepField<'_>) {
+        if let (Some(w), None) = (self.writer.as_deref_mut(), &self.err) {
+            self.err = w.write_field(f).err().map(|e| e.to_string());
+        }
+    }
+}
+
+/// The step gathered onto rank 0 in global order and written when `write` (collective).
+/// When every value is finite each field is written as it is gathered, so that rank 0 holds
+/// one field at a time and not the whole step; otherwise the whole step is gathered and
+/// given to [`ResultWriter::append_step`], whose checks name what is not finite. Returns the
+/// displacement (the restart state's), the whole step with `keep`, and rank 0's write
+/// error.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn write_fields<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     stepper: &Stepper<C>,
-    gather: &Gather,
-    local: &LocalMesh,
-    rec: StepRecord,
-) -> (StepOutput, Option<String>) {
-    let (stress, err) = match stepper.assembly().owned_stresses(&stepper.u) {
-        Ok(s) => (s, None),
-        Err(e) => (Vec::new(), Some(e.to_string())),
-    };
-    let (reaction, mut contact_force) = constraint_forces(stepper, local);
-    let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
+    (gather, local): (&Gather, &LocalMesh),
+    fields: LocalFields,
+    rec: &StepRecord,
+    writer: Option<&mut ResultWriter>,
+    (write, keep): (bool, bool),
+) -> (Vec<Vec3>, Option<StepOutput>, Option<String>) {
+    if !(write || keep) {
+        return (Vec::new(), None, None);
+    }
     let n = gather.num_nodes;
+    let stats = step_stats(rec);
     let displacement = gather.nodes(comm, local, &stepper.u);
     // The active set is whole on every rank; the pressure is computed on rank 0 from the
     // global displacement, so it does not depend on the number of ranks.
@@ -108,27 +173,84 @@ pub(super) fn step_output<C: Comm + ?Sized>(
     } else {
         Vec::new()
     };
-    let out = StepOutput {
-        time: rec.time,
-        displacement,
-        stress: gather.elements(comm, &stress),
-        reaction: gather.nodes(comm, local, &reaction),
-        contact_force: gather.nodes(comm, local, &contact_force),
-        contact_status: gather
-            .place(comm, &status, &gather.node_ids, n)
-            .iter()
-            .map(|v| v[0] as u8)
-            .collect(),
-        contact_gap: gather
-            .place(comm, &gap, &gather.node_ids, n)
-            .iter()
-            .map(|v| v[0])
-            .collect(),
-        contact_pressure,
-        plastic_strain: plastic::plastic_strain(comm, stepper, gather),
-        stats: step_stats(&rec),
+    let root_finite = contact_pressure.iter().all(|x| x.is_finite())
+        && [
+            rec.time,
+            stats.residual,
+            stats.wall_time,
+            stats.max_penetration,
+        ]
+        .iter()
+        .all(|x| x.is_finite());
+    let finite = fields.finite(&stepper.u[..local.num_owned_nodes]) && root_finite;
+    let stream = write && !comm::any(comm, !finite);
+    let whole = !stream && (write || keep);
+    let mut writer = writer.filter(|_| write && comm.is_root());
+    let mut sink = Sink {
+        writer: writer.as_deref_mut().filter(|_| stream),
+        err: None,
+        kept: (whole || keep).then(StepOutput::default),
     };
-    (out, err)
+    sink.put(StepField::Displacement(&displacement));
+    if !contact_pressure.is_empty() {
+        sink.put(StepField::ContactPressure(&contact_pressure));
+    }
+    let LocalFields {
+        stress,
+        reaction,
+        contact_force,
+        status,
+        gap,
+    } = fields;
+    let stress = gather.elements(comm, &stress);
+    sink.put(StepField::Stress(&stress));
+    let stress = sink.kept.is_some().then_some(stress);
+    let reaction = gather.nodes(comm, local, &reaction);
+    sink.put(StepField::Reaction(&reaction));
+    let reaction = sink.kept.is_some().then_some(reaction);
+    let contact_force = gather.nodes(comm, local, &contact_force);
+    sink.put(StepField::ContactForce(&contact_force));
+    let contact_force = sink.kept.is_some().then_some(contact_force);
+    let status: Vec<u8> = gather
+        .place(comm, &status, &gather.node_ids, n)
+        .iter()
+        .map(|v| v[0] as u8)
+        .collect();
+    sink.put(StepField::ContactStatus(&status));
+    let gap: Vec<f64> = gather
+        .place(comm, &gap, &gather.node_ids, n)
+        .iter()
+        .map(|v| v[0])
+        .collect();
+    sink.put(StepField::ContactGap(&gap));
+    let plastic_strain = plastic::plastic_strain(comm, stepper, gather);
+    if !plastic_strain.is_empty() {
+        sink.put(StepField::PlasticStrain(&plastic_strain));
+    }
+    if let (Some(w), None) = (sink.writer.as_deref_mut(), &sink.err) {
+        sink.err = w.end_step(rec.time, &stats).err().map(|e| e.to_string());
+    }
+    let mut err = sink.err;
+    let kept = sink.kept.map(|_| StepOutput {
+        time: rec.time,
+        displacement: if whole || keep {
+            displacement.clone()
+        } else {
+            Vec::new()
+        },
+        stress: stress.unwrap_or_default(),
+        reaction: reaction.unwrap_or_default(),
+        contact_force: contact_force.unwrap_or_default(),
+        contact_status: status,
+        contact_gap: gap,
+        contact_pressure,
+        plastic_strain,
+        stats,
+    });
+    if let (Some(w), Some(s)) = (writer.filter(|_| whole), &kept) {
+        err = w.append_step(s).err().map(|e| e.to_string());
+    }
+    (displacement, kept.filter(|_| keep), err)
 }
 
 fn step_stats(rec: &StepRecord) -> StepStats {

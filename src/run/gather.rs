@@ -45,14 +45,15 @@ impl Gather {
         ids: &[Vec<u64>],
         total: usize,
     ) -> Vec<[f64; W]> {
-        let flat: Vec<f64> = local.iter().flatten().copied().collect();
-        let parts = comm.gather_f64(&flat);
+        let parts = comm.gather_f64(local.as_flattened());
         if !comm.is_root() {
             return Vec::new();
         }
+        // Zeroed pages are resident only once written, and each part goes once placed: rank
+        // 0 holds about the whole and one part, not the parts beside the whole.
         let mut out = vec![[0.0; W]; total];
-        for (r, part) in parts.iter().enumerate() {
-            for (k, &g) in ids[r].iter().enumerate() {
+        for (part, ids) in parts.into_iter().zip(ids) {
+            for (k, &g) in ids.iter().enumerate() {
                 out[g as usize].copy_from_slice(&part[W * k..W * (k + 1)]);
             }
         }

@@ -30,6 +30,7 @@ pub fn run_serial(p: &Problem, output: Option<PathBuf>) -> (RunSummary, GlobalSt
             output,
             verbosity: 0,
             export_operator: None,
+            final_state: true,
         },
     )
     .expect("run starts")

@@ -179,6 +179,7 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
         output: None,
         verbosity: 0,
         export_operator: None,
+        final_state: true,
     };
     let mut run_wall = Vec::new();
     let mut solve_wall = Vec::new();
