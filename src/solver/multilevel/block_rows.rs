@@ -106,6 +106,33 @@ impl BlockRows {
         })
     }
 
+    /// Rows first..first + len (`first` a multiple of B) from their blocks: block row i
+    /// (counted from first / B) has blocks ptr[i]..ptr[i + 1] of block columns `col`,
+    /// values `val` (B x B each, row-major) and a bit per value of whether the sparse row
+    /// holds it (a value without one is 0.0).
+    pub fn from_blocks(
+        (first, len): (usize, usize),
+        ptr: Vec<usize>,
+        col: Vec<u32>,
+        val: Vec<f64>,
+        present: Vec<u64>,
+        columns: usize,
+    ) -> Self {
+        assert!(first.is_multiple_of(B) && len.is_multiple_of(B));
+        assert_eq!(ptr.len(), len / B + 1);
+        assert_eq!(val.len(), B * B * col.len());
+        BlockRows {
+            first,
+            len,
+            block_first: first / B,
+            ptr,
+            col,
+            val,
+            present,
+            columns,
+        }
+    }
+
     /// Entries of the sparse rows held.
     pub fn nnz(&self) -> usize {
         self.present.iter().map(|w| w.count_ones() as usize).sum()

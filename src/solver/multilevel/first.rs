@@ -79,7 +79,7 @@ fn gather<C: Comm + ?Sized>(comm: &C, mine: &[f64]) -> Vec<f64> {
 #[allow(clippy::too_many_arguments)]
 pub fn build<C: Comm + ?Sized>(
     comm: &C,
-    rows: Csr,
+    blocks: BlockRows,
     held: Range<usize>,
     aggregates: usize,
     b: Vec<[f64; MODES]>,
@@ -90,12 +90,14 @@ pub fn build<C: Comm + ?Sized>(
     let n = MODES * aggregates;
     let first = MODES * held.start;
     let node_ptr: Vec<usize> = (0..=aggregates).map(|k| MODES * k).collect();
-    let own_diag: Vec<f64> = (0..rows.rows)
-        .map(|i| {
-            let (c, v) = rows.row(i);
-            c.binary_search(&((first + i) as u32)).map_or(0.0, |k| v[k])
+    let (mut cols, mut vals) = (Vec::new(), Vec::new());
+    let own_diag: Vec<f64> = (first..first + MODES * held.len())
+        .map(|r| {
+            blocks.row_into(r, &mut cols, &mut vals);
+            cols.binary_search(&(r as u32)).map_or(0.0, |k| vals[k])
         })
         .collect();
+    drop((cols, vals));
     let diag = gather(comm, &own_diag);
     let whole = |rows: Csr| {
         let a = gather_rows(comm, &rows);
@@ -103,11 +105,8 @@ pub fn build<C: Comm + ?Sized>(
         Hierarchy::build(a, node_ptr.clone(), b.clone(), body.clone(), degree, sweeps)
     };
     if diag.iter().filter(|&&d| d > 0.0).count() <= cycle::COARSEST {
-        return whole(rows);
+        return whole(blocks.to_csr());
     }
-    let blocks = BlockRows::of_rows(|r| rows.row(r - first), (n, n), first, MODES * held.len())
-        .expect("the first level's unknowns come six to an aggregate");
-    drop(rows);
     let mut view = View::new(&blocks);
     // Node-block relaxation, the strength graph and the aggregates of the next level.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
