@@ -428,8 +428,7 @@ fn report_step(
 
 /// Appends the step to the result file (when `write`; field by field as it is gathered,
 /// see [`write_fields`]) with the restart state after it, and gives the step back when
-/// `keep`. The restart state's displacement is the step's, gathered once. Collective: an
-/// error on rank 0 is every rank's.
+/// `keep`. Collective: an error on rank 0 is every rank's.
 fn write_step<C: Comm + ?Sized>(
     comm: &C,
     (problem, stepper): (&Problem, &Stepper<C>),
@@ -439,7 +438,7 @@ fn write_step<C: Comm + ?Sized>(
     (step, write, keep): (usize, bool, bool),
     (fields, rec): (LocalFields, &StepRecord),
 ) -> Result<Option<StepOutput>, String> {
-    let (displacement, kept, mut local_err) = write_fields(
+    let (kept, mut local_err) = write_fields(
         comm,
         problem,
         stepper,
@@ -456,7 +455,6 @@ fn write_step<C: Comm + ?Sized>(
             stepper,
             (gather, local),
             (step, progress.rows_written),
-            displacement,
         );
         if let Some(w) = writer.filter(|_| local_err.is_none()) {
             local_err = w.write_restart(&r).err().map(|e| e.to_string());

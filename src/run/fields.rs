@@ -147,8 +147,7 @@ impl Sink<'_> {
 /// When every value is finite each field is written as it is gathered, so that rank 0 holds
 /// one field at a time and not the whole step; otherwise the whole step is gathered and
 /// given to [`ResultWriter::append_step`], whose checks name what is not finite. Returns the
-/// displacement (the restart state's), the whole step with `keep`, and rank 0's write
-/// error.
+/// whole step with `keep`, and rank 0's write error.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn write_fields<C: Comm + ?Sized>(
     comm: &C,
@@ -159,11 +158,10 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     rec: &StepRecord,
     writer: Option<&mut ResultWriter>,
     (write, keep): (bool, bool),
-) -> (Vec<Vec3>, Option<StepOutput>, Option<String>) {
+) -> (Option<StepOutput>, Option<String>) {
     if !(write || keep) {
-        return (Vec::new(), None, None);
+        return (None, None);
     }
-    let n = gather.num_nodes;
     let stats = step_stats(rec);
     let displacement = gather.nodes(comm, local, &stepper.u);
     // The active set is whole on every rank; the pressure is computed on rank 0 from the
@@ -195,6 +193,8 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     if !contact_pressure.is_empty() {
         sink.put(StepField::ContactPressure(&contact_pressure));
     }
+    let displacement = sink.kept.is_some().then_some(displacement);
+    let contact_pressure = sink.kept.is_some().then_some(contact_pressure);
     let LocalFields {
         stress,
         reaction,
@@ -202,26 +202,28 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         status,
         gap,
     } = fields;
-    let stress = gather.elements(comm, &stress);
-    sink.put(StepField::Stress(&stress));
-    let stress = sink.kept.is_some().then_some(stress);
-    let reaction = gather.nodes(comm, local, &reaction);
-    sink.put(StepField::Reaction(&reaction));
-    let reaction = sink.kept.is_some().then_some(reaction);
-    let contact_force = gather.nodes(comm, local, &contact_force);
-    sink.put(StepField::ContactForce(&contact_force));
-    let contact_force = sink.kept.is_some().then_some(contact_force);
-    let status: Vec<u8> = gather
-        .place(comm, &status, &gather.node_ids, n)
-        .iter()
-        .map(|v| v[0] as u8)
-        .collect();
+    // Each local field goes once gathered, each gathered one once written (unless kept).
+    let all = gather.elements(comm, &stress);
+    drop(stress);
+    sink.put(StepField::Stress(&all));
+    let stress = sink.kept.is_some().then_some(all);
+    let all = gather.place(comm, &reaction, &gather.nodes);
+    drop(reaction);
+    sink.put(StepField::Reaction(&all));
+    let reaction = sink.kept.is_some().then_some(all);
+    let all = gather.place(comm, &contact_force, &gather.nodes);
+    drop(contact_force);
+    sink.put(StepField::ContactForce(&all));
+    let contact_force = sink.kept.is_some().then_some(all);
+    let all = gather.place(comm, &status, &gather.nodes);
+    drop(status);
+    let status: Vec<u8> = all.iter().map(|v| v[0] as u8).collect();
+    drop(all);
     sink.put(StepField::ContactStatus(&status));
-    let gap: Vec<f64> = gather
-        .place(comm, &gap, &gather.node_ids, n)
-        .iter()
-        .map(|v| v[0])
-        .collect();
+    let all = gather.place(comm, &gap, &gather.nodes);
+    drop(gap);
+    let gap: Vec<f64> = all.iter().map(|v| v[0]).collect();
+    drop(all);
     sink.put(StepField::ContactGap(&gap));
     let plastic_strain = plastic::plastic_strain(comm, stepper, gather);
     if !plastic_strain.is_empty() {
@@ -233,24 +235,20 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     let mut err = sink.err;
     let kept = sink.kept.map(|_| StepOutput {
         time: rec.time,
-        displacement: if whole || keep {
-            displacement.clone()
-        } else {
-            Vec::new()
-        },
+        displacement: displacement.unwrap_or_default(),
         stress: stress.unwrap_or_default(),
         reaction: reaction.unwrap_or_default(),
         contact_force: contact_force.unwrap_or_default(),
         contact_status: status,
         contact_gap: gap,
-        contact_pressure,
+        contact_pressure: contact_pressure.unwrap_or_default(),
         plastic_strain,
         stats,
     });
     if let (Some(w), Some(s)) = (writer.filter(|_| whole), &kept) {
         err = w.append_step(s).err().map(|e| e.to_string());
     }
-    (displacement, kept.filter(|_| keep), err)
+    (kept.filter(|_| keep), err)
 }
 
 fn step_stats(rec: &StepRecord) -> StepStats {

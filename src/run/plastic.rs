@@ -93,7 +93,7 @@ pub(super) fn plastic_strain<C: Comm + ?Sized>(
         Some(v) => {
             let rows: Vec<[f64; 1]> = v.iter().map(|&x| [x]).collect();
             gather
-                .place(comm, &rows, &gather.element_ids, gather.num_elements)
+                .place(comm, &rows, &gather.elements)
                 .iter()
                 .map(|r| r[0])
                 .collect()

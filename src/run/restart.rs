@@ -229,14 +229,12 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
     (state, records)
 }
 
-/// The state to resume from after `step` (complete on rank 0); `displacement` is the
-/// step's, as gathered for its output (empty on the other ranks).
+/// The state to resume from after `step` (complete on rank 0).
 pub(super) fn restart_state<C: Comm + ?Sized>(
     comm: &C,
     stepper: &Stepper<C>,
     (gather, local): (&Gather, &LocalMesh),
     (step, rows): (usize, u64),
-    displacement: Vec<Vec3>,
 ) -> RestartState {
     let (time, dt_prev, reference_floor) = stepper.scalars();
     let (contact, released, ties) = stepper.contact.encode();
@@ -247,7 +245,7 @@ pub(super) fn restart_state<C: Comm + ?Sized>(
         reference_floor,
         rows,
         multilevel_switched: stepper.multilevel_switched(),
-        displacement,
+        displacement: gather.nodes(comm, local, &stepper.u),
         previous_displacement: gather.nodes(comm, local, stepper.previous_displacement()),
         contact,
         released,

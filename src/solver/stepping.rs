@@ -146,15 +146,20 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         }
         let zero = |what| crate::memory::try_filled([0.0; 3], n, what);
         let plan = super::shapes::Plan::new(&problem.mesh, &problem.body_models);
+        let asm = Assembly::new(mesh, &problem.body_models, &plan)?;
+        let loads = Loads::new(problem, mesh);
+        // As the model solve decides it (cg::iteration): the nonlinear path's vectors only
+        // where it is taken.
+        let nonlinear = !asm.linear || loads.is_follower();
         Ok(Stepper {
             comm,
             problem,
             mesh,
-            asm: Assembly::new(mesh, &problem.body_models, &plan)?,
-            loads: Loads::new(problem, mesh),
+            asm,
+            loads,
             dirichlet,
             cg: {
-                let mut cg = Cg::new(n)?;
+                let mut cg = Cg::new(n, nonlinear)?;
                 if let Some(c) = coarse {
                     cg.set_coarse(c);
                 }

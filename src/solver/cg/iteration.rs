@@ -177,7 +177,9 @@ impl Cg {
         }
         st.restart = false;
         st.rz_old = rz;
-        self.r_old.copy_from_slice(&self.r);
+        if !linear {
+            self.r_old.copy_from_slice(&self.r);
+        }
         // The search direction in the free variables, mapped to all displacements.
         self.pu.copy_from_slice(&self.p);
         pb.cons.expand(comm, &mut self.pu);

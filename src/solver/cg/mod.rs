@@ -99,7 +99,8 @@ pub struct Cg {
     fe_trial: Vec<Vec3>,
     /// Which nodes of a probe are not zero (`Assembly::internal_force_sparse`).
     nonzero: Vec<bool>,
-    diag: Vec<Mat3>,
+    /// The inverse diagonal blocks of the block-Jacobi preconditioner (formed in place
+    /// from the blocks).
     minv: Vec<Mat3>,
     /// The coarse space of the two-level preconditioner, when used.
     coarse: Option<CoarseSpace>,
@@ -134,23 +135,26 @@ pub struct Cg {
 }
 
 impl Cg {
-    /// Fails only when the memory for the vectors is refused.
-    pub fn new(n: usize) -> Result<Self, AllocError> {
+    /// The buffers for `n` local nodes; the previous residual and the finite-difference
+    /// probe's three vectors only when `nonlinear` (bodies or loads that are not linear:
+    /// Polak-Ribiere and the probes need them, the linear path never reads them). Fails only
+    /// when the memory for the vectors is refused.
+    pub fn new(n: usize, nonlinear: bool) -> Result<Self, AllocError> {
         let v = || try_filled([0.0; 3], n, "the CG vectors");
+        let w = || try_filled([0.0; 3], if nonlinear { n } else { 0 }, "the CG vectors");
         Ok(Cg {
             fi: v()?,
             fe: v()?,
             r: v()?,
-            r_old: v()?,
+            r_old: w()?,
             z: v()?,
             p: v()?,
             pu: v()?,
             q: v()?,
-            trial: v()?,
-            fi_trial: v()?,
-            fe_trial: v()?,
+            trial: w()?,
+            fi_trial: w()?,
+            fe_trial: w()?,
             nonzero: try_filled(false, n, "the probes' node flags")?,
-            diag: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
             minv: try_filled([[0.0; 3]; 3], n, "the preconditioner's diagonal")?,
             coarse: None,
             coarse_work: Vec::new(),

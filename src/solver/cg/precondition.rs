@@ -65,12 +65,13 @@ impl Cg {
         pb: &Problem<C>,
         u: &[Vec3],
     ) -> Result<(), SolveFailure> {
-        agree(pb.comm, pb.asm.diagonal(u, &mut self.diag))?;
-        crate::springs::add_diagonal(pb.springs, &mut self.diag);
-        pb.cons.precondition_blocks(pb.comm, &mut self.diag);
+        // The blocks first, each then replaced by its inverse.
+        agree(pb.comm, pb.asm.diagonal(u, &mut self.minv))?;
+        crate::springs::add_diagonal(pb.springs, &mut self.minv);
+        pb.cons.precondition_blocks(pb.comm, &mut self.minv);
         for a in 0..u.len() {
-            let m = &self.diag[a];
-            let (inv, det) = inverse(m);
+            let m = self.minv[a];
+            let (inv, det) = inverse(&m);
             self.minv[a] =
                 if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
                     inv

@@ -24,7 +24,7 @@ use super::blocks::BlockInverse;
 use super::cycle::{self, FirstLevel, Hierarchy, Op};
 use super::prolongator::{smooth_nodes, tentative, MODES};
 use super::smoother::Chebyshev;
-use super::sparse::{node_of, triple_product_part, Csr, TRIPLE_BLOCKS};
+use super::sparse::{node_of, triple_product_part, Csr, Picked, Rows, TRIPLE_BLOCKS};
 use super::Split;
 use crate::comm::Comm;
 use std::ops::Range;
@@ -203,6 +203,20 @@ fn galerkin<C: Comm + ?Sized>(
     let p = gather_rows(comm, &own_p);
     drop(own_p);
     let pt = p.transpose();
+    drop(p);
+    // Of P, the product needs only the rows its rows of A reach: taken back from P^T.
+    let mut reached = vec![false; pt.cols];
+    for k in ks.clone() {
+        for &m in view.row(k).0 {
+            reached[m as usize] = true;
+        }
+    }
+    let rows: Vec<u32> = (0..pt.cols as u32)
+        .filter(|&m| reached[m as usize])
+        .collect();
+    drop(reached);
+    let p = Picked::from_transpose(&pt, &rows);
+    drop(rows);
     let mut sums: Option<Csr> = None;
     for r in 0..comm.size() {
         let mut bytes = Vec::new();

@@ -251,6 +251,74 @@ pub trait Rows {
     fn row(&mut self, r: usize) -> (&[u32], &[f64]);
 }
 
+/// Rows handed out by shared reference (a matrix, or some of its rows).
+pub trait RowsOf {
+    fn row_of(&self, r: usize) -> (&[u32], &[f64]);
+}
+
+impl RowsOf for Csr {
+    fn row_of(&self, r: usize) -> (&[u32], &[f64]) {
+        self.row(r)
+    }
+}
+
+/// Some rows of a matrix, taken from its transpose: row r is `rows.row(slot[r])` for the
+/// rows picked (slot u32::MAX for the others, which must not be asked for).
+pub struct Picked {
+    slot: Vec<u32>,
+    rows: Csr,
+}
+
+impl Picked {
+    /// The rows `picked` (increasing) of the matrix whose transpose is `t`: each row's
+    /// entries in column order with the transpose's bits, as `t.transpose()` has them.
+    pub fn from_transpose(t: &Csr, picked: &[u32]) -> Picked {
+        let mut slot = vec![u32::MAX; t.cols];
+        for (s, &r) in picked.iter().enumerate() {
+            slot[r as usize] = s as u32;
+        }
+        let mut ptr = vec![0usize; picked.len() + 1];
+        for &c in &t.idx {
+            if let Some(&s) = slot.get(c as usize).filter(|&&s| s != u32::MAX) {
+                ptr[s as usize + 1] += 1;
+            }
+        }
+        for s in 0..picked.len() {
+            ptr[s + 1] += ptr[s];
+        }
+        let mut next = ptr.clone();
+        let nnz = ptr[picked.len()];
+        let (mut idx, mut val) = (vec![0u32; nnz], vec![0.0f64; nnz]);
+        for i in 0..t.rows {
+            let (c, v) = t.row(i);
+            for (&r, &x) in c.iter().zip(v) {
+                let s = slot[r as usize];
+                if s != u32::MAX {
+                    idx[next[s as usize]] = i as u32;
+                    val[next[s as usize]] = x;
+                    next[s as usize] += 1;
+                }
+            }
+        }
+        Picked {
+            slot,
+            rows: Csr {
+                rows: picked.len(),
+                cols: t.rows,
+                ptr,
+                idx,
+                val,
+            },
+        }
+    }
+}
+
+impl RowsOf for Picked {
+    fn row_of(&self, r: usize) -> (&[u32], &[f64]) {
+        self.rows.row(self.slot[r] as usize)
+    }
+}
+
 /// The rows of a Csr numbered from `first` (its row i is row first + i).
 pub struct Offset<'a> {
     pub a: &'a Csr,
@@ -393,16 +461,17 @@ pub fn triple_product_part(
     pt: &Csr,
     a: &mut impl Rows,
     ks: std::ops::Range<usize>,
-    p: &Csr,
+    p: &impl RowsOf,
     blocks: usize,
     seed: Option<&Csr>,
 ) -> Csr {
-    let mut inner = RowProduct::new(p.cols);
-    let mut outer = RowProduct::new(p.cols);
+    let cols = pt.rows;
+    let mut inner = RowProduct::new(cols);
+    let mut outer = RowProduct::new(cols);
     let mut slot = vec![u32::MAX; ks.len()];
     let mut need: Vec<u32> = Vec::new();
-    let mut ap = Csr::empty(p.cols);
-    let mut out = Csr::empty(p.cols);
+    let mut ap = Csr::empty(cols);
+    let mut out = Csr::empty(cols);
     out.ptr.reserve(pt.rows);
     // Row i of P^T restricted to `ks` (its columns are sorted).
     let part = |i: usize| {
@@ -411,24 +480,28 @@ pub fn triple_product_part(
         let hi = c.partition_point(|&k| (k as usize) < ks.end);
         (&c[lo..hi], &v[lo..hi])
     };
-    let per = pt.rows.div_ceil(blocks.max(1)).max(1);
+    // A block of rows of P^T ends once its rows reach `per` rows of A (or more): each
+    // block's rows of A P are held at once, and the rows of P^T that reach none of `ks`
+    // cost nothing.
+    let per = ks.len().div_ceil(blocks.max(1)).max(1);
     let mut start = 0;
     while start < pt.rows {
-        let end = (start + per).min(pt.rows);
-        for i in start..end {
-            for &k in part(i).0 {
+        let mut end = start;
+        while end < pt.rows && need.len() < per {
+            for &k in part(end).0 {
                 let s = k as usize - ks.start;
                 if slot[s] == u32::MAX {
                     slot[s] = 0;
                     need.push(k);
                 }
             }
+            end += 1;
         }
         need.sort_unstable();
         ap.clear_rows();
         for (n, &k) in need.iter().enumerate() {
             slot[k as usize - ks.start] = n as u32;
-            inner.push_row(a.row(k as usize), |m| p.row(m), &mut ap);
+            inner.push_row(a.row(k as usize), |m| p.row_of(m), &mut ap);
         }
         for i in start..end {
             if let Some(seed) = seed {
@@ -627,6 +700,48 @@ mod tests {
         p.mul_into(&x, &mut y);
         pt.mul_transpose_into(&x, &mut z);
         assert_eq!(bits(&y), bits(&z));
+    }
+
+    #[test]
+    fn the_product_in_turns_with_the_rows_of_p_it_reaches_is_the_whole_product() {
+        // As the first level forms it: the rows of A split in consecutive ranges (the
+        // ranks), each range's part seeded with the parts before, P given only by the rows
+        // the range's rows of A reach, taken back from P^T (`Picked`).
+        let a = rounding(13, 13, 1).symmetric_part();
+        let p = rounding(13, 5, 2);
+        let pt = p.transpose();
+        let whole = pt.matmul(&a.matmul(&p));
+        for cuts in [vec![0, 13], vec![0, 6, 13], vec![0, 4, 4, 9, 13]] {
+            for blocks in [1, 3, 8] {
+                let mut sums: Option<Csr> = None;
+                for w in cuts.windows(2) {
+                    let ks = w[0]..w[1];
+                    let mut reached: Vec<u32> =
+                        ks.clone().flat_map(|k| a.row(k).0.to_vec()).collect();
+                    reached.sort_unstable();
+                    reached.dedup();
+                    let picked = Picked::from_transpose(&pt, &reached);
+                    for &m in &reached {
+                        let (c, v) = picked.row_of(m as usize);
+                        assert_eq!(c, p.row(m as usize).0);
+                        assert_eq!(bits(v), bits(p.row(m as usize).1));
+                    }
+                    let rows = &mut Offset { a: &a, first: 0 };
+                    sums = Some(triple_product_part(
+                        &pt,
+                        rows,
+                        ks,
+                        &picked,
+                        blocks,
+                        sums.as_ref(),
+                    ));
+                }
+                let t = sums.unwrap();
+                let what = format!("{cuts:?}, {blocks} blocks");
+                assert_eq!((&t.ptr, &t.idx), (&whole.ptr, &whole.idx), "{what}");
+                assert_eq!(bits(&t.val), bits(&whole.val), "{what}");
+            }
+        }
     }
 
     #[test]
