@@ -137,6 +137,7 @@ mod tests {
             two_level: false,
             multilevel: false,
             friction: false,
+            nonlinear: false,
         };
         let one = estimate(&c, 1).per_rank();
         assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());

@@ -28,16 +28,27 @@ pub struct Counts {
     /// A contact pair has Coulomb friction: the friction-coupled model problem's BiCGStab
     /// vectors (solver/cg/coupled.rs).
     pub friction: bool,
+    /// A body is not linear elastic under small strain, or a pressure follows the surface:
+    /// the model solve's nonlinear path and its vectors (solver/cg).
+    pub nonlinear: bool,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
 /// element part (4) and per-rank element lists (4); rank 0 also the result file's copy of
-/// the mesh (36) and the gathered stress of a step and its write buffer (2 x 48).
-const GLOBAL_PER_ELEMENT: f64 = 32.0 + 4.0 + 4.0 + 4.0 + 36.0 + 96.0;
+/// the mesh (36) and what a step's output adds (OUTPUT_PER_ELEMENT).
+const GLOBAL_PER_ELEMENT: f64 = 32.0 + 4.0 + 4.0 + 4.0 + 36.0 + OUTPUT_PER_ELEMENT;
 /// Coordinates (24), node owner (4) and per-rank node lists (4); on rank 0 the result
-/// file's coordinates (24) and a step's gathered displacement, reaction, contact force
-/// (3 x 24), status and gap (16), each also in a write buffer.
-const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + 2.0 * (72.0 + 16.0);
+/// file's coordinates (24) and what a step's output adds (OUTPUT_PER_NODE).
+const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + OUTPUT_PER_NODE;
+/// What rank 0's step output adds to the peak of a run without the multilevel hierarchy,
+/// per element and per node: calibrated (it was the gathered fields and their write
+/// buffers, 2 x 48 and 2 x 88, when rank 0 gathered a whole step at once; since it writes
+/// field by field, gathering each in eight rounds, the buffers are about a third of that,
+/// but the measured peaks at n = 10 to 40 did not drop with them: the peak of those runs
+/// is elsewhere by about as much). The multilevel hierarchy's build, where such runs peak,
+/// holds none of it.
+const OUTPUT_PER_ELEMENT: f64 = 96.0;
+const OUTPUT_PER_NODE: f64 = 176.0;
 // METIS's dual graph of the whole mesh (about 170 bytes per element with its copies) is
 // freed before the rank's share is built, so it is not part of the peak (the 2-rank peaks
 // at n = 40 are 4% and 13% below the counts without it).
@@ -49,10 +60,13 @@ const LOCAL_PER_ELEMENT: f64 = 41.0 + 8.0 + 48.0;
 const SHAPE_PER_ELEMENT: f64 = 304.0;
 /// Gauss-point gradients of a fully integrated element shape (`GaussGeometry`).
 const GAUSS_PER_ELEMENT: f64 = 1600.0;
-/// The rank's nodes: coordinates, global id, owner (32); the CG vectors (11 x 24) and the
-/// 3x3 diagonal and its inverse (2 x 72); the displacement and its previous value and the
+/// The rank's nodes: coordinates, global id, owner (32); the CG vectors (7 x 24) and the
+/// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
-const LOCAL_PER_NODE: f64 = 32.0 + 264.0 + 144.0 + 48.0 + 88.0;
+const LOCAL_PER_NODE: f64 = 32.0 + 168.0 + 72.0 + 48.0 + 88.0;
+/// The nonlinear path's CG vectors: the previous residual and the finite-difference probe's
+/// three (4 x 24).
+const NONLINEAR_PER_NODE: f64 = 4.0 * 24.0;
 /// The friction-coupled model problem's vectors (8 x 24), allocated when a node slips.
 const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (solver::coarse);
@@ -72,8 +86,8 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on
 /// 2. (The whole part comes out smaller than the prolongator's transpose alone: the other
 /// parts of the model count rank 0's output buffers, which are not held at this peak.)
-const MULTILEVEL_SPLIT_PER_NODE: f64 = 720.0;
-const MULTILEVEL_WHOLE_PER_NODE: f64 = 20.0;
+const MULTILEVEL_SPLIT_PER_NODE: f64 = 610.0;
+const MULTILEVEL_WHOLE_PER_NODE: f64 = 209.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;
@@ -125,7 +139,10 @@ fn share_of(n: u64, ranks: usize) -> f64 {
 pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     let ranks = ranks.max(1);
     let (e, n) = (c.elements as f64, c.nodes as f64);
-    let whole_mesh = e * GLOBAL_PER_ELEMENT + n * GLOBAL_PER_NODE;
+    let mut whole_mesh = e * GLOBAL_PER_ELEMENT + n * GLOBAL_PER_NODE;
+    if c.multilevel && !c.two_level {
+        whole_mesh -= e * OUTPUT_PER_ELEMENT + n * OUTPUT_PER_NODE;
+    }
     let (full_share, shaped_share) = if c.elements == 0 {
         (0.0, 0.0)
     } else {
@@ -133,7 +150,9 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     };
     let per_element =
         LOCAL_PER_ELEMENT + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT);
-    let per_node = LOCAL_PER_NODE + if c.friction { FRICTION_PER_NODE } else { 0.0 };
+    let per_node = LOCAL_PER_NODE
+        + if c.friction { FRICTION_PER_NODE } else { 0.0 }
+        + if c.nonlinear { NONLINEAR_PER_NODE } else { 0.0 };
     let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
     let coarse = if c.two_level {
         let aggregates = (n / COARSE_NODES_PER_AGGREGATE)

@@ -104,6 +104,8 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);
         }
+        counts.nonlinear |= !matches!(b.material, MaterialDef::LinearElastic { .. })
+            || raw.kinematics != Kinematics::Small;
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
             beyond_ids = Some(SceneError {
                 file: file.clone(),
@@ -163,6 +165,8 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             two_level: two_level(p.solver.preconditioner, nodes),
             multilevel: multilevel(p.solver.preconditioner, nodes),
             friction: p.contacts.iter().any(|c| c.mu > 0.0),
+            nonlinear: !crate::problem::linear_models(&p.body_models)
+                || (p.kinematics == Kinematics::Large && !p.pressures.is_empty()),
         },
         preconditioner: p.solver.preconditioner,
         beyond_ids: None,

@@ -318,6 +318,7 @@ mod tests {
             two_level: true,
             multilevel: false,
             friction: false,
+            nonlinear: false,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2, Precond::TwoLevel).unwrap();

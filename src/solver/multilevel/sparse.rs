@@ -468,7 +468,11 @@ pub fn triple_product_part(
     let cols = pt.rows;
     let mut inner = RowProduct::new(cols);
     let mut outer = RowProduct::new(cols);
+    // slot[k - ks.start]: the row of `ap` that holds row k of A P (u32::MAX: none);
+    // have[r]: the k of ap's row r; want[k - ks.start]: the last block that needs row k.
     let mut slot = vec![u32::MAX; ks.len()];
+    let mut want = vec![usize::MAX; ks.len()];
+    let mut have: Vec<u32> = Vec::new();
     let mut need: Vec<u32> = Vec::new();
     let mut ap = Csr::empty(cols);
     let mut out = Csr::empty(cols);
@@ -480,28 +484,55 @@ pub fn triple_product_part(
         let hi = c.partition_point(|&k| (k as usize) < ks.end);
         (&c[lo..hi], &v[lo..hi])
     };
-    // A block of rows of P^T ends once its rows reach `per` rows of A (or more): each
-    // block's rows of A P are held at once, and the rows of P^T that reach none of `ks`
-    // cost nothing.
+    // A block of rows of P^T ends once its rows reach `per` rows of A (or more): only one
+    // block's rows of A P are held, each formed once while consecutive blocks need it (a
+    // row of A P is its own sum whichever block forms it), and the rows of P^T that reach
+    // none of `ks` cost nothing.
     let per = ks.len().div_ceil(blocks.max(1)).max(1);
     let mut start = 0;
+    let mut block = 0usize;
     while start < pt.rows {
         let mut end = start;
         while end < pt.rows && need.len() < per {
             for &k in part(end).0 {
                 let s = k as usize - ks.start;
-                if slot[s] == u32::MAX {
-                    slot[s] = 0;
+                if want[s] != block {
+                    want[s] = block;
                     need.push(k);
                 }
             }
             end += 1;
         }
+        // The rows the block needs again move to the front; the others go.
+        let mut w = 0;
+        for r in 0..ap.rows {
+            let s = have[r] as usize - ks.start;
+            if want[s] != block {
+                slot[s] = u32::MAX;
+                continue;
+            }
+            let (from, len) = (ap.ptr[r], ap.ptr[r + 1] - ap.ptr[r]);
+            let to = ap.ptr[w];
+            ap.idx.copy_within(from..from + len, to);
+            ap.val.copy_within(from..from + len, to);
+            ap.ptr[w + 1] = to + len;
+            have[w] = have[r];
+            slot[s] = w as u32;
+            w += 1;
+        }
+        ap.rows = w;
+        ap.ptr.truncate(w + 1);
+        ap.idx.truncate(ap.ptr[w]);
+        ap.val.truncate(ap.ptr[w]);
+        have.truncate(w);
         need.sort_unstable();
-        ap.clear_rows();
-        for (n, &k) in need.iter().enumerate() {
-            slot[k as usize - ks.start] = n as u32;
-            inner.push_row(a.row(k as usize), |m| p.row_of(m), &mut ap);
+        for &k in &need {
+            let s = k as usize - ks.start;
+            if slot[s] == u32::MAX {
+                slot[s] = ap.rows as u32;
+                have.push(k);
+                inner.push_row(a.row(k as usize), |m| p.row_of(m), &mut ap);
+            }
         }
         for i in start..end {
             if let Some(seed) = seed {
@@ -510,11 +541,9 @@ pub fn triple_product_part(
             let row = |k: usize| ap.row(slot[k - ks.start] as usize);
             outer.push_row(part(i), row, &mut out);
         }
-        for &k in &need {
-            slot[k as usize - ks.start] = u32::MAX;
-        }
         need.clear();
         start = end;
+        block += 1;
     }
     out
 }
