@@ -567,6 +567,22 @@ impl Csr {
         b
     }
 
+    /// Rows `rows` as a matrix of their own, as bytes (`to_bytes`).
+    pub fn rows_to_bytes(&self, rows: std::ops::Range<usize>) -> Vec<u8> {
+        let (a, b) = (self.ptr[rows.start], self.ptr[rows.end]);
+        Csr {
+            rows: rows.len(),
+            cols: self.cols,
+            ptr: self.ptr[rows.start..=rows.end]
+                .iter()
+                .map(|&x| x - a)
+                .collect(),
+            idx: self.idx[a..b].to_vec(),
+            val: self.val[a..b].to_vec(),
+        }
+        .to_bytes()
+    }
+
     /// Appends the rows of a matrix written by `to_bytes` (of the same columns).
     pub fn append_bytes(&mut self, b: &[u8]) {
         let u64_at =
