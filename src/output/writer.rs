@@ -213,6 +213,7 @@ impl ResultWriter {
             .and_then(|()| self.file.flush().at(&p, "/ (flush)"));
         self.check(r)?;
         self.times.push(step.time);
+        self.pending.clear();
         Ok(())
     }
 

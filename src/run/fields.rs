@@ -116,14 +116,15 @@ impl LocalFields {
         (f, err)
     }
 
-    /// Every value finite (and the owned displacement).
-    fn finite(&self, u: &[Vec3]) -> bool {
+    /// Every value finite (and the owned displacement and plastic strain).
+    fn finite<C: Comm + ?Sized>(&self, stepper: &Stepper<C>, owned: usize) -> bool {
         let ok = |v: &[f64]| v.iter().all(|x| x.is_finite());
         ok(self.stress.as_flattened())
             && ok(self.reaction.as_flattened())
             && ok(self.contact_force.as_flattened())
             && ok(self.gap.as_flattened())
-            && ok(u.as_flattened())
+            && ok(stepper.u[..owned].as_flattened())
+            && stepper.assembly().owned_eqps().is_none_or(|v| ok(&v))
     }
 }
 
@@ -180,7 +181,7 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         ]
         .iter()
         .all(|x| x.is_finite());
-    let finite = fields.finite(&stepper.u[..local.num_owned_nodes]) && root_finite;
+    let finite = fields.finite(stepper, local.num_owned_nodes) && root_finite;
     let stream = write && !comm::any(comm, !finite);
     let whole = !stream && (write || keep);
     let mut writer = writer.filter(|_| write && comm.is_root());
