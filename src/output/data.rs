@@ -403,6 +403,15 @@ impl StepOutput {
     }
 }
 
+impl StepStats {
+    /// Whether a step at `time` with these statistics passes the writer's checks of them
+    /// (`ResultWriter::end_step`, `append_step`).
+    pub fn writable(&self, time: f64) -> bool {
+        let nowhere = Path::new("");
+        check_time(nowhere, time).is_ok() && check_stats(nowhere, self).is_ok()
+    }
+}
+
 /// The step's time finite.
 pub(crate) fn check_time(file: &Path, time: f64) -> Result<(), OutputError> {
     check_finite(file, layout::TIME, &[time], |_| "the step's time".into())

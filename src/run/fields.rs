@@ -172,15 +172,7 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     } else {
         Vec::new()
     };
-    let root_finite = contact_pressure.iter().all(|x| x.is_finite())
-        && [
-            rec.time,
-            stats.residual,
-            stats.wall_time,
-            stats.max_penetration,
-        ]
-        .iter()
-        .all(|x| x.is_finite());
+    let root_finite = contact_pressure.iter().all(|x| x.is_finite()) && stats.writable(rec.time);
     let finite = fields.finite(stepper, local.num_owned_nodes) && root_finite;
     let stream = write && !comm::any(comm, !finite);
     let whole = !stream && (write || keep);

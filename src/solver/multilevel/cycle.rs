@@ -12,8 +12,9 @@ use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
-use super::sparse::{node_of, triple_product, Csr, Offset, Rows, TRIPLE_BLOCKS};
+use super::sparse::{node_of, Csr, Offset, Rows};
 use super::sparse_cholesky::SparseCholesky;
+use super::triple::{triple_product, TRIPLE_BLOCKS};
 use std::convert::Infallible;
 
 /// Levels with at most this many unknowns of positive stiffness are solved directly.

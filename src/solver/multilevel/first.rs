@@ -10,7 +10,7 @@
 //!   P^T for the cycle and P's rows to form P^T A P);
 //! - P^T A P in turns: rank 0 sums the terms of its rows of A, each rank then goes on
 //!   from the sums the rank before it sent, in the order of the rows, so every entry is
-//!   the one sum the whole product forms (`sparse::triple_product_part`).
+//!   the one sum the whole product forms (`triple::triple_product_part`).
 //!
 //! The levels below are built whole on every rank, as before. A rank so holds its rows
 //! of the first coarse operator instead of all of them (on the block on block at n = 80,
@@ -24,7 +24,8 @@ use super::blocks::BlockInverse;
 use super::cycle::{self, FirstLevel, Hierarchy, Op};
 use super::prolongator::{smooth_nodes, tentative, MODES};
 use super::smoother::Chebyshev;
-use super::sparse::{node_of, triple_product_part, Csr, Picked, Rows, TRIPLE_BLOCKS};
+use super::sparse::{node_of, Csr, Rows};
+use super::triple::{triple_product_part, Picked, TRIPLE_BLOCKS};
 use super::Split;
 use crate::comm::Comm;
 use std::ops::Range;

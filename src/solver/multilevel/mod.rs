@@ -38,6 +38,7 @@ pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;
 pub mod transfer;
+pub mod triple;
 
 use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
