@@ -68,9 +68,6 @@ pub trait FineOperator {
 }
 
 pub struct Multilevel {
-    /// The elements around every node: with the mesh's elements, the node graph the
-    /// colouring follows (a third of the graph's size, 118 MiB per rank at 10^6 elements).
-    around: NodeElements,
     transfer: Transfer,
     hierarchy: Option<Hierarchy>,
     fine: Option<Chebyshev>,
@@ -79,11 +76,9 @@ pub struct Multilevel {
     global_ids: Vec<u32>,
     owned: usize,
     coarse: CoarseVectors,
-    fx: Vec<Vec3>,
-    fr: Vec<Vec3>,
-    fd: Vec<Vec3>,
-    ft: Vec<Vec3>,
-    fu: Vec<Vec3>,
+    /// The fine level's work vectors (x and r are the measurement's probes too): none while
+    /// the coarse levels are built, the build's highest memory (65 MB per rank at n = 80).
+    f: FineVectors,
     origin: Vec3,
     length: f64,
     /// Times the hierarchy was built.
@@ -158,8 +153,7 @@ impl Multilevel {
         mesh: &LocalMesh,
         degree: usize,
     ) -> Self {
-        let around = NodeElements::of_mesh(g);
-        let graph = Graph::around(&around, &g.elements);
+        let graph = Graph::of_mesh(g);
         let transfer = Transfer::new(comm, g, &graph, mesh);
         drop(graph);
         let nl = mesh.num_nodes();
@@ -172,20 +166,14 @@ impl Multilevel {
                 hi[i] = hi[i].max(x[i]);
             }
         }
-        let v = || vec![[0.0; 3]; nl];
         Multilevel {
-            around,
             hierarchy: None,
             fine: None,
             degree,
             global_ids: mesh.node_global.clone(),
             owned: mesh.num_owned_nodes,
             coarse: CoarseVectors::new(comm, transfer.num_aggregates),
-            fx: v(),
-            fr: v(),
-            fd: v(),
-            ft: v(),
-            fu: v(),
+            f: FineVectors::new(nl),
             origin: std::array::from_fn(|i| 0.5 * (lo[i] + hi[i])),
             length: g.bounding_diagonal().max(f64::MIN_POSITIVE),
             builds: 0,
@@ -229,15 +217,21 @@ impl Multilevel {
             |i: usize| phases[i] = clock.elapsed().as_secs_f64() - phases.iter().sum::<f64>();
         let ties = Ties::gather(comm, cons, mesh, g.num_nodes());
         let na = self.transfer.num_aggregates;
+        // The elements around every node, with the mesh's elements the node graph the
+        // colouring follows (a third of the graph's size), formed for it and not kept: 41 MB
+        // per rank at n = 80, held through the build's peak before.
+        let around = NodeElements::of_mesh(g);
         let graph = MeshNeighbours {
-            around: &self.around,
+            around: &around,
             elements: &g.elements,
         };
         let col = Colouring::new(&graph, &self.transfer.agg_of, na, &ties);
+        drop(around);
         lap(0);
+        self.f.ensure(mesh.num_nodes());
         let buf = measure::Probe {
-            v: &mut self.fx,
-            av: &mut self.fr,
+            v: &mut self.f.x,
+            av: &mut self.f.r,
             coeff: &mut self.coarse.b,
         };
         let held = first::held(comm, na);
@@ -256,6 +250,7 @@ impl Multilevel {
         // (42 MB per rank at n = 80).
         let num_colours = col.num_colours;
         drop((col, ties));
+        self.f = FineVectors::none();
         let b = self.transfer.nullspace(&self.origin, self.length);
         let body = self.transfer.body.clone();
         let mut h = first::build(comm, kc, held, na, b, body, COARSE_DEGREE, COARSE_SWEEPS);
@@ -273,6 +268,7 @@ impl Multilevel {
             h.finish(&mut cycle::Whole, 0, self.transfer.dim(), |own| own);
         }
         lap(2);
+        self.f.ensure(mesh.num_nodes());
         self.fine = None;
         if self.degree > 0 && linear {
             self.estimate_smoother(comm, minv, op)?;
@@ -314,14 +310,14 @@ impl Multilevel {
             minv,
             owned: self.owned,
             ids: &self.global_ids,
-            tmp: &mut self.fu,
+            tmp: &mut self.f.u,
         };
         self.fine = Some(Chebyshev::estimate(
             &mut f,
             self.degree,
-            self.fx.as_flattened_mut(),
-            self.fr.as_flattened_mut(),
-            self.fd.as_flattened_mut(),
+            self.f.x.as_flattened_mut(),
+            self.f.r.as_flattened_mut(),
+            self.f.d.as_flattened_mut(),
         )?);
         Ok(())
     }
@@ -362,26 +358,60 @@ impl Multilevel {
                 .correct(comm, h, &self.transfer, (cons, owned), r, z);
             return Ok(());
         };
+        let v = &mut self.f;
         let mut f = Fine {
             comm,
             op,
             minv,
             owned,
             ids: &self.global_ids,
-            tmp: &mut self.fu,
+            tmp: &mut v.u,
         };
         z.iter_mut().for_each(|v| *v = [0.0; 3]);
-        self.fr.copy_from_slice(r);
-        let (zf, rf) = (z.as_flattened_mut(), self.fr.as_flattened_mut());
-        let (df, tf) = (self.fd.as_flattened_mut(), self.ft.as_flattened_mut());
+        v.r.copy_from_slice(r);
+        let (zf, rf) = (z.as_flattened_mut(), v.r.as_flattened_mut());
+        let (df, tf) = (v.d.as_flattened_mut(), v.t.as_flattened_mut());
         cheb.smooth(&mut f, rf, zf, df, tf)?;
         residual(&mut f, r, zf, rf, tf)?;
         self.coarse
-            .correct(comm, h, &self.transfer, (cons, owned), &self.fr, z);
-        let (zf, rf) = (z.as_flattened_mut(), self.fr.as_flattened_mut());
-        let tf = self.ft.as_flattened_mut();
+            .correct(comm, h, &self.transfer, (cons, owned), &v.r, z);
+        let (zf, rf) = (z.as_flattened_mut(), v.r.as_flattened_mut());
+        let tf = v.t.as_flattened_mut();
         residual(&mut f, r, zf, rf, tf)?;
-        cheb.smooth(&mut f, rf, zf, self.fd.as_flattened_mut(), tf)
+        cheb.smooth(&mut f, rf, zf, v.d.as_flattened_mut(), tf)
+    }
+}
+
+/// The fine level's work vectors, one entry per local node (or none).
+struct FineVectors {
+    x: Vec<Vec3>,
+    r: Vec<Vec3>,
+    d: Vec<Vec3>,
+    t: Vec<Vec3>,
+    u: Vec<Vec3>,
+}
+
+impl FineVectors {
+    fn new(nodes: usize) -> Self {
+        let v = || vec![[0.0; 3]; nodes];
+        FineVectors {
+            x: v(),
+            r: v(),
+            d: v(),
+            t: v(),
+            u: v(),
+        }
+    }
+
+    fn none() -> Self {
+        FineVectors::new(0)
+    }
+
+    /// Allocates them if they were freed (outside CG: its iterations allocate nothing).
+    fn ensure(&mut self, nodes: usize) {
+        if self.x.len() != nodes {
+            *self = FineVectors::new(nodes);
+        }
     }
 }
 
