@@ -450,6 +450,172 @@ fn a_step_written_field_by_field_is_the_step_written_whole() {
     assert_eq!(w.steps(), 0, "no step was completed");
 }
 
+/// `field`'s entries from `first` to `first + n` (n clipped to the field), as a part.
+fn part_of<'a>(field: &StepField<'a>, first: usize, n: usize) -> StepField<'a> {
+    let r = |len: usize| first..(first + n).min(len);
+    match *field {
+        StepField::Displacement(v) => StepField::Displacement(&v[r(v.len())]),
+        StepField::Stress(v) => StepField::Stress(&v[r(v.len())]),
+        StepField::Reaction(v) => StepField::Reaction(&v[r(v.len())]),
+        StepField::ContactForce(v) => StepField::ContactForce(&v[r(v.len())]),
+        StepField::ContactStatus(v) => StepField::ContactStatus(&v[r(v.len())]),
+        StepField::ContactGap(v) => StepField::ContactGap(&v[r(v.len())]),
+        StepField::ContactPressure(v) => StepField::ContactPressure(&v[r(v.len())]),
+        StepField::PlasticStrain(v) => StepField::PlasticStrain(&v[r(v.len())]),
+    }
+}
+
+fn field_len(field: &StepField<'_>) -> usize {
+    match *field {
+        StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => v.len(),
+        StepField::Stress(v) => v.len(),
+        StepField::ContactStatus(v) => v.len(),
+        StepField::ContactGap(v) | StepField::ContactPressure(v) | StepField::PlasticStrain(v) => {
+            v.len()
+        }
+    }
+}
+
+#[test]
+fn a_field_written_in_parts_is_the_field_written_whole() {
+    // A large run's rank 0 writes each field a range of entries at a time as it gathers it
+    // (`write_field_part`); the file must be the one `append_step` writes, bit for bit, and
+    // a part out of order, past the mesh or with a value that is not finite refused, the
+    // value named by its entry in the whole field.
+    let dir = test_dir("field_parts");
+    let mesh = synthetic_mesh();
+    let whole = write_synthetic(&dir, "whole", 3);
+    let path = dir.join("parts.h5");
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        let step = synthetic_step(s, &mesh);
+        // Parts of 1, 2, 5, ... entries: some fields in one part, some in several, the
+        // last part shorter than the others.
+        let n = [1usize, 2, 5][s];
+        for f in step.fields() {
+            let mut first = 0;
+            while first < field_len(&f) {
+                w.write_field_part(part_of(&f, first, n), first).unwrap();
+                first += n;
+            }
+        }
+        w.end_step(step.time, &step.stats).unwrap();
+    }
+    let parts = w.finish(12.5).unwrap();
+    let report = post::compare_files(&whole, &parts, 0.0).unwrap();
+    assert!(report.bitwise_identical(), "{report:?}");
+    assert!(
+        report.only_in_a.is_empty() && report.only_in_b.is_empty(),
+        "{report:?}"
+    );
+
+    let path = dir.join("refused.h5");
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    let mut step = synthetic_step(0, &mesh);
+    let d = StepField::Displacement(&step.displacement);
+    // Not from entry 0, then a gap after entries 0..3.
+    let err = w.write_field_part(part_of(&d, 2, 3), 2).unwrap_err();
+    assert!(
+        err.to_string().contains("expected one starting at 0"),
+        "{err}"
+    );
+    w.write_field_part(part_of(&d, 0, 3), 0).unwrap();
+    let err = w.write_field_part(part_of(&d, 4, 3), 4).unwrap_err();
+    assert!(
+        err.to_string().contains("expected one starting at 3"),
+        "{err}"
+    );
+    // Past the last node (20 nodes).
+    let err = w.write_field_part(part_of(&d, 0, 3), 18).unwrap_err();
+    assert!(err.to_string().contains("18..21 of 20"), "{err}");
+    // A field whose parts stop short is missing at the step's end.
+    w.write_field_part(part_of(&d, 3, 10), 3).unwrap();
+    for f in step.fields().into_iter().skip(1) {
+        w.write_field(f).unwrap();
+    }
+    let err = w.end_step(step.time, &step.stats).unwrap_err();
+    assert!(err.to_string().contains(layout::DISPLACEMENT), "{err}");
+    // A value that is not finite in a later part: named by its node in the whole field.
+    step.reaction[14][2] = f64::INFINITY;
+    let r = StepField::Reaction(&step.reaction);
+    w.write_field_part(part_of(&r, 0, 10), 0).unwrap();
+    let err = w.write_field_part(part_of(&r, 10, 10), 10).unwrap_err();
+    assert!(matches!(err, OutputError::NonFinite { .. }), "{err}");
+    assert!(
+        err.to_string().contains("node 14 (id 29), component 2"),
+        "{err}"
+    );
+    assert_eq!(w.steps(), 0, "no step was completed");
+}
+
+#[test]
+fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
+    // The run gives rank 0's writer the restart state's two displacements a range of nodes
+    // at a time (`write_restart_part`) and then the rest of the state with both left empty;
+    // the state read back must be the one written whole, and a state whose displacements
+    // were not all written refused.
+    let dir = test_dir("restart_parts");
+    let mesh = synthetic_mesh();
+    let n = mesh.coordinates.len();
+    let state = |rows: u64| solver::output::RestartState {
+        step: rows + 1,
+        time: 0.5 * rows as f64,
+        dt_prev: 0.25,
+        reference_floor: 3.5,
+        rows,
+        multilevel_switched: rows == 2,
+        displacement: (0..n).map(|i| [i as f64, 0.5, -(rows as f64)]).collect(),
+        previous_displacement: (0..n).map(|i| [0.1, i as f64 / 3.0, 1e-9]).collect(),
+        contact: vec![1.0, 2.0, 3.0],
+        released: vec![4.0],
+        ties: Vec::new(),
+        history: Vec::new(),
+    };
+    let mut read = Vec::new();
+    for parts in [false, true] {
+        let path = dir.join(format!("parts_{parts}.h5"));
+        let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+        for rows in 1..=3u64 {
+            w.append_step(&synthetic_step(rows as usize - 1, &mesh))
+                .unwrap();
+            let mut r = state(rows);
+            if parts {
+                for (previous, u) in [(false, &r.displacement), (true, &r.previous_displacement)] {
+                    for first in (0..n).step_by(7) {
+                        let part = &u[first..(first + 7).min(n)];
+                        w.write_restart_part(rows, previous, first, part).unwrap();
+                    }
+                }
+                r.displacement.clear();
+                r.previous_displacement.clear();
+            }
+            w.write_restart(&r).unwrap();
+        }
+        let done = w.finish(1.0).unwrap();
+        read.push(ResultFile::open(&done).unwrap().restart_state().unwrap());
+    }
+    assert_eq!(read[0], Some(state(3)));
+    assert_eq!(read[1], read[0]);
+
+    let path = dir.join("refused.h5");
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    w.append_step(&synthetic_step(0, &mesh)).unwrap();
+    let mut r = state(1);
+    let u = std::mem::take(&mut r.displacement);
+    r.previous_displacement.clear();
+    w.write_restart_part(1, false, 0, &u).unwrap();
+    let err = w.write_restart_part(1, true, 5, &u[5..]).unwrap_err();
+    assert!(
+        err.to_string().contains("expected one starting at 0"),
+        "{err}"
+    );
+    let err = w.write_restart(&r).unwrap_err();
+    assert!(
+        err.to_string().contains("without its displacements"),
+        "{err}"
+    );
+}
+
 #[test]
 fn non_finite_values_and_bad_lengths_are_refused() {
     let dir = test_dir("nan");

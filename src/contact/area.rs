@@ -2,7 +2,7 @@
 //! area in the pair, the integral of the node's bilinear shape function over the pair's
 //! slave faces around it (see [`crate::fem::face::nodal_areas`]).
 //!
-//! Computed on rank 0 from the gathered global displacement, summing face by face in the
+//! Computed on rank 0 from the gathered displacements of the slave faces, summing face by face in the
 //! order of the pair's slave faces and constraint by constraint in the order of the active
 //! set: the same numbers on any number of ranks.
 
@@ -33,7 +33,14 @@ pub fn slave_areas(pair: &ContactPair, position: impl Fn(u32) -> Vec3) -> Vec<f6
 /// constraint's pair, measured in the current configuration under large kinematics and in
 /// the reference one under small (as pressure loads are applied). Zero at nodes without an
 /// active constraint, and for a constraint whose node has no area (a collapsed face).
-pub fn contact_pressure(problem: &Problem, active: &[Active], displacement: &[Vec3]) -> Vec<f64> {
+/// `displacement` gives a node's displacement by global id; it is asked only under large
+/// kinematics and only for the nodes of the slave faces of pairs with an active constraint
+/// (`pressure_nodes`).
+pub fn contact_pressure(
+    problem: &Problem,
+    active: &[Active],
+    displacement: impl Fn(u32) -> Vec3,
+) -> Vec<f64> {
     let coords = &problem.mesh.coords;
     let mut pressure = vec![0.0; coords.len()];
     if active.is_empty() {
@@ -43,7 +50,7 @@ pub fn contact_pressure(problem: &Problem, active: &[Active], displacement: &[Ve
     let position = |n: u32| {
         let n = n as usize;
         if current {
-            add(&coords[n], &displacement[n])
+            add(&coords[n], &displacement(n as u32))
         } else {
             coords[n]
         }
@@ -60,6 +67,28 @@ pub fn contact_pressure(problem: &Problem, active: &[Active], displacement: &[Ve
         }
     }
     pressure
+}
+
+/// The nodes whose displacement `contact_pressure` reads, sorted: those of the slave faces
+/// of the pairs with an active constraint, under large kinematics (none under small).
+pub fn pressure_nodes(problem: &Problem, active: &[Active]) -> Vec<u32> {
+    if problem.kinematics != Kinematics::Large {
+        return Vec::new();
+    }
+    let mut on = vec![false; problem.contacts.len()];
+    for a in active {
+        on[a.pair] = true;
+    }
+    let mut nodes: Vec<u32> = problem
+        .contacts
+        .iter()
+        .zip(&on)
+        .filter(|(_, &on)| on)
+        .flat_map(|(pair, _)| pair.slave_face_nodes.iter().flatten().copied())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
 }
 
 #[cfg(test)]

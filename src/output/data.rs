@@ -289,7 +289,7 @@ impl StepField<'_> {
     }
 
     /// (values, whether per element).
-    fn len_per(&self) -> (usize, bool) {
+    pub(crate) fn len_per(&self) -> (usize, bool) {
         match self {
             StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => {
                 (v.len(), false)
@@ -310,7 +310,18 @@ impl StepField<'_> {
         elements: usize,
     ) -> Result<(), OutputError> {
         self.check_length(file, node_ids.len(), elements)?;
-        self.check_values(file, node_ids)
+        self.check_values(file, node_ids, 0)
+    }
+
+    /// The values of the field's entries from `first` on (`ResultWriter::write_field_part`):
+    /// named as `validate` names them.
+    pub(crate) fn validate_from(
+        &self,
+        file: &Path,
+        node_ids: &[u64],
+        first: usize,
+    ) -> Result<(), OutputError> {
+        self.check_values(file, node_ids, first)
     }
 
     fn check_length(&self, file: &Path, nodes: usize, elements: usize) -> Result<(), OutputError> {
@@ -330,9 +341,10 @@ impl StepField<'_> {
         })
     }
 
-    fn check_values(&self, file: &Path, node_ids: &[u64]) -> Result<(), OutputError> {
+    /// The values checked as the entries `first..` of the field.
+    fn check_values(&self, file: &Path, node_ids: &[u64], first: usize) -> Result<(), OutputError> {
         let dataset = self.dataset();
-        let node = |i: usize| format!("node {i} (id {})", node_ids[i]);
+        let node = |i: usize| format!("node {} (id {})", first + i, node_ids[first + i]);
         match *self {
             StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => {
                 for (i, x) in v.iter().enumerate() {
@@ -342,7 +354,9 @@ impl StepField<'_> {
             }
             StepField::Stress(v) => {
                 for (e, x) in v.iter().enumerate() {
-                    check_finite(file, dataset, x, |k| format!("element {e}, component {k}"))?;
+                    check_finite(file, dataset, x, |k| {
+                        format!("element {}, component {k}", first + e)
+                    })?;
                 }
                 Ok(())
             }
@@ -350,7 +364,7 @@ impl StepField<'_> {
                 check_finite(file, dataset, v, node)
             }
             StepField::PlasticStrain(v) => {
-                check_finite(file, dataset, v, |e| format!("element {e}"))
+                check_finite(file, dataset, v, |e| format!("element {}", first + e))
             }
             StepField::ContactStatus(v) => match v.iter().position(|&s| s > 3) {
                 None => Ok(()),
@@ -378,7 +392,7 @@ impl StepOutput {
         }
         check_time(file, self.time)?;
         for f in &fields {
-            f.check_values(file, node_ids)?;
+            f.check_values(file, node_ids, 0)?;
         }
         check_stats(file, &self.stats)
     }

@@ -10,8 +10,9 @@ use super::data::{StepField, StepOutput, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::layout;
 
-/// Values per chunk along the node/element axis of the per-step datasets (one step per chunk).
-const CHUNK_ROWS: usize = 1 << 15;
+/// Values per chunk along the node/element axis of the per-step datasets (one step per chunk):
+/// a field written in parts is best cut at multiples of it (each chunk written once).
+pub const CHUNK_ROWS: usize = 1 << 15;
 
 /// The per-step datasets, kept open while the run goes on.
 pub(super) struct StepDatasets {
@@ -182,26 +183,34 @@ pub(super) fn append_scalar<T: H5Type>(
     ds.write_slice(&[value][..], step..step + 1).at(path, name)
 }
 
+/// Writes `values` as entries `first..` of row `step` (of `total` entries) of a per-step
+/// dataset of one value per entry; the row's first part makes the dataset that long.
 pub(super) fn append_per_item<T: H5Type>(
     ds: &hdf5::Dataset,
     path: &Path,
     name: &str,
-    step: usize,
+    (step, first, total): (usize, usize, usize),
     values: &[T],
 ) -> Result<(), OutputError> {
-    ds.resize((step + 1, values.len())).at(path, name)?;
-    ds.write_slice(values, (step, ..)).at(path, name)
+    if first == 0 {
+        ds.resize((step + 1, total)).at(path, name)?;
+    }
+    ds.write_slice(values, (step, first..first + values.len()))
+        .at(path, name)
 }
 
+/// `append_per_item` for datasets of `N` values per entry.
 pub(super) fn append_rows<const N: usize>(
     ds: &hdf5::Dataset,
     path: &Path,
     name: &str,
-    step: usize,
+    (step, first, total): (usize, usize, usize),
     rows: &[[f64; N]],
 ) -> Result<(), OutputError> {
-    ds.resize((step + 1, rows.len(), N)).at(path, name)?;
-    ds.write_slice::<_, f64, _, _>(rows, (step, .., ..))
+    if first == 0 {
+        ds.resize((step + 1, total, N)).at(path, name)?;
+    }
+    ds.write_slice::<_, f64, _, _>(rows, (step, first..first + rows.len(), ..))
         .at(path, name)
 }
 
@@ -234,9 +243,7 @@ impl StepDatasets {
         }
     }
 
-    /// Writes one field as row `i` of its dataset. The plastic strain's dataset is created
-    /// with the first step that has one; the contact pressure's with row 0 when that step has
-    /// one (see [`StepDatasets::contact_pressure`]), and later rows are dropped without it.
+    /// Writes one field as row `i` of its dataset.
     pub(super) fn append_field(
         &mut self,
         file: &hdf5::File,
@@ -244,27 +251,43 @@ impl StepDatasets {
         i: usize,
         field: StepField<'_>,
     ) -> Result<(), OutputError> {
+        let total = field.len_per().0;
+        self.append_field_part(file, p, (i, 0, total), field)
+    }
+
+    /// Writes the entries `first..` of row `i` (of `total` entries) of one field's dataset.
+    /// The plastic strain's dataset is created with the first step that has one; the
+    /// contact pressure's with row 0 when that step has one (see
+    /// [`StepDatasets::contact_pressure`]), and later rows are dropped without it.
+    pub(super) fn append_field_part(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        (i, first, total): (usize, usize, usize),
+        field: StepField<'_>,
+    ) -> Result<(), OutputError> {
         let name = field.dataset();
+        let at = (i, first, total);
         match field {
-            StepField::Displacement(v) => append_rows(&self.displacement, p, name, i, v),
-            StepField::Stress(v) => append_rows(&self.stress, p, name, i, v),
-            StepField::Reaction(v) => append_rows(&self.reaction, p, name, i, v),
-            StepField::ContactForce(v) => append_rows(&self.contact_force, p, name, i, v),
-            StepField::ContactStatus(v) => append_per_item(&self.contact_status, p, name, i, v),
-            StepField::ContactGap(v) => append_per_item(&self.contact_gap, p, name, i, v),
+            StepField::Displacement(v) => append_rows(&self.displacement, p, name, at, v),
+            StepField::Stress(v) => append_rows(&self.stress, p, name, at, v),
+            StepField::Reaction(v) => append_rows(&self.reaction, p, name, at, v),
+            StepField::ContactForce(v) => append_rows(&self.contact_force, p, name, at, v),
+            StepField::ContactStatus(v) => append_per_item(&self.contact_status, p, name, at, v),
+            StepField::ContactGap(v) => append_per_item(&self.contact_gap, p, name, at, v),
             StepField::PlasticStrain(v) => {
                 if self.plastic_strain.is_none() {
-                    self.plastic_strain = Some(step_dataset::<f64>(file, p, name, &[v.len()])?);
+                    self.plastic_strain = Some(step_dataset::<f64>(file, p, name, &[total])?);
                 }
                 let ds = self.plastic_strain.as_ref().expect("created");
-                append_per_item(ds, p, name, i, v)
+                append_per_item(ds, p, name, at, v)
             }
             StepField::ContactPressure(v) => {
                 if i == 0 && self.contact_pressure.is_none() {
-                    self.contact_pressure = Some(step_dataset::<f64>(file, p, name, &[v.len()])?);
+                    self.contact_pressure = Some(step_dataset::<f64>(file, p, name, &[total])?);
                 }
                 match &self.contact_pressure {
-                    Some(ds) => append_per_item(ds, p, name, i, v),
+                    Some(ds) => append_per_item(ds, p, name, at, v),
                     None => Ok(()),
                 }
             }

@@ -30,6 +30,7 @@ mod xdmf;
 pub use data::{
     contact_status, OutputBody, OutputMesh, RestartState, RunInfo, StepField, StepOutput, StepStats,
 };
+pub use datasets::CHUNK_ROWS;
 pub use error::OutputError;
 pub use layout::ResultPaths;
 pub use paths::{claim_output, leftover_temps, OutputClaim};

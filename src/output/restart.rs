@@ -29,6 +29,9 @@ struct Slot([hdf5::Dataset; 5]);
 #[derive(Default)]
 pub(super) struct RestartSlots {
     slots: [Option<Slot>; 2],
+    /// The state (by its rows) whose displacements `write_part` is writing, and the entries
+    /// of each (the displacement, the previous one) written so far.
+    parts: Option<(u64, [usize; 2])>,
 }
 
 fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Slot, OutputError> {
@@ -78,20 +81,90 @@ fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Sl
 }
 
 impl RestartSlots {
-    /// Writes `r` into slot `r.rows % 2`: the arrays, a flush, then the state, a flush.
+    /// The slot of the state after `rows` written steps, created on its first use.
+    fn slot(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        rows: u64,
+        nodes: usize,
+    ) -> Result<&Slot, OutputError> {
+        let k = (rows % 2) as usize;
+        if self.slots[k].is_none() {
+            self.slots[k] = Some(create_slot(file, p, k, nodes)?);
+        }
+        Ok(self.slots[k].as_ref().expect("created"))
+    }
+
+    /// Writes entries `first..` of the displacement (or, `previous`, of the previous
+    /// displacement) of the state after `rows` written steps into its slot, before `write`
+    /// writes the rest of that state (whose displacements are then empty). Parts come in
+    /// order from entry 0.
+    pub(super) fn write_part(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        (rows, nodes): (u64, usize),
+        previous: bool,
+        first: usize,
+        part: &[[f64; 3]],
+    ) -> Result<(), OutputError> {
+        let mut done = match self.parts {
+            Some((r, done)) if r == rows => done,
+            _ => [0, 0],
+        };
+        let w = previous as usize;
+        let d = [
+            layout::SLOT_DISPLACEMENT,
+            layout::SLOT_PREVIOUS_DISPLACEMENT,
+        ][w];
+        let name = format!("{}/{d}", layout::restart_slot((rows % 2) as usize));
+        if first != done[w] || first + part.len() > nodes {
+            return Err(OutputError::Invalid {
+                file: p.to_path_buf(),
+                dataset: name,
+                message: format!(
+                    "a part of entries {first}..{} of {nodes}, expected one starting at {}",
+                    first + part.len(),
+                    done[w]
+                ),
+            });
+        }
+        let Slot([_, _, u, up, _]) = self.slot(file, p, rows, nodes)?;
+        let ds = if previous { up } else { u };
+        ds.write_slice::<_, f64, _, _>(part, (first..first + part.len(), ..))
+            .at(p, &name)?;
+        done[w] = first + part.len();
+        self.parts = Some((rows, done));
+        Ok(())
+    }
+
+    /// Writes `r` into slot `r.rows % 2` (of a mesh of `nodes` nodes): the arrays, a
+    /// flush, then the state, a flush. Displacements left empty must have been written by
+    /// `write_part`, whole.
     pub(super) fn write(
         &mut self,
         file: &hdf5::File,
         p: &Path,
         r: &RestartState,
+        nodes: usize,
     ) -> Result<(), OutputError> {
+        let parts = self.parts.take().filter(|&(rows, _)| rows == r.rows);
+        let streamed = r.displacement.is_empty() && r.previous_displacement.is_empty();
         let k = (r.rows % 2) as usize;
-        if self.slots[k].is_none() {
-            self.slots[k] = Some(create_slot(file, p, k, r.displacement.len())?);
-        }
-        let Slot([contact, released, u, up, state]) = self.slots[k].as_ref().expect("created");
         let group = layout::restart_slot(k);
         let name = |d: &str| format!("{group}/{d}");
+        if streamed && nodes > 0 && parts.is_none_or(|(_, done)| done != [nodes, nodes]) {
+            return Err(OutputError::Invalid {
+                file: p.to_path_buf(),
+                dataset: name(layout::SLOT_DISPLACEMENT),
+                message: format!(
+                    "the restart state after {} rows was written without its displacements",
+                    r.rows
+                ),
+            });
+        }
+        let Slot([contact, released, u, up, state]) = self.slot(file, p, r.rows, nodes)?;
         for (ds, d, v) in [
             (contact, layout::SLOT_CONTACT, &r.contact),
             (released, layout::SLOT_RELEASED, &r.released),
@@ -99,16 +172,18 @@ impl RestartSlots {
             ds.resize((v.len(),)).at(p, &name(d))?;
             ds.write_raw(v).at(p, &name(d))?;
         }
-        for (ds, d, v) in [
+        let whole = [
             (u, layout::SLOT_DISPLACEMENT, &r.displacement),
             (
                 up,
                 layout::SLOT_PREVIOUS_DISPLACEMENT,
                 &r.previous_displacement,
             ),
-        ] {
-            let flat: Vec<f64> = v.iter().flatten().copied().collect();
-            ds.write_raw(&flat).at(p, &name(d))?;
+        ];
+        for (ds, d, v) in whole.into_iter().filter(|_| !streamed) {
+            // Written from the rows as they lie, not from a flat copy (25 MB at 10^6
+            // elements, on top of both gathered displacements).
+            ds.write_raw(v.as_flattened()).at(p, &name(d))?;
         }
         if !r.history.is_empty() {
             let hname = name(layout::SLOT_HISTORY);

@@ -37,6 +37,8 @@ pub struct ResultWriter {
     broken: Option<String>,
     /// The datasets written of the step begun by `write_field` and not yet ended.
     pending: Vec<&'static str>,
+    /// The field `write_field_part` is writing, and the entry its next part starts at.
+    part: Option<(&'static str, usize)>,
     _lock: OutputLock,
 }
 
@@ -162,6 +164,7 @@ impl ResultWriter {
             restart: RestartSlots::default(),
             broken: None,
             pending: Vec::new(),
+            part: None,
             _lock: lock,
         })
     }
@@ -214,6 +217,7 @@ impl ResultWriter {
         self.check(r)?;
         self.times.push(step.time);
         self.pending.clear();
+        self.part = None;
         Ok(())
     }
 
@@ -233,7 +237,63 @@ impl ResultWriter {
         let i = self.times.len();
         let r = self.datasets.append_field(&self.file, &p, i, field);
         self.check(r)?;
+        if self.part.is_some_and(|(d, _)| d == field.dataset()) {
+            self.part = None;
+        }
         self.pending.push(field.dataset());
+        Ok(())
+    }
+
+    /// Writes entries `first..first + n` of one field of the next step (n the part's
+    /// length), so that rank 0 need not hold even one whole field: the parts of a field come
+    /// in order, from entry 0, and the field counts as written (for [`end_step`]) with its
+    /// last entry. Each part's values are checked as [`write_field`] checks the whole
+    /// field's, named by their entries in the whole; a part that does not start where the
+    /// last one ended, or runs past the mesh, is refused.
+    ///
+    /// [`end_step`]: Self::end_step
+    /// [`write_field`]: Self::write_field
+    pub fn write_field_part(
+        &mut self,
+        field: StepField<'_>,
+        first: usize,
+    ) -> Result<(), OutputError> {
+        let r = self.check(Ok(()));
+        r?;
+        let p = self.tmp.clone();
+        let name = field.dataset();
+        let (n, per_element) = field.len_per();
+        let total = if per_element {
+            self.elements
+        } else {
+            self.node_ids.len()
+        };
+        let next = match self.part {
+            Some((d, next)) if d == name => next,
+            _ => 0,
+        };
+        if first != next || first + n > total {
+            return Err(OutputError::Invalid {
+                file: p,
+                dataset: name.to_string(),
+                message: format!(
+                    "a part of entries {first}..{} of {total}, expected one starting at {next}",
+                    first + n
+                ),
+            });
+        }
+        field.validate_from(&p, &self.node_ids, first)?;
+        let i = self.times.len();
+        let r = self
+            .datasets
+            .append_field_part(&self.file, &p, (i, first, total), field);
+        self.check(r)?;
+        if first + n == total {
+            self.part = None;
+            self.pending.push(name);
+        } else {
+            self.part = Some((name, first + n));
+        }
         Ok(())
     }
 
@@ -245,6 +305,7 @@ impl ResultWriter {
         let p = self.tmp.clone();
         let i = self.times.len();
         let written = std::mem::take(&mut self.pending);
+        self.part = None;
         let mut required = StepField::REQUIRED.to_vec();
         if self.datasets.contact_pressure.is_some() {
             required.push(super::layout::CONTACT_PRESSURE);
@@ -281,7 +342,31 @@ impl ResultWriter {
     pub fn write_restart(&mut self, r: &RestartState) -> Result<(), OutputError> {
         let ok = self.check(Ok(()));
         ok?;
-        let res = self.restart.write(&self.file, &self.tmp, r);
+        let nodes = self.node_ids.len();
+        let res = self.restart.write(&self.file, &self.tmp, r, nodes);
+        self.check(res)
+    }
+
+    /// Writes entries `first..` of the displacement (or, `previous`, the previous
+    /// displacement) of the restart state after `rows` written steps, so that rank 0 need
+    /// not hold them whole: parts in order from entry 0, then [`write_restart`] with both
+    /// displacements left empty writes the rest of the state (and refuses it unless both
+    /// were written whole).
+    ///
+    /// [`write_restart`]: Self::write_restart
+    pub fn write_restart_part(
+        &mut self,
+        rows: u64,
+        previous: bool,
+        first: usize,
+        part: &[[f64; 3]],
+    ) -> Result<(), OutputError> {
+        let ok = self.check(Ok(()));
+        ok?;
+        let nodes = self.node_ids.len();
+        let res =
+            self.restart
+                .write_part(&self.file, &self.tmp, (rows, nodes), previous, first, part);
         self.check(res)
     }
 

@@ -4,7 +4,7 @@
 //! statistics.
 
 use super::{plastic, Gather};
-use crate::comm::{self, Comm};
+use crate::comm::{self, message, Comm};
 use crate::constraints::RowKind;
 use crate::contact::state::Mode;
 use crate::contact::Enforcement;
@@ -14,6 +14,7 @@ use crate::output::contact_status;
 use crate::output::{ResultWriter, StepField, StepOutput, StepStats};
 use crate::problem::Problem;
 use crate::solver::{StepRecord, Stepper};
+use std::ops::Range;
 
 /// Per owned node: reactions (Dirichlet rows) and contact forces on slave nodes (contact
 /// rows), from the row multipliers.
@@ -84,7 +85,7 @@ fn contact_fields<C: Comm + ?Sized>(
 }
 
 /// A step's fields on this rank (its owned nodes and elements), before they are gathered.
-pub(super) struct LocalFields {
+pub(super) struct Fields {
     stress: Vec<[f64; 6]>,
     reaction: Vec<Vec3>,
     contact_force: Vec<Vec3>,
@@ -92,9 +93,9 @@ pub(super) struct LocalFields {
     gap: Vec<[f64; 1]>,
 }
 
-impl LocalFields {
+impl Fields {
     /// The fields, and an element failure of the stress recovery on this rank (collective).
-    pub(super) fn new<C: Comm + ?Sized>(
+    fn new<C: Comm + ?Sized>(
         comm: &C,
         problem: &Problem,
         stepper: &Stepper<C>,
@@ -106,7 +107,7 @@ impl LocalFields {
         };
         let (reaction, mut contact_force) = constraint_forces(stepper, local);
         let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
-        let f = LocalFields {
+        let f = Fields {
             stress,
             reaction,
             contact_force,
@@ -118,13 +119,64 @@ impl LocalFields {
 
     /// Every value finite (and the owned displacement and plastic strain).
     fn finite<C: Comm + ?Sized>(&self, stepper: &Stepper<C>, owned: usize) -> bool {
-        let ok = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        ok(self.stress.as_flattened())
-            && ok(self.reaction.as_flattened())
-            && ok(self.contact_force.as_flattened())
-            && ok(self.gap.as_flattened())
-            && ok(stepper.u[..owned].as_flattened())
-            && stepper.assembly().owned_eqps().is_none_or(|v| ok(&v))
+        finite(&self.stress) && self.nodal_finite(stepper, owned)
+    }
+
+    /// Every value but the stress finite (and the owned displacement and plastic strain).
+    fn nodal_finite<C: Comm + ?Sized>(&self, stepper: &Stepper<C>, owned: usize) -> bool {
+        finite(&self.reaction)
+            && finite(&self.contact_force)
+            && finite(&self.gap)
+            && finite(&stepper.u[..owned])
+            && stepper
+                .assembly()
+                .owned_eqps()
+                .is_none_or(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
+fn finite<const W: usize>(v: &[[f64; W]]) -> bool {
+    v.as_flattened().iter().all(|x| x.is_finite())
+}
+
+/// A step's fields on this rank as writing it needs them: whole (a step kept, `Whole`), or
+/// only checked (`Checked`: whether every value is finite), for a step written field by
+/// field, each formed again as it is written (`stream_step`), so that no rank holds the
+/// whole step's fields at once (59 MB per rank at 10^6 elements).
+pub(super) enum LocalFields {
+    Whole(Fields),
+    Checked(bool),
+}
+
+impl LocalFields {
+    /// The fields (whole when `whole`), and an element failure of the stress recovery on
+    /// this rank (collective).
+    pub(super) fn new<C: Comm + ?Sized>(
+        comm: &C,
+        problem: &Problem,
+        stepper: &Stepper<C>,
+        local: &LocalMesh,
+        whole: bool,
+    ) -> (Self, Option<String>) {
+        if whole {
+            let (f, err) = Fields::new(comm, problem, stepper, local);
+            return (LocalFields::Whole(f), err);
+        }
+        let (stress_finite, err) = match stepper.assembly().owned_stresses(&stepper.u) {
+            Ok(s) => (finite(&s), None),
+            Err(e) => (false, Some(e.to_string())),
+        };
+        let (reaction, mut contact_force) = constraint_forces(stepper, local);
+        let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
+        let nodal = Fields {
+            stress: Vec::new(),
+            reaction,
+            contact_force,
+            status,
+            gap,
+        };
+        let ok = stress_finite && nodal.nodal_finite(stepper, local.num_owned_nodes);
+        (LocalFields::Checked(ok), err)
     }
 }
 
@@ -140,6 +192,12 @@ impl Sink<'_> {
     fn put(&mut self, f: StepField<'_>) {
         if let (Some(w), None) = (self.writer.as_deref_mut(), &self.err) {
             self.err = w.write_field(f).err().map(|e| e.to_string());
+        }
+    }
+
+    fn put_part(&mut self, f: StepField<'_>, first: usize) {
+        if let (Some(w), None) = (self.writer.as_deref_mut(), &self.err) {
+            self.err = w.write_field_part(f, first).err().map(|e| e.to_string());
         }
     }
 }
@@ -164,19 +222,46 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         return (None, None);
     }
     let stats = step_stats(rec);
-    let displacement = gather.nodes(comm, local, &stepper.u);
     // The active set is whole on every rank; the pressure is computed on rank 0 from the
-    // global displacement, so it does not depend on the number of ranks.
+    // displacements it reads gathered in global order, so it does not depend on the number
+    // of ranks.
+    let active = &stepper.contact.active;
+    let surface = surface_displacement(comm, problem, stepper, local);
     let contact_pressure = if comm.is_root() {
-        crate::contact::area::contact_pressure(problem, &stepper.contact.active, &displacement)
+        crate::contact::area::contact_pressure(problem, active, |g| {
+            let i = surface.binary_search_by_key(&g, |e| e.0);
+            surface[i.expect("every slave face node is owned by a rank")].1
+        })
     } else {
         Vec::new()
     };
+    drop(surface);
     let root_finite = contact_pressure.iter().all(|x| x.is_finite()) && stats.writable(rec.time);
-    let finite = fields.finite(stepper, local.num_owned_nodes) && root_finite;
+    let finite = match &fields {
+        LocalFields::Whole(f) => f.finite(stepper, local.num_owned_nodes),
+        LocalFields::Checked(ok) => *ok,
+    } && root_finite;
     let stream = write && !comm::any(comm, !finite);
     let whole = !stream && (write || keep);
     let mut writer = writer.filter(|_| write && comm.is_root());
+    let fields = match fields {
+        LocalFields::Checked(_) if stream => {
+            let err = stream_step(
+                comm,
+                problem,
+                stepper,
+                (gather, local),
+                writer,
+                contact_pressure,
+                rec,
+            );
+            return (None, err);
+        }
+        // Formed again whole: a value is not finite, and the whole step's check names it.
+        LocalFields::Checked(_) => Fields::new(comm, problem, stepper, local).0,
+        LocalFields::Whole(f) => f,
+    };
+    let displacement = gather.nodes(comm, local, &stepper.u);
     let mut sink = Sink {
         writer: writer.as_deref_mut().filter(|_| stream),
         err: None,
@@ -188,7 +273,7 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     }
     let displacement = sink.kept.is_some().then_some(displacement);
     let contact_pressure = sink.kept.is_some().then_some(contact_pressure);
-    let LocalFields {
+    let Fields {
         stress,
         reaction,
         contact_force,
@@ -242,6 +327,95 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         err = w.append_step(s).err().map(|e| e.to_string());
     }
     (kept.filter(|_| keep), err)
+}
+
+/// The displacements `contact_pressure` reads (`area::pressure_nodes`) as (global id,
+/// displacement) on rank 0, sorted by id; empty elsewhere (collective).
+fn surface_displacement<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    stepper: &Stepper<C>,
+    local: &LocalMesh,
+) -> Vec<(u32, Vec3)> {
+    let nodes = crate::contact::area::pressure_nodes(problem, &stepper.contact.active);
+    let mine: Vec<(u32, Vec3)> = nodes
+        .iter()
+        .filter_map(|&g| local.owned_node(g).map(|l| (g, stepper.u[l])))
+        .collect();
+    let mut all = message::gather(comm, &mine);
+    all.sort_unstable_by_key(|e| e.0);
+    all
+}
+
+/// Writes a step whose values are all finite field by field (collective): each field is
+/// formed again on every rank and written on rank 0 a range of entries at a time as it is
+/// gathered (`Gather::stream`, `ResultWriter::write_field_part`); rank 0 holds the contact
+/// pressure whole. Returns rank 0's write error.
+fn stream_step<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    stepper: &Stepper<C>,
+    (gather, local): (&Gather, &LocalMesh),
+    writer: Option<&mut ResultWriter>,
+    contact_pressure: Vec<f64>,
+    rec: &StepRecord,
+) -> Option<String> {
+    let mut sink = Sink {
+        writer,
+        err: None,
+        kept: None,
+    };
+    let owned = local.num_owned_nodes;
+    gather.stream(comm, &stepper.u[..owned], &gather.nodes, |first, part| {
+        sink.put_part(StepField::Displacement(part), first)
+    });
+    if !contact_pressure.is_empty() {
+        sink.put(StepField::ContactPressure(&contact_pressure));
+    }
+    drop(contact_pressure);
+    // The stress of a round's elements at a time. Recovered once already from the same
+    // displacement (`LocalFields::new`), so it does not fail here; were it to, its values
+    // are not finite and the writer refuses them.
+    let asm = stepper.assembly();
+    let stress = |range: &Range<u32>, n: usize| {
+        let s = asm.owned_stresses_of(&stepper.u, |g| range.contains(&g));
+        let s = s.unwrap_or_else(|_| vec![[f64::NAN; 6]; n]);
+        s.into_flattened()
+    };
+    gather.stream_with(comm, &gather.elements, stress, |first, part| {
+        sink.put_part(StepField::Stress(part), first)
+    });
+    let (reaction, mut contact_force) = constraint_forces(stepper, local);
+    let (status, gap) = contact_fields(comm, problem, stepper, local, &mut contact_force);
+    gather.stream(comm, &reaction, &gather.nodes, |first, part| {
+        sink.put_part(StepField::Reaction(part), first)
+    });
+    drop(reaction);
+    gather.stream(comm, &contact_force, &gather.nodes, |first, part| {
+        sink.put_part(StepField::ContactForce(part), first)
+    });
+    drop(contact_force);
+    gather.stream(comm, &status, &gather.nodes, |first, part| {
+        let s: Vec<u8> = part.iter().map(|v| v[0] as u8).collect();
+        sink.put_part(StepField::ContactStatus(&s), first)
+    });
+    drop(status);
+    gather.stream(comm, &gap, &gather.nodes, |first, part| {
+        let g: Vec<f64> = part.iter().map(|v| v[0]).collect();
+        sink.put_part(StepField::ContactGap(&g), first)
+    });
+    drop(gap);
+    let plastic_strain = plastic::plastic_strain(comm, stepper, gather);
+    if !plastic_strain.is_empty() {
+        sink.put(StepField::PlasticStrain(&plastic_strain));
+    }
+    if let (Some(w), None) = (sink.writer.as_deref_mut(), &sink.err) {
+        sink.err = w
+            .end_step(rec.time, &step_stats(rec))
+            .err()
+            .map(|e| e.to_string());
+    }
+    sink.err
 }
 
 fn step_stats(rec: &StepRecord) -> StepStats {

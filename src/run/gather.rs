@@ -3,10 +3,20 @@
 use crate::comm::Comm;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
+use std::ops::Range;
 
 /// Rounds of a gather: rank 0 receives the values of one range of global ids at a time, so
-/// that it holds the whole array and an eighth of it, not the whole twice.
+/// that it holds an eighth of the array at a time (written as it comes, `Gather::stream`),
+/// or the whole array and an eighth (`Gather::place`), not the whole twice.
 const ROUNDS: usize = 8;
+
+/// The ids each round covers (a multiple of the result file's chunk, so that each chunk of
+/// a field written round by round is written once) and the number of rounds.
+fn rounds(total: usize) -> (usize, usize) {
+    let chunk = crate::output::CHUNK_ROWS;
+    let per = total.div_ceil(ROUNDS).div_ceil(chunk).max(1) * chunk;
+    (per, total.div_ceil(per))
+}
 
 /// The global ids of the owned entries of one kind (nodes or elements): this rank's, in its
 /// order, and on rank 0 every rank's.
@@ -64,35 +74,71 @@ impl Gather {
         local: &[[f64; W]],
         ids: &Ids,
     ) -> Vec<[f64; W]> {
-        assert_eq!(local.len(), ids.own.len(), "a value per owned entry");
-        let root = comm.is_root();
-        let mut out = if root {
+        let mut out = if comm.is_root() {
             vec![[0.0; W]; ids.total]
         } else {
             Vec::new()
         };
-        let per = ids.total.div_ceil(ROUNDS).max(1) as u32;
-        let mut send: Vec<f64> = Vec::new();
-        for round in 0..ROUNDS as u32 {
-            let range = per * round..per.saturating_mul(round + 1);
-            send.clear();
-            for (&g, v) in ids.own.iter().zip(local) {
-                if range.contains(&g) {
-                    send.extend_from_slice(v);
-                }
-            }
+        self.stream(comm, local, ids, |first, part| {
+            out[first..first + part.len()].copy_from_slice(part);
+        });
+        out
+    }
+
+    /// The array whose owned entries are `local` (as `place` takes them), given on rank 0 to
+    /// `put` a range of global ids at a time, in order: `put(first, values of ids first..)`.
+    /// Collective.
+    pub(super) fn stream<const W: usize, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        local: &[[f64; W]],
+        ids: &Ids,
+        put: impl FnMut(usize, &[[f64; W]]),
+    ) {
+        assert_eq!(local.len(), ids.own.len(), "a value per owned entry");
+        let owned = |range: &Range<u32>, _: usize| {
+            let v = ids.own.iter().zip(local).filter(|(g, _)| range.contains(g));
+            v.flat_map(|(_, v)| v).copied().collect()
+        };
+        self.stream_with(comm, ids, owned, put);
+    }
+
+    /// `stream` with the owned entries formed a round at a time: `local(range, n)` gives
+    /// the n values of the owned entries whose global ids are in `range`, in the order of
+    /// `ids.own` (flat, W per entry), so that no rank holds the whole local array either.
+    /// Collective.
+    pub(super) fn stream_with<const W: usize, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        ids: &Ids,
+        mut local: impl FnMut(&Range<u32>, usize) -> Vec<f64>,
+        mut put: impl FnMut(usize, &[[f64; W]]),
+    ) {
+        let (per, count) = rounds(ids.total);
+        let mut out: Vec<[f64; W]> = Vec::new();
+        for round in 0..count {
+            let lo = round * per;
+            let hi = (lo + per).min(ids.total);
+            let range = lo as u32..hi as u32;
+            let n = ids.own.iter().filter(|g| range.contains(g)).count();
+            let send = local(&range, n);
+            assert_eq!(send.len(), W * n, "a value per owned entry in the round");
             let parts = comm.gather_f64(&send);
-            if !root {
+            drop(send);
+            if !comm.is_root() {
                 continue;
             }
+            out.clear();
+            out.resize(hi - lo, [0.0; W]);
             for (part, all) in parts.iter().zip(&ids.all) {
                 let picked = all.iter().filter(|g| range.contains(g));
                 for (v, &g) in part.chunks_exact(W).zip(picked) {
-                    out[g as usize].copy_from_slice(v);
+                    out[(g - range.start) as usize].copy_from_slice(v);
                 }
             }
+            drop(parts);
+            put(lo, &out);
         }
-        out
     }
 
     pub(super) fn nodes<C: Comm + ?Sized>(
@@ -106,5 +152,33 @@ impl Gather {
 
     pub(super) fn elements<C: Comm + ?Sized>(&self, comm: &C, v: &[[f64; 6]]) -> Vec<[f64; 6]> {
         self.place(comm, v, &self.elements)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rounds_cover_the_ids_in_whole_chunks_of_the_result_file() {
+        let chunk = crate::output::CHUNK_ROWS;
+        for total in [
+            0,
+            1,
+            7,
+            chunk - 1,
+            chunk,
+            chunk + 1,
+            8 * chunk,
+            1_061_208,
+            1 << 24,
+        ] {
+            let (per, count) = rounds(total);
+            assert!(per > 0 && per.is_multiple_of(chunk), "{total}: {per}");
+            assert!(count <= ROUNDS, "{total}: {count} rounds");
+            assert!(count * per >= total && (count == 0 || (count - 1) * per < total));
+        }
+        // The 10^6-element block's 1,061,208 nodes: 7 rounds of 5 chunks.
+        assert_eq!(rounds(1_061_208), (5 * chunk, 7));
     }
 }

@@ -340,9 +340,18 @@ impl<'a> Assembly<'a> {
 
     /// Element-average Cauchy stress of the owned elements, in local element order.
     pub fn owned_stresses(&self, u: &[Vec3]) -> Result<Vec<[f64; 6]>, ElementError> {
+        self.owned_stresses_of(u, |_| true)
+    }
+
+    /// `owned_stresses` of the owned elements whose global id `take` takes.
+    pub fn owned_stresses_of(
+        &self,
+        u: &[Vec3],
+        take: impl Fn(u32) -> bool,
+    ) -> Result<Vec<[f64; 6]>, ElementError> {
         let mut out = Vec::new();
         for e in 0..self.mesh.elements.len() {
-            if !self.mesh.element_owned[e] {
+            if !self.mesh.element_owned[e] || !take(self.mesh.element_global[e]) {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
