@@ -6,8 +6,9 @@
 //! formulation differs from the calibration scene is still counted right. Only the fixed
 //! cost of the runtime (the binary, HDF5, MPI) and the coarse space's aggregate count were
 //! calibrated, against the measured peaks (VmHWM) of the block on block at n = 10, 20, 40 on
-//! 1 and 2 ranks with both preconditioners: the counts then came within -8% .. +14% of
-//! every peak (tests/memory.rs checks 25%; the README's "Memory" section has the table).
+//! 1 and 2 ranks with every preconditioner: the counts then came within -17% .. +15% of
+//! every peak, the 10^6-element run's included (tests/memory.rs checks 25%; the README's
+//! "Memory" section has the table).
 
 /// What the estimate needs to know about a scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -41,14 +42,17 @@ const GLOBAL_PER_ELEMENT: f64 = 32.0 + 4.0 + 4.0 + 4.0 + 36.0 + OUTPUT_PER_ELEME
 /// file's coordinates (24) and what a step's output adds (OUTPUT_PER_NODE).
 const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + OUTPUT_PER_NODE;
 /// What rank 0's step output adds to the peak of a run without the multilevel hierarchy,
-/// per element and per node: calibrated (it was the gathered fields and their write
-/// buffers, 2 x 48 and 2 x 88, when rank 0 gathered a whole step at once; since it writes
-/// field by field, gathering each in eight rounds, the buffers are about a third of that,
-/// but the measured peaks at n = 10 to 40 did not drop with them: the peak of those runs
-/// is elsewhere by about as much). The multilevel hierarchy's build, where such runs peak,
-/// holds none of it.
-const OUTPUT_PER_ELEMENT: f64 = 96.0;
-const OUTPUT_PER_NODE: f64 = 176.0;
+/// per element and per node: calibrated on the two-level runs of the block on block at
+/// n = 40 on 1 and 2 ranks (177.1 and 139.9 MiB against 173.7 and 142.6). It was the
+/// gathered fields and their write buffers, 2 x 48 and 2 x 88, when rank 0 gathered a whole
+/// step at once, then 96 and 176 when it gathered field by field; since each field goes to
+/// the file a range of entries at a time (`run::fields`), rank 0 holds the contact pressure
+/// and a round's buffers (about 8 + 6 per node, 12 per element), and the rest of these
+/// bytes is the runs' other peaks (the file's copy of the mesh while it is written, the
+/// closing check reading the file back). The multilevel hierarchy's build, where such runs
+/// peak, holds none of it.
+const OUTPUT_PER_ELEMENT: f64 = 20.0;
+const OUTPUT_PER_NODE: f64 = 112.0;
 // METIS's dual graph of the whole mesh (about 170 bytes per element with its copies) is
 // freed before the rank's share is built, so it is not part of the peak (the 2-rank peaks
 // at n = 40 are 4% and 13% below the counts without it).
@@ -75,19 +79,21 @@ const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// The multilevel hierarchy at the peak of its build, per node of the whole mesh: a part
 /// split over the ranks, the rows of the first coarse operator each rank measures and
-/// keeps (about 34 entries per node, written as sparse rows at 13 bytes, then held in 6 x 6
-/// blocks at 8.1), and a part every rank holds whole (the smoothed prolongator and its
-/// transpose, about 11 entries per node at 12 bytes each while the next level is formed,
-/// the elements around every node, aggregates and colours). How the bytes divide between
+/// keeps (about 34 entries per node, held in 6 x 6 blocks at 8.1 bytes each), and a part
+/// every rank holds whole (the smoothed prolongator's transpose, about 11 entries per node
+/// at 12 bytes, the aggregates). The fine level's work vectors, the elements around every
+/// node and the step's output are not held through the build. How the bytes divide between
 /// the two was calibrated on the block on block with multilevel by name at n = 40 (137842
-/// nodes) on 1 and 2 ranks, 267.2 and 178.1 MiB against the estimated 266.8 and 177.9;
-/// then n = 20 on one rank and n = 40 on 3 ranks, and n = 80 (1062882 nodes) on 2 ranks,
-/// 1082.3 MiB against 1170.0 (+8.1%). Before each rank kept only its rows (1000 bytes per
-/// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on
-/// 2. (The whole part comes out smaller than the prolongator's transpose alone: the other
-/// parts of the model count rank 0's output buffers, which are not held at this peak.)
-const MULTILEVEL_SPLIT_PER_NODE: f64 = 610.0;
-const MULTILEVEL_WHOLE_PER_NODE: f64 = 209.0;
+/// nodes) on 1 and 2 ranks, 192.4 and 134.4 MiB against the estimated 192.4 and 134.4;
+/// then n = 20 on one rank 60.1 MiB against 51.6 (-14.1%), and n = 80 (1062882 nodes) on 2
+/// ranks 722.8 MiB against 833.3 (+15.3%: the model's per-node bytes outside the hierarchy
+/// count some that the build's peak does not hold, the step's fields among them). With the
+/// earlier calibration (610 and 209 bytes, when the fine vectors, the elements around every
+/// node and whole output fields were held) n = 40 on 1 and 2 ranks peaked at 216.6 and 149.1
+/// MiB and n = 80 on 2 ranks at 854.0; before each rank kept only its rows (1000 bytes per
+/// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
+const MULTILEVEL_SPLIT_PER_NODE: f64 = 409.0;
+const MULTILEVEL_WHOLE_PER_NODE: f64 = 198.0;
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;
