@@ -248,6 +248,26 @@ pub(crate) fn check_finite(
     }
 }
 
+/// The scene's node ids by global node index, as the messages naming a node give them.
+pub(crate) trait NodeIds {
+    /// Nodes of the mesh.
+    fn count(&self) -> usize;
+    /// The id of node i (asked only for a message).
+    fn id(&self, i: usize) -> u64;
+}
+
+/// Node ids 1, 2, ...: node i is node i + 1.
+pub(crate) struct Sequential(pub(crate) usize);
+
+impl NodeIds for Sequential {
+    fn count(&self) -> usize {
+        self.0
+    }
+    fn id(&self, i: usize) -> u64 {
+        i as u64 + 1
+    }
+}
+
 /// One per-node or per-element field of a step: what [`super::ResultWriter::write_field`]
 /// writes, one at a time, so that a large run's rank 0 holds one gathered field and not the
 /// whole step.
@@ -306,11 +326,11 @@ impl StepField<'_> {
     pub(crate) fn validate(
         &self,
         file: &Path,
-        node_ids: &[u64],
+        nodes: &dyn NodeIds,
         elements: usize,
     ) -> Result<(), OutputError> {
-        self.check_length(file, node_ids.len(), elements)?;
-        self.check_values(file, node_ids, 0)
+        self.check_length(file, nodes.count(), elements)?;
+        self.check_values(file, nodes, 0)
     }
 
     /// The values of the field's entries from `first` on (`ResultWriter::write_field_part`):
@@ -318,10 +338,10 @@ impl StepField<'_> {
     pub(crate) fn validate_from(
         &self,
         file: &Path,
-        node_ids: &[u64],
+        nodes: &dyn NodeIds,
         first: usize,
     ) -> Result<(), OutputError> {
-        self.check_values(file, node_ids, first)
+        self.check_values(file, nodes, first)
     }
 
     fn check_length(&self, file: &Path, nodes: usize, elements: usize) -> Result<(), OutputError> {
@@ -342,9 +362,14 @@ impl StepField<'_> {
     }
 
     /// The values checked as the entries `first..` of the field.
-    fn check_values(&self, file: &Path, node_ids: &[u64], first: usize) -> Result<(), OutputError> {
+    fn check_values(
+        &self,
+        file: &Path,
+        nodes: &dyn NodeIds,
+        first: usize,
+    ) -> Result<(), OutputError> {
         let dataset = self.dataset();
-        let node = |i: usize| format!("node {} (id {})", first + i, node_ids[first + i]);
+        let node = |i: usize| format!("node {} (id {})", first + i, nodes.id(first + i));
         match *self {
             StepField::Displacement(v) | StepField::Reaction(v) | StepField::ContactForce(v) => {
                 for (i, x) in v.iter().enumerate() {
@@ -383,16 +408,16 @@ impl StepOutput {
     pub(crate) fn validate(
         &self,
         file: &Path,
-        node_ids: &[u64],
+        nodes: &dyn NodeIds,
         elements: usize,
     ) -> Result<(), OutputError> {
         let fields = self.fields();
         for f in &fields {
-            f.check_length(file, node_ids.len(), elements)?;
+            f.check_length(file, nodes.count(), elements)?;
         }
         check_time(file, self.time)?;
         for f in &fields {
-            f.check_values(file, node_ids, 0)?;
+            f.check_values(file, nodes, 0)?;
         }
         check_stats(file, &self.stats)
     }

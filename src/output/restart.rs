@@ -389,8 +389,8 @@ impl ResultFile {
             plastic_strain: self.plastic_strain(i)?.unwrap_or_default(),
             stats,
         };
-        let ids: Vec<u64> = (1..=self.num_nodes() as u64).collect();
-        s.validate(self.path(), &ids, self.num_elements())
+        let nodes = super::data::Sequential(self.num_nodes());
+        s.validate(self.path(), &nodes, self.num_elements())
             .map_err(|e| match e {
                 OutputError::NonFinite {
                     file,

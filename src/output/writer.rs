@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::data::{
-    check_finite, check_stats, check_time, OutputMesh, RestartState, RunInfo, StepField,
+    check_finite, check_stats, check_time, NodeIds, OutputMesh, RestartState, RunInfo, StepField,
     StepOutput, StepStats,
 };
 use super::datasets::{set_attr, set_str_attr, write_rows, write_vec, StepDatasets};
@@ -29,7 +29,8 @@ pub struct ResultWriter {
     tmp: PathBuf,
     file: hdf5::File,
     datasets: StepDatasets,
-    node_ids: Vec<u64>,
+    /// Nodes of the mesh (their ids are the file's `/mesh/node_ids`, read for a message).
+    nodes: usize,
     elements: usize,
     times: Vec<f64>,
     restart: RestartSlots,
@@ -40,6 +41,28 @@ pub struct ResultWriter {
     /// The field `write_field_part` is writing, and the entry its next part starts at.
     part: Option<(&'static str, usize)>,
     _lock: OutputLock,
+}
+
+/// The node ids of a writer's mesh for its messages: read from the file it wrote them to,
+/// one when a message names a node, instead of a copy held through the run (8 bytes per
+/// node on rank 0). An id that cannot be read shows as 0 (ids are 1-based).
+struct FileNodeIds<'a> {
+    file: &'a hdf5::File,
+    count: usize,
+}
+
+impl NodeIds for FileNodeIds<'_> {
+    fn count(&self) -> usize {
+        self.count
+    }
+    fn id(&self, i: usize) -> u64 {
+        self.file
+            .dataset(layout::NODE_IDS)
+            .and_then(|d| d.read_slice_1d::<u64, _>(i..i + 1))
+            .ok()
+            .and_then(|v| v.first().copied())
+            .unwrap_or(0)
+    }
 }
 
 /// Writes the mesh, the partition and the run's attributes into a new file.
@@ -158,7 +181,7 @@ impl ResultWriter {
             tmp,
             file,
             datasets,
-            node_ids: mesh.node_ids.clone(),
+            nodes: mesh.node_ids.len(),
             elements,
             times: Vec::new(),
             restart: RestartSlots::default(),
@@ -182,6 +205,13 @@ impl ResultWriter {
     /// Number of steps appended so far.
     pub fn steps(&self) -> usize {
         self.times.len()
+    }
+
+    fn node_ids(&self) -> FileNodeIds<'_> {
+        FileNodeIds {
+            file: &self.file,
+            count: self.nodes,
+        }
     }
 
     /// Remembers a failed write: the file is not written to or published after it.
@@ -208,7 +238,7 @@ impl ResultWriter {
         let r = self.check(Ok(()));
         r?;
         let p = self.tmp.clone();
-        step.validate(&p, &self.node_ids, self.elements)?;
+        step.validate(&p, &self.node_ids(), self.elements)?;
         let i = self.times.len();
         let r = self
             .datasets
@@ -233,7 +263,7 @@ impl ResultWriter {
         let r = self.check(Ok(()));
         r?;
         let p = self.tmp.clone();
-        field.validate(&p, &self.node_ids, self.elements)?;
+        field.validate(&p, &self.node_ids(), self.elements)?;
         let i = self.times.len();
         let r = self.datasets.append_field(&self.file, &p, i, field);
         self.check(r)?;
@@ -266,7 +296,7 @@ impl ResultWriter {
         let total = if per_element {
             self.elements
         } else {
-            self.node_ids.len()
+            self.nodes
         };
         let next = match self.part {
             Some((d, next)) if d == name => next,
@@ -282,7 +312,7 @@ impl ResultWriter {
                 ),
             });
         }
-        field.validate_from(&p, &self.node_ids, first)?;
+        field.validate_from(&p, &self.node_ids(), first)?;
         let i = self.times.len();
         let r = self
             .datasets
@@ -342,7 +372,7 @@ impl ResultWriter {
     pub fn write_restart(&mut self, r: &RestartState) -> Result<(), OutputError> {
         let ok = self.check(Ok(()));
         ok?;
-        let nodes = self.node_ids.len();
+        let nodes = self.nodes;
         let res = self.restart.write(&self.file, &self.tmp, r, nodes);
         self.check(res)
     }
@@ -363,7 +393,7 @@ impl ResultWriter {
     ) -> Result<(), OutputError> {
         let ok = self.check(Ok(()));
         ok?;
-        let nodes = self.node_ids.len();
+        let nodes = self.nodes;
         let res =
             self.restart
                 .write_part(&self.file, &self.tmp, (rows, nodes), previous, first, part);
@@ -396,7 +426,7 @@ impl ResultWriter {
             datasets,
             times,
             elements,
-            node_ids,
+            nodes,
             restart,
             _lock,
             ..
@@ -413,7 +443,7 @@ impl ResultWriter {
             paths,
             tmp: p,
             times,
-            nodes: node_ids.len(),
+            nodes,
             elements,
             plastic,
             pressure,

@@ -70,7 +70,6 @@ pub fn run_from<C: Comm + ?Sized>(
     // held through the run (its lists of every rank's part, 21 MB per rank at n = 80).
     drop(decomposition);
     let gather = Gather::new(
-        comm,
         &local,
         problem.mesh.num_nodes(),
         problem.mesh.num_elements(),
