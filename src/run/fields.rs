@@ -203,10 +203,12 @@ impl Sink<'_> {
 }
 
 /// The step gathered onto rank 0 in global order and written when `write` (collective).
-/// When every value is finite each field is written as it is gathered, so that rank 0 holds
-/// one field at a time and not the whole step; otherwise the whole step is gathered and
-/// given to [`ResultWriter::append_step`], whose checks name what is not finite. Returns the
-/// whole step with `keep`, and rank 0's write error.
+/// When every value is finite (`fields` checked) each field goes to the file a range of
+/// entries at a time as it is gathered (`stream_step`), so that rank 0 holds a part of one
+/// field and not the whole step; a step kept (`fields` whole) is written field by field as
+/// each is gathered whole; otherwise the whole step is gathered and given to
+/// [`ResultWriter::append_step`], whose checks name what is not finite. Returns the whole
+/// step with `keep`, and rank 0's write error.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn write_fields<C: Comm + ?Sized>(
     comm: &C,
