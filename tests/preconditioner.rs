@@ -58,3 +58,41 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations() {
     };
     assert_eq!(set(&two), set(&jac));
 }
+
+#[test]
+fn auto_keeps_multilevel_on_standby_only_within_the_two_level_range() {
+    // Under `auto` a mesh of 20000 to 200000 nodes gets two-level with multilevel on standby,
+    // a larger one two-level alone (multilevel is faster there but takes more memory: see
+    // `MULTILEVEL_STANDBY_NODES`); the memory estimate counts the same choice. The block on
+    // block refined by 3 has 59582 nodes, by 6 453962.
+    use solver::comm::SerialComm;
+    use solver::mesh::local::LocalMesh;
+    use solver::solver::choice::choose_preconditioner;
+    let scene = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/run/scenes/bench/block_on_block.toml"
+    ));
+    for (factor, nodes, large) in [(3, 59582, false), (6, 453962, true)] {
+        let p = solver::scene::load_scene_refined(scene, factor).unwrap();
+        assert_eq!(p.mesh.num_nodes(), nodes);
+        let d = partition::Decomposition::partition(nodes, &p.mesh.elements, 1).unwrap();
+        let local = LocalMesh::new(&p.mesh, &d, 0);
+        let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, &local);
+        assert!(coarse.is_some(), "{note}");
+        let standby = multilevel.as_ref().map(|(_, standby)| *standby);
+        if large {
+            assert!(note.starts_with("preconditioner: two-level; "), "{note}");
+            assert_eq!(standby, None, "{note}");
+        } else {
+            assert!(
+                note.starts_with("preconditioner: two-level, multilevel from"),
+                "{note}"
+            );
+            assert_eq!(standby, Some(true), "{note}");
+        }
+        let counts = solver::scene::counts::scene_size(scene, factor)
+            .unwrap()
+            .counts;
+        assert!(counts.two_level && !counts.multilevel, "{counts:?}");
+    }
+}

@@ -119,10 +119,11 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
 
 /// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
 /// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
-/// one model problem). The standby holds the node graph and aggregates of the whole mesh
-/// on every rank (about 150 B a node, 30 MiB here) and a switch builds the hierarchy
-/// (about 1.7 kB a node); above this size two-level runs alone, as the memory model
-/// assumes.
+/// one model problem); above this size two-level runs alone, as the memory model assumes.
+/// There multilevel is faster but not leaner: the block on block at n = 80 (1062882 nodes)
+/// on 2 ranks takes 92 CG iterations, 49.1 s and 707 MiB per rank with multilevel by name
+/// against 716, 74.2 s and 409 MiB with two-level (`run/bench --large`, with and without
+/// `--preconditioner multilevel`); `auto` keeps the run that fits in less memory.
 pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
