@@ -90,9 +90,30 @@ fn default_sigpipe() {
     }
 }
 
+/// The command line, or its usage error (or the help) printed and the process ended with
+/// its code. Under mpirun every rank parses the same line: only the first prints and ends
+/// with the code, so the message comes once and is mpirun's exit code; the others end
+/// quietly with 0 (ending with the code too would let mpirun stop the first rank before it
+/// has printed).
+fn parse_cli() -> Cli {
+    Cli::try_parse().unwrap_or_else(|e| {
+        if launched_rank().is_some_and(|rank| rank != 0) {
+            std::process::exit(0);
+        }
+        e.exit()
+    })
+}
+
+/// This process's rank as the MPI launcher's environment gives it (before MPI starts).
+fn launched_rank() -> Option<u32> {
+    ["OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse().ok())
+}
+
 fn main() -> ExitCode {
     solver::memory::guard::return_freed_memory();
-    let cli = Cli::parse();
+    let cli = parse_cli();
     let verbosity = if cli.quiet { 0 } else { 1 + cli.verbose };
     if matches!(cli.command, Command::Post(_) | Command::Check { .. }) {
         default_sigpipe();
