@@ -23,8 +23,10 @@ const EXAMPLE_SCENE: &str = "run/examples/cylinder_on_block.toml";
 const EXAMPLE_MSH: &str = "run/gmsh/cylinder_on_block.msh";
 const EXAMPLE_MSH_BINARY: &str = "run/gmsh/cylinder_on_block_binary.msh";
 
+/// The tests' files, under cargo's directory for integration tests' temporary files (each
+/// test writes its own names there; a later run overwrites them).
 fn temp_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("solver-gmsh-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gmsh-tests");
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

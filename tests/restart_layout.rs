@@ -38,7 +38,8 @@ fn set_layout(h5: &Path, value: Option<u64>) {
 fn a_restart_of_another_contact_layout_is_refused() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = root.join("run/examples/bar.toml");
-    let dir = std::env::temp_dir().join(format!("solver-layout-{}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("restart-layout-tests");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let first = dir.join("bar.h5");
     let o = solver()

@@ -6,7 +6,8 @@ use super::paths::solver;
 /// Writes `text` to `<name>.toml` in a directory of `suite`, runs `solver check` and
 /// `solver run` on it and returns the exit code and the run's standard error.
 pub fn check_and_run(suite: &str, name: &str, text: &str) -> (i32, String) {
-    let dir = std::env::temp_dir().join(format!("solver-{suite}-{}", std::process::id()));
+    // Under cargo's directory for integration tests' files: a later run overwrites them.
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("bad-scenes-{suite}"));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.toml"));
     std::fs::write(&path, text).unwrap();
