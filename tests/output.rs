@@ -397,6 +397,31 @@ fn finish_failed_names_the_file_as_failed() {
     assert!(info.contains("failed: Newton iteration diverged"), "{info}");
 }
 
+/// Writes the three synthetic steps into `<name>.h5` through `write` (given the writer, the
+/// step's index and the step; it must complete the step), and asserts that the file is the
+/// one `append_step` writes, bit for bit (post compare's default). Returns its path.
+fn written_as_whole(
+    dir: &Path,
+    name: &str,
+    mut write: impl FnMut(&mut ResultWriter, usize, &StepOutput),
+) -> PathBuf {
+    let mesh = synthetic_mesh();
+    let whole = write_synthetic(dir, "whole", 3);
+    let path = dir.join(format!("{name}.h5"));
+    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
+    for s in 0..3 {
+        write(&mut w, s, &synthetic_step(s, &mesh));
+    }
+    let done = w.finish(12.5).unwrap();
+    let report = post::compare_files(&whole, &done, 0.0).unwrap();
+    assert!(report.bitwise_identical(), "{report:?}");
+    assert!(
+        report.only_in_a.is_empty() && report.only_in_b.is_empty(),
+        "{report:?}"
+    );
+    done
+}
+
 #[test]
 fn a_step_written_field_by_field_is_the_step_written_whole() {
     // The run writes each field as it is gathered (`write_field`, `end_step`); the file must
@@ -404,11 +429,7 @@ fn a_step_written_field_by_field_is_the_step_written_whole() {
     // missing, not finite or of the wrong length must be refused.
     let dir = test_dir("field_by_field");
     let mesh = synthetic_mesh();
-    let whole = write_synthetic(&dir, "whole", 3);
-    let path = dir.join("fields.h5");
-    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let step = synthetic_step(s, &mesh);
+    let fields = written_as_whole(&dir, "fields", |w, s, step| {
         // In the order the run gathers them.
         let mut fields = step.fields();
         fields.reverse();
@@ -417,15 +438,8 @@ fn a_step_written_field_by_field_is_the_step_written_whole() {
         }
         w.end_step(step.time, &step.stats).unwrap();
         assert_eq!(w.steps(), s + 1);
-    }
-    let fields = w.finish(12.5).unwrap();
+    });
     assert_eq!(ResultFile::open(&fields).unwrap().num_steps(), 3);
-    let report = post::compare_files(&whole, &fields, 0.0).unwrap();
-    assert!(report.bitwise_identical(), "{report:?}");
-    assert!(
-        report.only_in_a.is_empty() && report.only_in_b.is_empty(),
-        "{report:?}"
-    );
 
     let path = dir.join("refused.h5");
     let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
@@ -484,11 +498,7 @@ fn a_field_written_in_parts_is_the_field_written_whole() {
     // value named by its entry in the whole field.
     let dir = test_dir("field_parts");
     let mesh = synthetic_mesh();
-    let whole = write_synthetic(&dir, "whole", 3);
-    let path = dir.join("parts.h5");
-    let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let step = synthetic_step(s, &mesh);
+    written_as_whole(&dir, "parts", |w, s, step| {
         // Parts of 1, 2, 5, ... entries: some fields in one part, some in several, the
         // last part shorter than the others.
         let n = [1usize, 2, 5][s];
@@ -500,14 +510,7 @@ fn a_field_written_in_parts_is_the_field_written_whole() {
             }
         }
         w.end_step(step.time, &step.stats).unwrap();
-    }
-    let parts = w.finish(12.5).unwrap();
-    let report = post::compare_files(&whole, &parts, 0.0).unwrap();
-    assert!(report.bitwise_identical(), "{report:?}");
-    assert!(
-        report.only_in_a.is_empty() && report.only_in_b.is_empty(),
-        "{report:?}"
-    );
+    });
 
     let path = dir.join("refused.h5");
     let mut w = ResultWriter::create(&path, &synthetic_info(), &mesh).unwrap();
