@@ -2,13 +2,10 @@
 //! Xdmf3 readers (pvpython) and every array is checked against the HDF5 file read on its own
 //! (python3-h5py); then run/render draws it and its pictures are checked.
 //!
-//! ParaView comes from `run/setup --paraview` (run/tests installs it and sets
-//! SOLVER_REQUIRE_PARAVIEW=1, so there a missing ParaView fails these tests). Elsewhere a
-//! missing ParaView skips them with a SKIPPED line written straight to the terminal's
-//! standard error, past the test harness's output capture, so that a skip is never silent.
+//! ParaView comes from `run/setup --paraview` (run/tests installs it); where it is missing
+//! these tests fail with a message naming that option.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -206,9 +203,9 @@ fn succeeds(cmd: &mut Command) -> bool {
     cmd.output().map(|o| o.status.success()).unwrap_or(false)
 }
 
-/// Whether the tools are here. When one is missing: a failure if SOLVER_REQUIRE_PARAVIEW=1,
-/// otherwise `false` after a SKIPPED line on the real standard error.
-fn tools_present(test: &str, need_xvfb: bool) -> bool {
+/// The tools are here, or the test fails naming what is missing and the `run/setup` option
+/// that installs it (never a silent pass).
+fn require_tools(test: &str, need_xvfb: bool) {
     let mut missing = Vec::new();
     if !succeeds(Command::new("pvpython").args(["-c", "import paraview.simple"])) {
         missing.push("pvpython with paraview.simple (Debian: paraview, python3-paraview)");
@@ -219,22 +216,11 @@ fn tools_present(test: &str, need_xvfb: bool) -> bool {
     if !succeeds(Command::new("/usr/bin/python3").args(["-c", "import h5py"])) {
         missing.push("/usr/bin/python3 with h5py (Debian: python3-h5py)");
     }
-    if missing.is_empty() {
-        return true;
-    }
-    let what = format!(
+    assert!(
+        missing.is_empty(),
         "{test}: missing {}; `run/setup --paraview` installs them",
         missing.join(", ")
     );
-    if std::env::var("SOLVER_REQUIRE_PARAVIEW").as_deref() == Ok("1") {
-        panic!("SOLVER_REQUIRE_PARAVIEW=1 and {what}");
-    }
-    // Not eprintln!: the harness captures that and shows it only for failing tests.
-    let _ = writeln!(
-        std::io::stderr(),
-        "\n*** SKIPPED (not run, not passed) {what}; set SOLVER_REQUIRE_PARAVIEW=1 to make this a failure ***\n"
-    );
-    false
 }
 
 fn run(cmd: &mut Command) -> Output {
@@ -350,12 +336,10 @@ fn step_differences(reader: &str, step: usize, pv: &Value, h5: &Value) -> Vec<St
 
 #[test]
 fn paraview_reads_every_array_of_a_result_as_the_hdf5_file_holds_it() {
-    if !tools_present(
+    require_tools(
         "paraview_reads_every_array_of_a_result_as_the_hdf5_file_holds_it",
         false,
-    ) {
-        return;
-    }
+    );
     let dir = test_dir("read");
     let (h5, xmf) = solve_scene(&dir);
     let (reference, _) = python_json("/usr/bin/python3", &dir, "hdf5.py", HDF5_PY, &h5);
@@ -431,12 +415,10 @@ fn paraview_reads_every_array_of_a_result_as_the_hdf5_file_holds_it() {
 
 #[test]
 fn run_render_draws_the_last_step_with_the_values_of_the_file() {
-    if !tools_present(
+    require_tools(
         "run_render_draws_the_last_step_with_the_values_of_the_file",
         true,
-    ) {
-        return;
-    }
+    );
     let dir = test_dir("render");
     let (h5, xmf) = solve_scene(&dir);
     let (reference, _) = python_json("/usr/bin/python3", &dir, "hdf5.py", HDF5_PY, &h5);
