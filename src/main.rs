@@ -53,6 +53,10 @@ enum Command {
         /// CG preconditioner, overriding the scene's `solver.preconditioner`.
         #[arg(long, value_parser = solver::problem::Preconditioner::NAMES)]
         preconditioner: Option<String>,
+        /// Solver of nonlinear bodies' model problems, overriding the scene's
+        /// `solver.nonlinear`.
+        #[arg(long, value_parser = solver::problem::NonlinearSolver::NAMES)]
+        nonlinear: Option<String>,
         /// Run even when the memory estimate exceeds the memory available.
         #[arg(long)]
         force: bool,
@@ -137,6 +141,7 @@ fn main() -> ExitCode {
             refine,
             restart,
             preconditioner,
+            nonlinear,
             force,
             export_operator,
         } => with_comm(|comm| {
@@ -146,6 +151,9 @@ fn main() -> ExitCode {
                 refine,
                 restart: restart.as_deref(),
                 preconditioner: preconditioner.as_deref().map(preconditioner_of),
+                nonlinear: nonlinear
+                    .as_deref()
+                    .and_then(solver::problem::NonlinearSolver::from_name),
                 force,
                 verbosity,
                 export_operator,
@@ -162,6 +170,7 @@ struct RunArgs<'a> {
     refine: u32,
     restart: Option<&'a Path>,
     preconditioner: Option<solver::problem::Preconditioner>,
+    nonlinear: Option<solver::problem::NonlinearSolver>,
     force: bool,
     verbosity: u8,
     export_operator: Option<PathBuf>,
@@ -250,6 +259,9 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
         return Err(2);
     }
     let mut problem = loaded.expect("every rank loaded the scene");
+    if let Some(n) = args.nonlinear {
+        problem.solver.nonlinear = n;
+    }
     if let Some(p) = args.preconditioner {
         problem.solver.preconditioner = p;
     }

@@ -8,7 +8,7 @@ mod common;
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;
-use solver::problem::Problem;
+use solver::problem::{NonlinearSolver, Problem};
 use solver::solver::Stepper;
 
 const E: f64 = 200e3;
@@ -162,4 +162,41 @@ fn bar_isotropic_and_kinematic_every_formulation() {
             assert!(es < 1e-10 && ee < 1e-10, "[{extra}] K {k} H {h}");
         }
     }
+}
+
+/// The bar again with the model problems solved by Newton-Krylov (`solver.nonlinear =
+/// "newton"`): the same closed form to the same tolerance, perfect plasticity included
+/// (the discrete answer is exact; only the solver that reaches it differs).
+#[test]
+fn bar_by_newton_krylov_every_formulation() {
+    for extra in [
+        "",
+        "volumetric = \"mean_dilatation\"",
+        "integration = \"mean\"",
+    ] {
+        for (k, h) in [(10e3, 0.0), (0.0, 20e3), (0.0, 0.0)] {
+            let mut p = common::problem(&scene(8, 8.0, k, h, PATH, 7, extra));
+            p.solver.nonlinear = NonlinearSolver::Newton;
+            let (es, ee, cg) = check(&p, k, h, PATH);
+            println!("Newton-Krylov, bar [{extra}] K {k} H {h}: stress error {es:.2e} sigma_y, eqps error {ee:.2e}, {cg} inner CG iterations");
+            assert!(es < 1e-10 && ee < 1e-10, "[{extra}] K {k} H {h}");
+        }
+    }
+}
+
+#[test]
+fn an_unknown_nonlinear_solver_names_the_choices() {
+    let text = scene(1, 1.0, 10e3, 0.0, PATH, 7, "")
+        .replace("[solver]\n", "[solver]\nnonlinear = \"newton_raphson\"\n");
+    let err = match solver::scene::parse_scene(&text, "bar.toml", "bar") {
+        Ok(_) => panic!("an unknown nonlinear solver is accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("bar.toml")
+            && err.contains("solver.nonlinear")
+            && err.contains("\"newton\"")
+            && err.contains("newton_raphson"),
+        "{err}"
+    );
 }

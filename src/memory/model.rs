@@ -68,9 +68,9 @@ const GAUSS_PER_ELEMENT: f64 = 1600.0;
 /// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
 const LOCAL_PER_NODE: f64 = 32.0 + 168.0 + 72.0 + 48.0 + 88.0;
-/// The nonlinear path's CG vectors: the previous residual and the finite-difference probe's
-/// three (4 x 24).
-const NONLINEAR_PER_NODE: f64 = 4.0 * 24.0;
+/// The nonlinear path's CG vectors: the previous residual, Newton-Krylov's direction and the
+/// finite-difference probe's three (5 x 24).
+const NONLINEAR_PER_NODE: f64 = 5.0 * 24.0;
 /// The friction-coupled model problem's vectors (8 x 24), allocated when a node slips.
 const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (solver::coarse);

@@ -75,6 +75,36 @@ pub struct SolverSettings {
     /// Contact updates allowed in one load step.
     pub max_contact_updates: usize,
     pub preconditioner: Preconditioner,
+    /// How the model problem of nonlinear bodies is solved.
+    pub nonlinear: NonlinearSolver,
+}
+
+/// The solver of the model problem when a body is nonlinear.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum NonlinearSolver {
+    /// Today the nonlinear CG: Newton-Krylov measured slower on every plastic scene tried
+    /// (docs/plasticity-solve.md).
+    #[default]
+    Auto,
+    /// The paper's nonlinear preconditioned CG.
+    Cg,
+    /// Newton-Krylov: linear PCG on the consistent tangent, an energy line search.
+    Newton,
+}
+
+impl NonlinearSolver {
+    /// The names a scene (`solver.nonlinear`) and the command line (`--nonlinear`) use.
+    pub const NAMES: [&'static str; 3] = ["auto", "cg", "newton"];
+
+    /// The solver of a name of [`Self::NAMES`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "auto" => Some(NonlinearSolver::Auto),
+            "cg" => Some(NonlinearSolver::Cg),
+            "newton" => Some(NonlinearSolver::Newton),
+            _ => None,
+        }
+    }
 }
 
 /// The CG preconditioner.
@@ -151,6 +181,7 @@ impl Default for SolverSettings {
             max_cutbacks: 6,
             max_contact_updates: 200,
             preconditioner: Preconditioner::Auto,
+            nonlinear: NonlinearSolver::Auto,
         }
     }
 }

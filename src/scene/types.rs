@@ -238,6 +238,8 @@ pub struct SolverDef {
     pub max_contact_updates: Option<i64>,
     /// "auto" (default), "jacobi" or "two_level".
     pub preconditioner: Option<String>,
+    /// "auto" (default), "cg" or "newton".
+    pub nonlinear: Option<String>,
 }
 
 #[derive(Deserialize, Debug, Clone, Default)]

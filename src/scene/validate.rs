@@ -462,6 +462,15 @@ impl Builder {
                 )
             })?;
         }
+        if let Some(name) = &s.nonlinear {
+            use crate::problem::NonlinearSolver;
+            out.nonlinear = NonlinearSolver::from_name(name).ok_or_else(|| {
+                self.err(
+                    "solver.nonlinear",
+                    format!("expected \"auto\", \"cg\" or \"newton\", got \"{name}\""),
+                )
+            })?;
+        }
         Ok(out)
     }
 }

@@ -60,6 +60,9 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
         let linear = pb.asm.linear && !pb.loads.is_follower();
+        if !linear && s.newton {
+            return self.solve_newton(pb, u, s);
+        }
         let mut st = self.initial_residual(pb, u, s)?;
         if st.converged(s) {
             return Ok(st.outcome(0));
@@ -114,7 +117,7 @@ impl Cg {
     }
 
     /// Forces and residual at the starting point.
-    fn initial_residual<C: Comm + ?Sized>(
+    pub(super) fn initial_residual<C: Comm + ?Sized>(
         &mut self,
         pb: &Problem<C>,
         u: &[Vec3],

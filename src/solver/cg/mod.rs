@@ -37,6 +37,7 @@ mod coupled;
 mod export;
 mod failure;
 mod iteration;
+mod newton;
 mod precondition;
 mod setup;
 mod step;
@@ -82,6 +83,8 @@ pub struct CgSettings {
     /// force scale below which a residual is round-off when the prescribed motion loads
     /// nothing (a body moving rigidly with its supports).
     pub stiffness_floor: f64,
+    /// Nonlinear bodies are solved by Newton-Krylov (`newton`) instead of nonlinear CG.
+    pub newton: bool,
 }
 
 /// Buffers for the model solve, allocated once per run.
@@ -90,6 +93,8 @@ pub struct Cg {
     fe: Vec<Vec3>,
     r: Vec<Vec3>,
     r_old: Vec<Vec3>,
+    /// Newton-Krylov's direction (nonlinear bodies only).
+    du: Vec<Vec3>,
     z: Vec<Vec3>,
     p: Vec<Vec3>,
     pu: Vec<Vec3>,
@@ -126,6 +131,9 @@ pub struct Cg {
     /// Linear bodies: the fingerprint of the operator the fine smoother's bound was
     /// measured on (None once the bound was widened).
     ml_smoother_fp: Option<u64>,
+    /// Newton-Krylov: the convergence rate of the first inner solve after the coarse space
+    /// or hierarchy was built (`newton::judge_rate`).
+    built_rate: Option<f64>,
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
     /// The assembled model problem, when asked for (`request_export`).
@@ -135,8 +143,8 @@ pub struct Cg {
 }
 
 impl Cg {
-    /// The buffers for `n` local nodes; the previous residual and the finite-difference
-    /// probe's three vectors only when `nonlinear` (bodies or loads that are not linear:
+    /// The buffers for `n` local nodes; the previous residual, Newton's direction and the
+    /// finite-difference probe's three vectors only when `nonlinear` (bodies or loads that are not linear:
     /// Polak-Ribiere and the probes need them, the linear path never reads them). Fails only
     /// when the memory for the vectors is refused.
     pub fn new(n: usize, nonlinear: bool) -> Result<Self, AllocError> {
@@ -147,6 +155,7 @@ impl Cg {
             fe: v()?,
             r: v()?,
             r_old: w()?,
+            du: w()?,
             z: v()?,
             p: v()?,
             pu: v()?,
@@ -167,6 +176,7 @@ impl Cg {
             ml_smoother_rows: [0; 2],
             ml_smoother_fp: None,
             ml_standby: false,
+            built_rate: None,
             rebuild_note: None,
             export: export::ExportState::Off,
             coupled: coupled::Work::default(),

@@ -38,6 +38,7 @@ impl Cg {
             return Ok(());
         }
         self.coarse_stale = false;
+        self.built_rate = None;
         self.coarse_rows = rows as usize;
         self.coarse_fp = linear.then(|| fp.unwrap_or_else(|| operator_fingerprint(pb)));
         let comm = pb.comm;
@@ -168,6 +169,7 @@ impl Cg {
         self.ml_contact_rows = contact;
         self.ml_smoother_rows = [rows, contact];
         self.coarse_stale = false;
+        self.built_rate = None;
         self.coarse_rows = rows;
         let fp = linear.then(|| fp.unwrap_or_else(|| operator_fingerprint(pb)));
         self.coarse_fp = fp;

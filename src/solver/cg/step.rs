@@ -114,7 +114,7 @@ impl Cg {
 
     /// u += alpha p with forces and residual at the new point; on an element failure u is
     /// left unchanged.
-    fn try_step<C: Comm + ?Sized>(
+    pub(super) fn try_step<C: Comm + ?Sized>(
         &mut self,
         pb: &Problem<C>,
         u: &mut [Vec3],

@@ -10,6 +10,7 @@ use crate::constraints::{Constraints, RowKind};
 use crate::contact::audit;
 use crate::contact::enforcement::{Enforcement, SetEntry};
 use crate::math::Vec3;
+use crate::problem::NonlinearSolver;
 use crate::solver::cg::{
     self_coupling, CgSettings, FrictionLink, ModelOutcome, Problem as ModelProblem, SolveFailure,
 };
@@ -146,6 +147,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                     .filter(|bc| !self.problem.node_sets[bc.node_set].nodes.is_empty())
                     .map(|bc| bc.function.eval(t).abs())
                     .fold(0.0, f64::max),
+            // `auto` is the nonlinear CG: Newton-Krylov measured slower on every plastic
+            // scene tried (docs/plasticity-solve.md).
+            newton: self.problem.solver.nonlinear == NonlinearSolver::Newton,
         }
     }
 
