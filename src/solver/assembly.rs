@@ -157,6 +157,42 @@ impl<'a> Assembly<'a> {
         Some(out)
     }
 
+    /// Per owned element of a plastic body, in local element order: the growth of its
+    /// element-mean equivalent plastic strain from the committed state to the state `u`
+    /// would commit (where the body flows in an attempted increment); `None` when no body
+    /// is plastic or an element fails at `u`.
+    pub fn owned_eqps_growth(&self, u: &[Vec3]) -> Option<Vec<(usize, f64)>> {
+        if self.offset.is_empty() {
+            return None;
+        }
+        let mut out = Vec::new();
+        let mut new = Vec::new();
+        for e in 0..self.mesh.elements.len() {
+            let h = self.hist(e);
+            if !self.mesh.element_owned[e] || h.is_empty() {
+                continue;
+            }
+            let (geo, gauss) = self.shapes.get(e).ok()?;
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            new.clear();
+            new.extend_from_slice(h);
+            history::update_with(
+                geo,
+                gauss,
+                &self.gather(e, u),
+                &m.material,
+                m.formulation,
+                h,
+                &mut new,
+            )
+            .ok()?;
+            let grown = history::mean_eqps(geo, gauss, m.formulation, &new)
+                - history::mean_eqps(geo, gauss, m.formulation, h);
+            out.push((e, grown));
+        }
+        Some(out)
+    }
+
     /// The committed states of the owned plastic elements, flattened in local element order
     /// with each element's global id: what a restart file keeps.
     pub fn owned_history(&self) -> Vec<(u64, Vec<PlasticState>)> {

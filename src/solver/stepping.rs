@@ -15,6 +15,7 @@ use crate::problem::Problem;
 use std::time::Instant;
 
 mod control;
+mod limit;
 
 /// What one load step did.
 #[derive(Clone, Copy, Debug, Default)]
@@ -40,9 +41,10 @@ pub struct StepFailure {
     pub target: f64,
     pub cause: SolveFailure,
     pub cutbacks: usize,
-    /// Bodies the supports of the failing attempt did not hold (see `support`), when the
-    /// cause is one a missing support produces.
-    pub unheld: Vec<String>,
+    /// What the failing attempt tells of the cause, a line each: bodies its supports did not
+    /// hold (see `support`) when the cause is one a missing support produces, and a plastic
+    /// body's flowing region near a limit load (see `limit`).
+    pub notes: Vec<String>,
 }
 
 impl std::fmt::Display for StepFailure {
@@ -60,7 +62,7 @@ impl std::fmt::Display for StepFailure {
                 self.step, self.target, self.time, self.cutbacks, self.cause
             )
         }?;
-        for line in &self.unheld {
+        for line in &self.notes {
             write!(f, "; {line}")?;
         }
         Ok(())
@@ -318,13 +320,13 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             let mut trial = self.predict(h, use_predictor);
             let mut contact = self.contact.clone();
             contact.begin_step();
-            let fail = |cause, unheld| StepFailure {
+            let fail = |cause, notes| StepFailure {
                 step,
                 time: t_new,
                 target,
                 cause,
                 cutbacks,
-                unheld,
+                notes,
             };
             match self.solve_step(t_new, &mut trial, &mut contact, &mut record) {
                 Ok(outcome) => {
@@ -343,8 +345,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                         cutbacks += 1;
                         dt = h / 2.0;
                     } else {
-                        let unheld = self.unheld_after(&cause, &contact);
-                        return Err(fail(cause, unheld));
+                        let mut notes = self.unheld_after(&cause, &contact);
+                        notes.extend(self.limit_load_note(&cause, &trial));
+                        return Err(fail(cause, notes));
                     }
                 }
             }
