@@ -119,12 +119,14 @@ pub enum Preconditioner {
     TwoLevel,
     /// Smoothed aggregation over several levels (src/solver/multilevel/).
     Multilevel,
+    /// The model problem's tangent assembled and factored (src/solver/cg/full_tangent.rs).
+    Tangent,
 }
 
 impl Preconditioner {
     /// The names a scene (`solver.preconditioner`) and the command line (`--preconditioner`)
     /// use, in that order.
-    pub const NAMES: [&'static str; 4] = ["auto", "jacobi", "two_level", "multilevel"];
+    pub const NAMES: [&'static str; 5] = ["auto", "jacobi", "two_level", "multilevel", "tangent"];
 
     /// The preconditioner of a name of [`Self::NAMES`].
     pub fn from_name(name: &str) -> Option<Self> {
@@ -133,6 +135,7 @@ impl Preconditioner {
             "jacobi" => Some(Preconditioner::Jacobi),
             "two_level" => Some(Preconditioner::TwoLevel),
             "multilevel" => Some(Preconditioner::Multilevel),
+            "tangent" => Some(Preconditioner::Tangent),
             _ => None,
         }
     }

@@ -54,7 +54,7 @@ fn two_level(p: Preconditioner, nodes: u64) -> bool {
     match p {
         Preconditioner::TwoLevel => true,
         Preconditioner::Multilevel => false,
-        Preconditioner::Jacobi => false,
+        Preconditioner::Jacobi | Preconditioner::Tangent => false,
         Preconditioner::Auto => nodes >= TWO_LEVEL_NODES as u64,
     }
 }

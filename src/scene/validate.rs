@@ -457,7 +457,7 @@ impl Builder {
                 self.err(
                     "solver.preconditioner",
                     format!(
-                        "expected \"auto\", \"jacobi\", \"two_level\" or \"multilevel\", got \"{name}\""
+                        "expected \"auto\", \"jacobi\", \"two_level\", \"multilevel\" or \"tangent\", got \"{name}\""
                     ),
                 )
             })?;

@@ -59,6 +59,12 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(
             (None, Some((m, false)), note)
         }
         Preconditioner::TwoLevel => two_level(comm, problem, mesh, true),
+        Preconditioner::Tangent => (
+            None,
+            None,
+            "preconditioner: full tangent (the model problem's tangent assembled and factored)"
+                .into(),
+        ),
         Preconditioner::Auto if nodes <= SINGLETON_NODES => small_mesh(comm, problem, mesh),
         Preconditioner::Auto if nodes < TWO_LEVEL_NODES => medium_mesh(comm, problem, mesh),
         Preconditioner::Auto => two_level(comm, problem, mesh, false),

@@ -168,6 +168,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 if let Some((m, standby)) = multilevel {
                     cg.set_multilevel(m, standby);
                 }
+                if problem.solver.preconditioner == crate::problem::Preconditioner::Tangent {
+                    cg.use_full_tangent();
+                }
                 cg
             },
             coarse_note,

@@ -1,6 +1,7 @@
 //! The CG iteration of a model problem: the starting residual, the loop, and the search
 //! direction (Fletcher-Reeves when linear, Polak-Ribiere+ otherwise).
 
+use super::full_tangent::{RateWatch, MODEL_START};
 use super::{residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure, SWITCH_AFTER};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
@@ -8,6 +9,11 @@ use crate::math::Vec3;
 /// How often a model problem may double the multilevel fine smoother's bound (a factor of
 /// 16 in all) before the cycle counts as broken.
 pub(super) const MAX_WIDEN: usize = 4;
+
+/// Builds of the full tangent one model problem may make before block Jacobi takes over
+/// (a tangent that goes stale this fast is one the factor does not follow: the punch at
+/// 40 x 40 from its eighth increment, where many points sit on the yield surface).
+const MAX_TANGENT_BUILDS: usize = 4;
 
 /// Where a CG solve stands between iterations.
 pub(super) struct Progress {
@@ -71,6 +77,8 @@ impl Cg {
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
         self.capture(pb, u, linear, s, (st.rnorm, st.refv))?;
+        self.setup_full_tangent(pb, u, linear, s, MODEL_START)?;
+        let mut watch = self.use_tangent.then(|| RateWatch::new(st.rnorm));
 
         let mut widened = 0;
         for it in 1..=s.max_iterations {
@@ -80,6 +88,14 @@ impl Cg {
             }
             self.apply_preconditioner(pb, u, linear, s)?;
             let Some(rp) = self.update_direction(pb, linear, &mut st, u.len()) else {
+                if self.tangent.is_some() {
+                    // r.z <= 0 (or not finite) above the tolerance: the factor does not
+                    // precondition; block Jacobi takes the rest of this model problem.
+                    self.drop_full_tangent(&format!("iteration {it}: r.z is not positive"));
+                    watch = None;
+                    st.restart = true;
+                    continue;
+                }
                 let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
                     // Block Jacobi is positive definite on the free directions: the
                     // preconditioned residual vanished, the residual is at round-off level.
@@ -107,6 +123,17 @@ impl Cg {
             }
             if st.converged(s) {
                 return Ok(st.outcome(it));
+            }
+            if let Some(why) = watch.as_mut().and_then(|w| w.stale(st.rnorm)) {
+                if self.tangent_builds_here >= MAX_TANGENT_BUILDS {
+                    self.drop_full_tangent(&format!(
+                        "iteration {it}: {why}, after {MAX_TANGENT_BUILDS} builds in this model problem"
+                    ));
+                    watch = None;
+                } else {
+                    self.setup_full_tangent(pb, u, linear, s, &format!("iteration {it}: {why}"))?;
+                }
+                st.restart = true;
             }
         }
         Err(SolveFailure::NotConverged {

@@ -29,6 +29,7 @@ macro_rules! fine_op {
             fi_trial: &mut $cg.fi_trial,
             fe_trial: &mut $cg.fe_trial,
             nonzero: &mut $cg.nonzero,
+            central: false,
         }
     };
 }
@@ -36,6 +37,7 @@ macro_rules! fine_op {
 mod coupled;
 mod export;
 mod failure;
+mod full_tangent;
 mod iteration;
 mod newton;
 mod precondition;
@@ -131,6 +133,12 @@ pub struct Cg {
     /// Linear bodies: the fingerprint of the operator the fine smoother's bound was
     /// measured on (None once the bound was widened).
     ml_smoother_fp: Option<u64>,
+    /// The full tangent preconditioner is used (`full_tangent`), and its factor when built.
+    use_tangent: bool,
+    tangent: Option<full_tangent::FullTangent>,
+    tangent_builds: usize,
+    /// Builds in the current model problem.
+    tangent_builds_here: usize,
     /// Newton-Krylov: the convergence rate of the first inner solve after the coarse space
     /// or hierarchy was built (`newton::judge_rate`).
     built_rate: Option<f64>,
@@ -176,6 +184,10 @@ impl Cg {
             ml_smoother_rows: [0; 2],
             ml_smoother_fp: None,
             ml_standby: false,
+            use_tangent: false,
+            tangent: None,
+            tangent_builds: 0,
+            tangent_builds_here: 0,
             built_rate: None,
             rebuild_note: None,
             export: export::ExportState::Off,
@@ -204,6 +216,11 @@ impl Cg {
             self.ml_switched = true;
             self.coarse = None;
         }
+    }
+
+    /// Uses the full tangent preconditioner (assembled and factored at every model problem).
+    pub fn use_full_tangent(&mut self) {
+        self.use_tangent = true;
     }
 
     /// Uses the two-level preconditioner with this coarse space.

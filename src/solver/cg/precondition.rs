@@ -37,6 +37,13 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
         let comm = pb.comm;
+        if let Some(t) = self.tangent.as_mut() {
+            t.apply(comm, &pb.asm.mesh.node_global, &self.r, &mut self.z);
+            for z in &mut self.z[pb.owned()..] {
+                *z = [0.0; 3];
+            }
+            return Ok(());
+        }
         if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
             let mut op = fine_op!(self, pb, u, linear, s);
             ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
@@ -100,6 +107,12 @@ pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     pub(super) fe_trial: &'b mut [Vec3],
     /// One flag per local node for `internal_force_sparse`.
     pub(super) nonzero: &'b mut [bool],
+    /// Nonlinear bodies: a central difference about u (two force evaluations) instead of
+    /// the forward one. At an integration point on the yield surface the forward
+    /// difference takes the loading branch for +x and so mixes loading and unloading
+    /// responses over the probes; the central one averages the two branches symmetrically
+    /// (what the full tangent's factor needs: docs/plasticity-solve.md).
+    pub(super) central: bool,
 }
 
 impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
@@ -123,11 +136,27 @@ impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
                 }
             }
             pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
-            for a in 0..x.len() {
-                for i in 0..3 {
-                    y[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
-                        - (self.fi[a][i] - self.fe[a][i]))
-                        / eps;
+            if self.central {
+                for a in 0..x.len() {
+                    for i in 0..3 {
+                        y[a][i] = self.fi_trial[a][i] - self.fe_trial[a][i];
+                        self.trial[a][i] = self.u[a][i] - eps * x[a][i];
+                    }
+                }
+                pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
+                for a in 0..x.len() {
+                    for i in 0..3 {
+                        y[a][i] =
+                            (y[a][i] - (self.fi_trial[a][i] - self.fe_trial[a][i])) / (2.0 * eps);
+                    }
+                }
+            } else {
+                for a in 0..x.len() {
+                    for i in 0..3 {
+                        y[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
+                            - (self.fi[a][i] - self.fe[a][i]))
+                            / eps;
+                    }
                 }
             }
         }

@@ -147,6 +147,17 @@ impl SparseCholesky {
 
     /// Factors `a` in the order `perm` (from `analyse`, with its column counts).
     pub fn new(a: &Csr, perm: Vec<usize>, counts: &[usize]) -> Self {
+        Self::factor(a, perm, counts, None)
+    }
+
+    /// `new`, except that a pivot below `floor` times its diagonal entry is raised to that
+    /// (never dropped): the factor of a positive definite matrix near `a` when `a` is
+    /// indefinite or singular (a modified Cholesky), so that it preconditions CG.
+    pub fn new_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
+        Self::factor(a, perm, counts, Some(floor))
+    }
+
+    fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: Option<f64>) -> Self {
         let n = a.rows;
         let mut inv = vec![0usize; n];
         for (k, &i) in perm.iter().enumerate() {
@@ -205,10 +216,10 @@ impl SparseCholesky {
                 val[fill[j]] = y;
                 fill[j] += 1;
             }
-            diag[k] = if d > 1e-10 * akk && akk > 1e-14 * scale {
-                d.sqrt()
-            } else {
-                0.0
+            diag[k] = match floor {
+                Some(f) => d.max(f * akk.abs().max(1e-14 * scale)).sqrt(),
+                None if d > 1e-10 * akk && akk > 1e-14 * scale => d.sqrt(),
+                None => 0.0,
             };
         }
         // Columns of dropped pivots or entries of dropped rows were not written: close

@@ -1,0 +1,314 @@
+//! The full tangent preconditioner (`solver.preconditioner = "tangent"`): the constrained
+//! tangent T^T K_t(u) T of the model problem at its start, assembled and factored by sparse
+//! Cholesky, as Sierra/SM's full tangent preconditioner does inside its nonlinear CG. For a
+//! nonlinear body the operator is a finite difference of the internal forces about u with
+//! the integration points' history held at the increment's start: the consistent tangent
+//! of the discrete return map (probed by a central difference, see `FineOp::central`),
+//! which softens by orders of magnitude where a body yields,
+//! while block Jacobi or an aggregation hierarchy measured on it keep the elastic
+//! structure of the operator. Rebuilt at every model problem's start and when CG's
+//! convergence rate shows it went stale (`RateWatch`), logged at -vv.
+//!
+//! Assembled by probing: the nodes of the whole mesh are coloured so that no node couples
+//! to two nodes of one colour (contact ties included, as for the multilevel measurement),
+//! and one operator application per colour and basis index gives every coupling; each rank
+//! measures its owned rows, every rank gathers all of them in global unknown order
+//! (nodes by global id, then each node's free basis) and factors the same matrix (its
+//! symmetric part; a pivot below a hundredth of its diagonal entry is raised to that, so
+//! the factor stays positive definite where the tangent is singular along a mechanism),
+//! so the factor and every solve are bitwise the same on any number of ranks. Every rank
+//! holds the whole factor: meant for the meshes one machine factors.
+
+use super::export::free_basis;
+use super::{Cg, CgSettings, Problem, SolveFailure};
+use crate::comm::Comm;
+use crate::math::{dot, Vec3};
+use crate::solver::multilevel::aggregation::Graph;
+use crate::solver::multilevel::colouring::{Colouring, Ties};
+use crate::solver::multilevel::sparse::Csr;
+use crate::solver::multilevel::sparse_cholesky::SparseCholesky;
+use crate::solver::multilevel::FineOperator;
+
+/// The factored tangent and how to map nodal vectors to its unknowns.
+pub(super) struct FullTangent {
+    /// The first unknown of every global node (len: nodes + 1).
+    first: Vec<usize>,
+    /// The free basis of every owned local node.
+    basis: Vec<Vec<Vec3>>,
+    chol: SparseCholesky,
+    /// The global right-hand side and solution.
+    x: Vec<f64>,
+    /// Factor entries, for the log.
+    pub(super) nnz: usize,
+    pub(super) unknowns: usize,
+}
+
+impl FullTangent {
+    /// Assembles T^T K T by probing `op` and factors it (collective).
+    pub(super) fn build<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
+        pb: &Problem<C>,
+        op: &mut O,
+    ) -> Result<Self, SolveFailure> {
+        let comm = pb.comm;
+        let mesh = pb.asm.mesh;
+        let global = pb.global;
+        let n = global.num_nodes();
+        let owned = mesh.num_owned_nodes;
+        let basis: Vec<Vec<Vec3>> = (0..owned)
+            .map(|l| free_basis(pb.cons.projector(l)))
+            .collect();
+        // Every node's number of free directions, summed exactly over the ranks (each node
+        // is owned by one).
+        let mut count = vec![0i64; n];
+        for (l, b) in basis.iter().enumerate() {
+            count[mesh.node_global[l] as usize] = b.len() as i64;
+        }
+        comm.sum_i64(&mut count);
+        let mut first = vec![0usize; n + 1];
+        for g in 0..n {
+            first[g + 1] = first[g] + count[g] as usize;
+        }
+        let m = first[n];
+        let mut owned_of = vec![usize::MAX; n];
+        for l in 0..owned {
+            owned_of[mesh.node_global[l] as usize] = l;
+        }
+        let col = colouring(pb, n);
+        let nl = mesh.num_nodes();
+        let (mut x, mut y) = (vec![[0.0; 3]; nl], vec![[0.0; 3]; nl]);
+        // Triplets (row, column, value) of the owned rows, as f64 for the gather.
+        let mut mine: Vec<f64> = Vec::new();
+        for c in 0..col.num_colours {
+            for k in 0..3 {
+                x.iter_mut().for_each(|v| *v = [0.0; 3]);
+                for (l, b) in basis.iter().enumerate() {
+                    if col.colour[mesh.node_global[l] as usize] as usize == c {
+                        if let Some(d) = b.get(k) {
+                            x[l] = *d;
+                        }
+                    }
+                }
+                // Every rank applies the operator (collective), probe empty or not.
+                let any = (0..n).any(|g| col.colour[g] as usize == c && count[g] as usize > k);
+                if !any {
+                    continue;
+                }
+                op.apply(&mut x, &mut y)?;
+                for &(row_node, col_node) in col.pairs(c) {
+                    let lb = owned_of[row_node as usize];
+                    if lb == usize::MAX || count[col_node as usize] as usize <= k {
+                        continue;
+                    }
+                    let j = first[col_node as usize] + k;
+                    for (i, d) in basis[lb].iter().enumerate() {
+                        let v = dot(d, &y[lb]);
+                        if v != 0.0 {
+                            mine.extend([(first[row_node as usize] + i) as f64, j as f64, v]);
+                        }
+                    }
+                }
+            }
+        }
+        let all = if comm.size() == 1 {
+            vec![mine]
+        } else {
+            comm.all_gather_f64(&mine)
+        };
+        let mut trip = Vec::with_capacity(all.iter().map(|v| v.len() / 3).sum());
+        for part in &all {
+            for t in part.chunks_exact(3) {
+                trip.push((t[0] as u32, t[1] as u32, t[2]));
+            }
+        }
+        drop(all);
+        let a = Csr::from_triplets(m, m, trip).symmetric_part();
+        let node_ptr: Vec<usize> = {
+            let mut p: Vec<usize> = (0..n).filter(|&g| count[g] > 0).map(|g| first[g]).collect();
+            p.push(m);
+            p
+        };
+        let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, usize::MAX / 4) else {
+            unreachable!("an unbounded budget always fits")
+        };
+        let chol = SparseCholesky::new_modified(&a, perm, &counts, PIVOT_FLOOR);
+        Ok(FullTangent {
+            first,
+            basis,
+            nnz: chol.nnz(),
+            chol,
+            x: vec![0.0; m],
+            unknowns: m,
+        })
+    }
+
+    /// z = T (T^T K T)^-1 T^T r on the owned nodes (collective).
+    pub(super) fn apply<C: Comm + ?Sized>(
+        &mut self,
+        comm: &C,
+        node_global: &[u32],
+        r: &[Vec3],
+        z: &mut [Vec3],
+    ) {
+        let mut mine = Vec::new();
+        for (l, b) in self.basis.iter().enumerate() {
+            let f = self.first[node_global[l] as usize];
+            for (k, d) in b.iter().enumerate() {
+                mine.push((f + k) as f64);
+                mine.push(dot(d, &r[l]));
+            }
+        }
+        self.x.iter_mut().for_each(|v| *v = 0.0);
+        if comm.size() == 1 {
+            for p in mine.chunks_exact(2) {
+                self.x[p[0] as usize] = p[1];
+            }
+        } else {
+            for part in comm.all_gather_f64(&mine) {
+                for p in part.chunks_exact(2) {
+                    self.x[p[0] as usize] = p[1];
+                }
+            }
+        }
+        self.chol.solve(&mut self.x);
+        for (l, b) in self.basis.iter().enumerate() {
+            let f = self.first[node_global[l] as usize];
+            let mut v = [0.0; 3];
+            for (k, d) in b.iter().enumerate() {
+                for i in 0..3 {
+                    v[i] += self.x[f + k] * d[i];
+                }
+            }
+            z[l] = v;
+        }
+    }
+}
+
+/// A pivot of the factor is at least this fraction of its diagonal entry (a modified
+/// Cholesky): where the finite-difference tangent is indefinite (points on the kink of the
+/// return map) the factor stays positive definite.
+const PIVOT_FLOOR: f64 = 1e-2;
+
+/// The colouring of the whole mesh's nodes (one node per aggregate) with the tie rows of
+/// every rank: the same on any number of ranks.
+fn colouring<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+    let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
+    for e in &pb.global.elements {
+        for a in 0..8 {
+            for b in a + 1..8 {
+                edges.push((e[a], e[b]));
+            }
+        }
+    }
+    let graph = Graph::from_edges(n, &edges);
+    drop(edges);
+    let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh, n);
+    let identity: Vec<u32> = (0..n as u32).collect();
+    Colouring::new(&graph, &identity, n, &ties)
+}
+
+/// The rule that rebuilds the tangent within a model problem: the residual's reduction over
+/// each window of iterations against the first window's after the build. Stale when a
+/// window reduces less than half as many orders of magnitude per iteration as that one, or
+/// less than a factor of 2 in all.
+pub(super) struct RateWatch {
+    since: usize,
+    start: f64,
+    reference: Option<f64>,
+}
+
+/// Iterations per window of the rule.
+const WINDOW: usize = 10;
+
+impl RateWatch {
+    pub(super) fn new(rnorm: f64) -> Self {
+        RateWatch {
+            since: 0,
+            start: rnorm,
+            reference: None,
+        }
+    }
+
+    /// Records one more iteration's residual; the reason when the factor went stale (the
+    /// watch then starts over from this residual).
+    pub(super) fn stale(&mut self, rnorm: f64) -> Option<String> {
+        self.since += 1;
+        if self.since < WINDOW {
+            return None;
+        }
+        let orders = (rnorm / self.start).log10();
+        let rate = orders / WINDOW as f64;
+        self.since = 0;
+        self.start = rnorm;
+        let why = match self.reference {
+            _ if orders > -std::f64::consts::LOG10_2 => format!(
+                "the residual fell by {:.2} orders in {WINDOW} iterations",
+                -orders
+            ),
+            Some(r) if rate > 0.5 * r => format!(
+                "{:.3} orders per iteration against {:.3} after the build",
+                -rate, -r
+            ),
+            Some(_) => return None,
+            None => {
+                self.reference = Some(rate);
+                return None;
+            }
+        };
+        self.reference = None;
+        Some(why)
+    }
+}
+
+/// Why a build happens at a model problem's start.
+pub(super) const MODEL_START: &str = "model problem start";
+
+impl Cg {
+    /// Leaves the full tangent for the rest of the model problem (block Jacobi, built at its
+    /// start, takes over); logs why.
+    pub(super) fn drop_full_tangent(&mut self, why: &str) {
+        self.tangent = None;
+        let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
+        self.rebuild_note = Some(match self.rebuild_note.take() {
+            Some(old) => format!("{old}\n{note}"),
+            None => note,
+        });
+    }
+
+    /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
+    pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+        why: &str,
+    ) -> Result<(), SolveFailure> {
+        if !self.use_tangent {
+            return Ok(());
+        }
+        let start = std::time::Instant::now();
+        self.tangent = None;
+        let mut op = fine_op!(self, pb, u, linear, s);
+        op.central = true;
+        let t = FullTangent::build(pb, &mut op)?;
+        self.tangent_builds += 1;
+        self.tangent_builds_here = if why == MODEL_START {
+            1
+        } else {
+            self.tangent_builds_here + 1
+        };
+        let note = format!(
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s)",
+            t.unknowns,
+            t.nnz,
+            self.tangent_builds,
+            start.elapsed().as_secs_f64()
+        );
+        self.rebuild_note = Some(match self.rebuild_note.take() {
+            Some(old) => format!("{old}\n{note}"),
+            None => note,
+        });
+        self.tangent = Some(t);
+        Ok(())
+    }
+}
