@@ -324,6 +324,7 @@ fn step_through<C: Comm + ?Sized>(
         if let Some(note) = stepper.take_rebuild_note() {
             log.at(2, &note);
         }
+        log.at(2, &stepper.take_cg_trace().summary());
         if let Err(e) = write_export(problem, opts, log, stepper) {
             failure = Some(e);
             break;

@@ -68,7 +68,15 @@ impl Cg {
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
         self.capture(pb, u, linear, s, (st.rnorm, st.refv))?;
+        let tangent_rule = self.tangent_rule.filter(|_| !linear && pb.comm.size() == 1);
+        self.tangent = None;
+        if tangent_rule.is_some() {
+            self.setup_tangent(pb, u, s)?;
+        }
 
+        self.trace.start();
+        let mut window_start = st.rnorm;
+        let mut watch = tangent_rule.map(|w| super::tangent::RateWatch::new(w, st.rnorm));
         let mut widened = 0;
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == SWITCH_AFTER {
@@ -101,6 +109,12 @@ impl Cg {
             }
             if !st.rnorm.is_finite() {
                 return Err(SolveFailure::NonFinite { iterations: it });
+            }
+            self.trace.record(it, st.rnorm, &mut window_start);
+            if let Some(why) = watch.as_mut().and_then(|w| w.stale(st.rnorm)) {
+                self.trace.tangent_rebuilt(it, why);
+                self.setup_tangent(pb, u, s)?;
+                st.restart = true;
             }
             if st.converged(s) {
                 return Ok(st.outcome(it));
@@ -160,7 +174,11 @@ impl Cg {
             rz / st.rz_old
         } else {
             let zr_old = comm::dot(comm, &self.z, &self.r_old, n);
-            ((rz - zr_old) / st.rz_old).max(0.0)
+            let b = (rz - zr_old) / st.rz_old;
+            if !(b > 0.0) {
+                self.trace.restarts_pr += 1;
+            }
+            b.max(0.0)
         };
         for a in 0..nl {
             for i in 0..3 {
@@ -169,6 +187,7 @@ impl Cg {
         }
         let mut rp = comm::dot(comm, &self.r, &self.p, n);
         if !(rp > 0.0) {
+            self.trace.restarts_descent += 1;
             self.p.copy_from_slice(&self.z);
             rp = rz;
         }

@@ -1,0 +1,101 @@
+//! What the nonlinear CG spent its iterations on, counted per load step for the `-vv` log:
+//! restarts and why, the step's probes and corrections, the preconditioner's rebuilds, and
+//! the residual's reduction over windows of iterations (a preconditioner that went stale
+//! shows as a rate that worsens within a model problem; one that never fitted, as a poor
+//! rate from the start).
+
+use std::fmt::Write;
+
+/// Iterations per window of the reduction rate.
+pub const WINDOW: usize = 50;
+
+#[derive(Clone, Debug, Default)]
+pub struct CgTrace {
+    pub model_problems: usize,
+    pub iterations: usize,
+    /// Internal-force evaluations (each probe, step and correction is one).
+    pub force_evaluations: usize,
+    /// Polak-Ribiere+ clipped beta to zero.
+    pub restarts_pr: usize,
+    /// r.p <= 0: the direction replaced by the preconditioned residual.
+    pub restarts_descent: usize,
+    /// Block Jacobi rebuilt within a model problem (a restart each).
+    pub jacobi_rebuilds: usize,
+    /// Step halvings (an element failed at the full step).
+    pub halvings: usize,
+    /// Secant corrections tried, and those refused (an element failed).
+    pub secants: usize,
+    pub secants_refused: usize,
+    /// Multilevel hierarchy builds, coarse-operator builds.
+    pub ml_builds: usize,
+    pub coarse_builds: usize,
+    /// Experiment: full tangent factorisations and their time.
+    pub tangent_builds: usize,
+    pub tangent_seconds: f64,
+    /// The first few rebuilds within a model problem: iteration and why.
+    pub tangent_reasons: Vec<String>,
+    /// log10 of the residual's reduction per window of iterations, per model problem.
+    pub rates: Vec<Vec<f64>>,
+}
+
+impl CgTrace {
+    /// Starts a model problem.
+    pub(super) fn start(&mut self) {
+        self.model_problems += 1;
+        self.rates.push(Vec::new());
+    }
+
+    /// Records the residual at iteration `it`; `window_start` holds the residual at the
+    /// window's start.
+    pub(super) fn record(&mut self, it: usize, rnorm: f64, window_start: &mut f64) {
+        self.iterations += 1;
+        if it.is_multiple_of(WINDOW) && rnorm > 0.0 && *window_start > 0.0 {
+            if let Some(r) = self.rates.last_mut() {
+                r.push((rnorm / *window_start).log10());
+            }
+            *window_start = rnorm;
+        }
+    }
+
+    /// The tangent was rebuilt at iteration `it` of the model problem, for `why`.
+    pub(super) fn tangent_rebuilt(&mut self, it: usize, why: String) {
+        if self.tangent_reasons.len() < 4 {
+            self.tangent_reasons.push(format!("iteration {it}: {why}"));
+        }
+    }
+
+    /// One line for the log.
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "CG trace: {} model problem(s), {} iterations, {} force evaluations; restarts: Polak-Ribiere {}, descent {}, Jacobi rebuilds {}; halvings {}, secants {} (refused {}); multilevel builds {}, coarse builds {}",
+            self.model_problems,
+            self.iterations,
+            self.force_evaluations,
+            self.restarts_pr,
+            self.restarts_descent,
+            self.jacobi_rebuilds,
+            self.halvings,
+            self.secants,
+            self.secants_refused,
+            self.ml_builds,
+            self.coarse_builds
+        );
+        if self.tangent_builds > 0 {
+            let _ = write!(
+                s,
+                "; tangent factorisations {} ({:.3} s)",
+                self.tangent_builds, self.tangent_seconds
+            );
+            for r in &self.tangent_reasons {
+                let _ = write!(s, "; rebuilt at {r}");
+            }
+        }
+        for (k, r) in self.rates.iter().enumerate().filter(|(_, r)| !r.is_empty()) {
+            let _ = write!(s, "; problem {} log10 reduction per {WINDOW}:", k + 1);
+            for v in r {
+                let _ = write!(s, " {v:.2}");
+            }
+        }
+        s
+    }
+}
