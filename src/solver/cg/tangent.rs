@@ -41,6 +41,9 @@ fn shifted<C: Comm + ?Sized>(
     if theta == 0.0 {
         return Ok(a);
     }
+    if std::env::var_os("SOLVER_TANGENT_SHIFT_ELASTIC").is_some() {
+        return elastic_shifted(pb, a, theta);
+    }
     let mut blocks = vec![[[0.0; 3]; 3]; u.len()];
     super::agree(pb.comm, pb.asm.diagonal(u, &mut blocks))?;
     let mut t = Vec::with_capacity(a.nnz() + 9 * un.basis.len());
@@ -60,6 +63,76 @@ fn shifted<C: Comm + ?Sized>(
         }
     }
     Ok(Csr::from_triplets(a.rows, a.cols, t))
+}
+
+/// Experiment: rebuild the multilevel hierarchy (and block Jacobi) from the current
+/// tangent by the same rule, windows of `SOLVER_ML_RULE` iterations.
+pub(super) fn multilevel_rule() -> Option<usize> {
+    std::env::var("SOLVER_ML_RULE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+}
+
+/// A + theta K_e, K_e the bodies' small-strain elastic stiffness (the same moduli and
+/// formulations), probed in the same unknowns.
+fn elastic_shifted<C: Comm + ?Sized>(
+    pb: &Problem<C>,
+    a: Csr,
+    theta: f64,
+) -> Result<Csr, SolveFailure> {
+    let models: Vec<crate::problem::BodyModel> = pb
+        .asm
+        .models
+        .iter()
+        .map(|m| {
+            let (lambda, mu) = m.material.lambda_mu();
+            crate::problem::BodyModel {
+                material: crate::material::Material::LinearElastic(
+                    crate::material::LinearElastic { lambda, mu },
+                ),
+                formulation: m.formulation,
+                density: m.density,
+            }
+        })
+        .collect();
+    let elastic = crate::solver::assembly::Assembly::new(
+        pb.asm.mesh,
+        &models,
+        &crate::solver::shapes::Plan::default(),
+    )
+    .map_err(|e| SolveFailure::OutOfMemory(e.to_string()))?;
+    let n = pb.asm.mesh.num_nodes();
+    let (mut x, mut y) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    let mut op = ElasticOp { pb, asm: &elastic };
+    let (_, ke) = assembled(pb, &mut op, &mut x, &mut y)?;
+    let mut t = Vec::with_capacity(a.nnz() + ke.nnz());
+    for (m, w) in [(&a, 1.0), (&ke, theta)] {
+        for i in 0..m.rows {
+            let (c, v) = m.row(i);
+            for (&j, &x) in c.iter().zip(v) {
+                t.push((i as u32, j, w * x));
+            }
+        }
+    }
+    Ok(Csr::from_triplets(a.rows, a.cols, t))
+}
+
+/// The constrained elastic operator T^T K_e T x.
+struct ElasticOp<'b, 'a, C: Comm + ?Sized> {
+    pb: &'b Problem<'a, C>,
+    asm: &'b crate::solver::assembly::Assembly<'b>,
+}
+
+impl<C: Comm + ?Sized> crate::solver::multilevel::FineOperator for ElasticOp<'_, '_, C> {
+    type Error = SolveFailure;
+    fn apply(&mut self, x: &mut [Vec3], y: &mut [Vec3]) -> Result<(), SolveFailure> {
+        let (pb, comm) = (self.pb, self.pb.comm);
+        pb.cons.expand(comm, x);
+        pb.asm.mesh.exchange(comm, x);
+        super::agree(comm, self.asm.internal_force(x, y))?;
+        pb.cons.reduce(comm, y, None);
+        Ok(())
+    }
 }
 
 impl Cg {
