@@ -175,8 +175,6 @@ impl Cg {
         }
         let linear = pb.asm.linear;
         let start = u.to_vec();
-        // The experiment's factor belongs to the plain solve's constraint set.
-        self.tangent = None;
         match self.bicgstab(pb, u, s, links, linear) {
             Ok(Some(outcome)) => Ok(outcome),
             Ok(None) => {

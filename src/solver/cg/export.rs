@@ -110,10 +110,10 @@ fn hash_unit(i: u64) -> f64 {
 
 /// The unknowns of the owned nodes: per local node its basis, and the index of its first
 /// unknown (unknowns ordered by global node id).
-pub(super) struct Unknowns {
-    pub(super) basis: Vec<Vec<Vec3>>,
-    pub(super) first: Vec<usize>,
-    pub(super) node: Vec<u32>,
+struct Unknowns {
+    basis: Vec<Vec<Vec3>>,
+    first: Vec<usize>,
+    node: Vec<u32>,
     direction: Vec<Vec3>,
 }
 
@@ -221,42 +221,6 @@ fn check<O: FineOperator<Error = SolveFailure>>(
     Ok(if size > 0.0 { diff / size } else { diff })
 }
 
-/// The constrained operator `op` of a one-rank problem as a matrix in the unknowns of the
-/// owned nodes (`Unknowns`), measured by one application per colour and basis index.
-pub(super) fn assembled<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
-    pb: &Problem<C>,
-    op: &mut O,
-    x: &mut [Vec3],
-    y: &mut [Vec3],
-) -> Result<(Unknowns, Csr), SolveFailure> {
-    let mesh = pb.asm.mesh;
-    let n = mesh.num_nodes();
-    let un = unknowns(pb);
-    let mut local_of = vec![usize::MAX; n];
-    for (l, &g) in mesh.node_global.iter().enumerate() {
-        local_of[g as usize] = l;
-    }
-    let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
-    for e in &mesh.elements {
-        for a in 0..8 {
-            for b in a + 1..8 {
-                edges.push((
-                    mesh.node_global[e[a] as usize],
-                    mesh.node_global[e[b] as usize],
-                ));
-            }
-        }
-    }
-    let graph = Graph::from_edges(n, &edges);
-    drop(edges);
-    let ties = Ties::gather(pb.comm, pb.cons, mesh, n);
-    let identity: Vec<u32> = (0..n as u32).collect();
-    let col = Colouring::new(&graph, &identity, n, &ties);
-    drop(graph);
-    let matrix = assemble(&un, &col, &local_of, op, x, y)?;
-    Ok((un, matrix))
-}
-
 impl Cg {
     /// Asks for the export of the next model problem that needs a CG iteration.
     pub fn request_export(&mut self) {
@@ -309,10 +273,32 @@ impl Cg {
         }
         let mesh = pb.asm.mesh;
         let n = mesh.num_nodes();
+        let un = unknowns(pb);
+        let mut local_of = vec![usize::MAX; n];
+        for (l, &g) in mesh.node_global.iter().enumerate() {
+            local_of[g as usize] = l;
+        }
+        let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
+        for e in &mesh.elements {
+            for a in 0..8 {
+                for b in a + 1..8 {
+                    edges.push((
+                        mesh.node_global[e[a] as usize],
+                        mesh.node_global[e[b] as usize],
+                    ));
+                }
+            }
+        }
+        let graph = Graph::from_edges(n, &edges);
+        drop(edges);
+        let ties = Ties::gather(pb.comm, pb.cons, mesh, n);
+        let identity: Vec<u32> = (0..n as u32).collect();
+        let col = Colouring::new(&graph, &identity, n, &ties);
+        drop(graph);
         let mut x = vec![[0.0; 3]; n];
         let mut y = vec![[0.0; 3]; n];
         let mut op = fine_op!(self, pb, u, linear, s);
-        let (un, matrix) = assembled(pb, &mut op, &mut x, &mut y)?;
+        let matrix = assemble(&un, &col, &local_of, &mut op, &mut x, &mut y)?;
         let check_error = check(&un, &matrix, &mut op, &mut x, &mut y)?;
         let m = un.node.len();
         let mut rhs = vec![0.0; m];

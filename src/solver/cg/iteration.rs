@@ -68,17 +68,9 @@ impl Cg {
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
         self.capture(pb, u, linear, s, (st.rnorm, st.refv))?;
-        let tangent_rule = self.tangent_rule.filter(|_| !linear && pb.comm.size() == 1);
-        self.tangent = None;
-        if tangent_rule.is_some() {
-            self.setup_tangent(pb, u, s)?;
-        }
 
         self.trace.start();
         let mut window_start = st.rnorm;
-        let mut watch = tangent_rule.map(|w| super::tangent::RateWatch::new(w, st.rnorm));
-        let ml_rule = (!linear).then(super::tangent::multilevel_rule).flatten();
-        let mut ml_watch = ml_rule.map(|w| super::tangent::RateWatch::new(w, st.rnorm));
         let mut widened = 0;
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == SWITCH_AFTER {
@@ -113,23 +105,6 @@ impl Cg {
                 return Err(SolveFailure::NonFinite { iterations: it });
             }
             self.trace.record(it, st.rnorm, &mut window_start);
-            if let Some(why) = watch.as_mut().and_then(|w| w.stale(st.rnorm)) {
-                self.trace.tangent_rebuilt(it, why);
-                self.setup_tangent(pb, u, s)?;
-                st.restart = true;
-            }
-            let ml_live = self.multilevel.is_some() && !self.ml_standby;
-            if let Some(why) = ml_watch
-                .as_mut()
-                .filter(|_| ml_live)
-                .and_then(|w| w.stale(st.rnorm))
-            {
-                self.trace.tangent_rebuilt(it, why);
-                self.coarse_stale = true;
-                self.precondition(pb, u)?;
-                self.setup_multilevel(pb, u, linear, s)?;
-                st.restart = true;
-            }
             if st.converged(s) {
                 return Ok(st.outcome(it));
             }

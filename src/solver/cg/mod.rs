@@ -40,7 +40,6 @@ mod iteration;
 mod precondition;
 mod setup;
 mod step;
-mod tangent;
 mod trace;
 
 pub use coupled::{self_coupling, FrictionLink};
@@ -131,9 +130,6 @@ pub struct Cg {
     ml_smoother_fp: Option<u64>,
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
-    /// Experiment: the factored tangent (`tangent`), and its setting.
-    tangent: Option<tangent::TangentFactor>,
-    tangent_rule: Option<usize>,
     /// What the CG spent its iterations on since the log last took it.
     pub trace: CgTrace,
     /// The assembled model problem, when asked for (`request_export`).
@@ -177,8 +173,6 @@ impl Cg {
             ml_standby: false,
             rebuild_note: None,
             trace: CgTrace::default(),
-            tangent: None,
-            tangent_rule: tangent::requested(),
             export: export::ExportState::Off,
             coupled: coupled::Work::default(),
         })

@@ -37,9 +37,6 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
         let comm = pb.comm;
-        if self.apply_tangent() {
-            return Ok(());
-        }
         if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
             let mut op = fine_op!(self, pb, u, linear, s);
             ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;

@@ -8,6 +8,8 @@ use std::fmt::Write;
 
 /// Iterations per window of the reduction rate.
 pub const WINDOW: usize = 50;
+/// Model problems per trace whose rates are kept.
+const MAX_PROBLEMS: usize = 64;
 
 #[derive(Clone, Debug, Default)]
 pub struct CgTrace {
@@ -29,20 +31,22 @@ pub struct CgTrace {
     /// Multilevel hierarchy builds, coarse-operator builds.
     pub ml_builds: usize,
     pub coarse_builds: usize,
-    /// Experiment: full tangent factorisations and their time.
-    pub tangent_builds: usize,
-    pub tangent_seconds: f64,
-    /// The first few rebuilds within a model problem: iteration and why.
-    pub tangent_reasons: Vec<String>,
-    /// log10 of the residual's reduction per window of iterations, per model problem.
+    /// log10 of the residual's reduction per window of iterations, per model problem (the
+    /// first MAX_PROBLEMS, at most 400 windows each).
     pub rates: Vec<Vec<f64>>,
+    recording: bool,
 }
 
 impl CgTrace {
     /// Starts a model problem.
     pub(super) fn start(&mut self) {
         self.model_problems += 1;
-        self.rates.push(Vec::new());
+        // Rates of the first model problems only: a stepper nobody takes the trace from
+        // (the tests drive it directly) keeps a bounded record.
+        self.recording = self.rates.len() < MAX_PROBLEMS;
+        if self.recording {
+            self.rates.push(Vec::new());
+        }
     }
 
     /// Records the residual at iteration `it`; `window_start` holds the residual at the
@@ -50,17 +54,14 @@ impl CgTrace {
     pub(super) fn record(&mut self, it: usize, rnorm: f64, window_start: &mut f64) {
         self.iterations += 1;
         if it.is_multiple_of(WINDOW) && rnorm > 0.0 && *window_start > 0.0 {
-            if let Some(r) = self.rates.last_mut() {
+            if let Some(r) = self
+                .rates
+                .last_mut()
+                .filter(|r| r.len() < 400 && self.recording)
+            {
                 r.push((rnorm / *window_start).log10());
             }
             *window_start = rnorm;
-        }
-    }
-
-    /// The tangent was rebuilt at iteration `it` of the model problem, for `why`.
-    pub(super) fn tangent_rebuilt(&mut self, it: usize, why: String) {
-        if self.tangent_reasons.len() < 4 {
-            self.tangent_reasons.push(format!("iteration {it}: {why}"));
         }
     }
 
@@ -80,16 +81,6 @@ impl CgTrace {
             self.ml_builds,
             self.coarse_builds
         );
-        if self.tangent_builds > 0 {
-            let _ = write!(
-                s,
-                "; tangent factorisations {} ({:.3} s)",
-                self.tangent_builds, self.tangent_seconds
-            );
-            for r in &self.tangent_reasons {
-                let _ = write!(s, "; rebuilt at {r}");
-            }
-        }
         for (k, r) in self.rates.iter().enumerate().filter(|(_, r)| !r.is_empty()) {
             let _ = write!(s, "; problem {} log10 reduction per {WINDOW}:", k + 1);
             for v in r {
