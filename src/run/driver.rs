@@ -324,6 +324,10 @@ fn step_through<C: Comm + ?Sized>(
         if let Some(note) = stepper.take_rebuild_note() {
             log.at(2, &note);
         }
+        let trace = stepper.take_cg_trace();
+        if log.root && log.verbosity >= 2 {
+            log.at(2, &trace.summary());
+        }
         if let Err(e) = write_export(problem, opts, log, stepper) {
             failure = Some(e);
             break;

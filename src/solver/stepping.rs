@@ -235,6 +235,11 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         self.cg.rebuild_note.take()
     }
 
+    /// What the CG spent its iterations on since last asked (`CgTrace`), once.
+    pub fn take_cg_trace(&mut self) -> super::cg::CgTrace {
+        std::mem::take(&mut self.cg.trace)
+    }
+
     /// Asks for the first model problem that needs a CG iteration, assembled
     /// (`Cg::request_export`).
     pub fn request_export(&mut self) {

@@ -80,6 +80,8 @@ impl Cg {
         self.setup_full_tangent(pb, u, linear, s, MODEL_START)?;
         let mut watch = self.use_tangent.then(|| RateWatch::new(st.rnorm));
 
+        self.trace.start();
+        let mut window_start = st.rnorm;
         let mut widened = 0;
         for it in 1..=s.max_iterations {
             if self.ml_standby && it == SWITCH_AFTER {
@@ -121,6 +123,7 @@ impl Cg {
             if !st.rnorm.is_finite() {
                 return Err(SolveFailure::NonFinite { iterations: it });
             }
+            self.trace.record(it, st.rnorm, &mut window_start);
             if st.converged(s) {
                 return Ok(st.outcome(it));
             }
@@ -190,7 +193,11 @@ impl Cg {
             rz / st.rz_old
         } else {
             let zr_old = comm::dot(comm, &self.z, &self.r_old, n);
-            ((rz - zr_old) / st.rz_old).max(0.0)
+            let b = (rz - zr_old) / st.rz_old;
+            if !(b > 0.0) {
+                self.trace.restarts_pr += 1;
+            }
+            b.max(0.0)
         };
         for a in 0..nl {
             for i in 0..3 {
@@ -199,6 +206,7 @@ impl Cg {
         }
         let mut rp = comm::dot(comm, &self.r, &self.p, n);
         if !(rp > 0.0) {
+            self.trace.restarts_descent += 1;
             self.p.copy_from_slice(&self.z);
             rp = rz;
         }

@@ -43,10 +43,12 @@ mod newton;
 mod precondition;
 mod setup;
 mod step;
+mod trace;
 
 pub use coupled::{self_coupling, FrictionLink};
 pub use export::{free_basis, ModelExport};
 pub use failure::SolveFailure;
+pub use trace::CgTrace;
 
 use super::assembly::{Assembly, ElementError};
 use super::coarse::CoarseSpace;
@@ -144,6 +146,8 @@ pub struct Cg {
     built_rate: Option<f64>,
     /// Why the multilevel hierarchy was last rebuilt, until the log takes it.
     pub rebuild_note: Option<String>,
+    /// What the CG spent its iterations on since the log last took it.
+    pub trace: CgTrace,
     /// The assembled model problem, when asked for (`request_export`).
     export: export::ExportState,
     /// BiCGStab's vectors for the friction-coupled model problem (`coupled`).
@@ -190,6 +194,7 @@ impl Cg {
             tangent_builds_here: 0,
             built_rate: None,
             rebuild_note: None,
+            trace: CgTrace::default(),
             export: export::ExportState::Off,
             coupled: coupled::Work::default(),
         })

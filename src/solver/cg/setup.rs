@@ -39,6 +39,7 @@ impl Cg {
         }
         self.coarse_stale = false;
         self.built_rate = None;
+        self.trace.coarse_builds += 1;
         self.coarse_rows = rows as usize;
         self.coarse_fp = linear.then(|| fp.unwrap_or_else(|| operator_fingerprint(pb)));
         let comm = pb.comm;
@@ -176,6 +177,7 @@ impl Cg {
         self.ml_smoother_fp = fp;
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
+        self.trace.ml_builds += 1;
         ml.setup(
             pb.comm,
             pb.global,

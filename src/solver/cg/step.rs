@@ -77,6 +77,7 @@ impl Cg {
             }
         }
         pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+        self.trace.force_evaluations += 1;
         for a in 0..u.len() {
             for i in 0..3 {
                 self.q[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
@@ -93,19 +94,26 @@ impl Cg {
             match self.try_step(pb, u, alpha) {
                 Ok(()) => break,
                 Err(e) if attempt == 11 => return Err(e),
-                Err(_) => alpha *= 0.5,
+                Err(_) => {
+                    self.trace.halvings += 1;
+                    alpha *= 0.5
+                }
             }
         }
         let s1 = comm::dot(comm, &self.r, &self.p, n);
         if s1.abs() > 0.25 * rp {
             // try_step leaves the state untouched when the corrected point fails.
             let a2 = (alpha * rp / (rp - s1)).clamp(0.1 * alpha, 4.0 * alpha);
-            let _ = self.try_step(pb, u, a2 - alpha);
+            self.trace.secants += 1;
+            if self.try_step(pb, u, a2 - alpha).is_err() {
+                self.trace.secants_refused += 1;
+            }
         }
         let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
         st.rnorm = rn;
         st.refv = reference.max(st.floor);
         if it.is_multiple_of(100) {
+            self.trace.jacobi_rebuilds += 1;
             self.precondition(pb, u)?;
             st.restart = true;
         }
@@ -125,6 +133,7 @@ impl Cg {
                 self.trial[a][i] = u[a][i] + alpha * self.pu[a][i];
             }
         }
+        self.trace.force_evaluations += 1;
         pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
         u.copy_from_slice(&self.trial);
         std::mem::swap(&mut self.fi, &mut self.fi_trial);
