@@ -10,10 +10,11 @@ use crate::math::Vec3;
 /// 16 in all) before the cycle counts as broken.
 pub(super) const MAX_WIDEN: usize = 4;
 
-/// Builds of the full tangent one model problem may make before block Jacobi takes over
-/// (a tangent that goes stale this fast is one the factor does not follow: the punch at
-/// 40 x 40 from its eighth increment, where many points sit on the yield surface).
-const MAX_TANGENT_BUILDS: usize = 4;
+/// Builds of the full tangent one model problem may make before block Jacobi takes over:
+/// a bound on the probing's cost where the factor does not keep up with the tangent (the
+/// punch at 80 x 80 rebuilds most in its first increment, where the plastic zone forms;
+/// with a bound of 4 Jacobi took over there and the increment took 1593 CG iterations).
+const MAX_TANGENT_BUILDS: usize = 12;
 
 /// Where a CG solve stands between iterations.
 pub(super) struct Progress {
