@@ -38,3 +38,15 @@ fn killed_and_restarted_is_identical(scene: &str, kill_after: usize) {
 fn plastic_indent_killed_mid_yield_restarts_bitwise() {
     killed_and_restarted_is_identical("mpi-tests/plastic_indent.toml", 3);
 }
+
+#[test]
+fn plastic_indent_with_the_full_tangent_restarts_bitwise() {
+    // The factor is built at every model problem's start from that state, so a restart
+    // repeats the uninterrupted run's factors.
+    killed_and_restarted_is_identical("mpi-tests/plastic_indent_tangent.toml", 3);
+}
+
+#[test]
+fn plastic_indent_by_newton_restarts_bitwise() {
+    killed_and_restarted_is_identical("mpi-tests/plastic_indent_newton.toml", 3);
+}
