@@ -38,3 +38,9 @@ fn killed_and_restarted_is_identical(scene: &str, kill_after: usize) {
 fn plastic_indent_killed_mid_yield_restarts_bitwise() {
     killed_and_restarted_is_identical("mpi-tests/plastic_indent.toml", 3);
 }
+
+#[test]
+fn plastic_indent_with_mean_elements_killed_mid_yield_restarts_bitwise() {
+    // The hourglass state of the plastic one-point elements is committed history too.
+    killed_and_restarted_is_identical("mpi-tests/plastic_indent_mean.toml", 3);
+}
