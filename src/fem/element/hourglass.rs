@@ -172,3 +172,71 @@ pub fn forces(q: &[Vec3; 4], k: f64, mu: f64, g: f64, c: &Centre) -> [Vec3; 4] {
         f
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn some(seed: f64) -> Hourglass {
+        let v = |k: usize| (seed + k as f64 * 0.37).sin();
+        Hourglass {
+            force: std::array::from_fn(|a| std::array::from_fn(|i| v(3 * a + i))),
+            q: std::array::from_fn(|a| std::array::from_fn(|i| v(12 + 3 * a + i))),
+            strain: std::array::from_fn(|i| v(24 + i)),
+            stress: std::array::from_fn(|i| v(30 + i)),
+        }
+    }
+
+    #[test]
+    fn the_state_is_kept_bit_for_bit_in_its_history_slots() {
+        let h = some(0.3);
+        let mut slots = [PlasticState::default(); SLOTS];
+        h.write(&mut slots);
+        assert_eq!(Hourglass::read(&slots), h);
+        assert_eq!(
+            Hourglass::read(&[PlasticState::default(); SLOTS]),
+            Hourglass::default()
+        );
+    }
+
+    #[test]
+    fn the_ratio_is_one_when_elastic_and_the_floor_when_flowing_freely() {
+        let old = some(1.1);
+        let mu = 50.0;
+        let e: [f64; 6] = std::array::from_fn(|i| old.strain[i] + 1e-3 * (i as f64 - 2.0));
+        // Elastic: ds = 2 mu de gives 1 (to rounding), and a non-plastic return 1 exactly.
+        let s: [f64; 6] =
+            std::array::from_fn(|i| old.stress[i] + 2.0 * mu * (e[i] - old.strain[i]));
+        assert!((ratio(mu, &e, &s, true, &old) - 1.0).abs() < 1e-12);
+        assert_eq!(ratio(mu, &e, &s, false, &old), 1.0);
+        // Perfectly plastic flow, the stress unchanged: the floor.
+        assert_eq!(ratio(mu, &e, &old.stress, true, &old), R_MIN);
+        // Half the elastic stress increment: 1/2.
+        let half: [f64; 6] = std::array::from_fn(|i| old.stress[i] + mu * (e[i] - old.strain[i]));
+        assert!((ratio(mu, &e, &half, true, &old) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_virgin_elastic_step_gives_the_total_force_and_the_bound_holds_each_mode() {
+        let q: [Vec3; 4] = std::array::from_fn(|a| std::array::from_fn(|i| 1e-3 * (a + i) as f64));
+        let (k, mu, g) = (7.0, 50.0, 0.4);
+        let c = |radius| Centre {
+            stress: [[0.0; 3]; 3],
+            old: Hourglass::default(),
+            r: 1.0,
+            radius,
+        };
+        let f = forces(&q, k, mu, g, &c(f64::INFINITY));
+        for a in 0..4 {
+            for i in 0..3 {
+                assert_eq!(f[a][i].to_bits(), (k * q[a][i]).to_bits());
+            }
+        }
+        // The bound: k radius / (2 mu g) = 7 * 0.1 / 40.
+        let cap = k * 0.1 / (2.0 * mu * g);
+        for fa in forces(&q, k, mu, g, &c(0.1)) {
+            let norm = (fa[0] * fa[0] + fa[1] * fa[1] + fa[2] * fa[2]).sqrt();
+            assert!(norm <= cap * (1.0 + 1e-15), "{norm} {cap}");
+        }
+    }
+}
