@@ -113,14 +113,11 @@ fn update_mean(
     new: &mut [PlasticState],
 ) -> Result<(), ElementFailure> {
     let h = mean_gradient(u, geo);
-    let (_, state, _) = mat
-        .update(&h, &old[0])
-        .ok_or(ElementFailure::InvertedCurrent)?;
     let c = centre(mat, &h, old).ok_or(ElementFailure::InvertedCurrent)?;
     let (_, mu) = mat.lambda_mu();
     let (hx, k) = hourglass_stiffness(geo, coefficient, mu);
     let q = modes(u, &h, &hx);
-    new[0] = state;
+    new[0] = c.state;
     Hourglass {
         force: forces(&q, k, mu, geo.rms_gradient(), &c),
         q,

@@ -117,10 +117,10 @@ pub fn ratio(mu: f64, e: &[f64; 6], s: &[f64; 6], plastic: bool, old: &Hourglass
     (ddot6(&ds, &de) / (2.0 * mu * ee)).clamp(R_MIN, 1.0)
 }
 
-/// The centre's stress at `h` from the committed state `hist[0]`, the hourglass state
-/// `hist[1..]` holds, the stiffness ratio of the step and the centre's yield radius
-/// sqrt(2/3) (sigma_y + K alpha) after the step. `None` when the deformation is
-/// inadmissible.
+/// The centre's stress at `h` from the committed state `hist[0]` and the state the step
+/// would commit, the hourglass state `hist[1..]` holds, the stiffness ratio of the step
+/// and the centre's yield radius sqrt(2/3) (sigma_y + K alpha) after the step. `None`
+/// when the deformation is inadmissible.
 #[inline]
 pub fn centre(mat: &Material, h: &Mat3, hist: &[PlasticState]) -> Option<Centre> {
     let (s, state, ret) = mat.update(h, &hist[0])?;
@@ -133,6 +133,7 @@ pub fn centre(mat: &Material, h: &Mat3, hist: &[PlasticState]) -> Option<Centre>
     };
     Some(Centre {
         stress: s,
+        state,
         old,
         r,
         radius,
@@ -144,6 +145,8 @@ const SQRT_2_3: f64 = 0.816_496_580_927_726;
 /// What `centre` finds.
 pub struct Centre {
     pub stress: Mat3,
+    /// The centre's state the step would commit.
+    pub state: PlasticState,
     pub old: Hourglass,
     pub r: f64,
     pub radius: f64,
@@ -222,6 +225,7 @@ mod tests {
         let (k, mu, g) = (7.0, 50.0, 0.4);
         let c = |radius| Centre {
             stress: [[0.0; 3]; 3],
+            state: PlasticState::default(),
             old: Hourglass::default(),
             r: 1.0,
             radius,
