@@ -50,3 +50,9 @@ fn plastic_indent_with_the_full_tangent_restarts_bitwise() {
 fn plastic_indent_by_newton_restarts_bitwise() {
     killed_and_restarted_is_identical("mpi-tests/plastic_indent_newton.toml", 3);
 }
+
+#[test]
+fn plastic_indent_with_mean_elements_killed_mid_yield_restarts_bitwise() {
+    // The hourglass state of the plastic one-point elements is committed history too.
+    killed_and_restarted_is_identical("mpi-tests/plastic_indent_mean.toml", 3);
+}

@@ -22,6 +22,8 @@ const SY: f64 = 250.0;
 const A: f64 = 1.0;
 const B: f64 = 2.0;
 const W: f64 = 0.05;
+const BAR: &str = "volumetric = \"mean_dilatation\"";
+const MEAN: &str = "integration = \"mean\"";
 
 fn p_of_c(c: f64) -> f64 {
     2.0 * SY * (c / A).ln() + 2.0 * SY / 3.0 * (1.0 - (c / B).powi(3))
@@ -32,7 +34,7 @@ fn ub_of_c(c: f64) -> f64 {
 }
 
 /// The sector scene with the pressure reaching each of `pressures` at t = 1, 2, ...
-fn scene(n: usize, pressures: &[f64]) -> Problem {
+fn scene(n: usize, pressures: &[f64], element: &str) -> Problem {
     let k = 1.0 / (1.0 + W * W).sqrt();
     let mut func = String::from("[0.0, 0.0]");
     let mut segs = Vec::new();
@@ -48,7 +50,7 @@ name = "sphere"
 box = {{ min = [{A}, {mw}, {mw}], max = [{B}, {W}, {W}] }}
 divisions = [{n}, 1, 1]
 material = {{ model = "j2_plastic", E = {E}, nu = {NU}, yield_stress = {SY} }}
-volumetric = "mean_dilatation"
+{element}
 [[node_set]]
 name = "ym"
 plane = {{ point = [0.0, {mw}, 0.0], normal = [0.0, 1.0, 0.0] }}
@@ -104,9 +106,13 @@ max_iterations = 200000
 }
 
 /// For each pressure: (outer radial displacement, outer radius of the yielded zone), and
-/// the CG iterations of the run. Err when a step fails.
-fn solve(n: usize, pressures: &[f64]) -> Result<(Vec<(f64, f64)>, u64), String> {
-    let p = scene(n, pressures);
+/// the CG iterations of the run, with the element line `element`. Err when a step fails.
+fn solve_with(
+    n: usize,
+    pressures: &[f64],
+    element: &str,
+) -> Result<(Vec<(f64, f64)>, u64), String> {
+    let p = scene(n, pressures, element);
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
@@ -151,10 +157,20 @@ const FRONTS: [f64; 3] = [1.25, 1.5, 1.75];
 
 #[test]
 fn hill_sphere_converges_under_refinement() {
+    converges_under_refinement(BAR);
+}
+
+#[test]
+fn hill_sphere_converges_under_refinement_with_mean_integration() {
+    converges_under_refinement(MEAN);
+}
+
+fn converges_under_refinement(element: &str) {
     let pressures: Vec<f64> = FRONTS.iter().map(|&c| p_of_c(c)).collect();
     let mut finest = 0.0f64;
     for n in [8, 16, 32] {
-        let (res, cg) = solve(n, &pressures).unwrap_or_else(|e| panic!("{n} elements: {e}"));
+        let (res, cg) =
+            solve_with(n, &pressures, element).unwrap_or_else(|e| panic!("{n} elements: {e}"));
         let h = (B - A) / n as f64;
         let mut worst = 0.0f64;
         for ((&c, &p), &(ub, front)) in FRONTS.iter().zip(&pressures).zip(&res) {
@@ -162,14 +178,14 @@ fn hill_sphere_converges_under_refinement() {
             let err = (ub - exact).abs() / exact;
             worst = worst.max(err);
             println!(
-                "n = {n:>2}: p = {p:8.3} (front c = {c}): u(b) = {ub:.6e}, Hill {exact:.6e}, error {:.3}%; yielded to r = {front:.4} (element size {h:.4})",
+                "[{element}] n = {n:>2}: p = {p:8.3} (front c = {c}): u(b) = {ub:.6e}, Hill {exact:.6e}, error {:.3}%; yielded to r = {front:.4} (element size {h:.4})",
                 100.0 * err
             );
             // The plastic front is resolved to one element.
             assert!((front - c).abs() <= h + 1e-12, "front {front} vs {c}");
         }
         println!(
-            "n = {n:>2}: worst u(b) error {:.3}%, {cg} CG iterations",
+            "[{element}] n = {n:>2}: worst u(b) error {:.3}%, {cg} CG iterations",
             100.0 * worst
         );
         finest = worst;
@@ -180,12 +196,21 @@ fn hill_sphere_converges_under_refinement() {
 
 #[test]
 fn hill_sphere_limit_pressure() {
+    limit_pressure(BAR);
+}
+
+#[test]
+fn hill_sphere_limit_pressure_with_mean_integration() {
+    limit_pressure(MEAN);
+}
+
+fn limit_pressure(element: &str) {
     let limit = 2.0 * SY * (B / A).ln();
     // Just below the limit the sphere carries the load; above it no equilibrium exists.
-    let below = solve(16, &[p_of_c(1.9), 0.995 * limit]);
-    let above = solve(16, &[p_of_c(1.9), 1.02 * limit]);
+    let below = solve_with(16, &[p_of_c(1.9), 0.995 * limit], element);
+    let above = solve_with(16, &[p_of_c(1.9), 1.02 * limit], element);
     println!(
-        "limit 2 sigma_y ln(b/a) = {limit:.3}: at 0.995: {:?}",
+        "[{element}] limit 2 sigma_y ln(b/a) = {limit:.3}: at 0.995: {:?}",
         below.as_ref().map(|r| r.0.last().copied())
     );
     println!("at 1.02: {:?}", above.as_ref().map(|r| r.0.last().copied()));

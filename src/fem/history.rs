@@ -4,17 +4,19 @@
 //! diagonal tangent blocks of a plastic B-bar / F-bar element.
 
 use super::element::{
-    add_tangent, at, deformation, g_at, gauss_gradient, mean_dilatation, mean_gradient,
-    point_tangent, scaled, sub_identity, ElementFailure, Formulation, GaussGeometry, Geometry,
+    add_tangent, at, centre, deformation, forces, g_at, gauss_gradient, hourglass_stiffness,
+    mean_dilatation, mean_gradient, modes, point_tangent, scaled, sub_identity, ElementFailure,
+    Formulation, GaussGeometry, Geometry, Hourglass, SLOTS,
 };
 use crate::material::{Material, PlasticState};
 use crate::math::{Mat3, Vec3, ZERO33};
 
-/// Stress points of an element: the eight Gauss points, or the one mean point.
+/// History states of a plastic element: one per Gauss point, or the mean point's followed
+/// by the `SLOTS` that hold its hourglass state (`element::hourglass`).
 #[inline]
 pub fn points(form: Formulation) -> usize {
     match form {
-        Formulation::Mean { .. } => 1,
+        Formulation::Mean { .. } => 1 + SLOTS,
         _ => 8,
     }
 }
@@ -86,6 +88,9 @@ pub fn update_with(
     old: &[PlasticState],
     new: &mut [PlasticState],
 ) -> Result<(), ElementFailure> {
+    if let Formulation::Mean { hourglass } = form {
+        return update_mean(geo, u, mat, hourglass, old, new);
+    }
     let (h, _, n) = point_gradients(geo, gauss, u, mat.is_large(), form)?;
     for q in 0..n {
         let (_, state, _) = mat
@@ -93,6 +98,33 @@ pub fn update_with(
             .ok_or(ElementFailure::InvertedCurrent)?;
         new[q] = state;
     }
+    Ok(())
+}
+
+/// The states a converged step commits in a plastic one-point element: the centre's and
+/// the hourglass state (the forces of the step, the displacement sums, and the centre's
+/// deviatoric strain and stress), the same values `internal_force_with` used.
+fn update_mean(
+    geo: &Geometry,
+    u: &[Vec3; 8],
+    mat: &Material,
+    coefficient: f64,
+    old: &[PlasticState],
+    new: &mut [PlasticState],
+) -> Result<(), ElementFailure> {
+    let h = mean_gradient(u, geo);
+    let c = centre(mat, &h, old).ok_or(ElementFailure::InvertedCurrent)?;
+    let (_, mu) = mat.lambda_mu();
+    let (hx, k) = hourglass_stiffness(geo, coefficient, mu);
+    let q = modes(u, &h, &hx);
+    new[0] = c.state;
+    Hourglass {
+        force: forces(&q, k, mu, geo.rms_gradient(), &c),
+        q,
+        strain: super::element::dev_sym(&h),
+        stress: super::element::dev_sym(&c.stress),
+    }
+    .write(&mut new[1..]);
     Ok(())
 }
 

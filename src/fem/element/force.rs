@@ -228,7 +228,10 @@ fn force_bar_large(
     Ok(())
 }
 
-/// Internal force of the one-point element with hourglass control, into `f`.
+/// Internal force of the one-point element with hourglass control, into `f`. A plastic
+/// element (`hist` holds its centre's state and its hourglass state, see `hourglass`)
+/// accumulates its hourglass forces with the stiffness of the step; any other takes the
+/// total form k q.
 #[inline(always)]
 fn force_mean(
     geo: &Geometry,
@@ -239,24 +242,18 @@ fn force_mean(
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
     let h = mean_gradient(u, geo);
-    let s = point_stress(mat, &h, hist, 0).ok_or(ElementFailure::InvertedCurrent)?;
     let (_, mu) = mat.lambda_mu();
     let (hx, k) = hourglass(geo, coefficient, mu);
-    // q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a u_a - h hx_alpha, since
-    // sum_a u_a bbar_a^T = h; scaled by k.
-    let mut qk = [[0.0; 3]; 4];
-    for alpha in 0..4 {
-        let mut bu = [0.0; 3];
-        for a in 0..8 {
-            for i in 0..3 {
-                bu[i] += HG_BASE[alpha][a] * u[a][i];
-            }
-        }
-        for i in 0..3 {
-            let hh = h[i][0] * hx[alpha][0] + h[i][1] * hx[alpha][1] + h[i][2] * hx[alpha][2];
-            qk[alpha][i] = k * (bu[i] - hh);
-        }
-    }
+    let q = modes(u, &h, &hx);
+    let (s, qk) = if hist.len() > 1 {
+        let c = super::hourglass::centre(mat, &h, hist).ok_or(ElementFailure::InvertedCurrent)?;
+        let qk = super::hourglass::forces(&q, k, mu, geo.rms_gradient(), &c);
+        (c.stress, qk)
+    } else {
+        let s = point_stress(mat, &h, hist, 0).ok_or(ElementFailure::InvertedCurrent)?;
+        let qk: [Vec3; 4] = std::array::from_fn(|alpha| std::array::from_fn(|i| k * q[alpha][i]));
+        (s, qk)
+    };
     // f_a = V s bbar_a + sum_alpha gamma_alpha,a qk_alpha
     //     = (V s - M) bbar_a + sum_alpha base_alpha,a qk_alpha,
     // with M_ij = sum_alpha qk_alpha,i hx_alpha,j.
@@ -281,6 +278,26 @@ fn force_mean(
         }
     }
     Ok(())
+}
+
+/// The hourglass displacement sums q_alpha = sum_a gamma_alpha,a u_a = sum_a base_alpha,a
+/// u_a - h hx_alpha (since sum_a u_a bbar_a^T = h).
+#[inline(always)]
+pub(in crate::fem) fn modes(u: &[Vec3; 8], h: &Mat3, hx: &[Vec3; 4]) -> [Vec3; 4] {
+    let mut q = [[0.0; 3]; 4];
+    for alpha in 0..4 {
+        let mut bu = [0.0; 3];
+        for a in 0..8 {
+            for i in 0..3 {
+                bu[i] += HG_BASE[alpha][a] * u[a][i];
+            }
+        }
+        for i in 0..3 {
+            let hh = h[i][0] * hx[alpha][0] + h[i][1] * hx[alpha][1] + h[i][2] * hx[alpha][2];
+            q[alpha][i] = bu[i] - hh;
+        }
+    }
+    q
 }
 
 #[cfg(test)]

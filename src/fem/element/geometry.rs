@@ -111,6 +111,12 @@ pub fn geometry(x: &[Vec3; 8]) -> Result<(Geometry, GaussGeometry), ElementFailu
 }
 
 impl Geometry {
+    /// The root mean square of the nodes' mean gradients, sqrt(sum_a |bbar_a|^2 / 8).
+    #[inline]
+    pub(in crate::fem) fn rms_gradient(&self) -> f64 {
+        (self.vbb / (8.0 * self.volume)).sqrt()
+    }
+
     #[inline]
     pub(in crate::fem) fn bbar_at(&self, a: usize) -> Vec3 {
         [self.bbar[0][a], self.bbar[1][a], self.bbar[2][a]]
@@ -203,7 +209,7 @@ pub(super) fn put(t: &mut QMat, q: usize, m: &Mat3, w: f64) {
 /// hx_alpha, and f_a = k sum_alpha gamma_alpha,a q_alpha with q_alpha = sum_a
 /// gamma_alpha,a u_a.
 #[inline]
-pub(super) fn hourglass(geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
+pub(in crate::fem) fn hourglass(geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
     let hx = geo.hx;
     // Scaled so that coefficient 1 matches the shear part of the fully integrated
     // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are

@@ -6,10 +6,12 @@
 //! One concept per file: `geometry` (the reference-configuration data and the Gauss-point
 //! array helpers), `kinematics` (deformation gradient, mean dilatation), `force` (internal
 //! force), `matrix` (the stiffness matrix of a linear element), `tangent` (diagonal blocks
-//! of the tangent) and `stress` (average Cauchy stress).
+//! of the tangent), `stress` (average Cauchy stress) and `hourglass` (the hourglass
+//! control of plastic one-point elements).
 
 mod force;
 mod geometry;
+mod hourglass;
 mod kinematics;
 mod matrix;
 mod stress;
@@ -17,11 +19,15 @@ mod tangent;
 
 pub use force::{internal_force, internal_force_with};
 pub use geometry::{geometry, reference_shape, volume, GaussGeometry, Geometry};
+pub use hourglass::Hourglass;
 pub use matrix::{element_matrix, matrix_force, ElementMatrix};
 pub use stress::{average_cauchy, average_cauchy_with};
 pub use tangent::{diagonal_blocks, diagonal_blocks_with};
 
+pub(in crate::fem) use force::modes;
+pub(in crate::fem) use geometry::hourglass as hourglass_stiffness;
 pub(in crate::fem) use geometry::{at, g_at, gauss_gradient, mean_gradient};
+pub(in crate::fem) use hourglass::{centre, dev_sym, forces, SLOTS};
 pub(in crate::fem) use kinematics::{deformation, mean_dilatation, scaled, sub_identity};
 pub(in crate::fem) use tangent::{add_tangent, point_tangent};
 

@@ -224,7 +224,11 @@ fn diagonal_mean(
     let (_, mu) = mat.lambda_mu();
     let h = mean_gradient(u, geo);
     let pt = point_tangent(mat, &h, hist.first());
-    let (hx, k) = hourglass(geo, coefficient, mu);
+    let (hx, mut k) = hourglass(geo, coefficient, mu);
+    if hist.len() > 1 {
+        // A plastic element's hourglass stiffness of the step (see `hourglass`).
+        k *= super::hourglass::centre(mat, &h, hist).map_or(1.0, |c| c.r);
+    }
     for (a, da) in d.iter_mut().enumerate() {
         let b = geo.bbar_at(a);
         add_tangent(da, &pt, &b, geo.volume);
