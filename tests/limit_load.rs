@@ -7,65 +7,17 @@
 
 mod common;
 
+use common::punch::{self, A, L};
+
 const SY: f64 = 100.0;
-/// Half-width of the punch; the block is 6 a wide and 6 a deep.
-const A: f64 = 1.0;
-const L: f64 = 6.0;
 const N: usize = 10;
 const P_MAX: f64 = 2.0 * 296.85;
 
 fn scene() -> String {
-    let t = L / N as f64;
     format!(
-        r#"
-kinematics = "small"
-[[body]]
-name = "block"
-box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
-divisions = [{N}, {N}, 1]
-material = {{ model = "j2_plastic", E = 200e3, nu = 0.3, yield_stress = {SY} }}
-volumetric = "mean_dilatation"
-[[node_set]]
-name = "all"
-box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
-[[node_set]]
-name = "x0"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[node_set]]
-name = "bottom"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "right"
-plane = {{ point = [{L}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[side_set]]
-name = "punch"
-box = {{ min = [0.0, {L}, 0.0], max = [{A}, {L}, {t}] }}
-[[displacement]]
-node_set = "all"
-components = ["z"]
-value = 0.0
-[[displacement]]
-node_set = "x0"
-components = ["x"]
-value = 0.0
-[[displacement]]
-node_set = "bottom"
-components = ["x", "y"]
-value = 0.0
-[[displacement]]
-node_set = "right"
-components = ["x"]
-value = 0.0
-[[traction]]
-side_set = "punch"
-vector = [0.0, -1.0, 0.0]
-function = [[0.0, 0.0], [1.0, {P_MAX}]]
-[time]
-segments = [{{ end = 1.0, steps = 8 }}]
-[solver]
-max_iterations = 2000
-max_cutbacks = 4
-"#
+        "{}[[traction]]\nside_set = \"punch_face\"\nvector = [0.0, -1.0, 0.0]\nfunction = [[0.0, 0.0], [1.0, {P_MAX}]]\n\
+         [time]\nsegments = [{{ end = 1.0, steps = 8 }}]\n[solver]\nmax_iterations = 2000\nmax_cutbacks = 4\n",
+        punch::block(N, 200e3, 0.3, SY, "volumetric = \"mean_dilatation\"")
     )
 }
 

@@ -13,12 +13,11 @@ use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;
 use solver::solver::Stepper;
 
+use common::punch::{self, A, L};
+
 const E: f64 = 200e3;
 const NU: f64 = 0.3;
 const SY: f64 = 250.0;
-/// Half-width of the punch; the block is 6 a wide and 6 a deep.
-const A: f64 = 1.0;
-const L: f64 = 6.0;
 
 fn scene(n: usize, depth: f64, steps: usize, volumetric: &str) -> String {
     scene_with(
@@ -33,58 +32,10 @@ fn scene(n: usize, depth: f64, steps: usize, volumetric: &str) -> String {
 /// The prescribed punch with the block's element line (`volumetric = ...` or
 /// `integration = ...`) and yield stress given.
 fn scene_with(n: usize, depth: f64, steps: usize, element: &str, sy: f64) -> String {
-    let t = L / n as f64;
     format!(
-        r#"
-kinematics = "small"
-[[body]]
-name = "block"
-box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
-divisions = [{n}, {n}, 1]
-material = {{ model = "j2_plastic", E = {E}, nu = {NU}, yield_stress = {sy} }}
-{element}
-[[node_set]]
-name = "all"
-box = {{ min = [0.0, 0.0, 0.0], max = [{L}, {L}, {t}] }}
-[[node_set]]
-name = "x0"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[node_set]]
-name = "bottom"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "right"
-plane = {{ point = [{L}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[node_set]]
-name = "punch"
-box = {{ min = [0.0, {L}, 0.0], max = [{A}, {L}, {t}] }}
-[[displacement]]
-node_set = "all"
-components = ["z"]
-value = 0.0
-[[displacement]]
-node_set = "x0"
-components = ["x"]
-value = 0.0
-[[displacement]]
-node_set = "bottom"
-components = ["x", "y"]
-value = 0.0
-[[displacement]]
-node_set = "right"
-components = ["x"]
-value = 0.0
-[[displacement]]
-node_set = "punch"
-components = ["y"]
-function = [[0.0, 0.0], [1.0, {d}]]
-[time]
-segments = [{{ end = 1.0, steps = {steps} }}]
-[solver]
-tolerance = 1e-8
-max_iterations = 200000
-"#,
-        d = -depth
+        "{}{}[time]\nsegments = [{{ end = 1.0, steps = {steps} }}]\n[solver]\ntolerance = 1e-8\nmax_iterations = 200000\n",
+        punch::block(n, E, NU, sy, element),
+        punch::pressed(depth)
     )
 }
 

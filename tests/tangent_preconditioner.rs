@@ -10,57 +10,13 @@ use solver::problem::{Preconditioner, Problem};
 use solver::solver::Stepper;
 
 /// A flat punch (prescribed displacement of the block's top nodes under it) pressed into
-/// an elastic-perfectly plastic block in plane strain (half model, u_z = 0), mean
-/// dilatation: the mechanism of Prandtl's punch forms within the ten increments.
+/// an elastic-perfectly plastic block in plane strain, mean dilatation: the mechanism of
+/// Prandtl's punch forms within the ten increments.
 fn punch(n: usize) -> String {
-    let t = 6.0 / n as f64;
     format!(
-        r#"
-kinematics = "small"
-[[body]]
-name = "block"
-box = {{ min = [0.0, 0.0, 0.0], max = [6.0, 6.0, {t}] }}
-divisions = [{n}, {n}, 1]
-material = {{ model = "j2_plastic", E = 200e3, nu = 0.3, yield_stress = 100.0 }}
-volumetric = "mean_dilatation"
-[[node_set]]
-name = "all"
-box = {{ min = [0.0, 0.0, 0.0], max = [6.0, 6.0, {t}] }}
-[[node_set]]
-name = "x0"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[node_set]]
-name = "bottom"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "right"
-plane = {{ point = [6.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[node_set]]
-name = "punch"
-box = {{ min = [0.0, 6.0, 0.0], max = [1.0, 6.0, {t}] }}
-[[displacement]]
-node_set = "all"
-components = ["z"]
-value = 0.0
-[[displacement]]
-node_set = "x0"
-components = ["x"]
-value = 0.0
-[[displacement]]
-node_set = "bottom"
-components = ["x", "y"]
-value = 0.0
-[[displacement]]
-node_set = "right"
-components = ["x"]
-value = 0.0
-[[displacement]]
-node_set = "punch"
-components = ["y"]
-function = [[0.0, 0.0], [1.0, -0.06]]
-[time]
-segments = [{{ end = 1.0, steps = 10 }}]
-"#
+        "{}{}[time]\nsegments = [{{ end = 1.0, steps = 10 }}]\n",
+        common::punch::block(n, 200e3, 0.3, 100.0, "volumetric = \"mean_dilatation\""),
+        common::punch::pressed(0.06)
     )
 }
 

@@ -3,6 +3,7 @@
 
 pub mod bad_scene;
 pub mod paths;
+pub mod punch;
 pub mod restart;
 pub mod scenes;
 
