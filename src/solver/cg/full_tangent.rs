@@ -44,11 +44,13 @@ pub(super) struct FullTangent {
 }
 
 impl FullTangent {
-    /// Assembles T^T K T by probing `op` and factors it (collective).
+    /// Assembles T^T K T by probing `op` and factors it (collective); Ok(Err(entries)) when
+    /// the factor would hold more than MAX_FACTOR_ENTRIES (the same on every rank: every
+    /// rank analyses the same matrix).
     pub(super) fn build<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
         pb: &Problem<C>,
         op: &mut O,
-    ) -> Result<Self, SolveFailure> {
+    ) -> Result<Result<Self, usize>, SolveFailure> {
         let comm = pb.comm;
         let mesh = pb.asm.mesh;
         let global = pb.global;
@@ -127,18 +129,19 @@ impl FullTangent {
             p.push(m);
             p
         };
-        let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, usize::MAX / 4) else {
-            unreachable!("an unbounded budget always fits")
+        let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, MAX_FACTOR_ENTRIES)
+        else {
+            return Ok(Err(MAX_FACTOR_ENTRIES));
         };
         let chol = SparseCholesky::new_modified(&a, perm, &counts, PIVOT_FLOOR);
-        Ok(FullTangent {
+        Ok(Ok(FullTangent {
             first,
             basis,
             nnz: chol.nnz(),
             chol,
             x: vec![0.0; m],
             unknowns: m,
-        })
+        }))
     }
 
     /// z = T (T^T K T)^-1 T^T r on the owned nodes (collective).
@@ -182,6 +185,10 @@ impl FullTangent {
         }
     }
 }
+
+/// The most entries the factor may hold (12 bytes each, on every rank: 1.5 GB); a larger
+/// one is not built and block Jacobi preconditions instead, which the log says.
+const MAX_FACTOR_ENTRIES: usize = 1 << 27;
 
 /// A pivot of the factor is at least this fraction of its diagonal entry (a modified
 /// Cholesky): where the finite-difference tangent is indefinite (points on the kink of the
@@ -290,7 +297,16 @@ impl Cg {
         self.tangent = None;
         let mut op = fine_op!(self, pb, u, linear, s);
         op.central = true;
-        let t = FullTangent::build(pb, &mut op)?;
+        let t = match FullTangent::build(pb, &mut op)? {
+            Ok(t) => t,
+            Err(limit) => {
+                self.use_tangent = false;
+                self.drop_full_tangent(&format!(
+                    "its factor would hold more than {limit} entries; for the rest of the run"
+                ));
+                return Ok(());
+            }
+        };
         self.tangent_builds += 1;
         self.tangent_builds_here = if why == MODEL_START {
             1
