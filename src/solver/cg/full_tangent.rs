@@ -275,10 +275,7 @@ impl Cg {
     pub(super) fn drop_full_tangent(&mut self, why: &str) {
         self.tangent = None;
         let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
-        self.rebuild_note = Some(match self.rebuild_note.take() {
-            Some(old) => format!("{old}\n{note}"),
-            None => note,
-        });
+        self.add_note(note);
     }
 
     /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
@@ -320,10 +317,7 @@ impl Cg {
             self.tangent_builds,
             start.elapsed().as_secs_f64()
         );
-        self.rebuild_note = Some(match self.rebuild_note.take() {
-            Some(old) => format!("{old}\n{note}"),
-            None => note,
-        });
+        self.add_note(note);
         self.tangent = Some(t);
         Ok(())
     }

@@ -223,6 +223,14 @@ impl Cg {
         }
     }
 
+    /// Adds a line to the notes the log shows at -vv (`rebuild_note`).
+    fn add_note(&mut self, note: String) {
+        self.rebuild_note = Some(match self.rebuild_note.take() {
+            Some(old) => format!("{old}\n{note}"),
+            None => note,
+        });
+    }
+
     /// Uses the full tangent preconditioner (assembled and factored at every model problem).
     pub fn use_full_tangent(&mut self) {
         self.use_tangent = true;

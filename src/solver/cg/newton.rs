@@ -106,14 +106,6 @@ impl Cg {
         })
     }
 
-    /// Adds a line to the notes the log shows at -vv.
-    fn add_note(&mut self, note: String) {
-        self.rebuild_note = Some(match self.rebuild_note.take() {
-            Some(old) => format!("{old}\n{note}"),
-            None => note,
-        });
-    }
-
     /// Linear PCG on T^T K_t(u) T du = r to |r - A du| <= target or `budget` iterations;
     /// the direction in `self.du`, the outer residual kept in `self.r`. A direction of
     /// non-positive curvature (the finite-difference tangent of a point at the yield
