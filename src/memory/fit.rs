@@ -102,7 +102,7 @@ impl Fit {
 pub fn estimate_line(e: &Estimate) -> String {
     format!(
         "memory: estimated peak {} per rank on {} rank(s), {} in all (runtime {}, whole mesh {}, \
-         the rank's share {}, coarse operator {})",
+         the rank's share {}, preconditioner {})",
         fb(e.per_rank()),
         e.ranks,
         fb(e.total()),
@@ -138,6 +138,7 @@ mod tests {
             multilevel: false,
             friction: false,
             nonlinear: false,
+            tangent: false,
         };
         let one = estimate(&c, 1).per_rank();
         assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());

@@ -32,6 +32,8 @@ pub struct Counts {
     /// A body is not linear elastic under small strain, or a pressure follows the surface:
     /// the model solve's nonlinear path and its vectors (solver/cg).
     pub nonlinear: bool,
+    /// The full tangent preconditioner will be used: its factor on every rank.
+    pub tangent: bool,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -94,6 +96,24 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
 const MULTILEVEL_SPLIT_PER_NODE: f64 = 409.0;
 const MULTILEVEL_WHOLE_PER_NODE: f64 = 198.0;
+/// The full tangent preconditioner on every rank, per node of the whole mesh: the
+/// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
+/// node graph), held at the build's peak as the gathered (row, column, value) triples
+/// (24 bytes) and their u32 copy (16); then the matrix (12) beside its Cholesky factor
+/// (12 bytes per entry). The factor's entries by nested dissection grow as n^(4/3) on a
+/// 3-D mesh; TANGENT_FILL x n^(4/3) bounds the measured ones: the plane-strain punch at
+/// 40 x 40 and 80 x 80 (3362 and 13122 nodes) factored into 0.69 and 3.70 million entries
+/// (TANGENT_FILL x n^(4/3): 0.69 and 4.17 million).
+const TANGENT_ENTRIES_PER_NODE: f64 = 27.0 * 9.0;
+const TANGENT_FILL: f64 = 13.5;
+
+/// The full tangent's bytes at its build's peak for `nodes` nodes.
+fn tangent_bytes(nodes: f64) -> f64 {
+    let a = TANGENT_ENTRIES_PER_NODE * nodes;
+    let factor = TANGENT_FILL * nodes.powf(4.0 / 3.0);
+    (40.0 * a).max(12.0 * (a + factor))
+}
+
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
 /// Calibrated: one rank without mpirun, one rank under mpirun, more ranks.
 const FIXED_SERIAL: f64 = 20.0 * MIB;
@@ -112,8 +132,8 @@ pub struct Estimate {
     pub whole_mesh: f64,
     /// The rank's share of the mesh, with its ghost layer.
     pub share: f64,
-    /// The coarse operator of the two-level preconditioner (dense, on every rank), or the
-    /// multilevel hierarchy.
+    /// The coarse operator of the two-level preconditioner (dense, on every rank), the
+    /// multilevel hierarchy, or the full tangent and its factor (on every rank).
     pub coarse: f64,
 }
 
@@ -160,7 +180,9 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         + if c.friction { FRICTION_PER_NODE } else { 0.0 }
         + if c.nonlinear { NONLINEAR_PER_NODE } else { 0.0 };
     let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
-    let coarse = if c.two_level {
+    let coarse = if c.tangent {
+        tangent_bytes(n)
+    } else if c.two_level {
         let aggregates = (n / COARSE_NODES_PER_AGGREGATE)
             .ceil()
             .clamp(1.0, COARSE_MAX_AGGREGATES);

@@ -175,6 +175,24 @@ pub fn nearly_incompressible(material: &crate::material::Material) -> bool {
 /// Meshes from this many nodes up use the two-level preconditioner by default.
 pub const TWO_LEVEL_NODES: usize = 20_000;
 
+/// Under `auto`, a mesh with a plastic body and fewer nodes than this uses the full tangent
+/// preconditioner (`solver::choice`). Every rank holds the whole factor, so the bound is
+/// that of a factor one machine holds many times over: the plane-strain punch at 80 x 80
+/// (13122 nodes) factors into 3.7 million entries (45 MiB).
+pub const TANGENT_NODES: usize = TWO_LEVEL_NODES;
+
+/// Whether a run uses the full tangent preconditioner: by name, or under `auto` where a
+/// body is plastic (its tangent softens by orders of magnitude where it yields, which
+/// block Jacobi and the multilevel hierarchy, built on the operator's elastic structure,
+/// do not follow: docs/plasticity-solve.md) on fewer than TANGENT_NODES nodes.
+pub fn uses_full_tangent(p: Preconditioner, plastic: bool, nodes: u64) -> bool {
+    match p {
+        Preconditioner::Tangent => true,
+        Preconditioner::Auto => plastic && nodes < TANGENT_NODES as u64,
+        _ => false,
+    }
+}
+
 impl Default for SolverSettings {
     fn default() -> Self {
         SolverSettings {

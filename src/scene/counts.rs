@@ -6,7 +6,10 @@ use super::types::{BodyDef, Integration, MaterialDef, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
-use crate::problem::{Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES};
+use crate::problem::{
+    uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE,
+    TWO_LEVEL_NODES,
+};
 use std::path::Path;
 
 /// Node and element ids are 32-bit, and some sums double them: the mesh may have at most
@@ -19,6 +22,8 @@ pub struct SceneSize {
     pub counts: Counts,
     /// The scene's `solver.preconditioner` (the two-level choice of `counts` follows it).
     pub preconditioner: Preconditioner,
+    /// A body is plastic (`auto` then may choose the full tangent preconditioner).
+    pub plastic: bool,
     /// Set when the counts exceed the 32-bit ids: the error naming the body's divisions.
     pub beyond_ids: Option<SceneError>,
 }
@@ -29,7 +34,8 @@ impl SceneSize {
         if let Some(p) = p {
             self.preconditioner = p;
             self.counts.two_level = two_level(p, self.counts.nodes);
-            self.counts.multilevel = multilevel(p, self.counts.nodes);
+            self.counts.multilevel = multilevel(p, self.counts.nodes, self.plastic);
+            self.counts.tangent = uses_full_tangent(p, self.plastic, self.counts.nodes);
         }
         self
     }
@@ -41,11 +47,16 @@ impl SceneSize {
 }
 
 /// Whether the multilevel hierarchy is built: by name, or under `auto` on meshes above the
-/// size it keeps Jacobi on and below the two-level threshold (solver::stepping).
-fn multilevel(p: Preconditioner, nodes: u64) -> bool {
+/// size it keeps Jacobi on and below the two-level threshold (solver::stepping), unless
+/// the full tangent preconditions instead.
+fn multilevel(p: Preconditioner, nodes: u64, plastic: bool) -> bool {
     match p {
         Preconditioner::Multilevel => true,
-        Preconditioner::Auto => nodes > 300 && nodes < TWO_LEVEL_NODES as u64,
+        Preconditioner::Auto => {
+            nodes > 300
+                && nodes < TWO_LEVEL_NODES as u64
+                && !uses_full_tangent(p, plastic, nodes)
+        }
         _ => false,
     }
 }
@@ -84,6 +95,7 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         .and_then(Preconditioner::from_name)
         .unwrap_or_default();
     let mut counts = Counts::default();
+    let mut plastic = false;
     let mut beyond_ids = None;
     for (i, b) in raw.body.iter().enumerate() {
         let (e, n) = block_counts(b)?;
@@ -104,6 +116,7 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);
         }
+        plastic |= matches!(b.material, MaterialDef::J2Plastic { .. });
         counts.nonlinear |= !matches!(b.material, MaterialDef::LinearElastic { .. })
             || raw.kinematics != Kinematics::Small;
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
@@ -119,10 +132,12 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         }
     }
     counts.two_level = two_level(preconditioner, counts.nodes);
-    counts.multilevel = multilevel(preconditioner, counts.nodes);
+    counts.multilevel = multilevel(preconditioner, counts.nodes, plastic);
+    counts.tangent = uses_full_tangent(preconditioner, plastic, counts.nodes);
     Some(SceneSize {
         counts,
         preconditioner,
+        plastic,
         beyond_ids,
     })
 }
@@ -154,6 +169,8 @@ pub fn problem_size(p: &Problem) -> SceneSize {
         .map(|(b, _)| b.num_elements as u64)
         .sum();
     let nodes = m.num_nodes() as u64;
+    let plastic = p.body_models.iter().any(|b| b.material.is_plastic());
+    let pre = p.solver.preconditioner;
     SceneSize {
         counts: Counts {
             elements: m.num_elements() as u64,
@@ -162,13 +179,15 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             // Conservative: which elements share shapes is known once the assembly
             // counts them.
             shaped_elements: m.num_elements() as u64,
-            two_level: two_level(p.solver.preconditioner, nodes),
-            multilevel: multilevel(p.solver.preconditioner, nodes),
+            two_level: two_level(pre, nodes),
+            multilevel: multilevel(pre, nodes, plastic),
+            tangent: uses_full_tangent(pre, plastic, nodes),
             friction: p.contacts.iter().any(|c| c.mu > 0.0),
             nonlinear: !crate::problem::linear_models(&p.body_models)
                 || (p.kinematics == Kinematics::Large && !p.pressures.is_empty()),
         },
-        preconditioner: p.solver.preconditioner,
+        preconditioner: pre,
+        plastic,
         beyond_ids: None,
     }
 }

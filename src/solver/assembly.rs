@@ -282,27 +282,81 @@ impl<'a> Assembly<'a> {
                 }
             }
             let ue = self.gather(e, u);
-            if let Some(k) = self.shapes.matrix(e) {
-                element::matrix_force(k, &ue, &mut fe);
-                self.scatter(e, &fe, f);
-                continue;
-            }
-            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
-            let m = &self.models[self.mesh.element_body[e] as usize];
-            let hist = self.hist(e);
-            element::internal_force_with(
-                geo,
-                gauss,
-                &ue,
-                &m.material,
-                m.formulation,
-                hist,
-                &mut fe,
-            )
-            .map_err(|k| self.fail(e, k))?;
+            self.element_force(e, &ue, &mut fe)?;
             self.scatter(e, &fe, f);
         }
         Ok(())
+    }
+
+    /// y = (f_int(u + h x) - f_int(u - h x)) / (2 h) on every local node (complete on owned
+    /// nodes): the central difference of the internal force along x, the history held at
+    /// its committed state. Only the elements with a node where x is not zero are
+    /// evaluated (`nonzero`, one flag per local node, set here): any other element
+    /// contributes f_e(u) - f_e(u) = 0, so leaving it out changes only the rounding of the
+    /// sums. An element with a stored matrix contributes K_e x_e.
+    pub fn internal_force_difference(
+        &self,
+        u: &[Vec3],
+        x: &[Vec3],
+        h: f64,
+        y: &mut [Vec3],
+        nonzero: &mut [bool],
+    ) -> Result<(), ElementError> {
+        for (z, v) in nonzero.iter_mut().zip(x) {
+            *z = v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0;
+        }
+        y.iter_mut().for_each(|v| *v = [0.0; 3]);
+        let (mut plus, mut minus) = ([[0.0; 3]; 8], [[0.0; 3]; 8]);
+        for e in 0..self.mesh.elements.len() {
+            if self.mesh.elements[e].iter().all(|&n| !nonzero[n as usize]) {
+                continue;
+            }
+            let xe = self.gather(e, x);
+            if let Some(k) = self.shapes.matrix(e) {
+                element::matrix_force(k, &xe, &mut plus);
+                self.scatter(e, &plus, y);
+                continue;
+            }
+            let ue = self.gather(e, u);
+            let shifted = |s: f64| -> [Vec3; 8] {
+                std::array::from_fn(|a| std::array::from_fn(|i| ue[a][i] + s * xe[a][i]))
+            };
+            self.element_force(e, &shifted(h), &mut plus)?;
+            self.element_force(e, &shifted(-h), &mut minus)?;
+            for a in 0..8 {
+                for i in 0..3 {
+                    plus[a][i] = (plus[a][i] - minus[a][i]) / (2.0 * h);
+                }
+            }
+            self.scatter(e, &plus, y);
+        }
+        Ok(())
+    }
+
+    /// Element `e`'s nodal internal forces at its displacements `ue`, into `fe`.
+    #[inline(always)]
+    fn element_force(
+        &self,
+        e: usize,
+        ue: &[Vec3; 8],
+        fe: &mut [Vec3; 8],
+    ) -> Result<(), ElementError> {
+        if let Some(k) = self.shapes.matrix(e) {
+            element::matrix_force(k, ue, fe);
+            return Ok(());
+        }
+        let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
+        let m = &self.models[self.mesh.element_body[e] as usize];
+        element::internal_force_with(
+            geo,
+            gauss,
+            ue,
+            &m.material,
+            m.formulation,
+            self.hist(e),
+            fe,
+        )
+        .map_err(|k| self.fail(e, k))
     }
 
     /// Adds element `e`'s nodal forces into `f`.

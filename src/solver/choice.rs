@@ -2,6 +2,8 @@
 //!
 //! By name: that one, or a refusal with the reason and block Jacobi instead. Under `auto`
 //! (the default), by what makes one-level block Jacobi stall and what each choice costs:
+//! - below TANGENT_NODES nodes with a plastic body: the full tangent (its factor follows
+//!   the softened tangent where the body yields; `problem::uses_full_tangent`);
 //! - at most SINGLETON_NODES nodes: block Jacobi (an iteration costs little), unless a
 //!   body is nearly incompressible (Jacobi's iterations grow with K/G): multilevel;
 //! - below TWO_LEVEL_NODES: multilevel from the start when a body is held by contact alone
@@ -12,7 +14,10 @@
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
-use crate::problem::{Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TWO_LEVEL_NODES};
+use crate::problem::{
+    uses_full_tangent, Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TANGENT_NODES,
+    TWO_LEVEL_NODES,
+};
 use crate::solver::cg::SWITCH_AFTER;
 use crate::solver::coarse::CoarseSpace;
 use crate::solver::multilevel::transfer::SINGLETON_NODES;
@@ -65,10 +70,35 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(
             "preconditioner: full tangent (the model problem's tangent assembled and factored)"
                 .into(),
         ),
+        Preconditioner::Auto if full_tangent(problem) => {
+            let plastic: Vec<String> = problem
+                .mesh
+                .bodies
+                .iter()
+                .zip(&problem.body_models)
+                .filter(|(_, model)| model.material.is_plastic())
+                .map(|(body, _)| body.name.clone())
+                .collect();
+            let note = format!(
+                "preconditioner: full tangent (plastic: {}; {nodes} nodes, below {TANGENT_NODES})",
+                named(&plastic)
+            );
+            (None, None, note)
+        }
         Preconditioner::Auto if nodes <= SINGLETON_NODES => small_mesh(comm, problem, mesh),
         Preconditioner::Auto if nodes < TWO_LEVEL_NODES => medium_mesh(comm, problem, mesh),
         Preconditioner::Auto => two_level(comm, problem, mesh, false),
     }
+}
+
+/// Whether the run uses the full tangent preconditioner (`problem::uses_full_tangent`).
+pub fn full_tangent(problem: &Problem) -> bool {
+    let plastic = problem.body_models.iter().any(|m| m.material.is_plastic());
+    uses_full_tangent(
+        problem.solver.preconditioner,
+        plastic,
+        problem.mesh.num_nodes() as u64,
+    )
 }
 
 /// The coarse space, the multilevel preconditioner (with `true` when on standby) and the

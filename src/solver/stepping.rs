@@ -168,7 +168,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 if let Some((m, standby)) = multilevel {
                     cg.set_multilevel(m, standby);
                 }
-                if problem.solver.preconditioner == crate::problem::Preconditioner::Tangent {
+                if super::choice::full_tangent(problem) {
                     cg.use_full_tangent();
                 }
                 cg

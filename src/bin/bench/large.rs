@@ -319,6 +319,7 @@ mod tests {
             multilevel: false,
             friction: false,
             nonlinear: false,
+            tangent: false,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2, Precond::TwoLevel).unwrap();

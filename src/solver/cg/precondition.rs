@@ -115,6 +115,41 @@ pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     pub(super) central: bool,
 }
 
+impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
+    /// y = (r(u + eps x) - r(u - eps x)) / (2 eps) for the forces' parts that depend on u:
+    /// the elements where x is not zero (`Assembly::internal_force_difference`), the
+    /// springs (linear: K x exactly) and follower loads; `trial` holds u + eps x on entry.
+    /// The fixed extra forces do not depend on u.
+    fn central_difference(
+        &mut self,
+        x: &[Vec3],
+        y: &mut [Vec3],
+        eps: f64,
+    ) -> Result<(), SolveFailure> {
+        let pb = self.pb;
+        let r = pb.asm.internal_force_difference(self.u, x, eps, y, self.nonzero);
+        agree(pb.comm, r)?;
+        crate::springs::add_action(pb.springs, x, y);
+        if pb.loads.is_follower() {
+            let r = pb.loads.external_force(pb.asm, pb.time, self.trial, self.fe_trial);
+            agree(pb.comm, r)?;
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    self.trial[a][i] = self.u[a][i] - eps * x[a][i];
+                }
+            }
+            let r = pb.loads.external_force(pb.asm, pb.time, self.trial, self.fi_trial);
+            agree(pb.comm, r)?;
+            for a in 0..x.len() {
+                for i in 0..3 {
+                    y[a][i] -= (self.fe_trial[a][i] - self.fi_trial[a][i]) / (2.0 * eps);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
     type Error = SolveFailure;
     fn apply(&mut self, x: &mut [Vec3], y: &mut [Vec3]) -> Result<(), SolveFailure> {
@@ -135,22 +170,10 @@ impl<C: Comm + ?Sized> FineOperator for FineOp<'_, '_, C> {
                     self.trial[a][i] = self.u[a][i] + eps * x[a][i];
                 }
             }
-            pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
             if self.central {
-                for a in 0..x.len() {
-                    for i in 0..3 {
-                        y[a][i] = self.fi_trial[a][i] - self.fe_trial[a][i];
-                        self.trial[a][i] = self.u[a][i] - eps * x[a][i];
-                    }
-                }
-                pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
-                for a in 0..x.len() {
-                    for i in 0..3 {
-                        y[a][i] =
-                            (y[a][i] - (self.fi_trial[a][i] - self.fe_trial[a][i])) / (2.0 * eps);
-                    }
-                }
+                self.central_difference(x, y, eps)?;
             } else {
+                pb.forces(self.trial, self.fi_trial, self.fe_trial)?;
                 for a in 0..x.len() {
                     for i in 0..3 {
                         y[a][i] = ((self.fi_trial[a][i] - self.fe_trial[a][i])
