@@ -7,8 +7,7 @@ use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
 use crate::problem::{
-    uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE,
-    TWO_LEVEL_NODES,
+    uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
 };
 use std::path::Path;
 
@@ -53,9 +52,7 @@ fn multilevel(p: Preconditioner, nodes: u64, plastic: bool) -> bool {
     match p {
         Preconditioner::Multilevel => true,
         Preconditioner::Auto => {
-            nodes > 300
-                && nodes < TWO_LEVEL_NODES as u64
-                && !uses_full_tangent(p, plastic, nodes)
+            nodes > 300 && nodes < TWO_LEVEL_NODES as u64 && !uses_full_tangent(p, plastic, nodes)
         }
         _ => false,
     }

@@ -347,16 +347,8 @@ impl<'a> Assembly<'a> {
         }
         let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
         let m = &self.models[self.mesh.element_body[e] as usize];
-        element::internal_force_with(
-            geo,
-            gauss,
-            ue,
-            &m.material,
-            m.formulation,
-            self.hist(e),
-            fe,
-        )
-        .map_err(|k| self.fail(e, k))
+        element::internal_force_with(geo, gauss, ue, &m.material, m.formulation, self.hist(e), fe)
+            .map_err(|k| self.fail(e, k))
     }
 
     /// Adds element `e`'s nodal forces into `f`.

@@ -40,6 +40,8 @@ pub(super) struct FullTangent {
     x: Vec<f64>,
     /// Factor entries, for the log.
     pub(super) nnz: usize,
+    /// Seconds spent colouring, probing, ordering and factoring, for the log.
+    pub(super) seconds: [f64; 4],
     pub(super) unknowns: usize,
 }
 
@@ -75,7 +77,9 @@ impl FullTangent {
         for l in 0..owned {
             owned_of[mesh.node_global[l] as usize] = l;
         }
+        let clock = std::time::Instant::now();
         let col = colouring(pb, n);
+        let coloured = clock.elapsed().as_secs_f64();
         let nl = mesh.num_nodes();
         let (mut x, mut y) = (vec![[0.0; 3]; nl], vec![[0.0; 3]; nl]);
         // Triplets (row, column, value) of the owned rows, as f64 for the gather.
@@ -124,6 +128,7 @@ impl FullTangent {
         }
         drop(all);
         let a = Csr::from_triplets(m, m, trip).symmetric_part();
+        let probed = clock.elapsed().as_secs_f64();
         let node_ptr: Vec<usize> = {
             let mut p: Vec<usize> = (0..n).filter(|&g| count[g] > 0).map(|g| first[g]).collect();
             p.push(m);
@@ -133,8 +138,16 @@ impl FullTangent {
         else {
             return Ok(Err(MAX_FACTOR_ENTRIES));
         };
+        let analysed = clock.elapsed().as_secs_f64();
         let chol = SparseCholesky::new_modified(&a, perm, &counts, PIVOT_FLOOR);
+        let factored = clock.elapsed().as_secs_f64();
         Ok(Ok(FullTangent {
+            seconds: [
+                coloured,
+                probed - coloured,
+                analysed - probed,
+                factored - analysed,
+            ],
             first,
             basis,
             nnz: chol.nnz(),
@@ -311,11 +324,15 @@ impl Cg {
             self.tangent_builds_here + 1
         };
         let note = format!(
-            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s)",
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
             t.unknowns,
             t.nnz,
             self.tangent_builds,
-            start.elapsed().as_secs_f64()
+            start.elapsed().as_secs_f64(),
+            t.seconds[0],
+            t.seconds[1],
+            t.seconds[2],
+            t.seconds[3]
         );
         self.add_note(note);
         self.tangent = Some(t);

@@ -127,18 +127,24 @@ impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
         eps: f64,
     ) -> Result<(), SolveFailure> {
         let pb = self.pb;
-        let r = pb.asm.internal_force_difference(self.u, x, eps, y, self.nonzero);
+        let r = pb
+            .asm
+            .internal_force_difference(self.u, x, eps, y, self.nonzero);
         agree(pb.comm, r)?;
         crate::springs::add_action(pb.springs, x, y);
         if pb.loads.is_follower() {
-            let r = pb.loads.external_force(pb.asm, pb.time, self.trial, self.fe_trial);
+            let r = pb
+                .loads
+                .external_force(pb.asm, pb.time, self.trial, self.fe_trial);
             agree(pb.comm, r)?;
             for a in 0..x.len() {
                 for i in 0..3 {
                     self.trial[a][i] = self.u[a][i] - eps * x[a][i];
                 }
             }
-            let r = pb.loads.external_force(pb.asm, pb.time, self.trial, self.fi_trial);
+            let r = pb
+                .loads
+                .external_force(pb.asm, pb.time, self.trial, self.fi_trial);
             agree(pb.comm, r)?;
             for a in 0..x.len() {
                 for i in 0..3 {

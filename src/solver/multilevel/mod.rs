@@ -37,6 +37,7 @@ pub mod prolongator;
 pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;
+mod supernodal;
 pub mod transfer;
 pub mod triple;
 

@@ -153,8 +153,34 @@ impl SparseCholesky {
     /// `new`, except that a pivot below `floor` times its diagonal entry is raised to that
     /// (never dropped): the factor of a positive definite matrix near `a` when `a` is
     /// indefinite or singular (a modified Cholesky), so that it preconditions CG.
+    /// Computed by supernodes (`supernodal`): the same factor up to the order of additions.
     pub fn new_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
+        super::supernodal::factor(a, perm, counts, floor)
+    }
+
+    /// `new_modified` computed column by column (the reference of the supernodal form).
+    #[cfg(test)]
+    pub(super) fn column_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
         Self::factor(a, perm, counts, Some(floor))
+    }
+
+    /// A factor from its columns (rows below the diagonal increasing) and diagonal.
+    pub(super) fn from_columns(
+        perm: Vec<usize>,
+        colptr: Vec<usize>,
+        rowidx: Vec<u32>,
+        val: Vec<f64>,
+        diag: Vec<f64>,
+    ) -> Self {
+        let n = diag.len();
+        SparseCholesky {
+            perm,
+            colptr,
+            rowidx,
+            val,
+            diag,
+            work: vec![0.0; n],
+        }
     }
 
     fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: Option<f64>) -> Self {
@@ -288,7 +314,7 @@ impl SparseCholesky {
 
 /// The elimination tree of P A P^T (parent of each column, usize::MAX at a root), by
 /// Liu's algorithm with path compression.
-fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
+pub(super) fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
     let n = a.rows;
     let mut parent = vec![usize::MAX; n];
     let mut ancestor = vec![usize::MAX; n];
@@ -312,7 +338,7 @@ fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
 /// The columns j < k of row k of L in topological order (each column before the columns
 /// its updates reach): the union of the tree paths from the entries of A's row k to k.
 #[allow(clippy::too_many_arguments)]
-fn reach(
+pub(super) fn reach(
     a: &Csr,
     perm: &[usize],
     inv: &[usize],
