@@ -61,7 +61,8 @@ pub struct BodyDef {
     pub integration: Integration,
     #[serde(default)]
     pub volumetric: Volumetric,
-    /// Hourglass stiffness coefficient, `mean` integration only.
+    /// Flanagan-Belytschko hourglass stiffness coefficient, `mean` integration only; unset:
+    /// the assumed-strain stabilisation (`fem::element::stabilization`).
     pub hourglass: Option<f64>,
 }
 

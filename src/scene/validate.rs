@@ -4,7 +4,7 @@
 use super::types::*;
 use super::PiecewiseLinear;
 use crate::fem::hex8::min_jacobian_ratio;
-use crate::fem::Formulation;
+use crate::fem::{Formulation, Stabilization};
 use crate::math::{norm, scale, Vec3};
 use crate::mesh::sets::{select_faces, select_nodes, Selector};
 use crate::mesh::{block, Body, GlobalMesh};
@@ -38,9 +38,6 @@ impl std::fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
-
-/// Default hourglass coefficient for `mean` integration.
-pub const DEFAULT_HOURGLASS: f64 = 0.1;
 
 pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
     load_scene_refined(path, 1)
@@ -297,12 +294,12 @@ impl Builder {
             (Integration::Mean, Volumetric::MeanDilatation, _) => {
                 return Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
             }
-            (Integration::Mean, Volumetric::Standard, h) => {
-                let h = h.unwrap_or(DEFAULT_HOURGLASS);
+            (Integration::Mean, Volumetric::Standard, None) => Formulation::Mean { hourglass: Stabilization::AssumedStrain },
+            (Integration::Mean, Volumetric::Standard, Some(h)) => {
                 if !(h.is_finite() && h >= 0.0) {
                     return Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, got {h}")));
                 }
-                Formulation::Mean { hourglass: h }
+                Formulation::Mean { hourglass: Stabilization::Coefficient(h) }
             }
         })
     }
