@@ -61,9 +61,18 @@ pub struct BodyDef {
     pub integration: Integration,
     #[serde(default)]
     pub volumetric: Volumetric,
-    /// Flanagan-Belytschko hourglass stiffness coefficient, `mean` integration only; unset:
-    /// the assumed-strain stabilisation (`fem::element::stabilization`).
-    pub hourglass: Option<f64>,
+    /// Hourglass control, `mean` integration only: a Flanagan-Belytschko stiffness
+    /// coefficient or "assumed_strain"; unset: "assumed_strain" for elastic bodies, 0.1
+    /// for plastic ones (`scene::validate`).
+    pub hourglass: Option<HourglassDef>,
+}
+
+/// A body's `hourglass`: a number or a name.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+pub enum HourglassDef {
+    Coefficient(f64),
+    Named(String),
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]

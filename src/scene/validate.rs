@@ -39,6 +39,9 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+/// The Flanagan-Belytschko coefficient of a plastic `mean` body that sets no `hourglass`.
+pub const DEFAULT_PLASTIC_HOURGLASS: f64 = 0.1;
+
 pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
     load_scene_refined(path, 1)
 }
@@ -229,7 +232,7 @@ impl Builder {
             };
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
-            let formulation = self.formulation(&key, b)?;
+            let formulation = self.formulation(&key, b, material.is_plastic())?;
             let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
             mesh.elements
@@ -283,25 +286,42 @@ impl Builder {
     }
 
     /// The element formulation from a body's integration, volumetric treatment and
-    /// hourglass stiffness.
-    fn formulation(&self, key: &str, b: &BodyDef) -> Result<Formulation, SceneError> {
-        Ok(match (b.integration, b.volumetric, b.hourglass) {
-            (Integration::Full, Volumetric::Standard, None) => Formulation::Full,
-            (Integration::Full, Volumetric::MeanDilatation, None) => Formulation::FullBar,
+    /// hourglass control. A `mean` body without `hourglass` takes the assumed-strain
+    /// stabilisation if elastic and Flanagan-Belytschko at `DEFAULT_PLASTIC_HOURGLASS` if
+    /// plastic (measured on the punch, docs/elements.md).
+    fn formulation(
+        &self,
+        key: &str,
+        b: &BodyDef,
+        plastic: bool,
+    ) -> Result<Formulation, SceneError> {
+        let mean = |h| Ok(Formulation::Mean { hourglass: h });
+        match (b.integration, b.volumetric, &b.hourglass) {
+            (Integration::Full, Volumetric::Standard, None) => Ok(Formulation::Full),
+            (Integration::Full, Volumetric::MeanDilatation, None) => Ok(Formulation::FullBar),
             (Integration::Full, _, Some(_)) => {
-                return Err(self.err(format!("{key}.hourglass"), "hourglass stiffness applies to integration = \"mean\" only"))
+                Err(self.err(format!("{key}.hourglass"), "hourglass stiffness applies to integration = \"mean\" only"))
             }
             (Integration::Mean, Volumetric::MeanDilatation, _) => {
-                return Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
+                Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
             }
-            (Integration::Mean, Volumetric::Standard, None) => Formulation::Mean { hourglass: Stabilization::AssumedStrain },
-            (Integration::Mean, Volumetric::Standard, Some(h)) => {
+            (Integration::Mean, Volumetric::Standard, None) if plastic => mean(Stabilization::Coefficient(DEFAULT_PLASTIC_HOURGLASS)),
+            (Integration::Mean, Volumetric::Standard, None) => mean(Stabilization::AssumedStrain),
+            (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Named(n))) => {
+                if n == "assumed_strain" {
+                    mean(Stabilization::AssumedStrain)
+                } else {
+                    Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0 or \"assumed_strain\", got \"{n}\"")))
+                }
+            }
+            (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Coefficient(h))) => {
+                let h = *h;
                 if !(h.is_finite() && h >= 0.0) {
                     return Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, got {h}")));
                 }
-                Formulation::Mean { hourglass: Stabilization::Coefficient(h) }
+                mean(Stabilization::Coefficient(h))
             }
-        })
+        }
     }
 
     /// A structured block's nodes and elements (0-based, local to the block), checked for
