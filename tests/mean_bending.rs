@@ -5,8 +5,8 @@
 //!   delta = P L^3 / (3 E I) + P L / (kappa G A),   kappa = 5/6,
 //!
 //! with nu = 0 so that the clamp adds no Poisson restraint the beam lacks. The elastic body
-//! takes the total hourglass force K q (the default assumed-strain stabilisation); a
-//! `j2_plastic` body that stays elastic, with the same stabilisation named, takes the
+//! takes the total hourglass force K q of the assumed-strain stabilisation (named); a
+//! `j2_plastic` body that stays elastic, with the same stabilisation, takes the
 //! incremental one of plastic bodies (`fem::element::hourglass`) and must give the same
 //! deflection.
 
@@ -20,11 +20,14 @@ const B: f64 = 1.0;
 const TAU: f64 = 1.0;
 
 fn scene(material: &str, steps: usize) -> String {
-    scene_with(material, steps, 4, "")
+    scene_with(material, steps, 4, AS)
 }
 
+/// The assumed-strain stabilisation, by name (the default is Flanagan-Belytschko at 0.1).
+const AS: &str = "hourglass = \"assumed_strain\"";
+
 /// The beam with `depth` elements through the depth (4 `depth` along) and the body line
-/// `extra` (an explicit `hourglass = c` selects Flanagan-Belytschko).
+/// `extra` (`hourglass = "assumed_strain"`; none: Flanagan-Belytschko at 0.1).
 fn scene_with(material: &str, steps: usize, depth: usize, extra: &str) -> String {
     format!(
         r#"
@@ -91,12 +94,11 @@ fn coarse_mean_cantilever_matches_the_beam() {
     ));
     // Yield stress far above the largest bending stress (6 P L / (B H^2) = 48): the J2 body
     // stays elastic and its hourglass forces are accumulated over the steps.
-    // The same stabilisation named (a plastic body's default is Flanagan-Belytschko).
     let plastic = tip_deflection(&scene_with(
         &format!("{{ model = \"j2_plastic\", E = {E}, nu = 0.0, yield_stress = 1e6 }}"),
         4,
         4,
-        "hourglass = \"assumed_strain\"",
+        AS,
     ));
     println!(
         "tip deflection: Timoshenko beam {exact:.6}, mean elastic {elastic:.6} ({:+.3}%), mean j2_plastic in its elastic range {plastic:.6} ({:+.3}%)",
@@ -130,8 +132,8 @@ fn cantilever_variants_against_the_beam() {
     for nu in [0.0, 0.3] {
         let material = format!("{{ model = \"linear_elastic\", E = {E}, nu = {nu} }}");
         for depth in [2, 4] {
-            let ours = tip_deflection(&scene_with(&material, 1, depth, "")) / exact;
-            let fb = tip_deflection(&scene_with(&material, 1, depth, "hourglass = 0.1")) / exact;
+            let ours = tip_deflection(&scene_with(&material, 1, depth, AS)) / exact;
+            let fb = tip_deflection(&scene_with(&material, 1, depth, "")) / exact;
             println!(
                 "nu = {nu}, {} x {depth} elements: tip / beam: assumed strain {ours:.5}, Flanagan-Belytschko 0.1 {fb:.5}",
                 4 * depth

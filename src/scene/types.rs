@@ -62,8 +62,7 @@ pub struct BodyDef {
     #[serde(default)]
     pub volumetric: Volumetric,
     /// Hourglass control, `mean` integration only: a Flanagan-Belytschko stiffness
-    /// coefficient or "assumed_strain"; unset: "assumed_strain" for elastic bodies, 0.1
-    /// for plastic ones (`scene::validate`).
+    /// coefficient or "assumed_strain"; unset: 0.1 (`scene::validate`).
     pub hourglass: Option<HourglassDef>,
 }
 

@@ -39,8 +39,8 @@ impl std::fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The Flanagan-Belytschko coefficient of a plastic `mean` body that sets no `hourglass`.
-pub const DEFAULT_PLASTIC_HOURGLASS: f64 = 0.1;
+/// The Flanagan-Belytschko coefficient of a `mean` body that sets no `hourglass`.
+pub const DEFAULT_HOURGLASS: f64 = 0.1;
 
 pub fn load_scene(path: &Path) -> Result<Problem, SceneError> {
     load_scene_refined(path, 1)
@@ -232,7 +232,7 @@ impl Builder {
             };
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
-            let formulation = self.formulation(&key, b, material.is_plastic())?;
+            let formulation = self.formulation(&key, b)?;
             let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
             mesh.elements
@@ -286,15 +286,10 @@ impl Builder {
     }
 
     /// The element formulation from a body's integration, volumetric treatment and
-    /// hourglass control. A `mean` body without `hourglass` takes the assumed-strain
-    /// stabilisation if elastic and Flanagan-Belytschko at `DEFAULT_PLASTIC_HOURGLASS` if
-    /// plastic (measured on the punch, docs/elements.md).
-    fn formulation(
-        &self,
-        key: &str,
-        b: &BodyDef,
-        plastic: bool,
-    ) -> Result<Formulation, SceneError> {
+    /// hourglass control. A `mean` body without `hourglass` takes Flanagan-Belytschko at
+    /// `DEFAULT_HOURGLASS`; "assumed_strain" is asked for by name (docs/elements.md: as
+    /// the default it left a bonded near-incompressible block 2.98% stiff at h).
+    fn formulation(&self, key: &str, b: &BodyDef) -> Result<Formulation, SceneError> {
         let mean = |h| Ok(Formulation::Mean { hourglass: h });
         match (b.integration, b.volumetric, &b.hourglass) {
             (Integration::Full, Volumetric::Standard, None) => Ok(Formulation::Full),
@@ -305,8 +300,7 @@ impl Builder {
             (Integration::Mean, Volumetric::MeanDilatation, _) => {
                 Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
             }
-            (Integration::Mean, Volumetric::Standard, None) if plastic => mean(Stabilization::Coefficient(DEFAULT_PLASTIC_HOURGLASS)),
-            (Integration::Mean, Volumetric::Standard, None) => mean(Stabilization::AssumedStrain),
+            (Integration::Mean, Volumetric::Standard, None) => mean(Stabilization::Coefficient(DEFAULT_HOURGLASS)),
             (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Named(n))) => {
                 if n == "assumed_strain" {
                     mean(Stabilization::AssumedStrain)
