@@ -5,7 +5,7 @@ mod common;
 
 use common::{problem, solve, Rng};
 use solver::fem::element::{average_cauchy, diagonal_blocks, internal_force};
-use solver::fem::Formulation;
+use solver::fem::{Formulation, Stabilization};
 use solver::material::{LinearElastic, Material, NeoHookean};
 use solver::math::Vec3;
 use solver::problem::{Dirichlet, NodeSet};
@@ -207,9 +207,31 @@ fn neo_hookean_tangent_diagonal_matches_finite_differences() {
     // Exact diagonals: full and mean for neo-Hookean, and B-bar for linear elasticity.
     for (m, form) in [
         (mat, Formulation::Full),
-        (mat, Formulation::Mean { hourglass: 0.5 }),
+        (
+            mat,
+            Formulation::Mean {
+                hourglass: Stabilization::Coefficient(0.5),
+            },
+        ),
         (small, Formulation::FullBar),
-        (small, Formulation::Mean { hourglass: 0.5 }),
+        (
+            small,
+            Formulation::Mean {
+                hourglass: Stabilization::Coefficient(0.5),
+            },
+        ),
+        (
+            mat,
+            Formulation::Mean {
+                hourglass: Stabilization::AssumedStrain,
+            },
+        ),
+        (
+            small,
+            Formulation::Mean {
+                hourglass: Stabilization::AssumedStrain,
+            },
+        ),
     ] {
         let mut d = [[[0.0; 3]; 3]; 8];
         diagonal_blocks(&x, &u, &m, form, &mut d).unwrap();
@@ -270,7 +292,12 @@ fn rigid_rotation_by_90_degrees_gives_zero_stress() {
     for form in [
         Formulation::Full,
         Formulation::FullBar,
-        Formulation::Mean { hourglass: 0.5 },
+        Formulation::Mean {
+            hourglass: Stabilization::Coefficient(0.5),
+        },
+        Formulation::Mean {
+            hourglass: Stabilization::AssumedStrain,
+        },
     ] {
         let s = average_cauchy(&x, &u, &mat, form).unwrap();
         let mut f = [[0.0; 3]; 8];

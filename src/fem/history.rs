@@ -4,9 +4,9 @@
 //! diagonal tangent blocks of a plastic B-bar / F-bar element.
 
 use super::element::{
-    add_tangent, at, centre, deformation, forces, g_at, gauss_gradient, hourglass_stiffness,
+    add_tangent, at, centre, deformation, forces, g_at, gauss_gradient, hourglass_sums,
     mean_dilatation, mean_gradient, modes, point_tangent, scaled, sub_identity, ElementFailure,
-    Formulation, GaussGeometry, Geometry, Hourglass, SLOTS,
+    Formulation, GaussGeometry, Geometry, Hourglass, Stabilization, Stiffness, SLOTS,
 };
 use crate::material::{Material, PlasticState};
 use crate::math::{Mat3, Vec3, ZERO33};
@@ -108,18 +108,19 @@ fn update_mean(
     geo: &Geometry,
     u: &[Vec3; 8],
     mat: &Material,
-    coefficient: f64,
+    control: Stabilization,
     old: &[PlasticState],
     new: &mut [PlasticState],
 ) -> Result<(), ElementFailure> {
     let h = mean_gradient(u, geo);
     let c = centre(mat, &h, old).ok_or(ElementFailure::InvertedCurrent)?;
     let (_, mu) = mat.lambda_mu();
-    let (hx, k) = hourglass_stiffness(geo, coefficient, mu);
+    let hx = hourglass_sums(geo);
+    let k = Stiffness::new(geo, control, mat);
     let q = modes(u, &h, &hx);
     new[0] = c.state;
     Hourglass {
-        force: forces(&q, k, mu, geo.rms_gradient(), &c),
+        force: forces(&q, &k, mu, geo, &c),
         q,
         strain: super::element::dev_sym(&h),
         stress: super::element::dev_sym(&c.stress),

@@ -6,4 +6,4 @@ pub mod face;
 pub mod hex8;
 pub mod history;
 
-pub use element::{ElementFailure, Formulation};
+pub use element::{ElementFailure, Formulation, Stabilization};

@@ -61,8 +61,17 @@ pub struct BodyDef {
     pub integration: Integration,
     #[serde(default)]
     pub volumetric: Volumetric,
-    /// Hourglass stiffness coefficient, `mean` integration only.
-    pub hourglass: Option<f64>,
+    /// Hourglass control, `mean` integration only: a Flanagan-Belytschko stiffness
+    /// coefficient or "assumed_strain"; unset: 0.1 (`scene::validate`).
+    pub hourglass: Option<HourglassDef>,
+}
+
+/// A body's `hourglass`: a number or a name.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(untagged)]
+pub enum HourglassDef {
+    Coefficient(f64),
+    Named(String),
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]

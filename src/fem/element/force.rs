@@ -6,7 +6,8 @@ use super::geometry::{
     Geometry, HG_BASE, ZERO_Q,
 };
 use super::kinematics::{deformation, mean_dilatation, scaled, sub_identity};
-use super::{ElementFailure, Formulation};
+use super::stabilization::Stiffness;
+use super::{ElementFailure, Formulation, Stabilization};
 use crate::material::{Material, PlasticState};
 use crate::math::{Mat3, Vec3, ZERO33};
 
@@ -89,9 +90,7 @@ fn internal_force_body(
         Formulation::Full => force_full(full(), u, mat, hist, f)?,
         Formulation::FullBar if !large => force_bar_small(geo, full(), u, mat, hist, f)?,
         Formulation::FullBar => force_bar_large(geo, full(), u, mat, hist, f)?,
-        Formulation::Mean {
-            hourglass: coefficient,
-        } => force_mean(geo, u, mat, hist, coefficient, f)?,
+        Formulation::Mean { hourglass: control } => force_mean(geo, u, mat, hist, control, f)?,
     }
     for fa in f.iter() {
         if !crate::math::is_finite3(fa) {
@@ -231,28 +230,28 @@ fn force_bar_large(
 /// Internal force of the one-point element with hourglass control, into `f`. A plastic
 /// element (`hist` holds its centre's state and its hourglass state, see `hourglass`)
 /// accumulates its hourglass forces with the stiffness of the step; any other takes the
-/// total form k q.
+/// total form K q (`stabilization`).
 #[inline(always)]
 fn force_mean(
     geo: &Geometry,
     u: &[Vec3; 8],
     mat: &Material,
     hist: &[PlasticState],
-    coefficient: f64,
+    control: Stabilization,
     f: &mut [Vec3; 8],
 ) -> Result<(), ElementFailure> {
     let h = mean_gradient(u, geo);
     let (_, mu) = mat.lambda_mu();
-    let (hx, k) = hourglass(geo, coefficient, mu);
+    let hx = hourglass(geo);
+    let k = Stiffness::new(geo, control, mat);
     let q = modes(u, &h, &hx);
     let (s, qk) = if hist.len() > 1 {
         let c = super::hourglass::centre(mat, &h, hist).ok_or(ElementFailure::InvertedCurrent)?;
-        let qk = super::hourglass::forces(&q, k, mu, geo.rms_gradient(), &c);
+        let qk = super::hourglass::forces(&q, &k, mu, geo, &c);
         (c.stress, qk)
     } else {
         let s = point_stress(mat, &h, hist, 0).ok_or(ElementFailure::InvertedCurrent)?;
-        let qk: [Vec3; 4] = std::array::from_fn(|alpha| std::array::from_fn(|i| k * q[alpha][i]));
-        (s, qk)
+        (s, k.apply(1.0, &q))
     };
     // f_a = V s bbar_a + sum_alpha gamma_alpha,a qk_alpha
     //     = (V s - M) bbar_a + sum_alpha base_alpha,a qk_alpha,
@@ -317,7 +316,12 @@ mod tests {
         let forms = [
             Formulation::Full,
             Formulation::FullBar,
-            Formulation::Mean { hourglass: 0.05 },
+            Formulation::Mean {
+                hourglass: Stabilization::Coefficient(0.05),
+            },
+            Formulation::Mean {
+                hourglass: Stabilization::AssumedStrain,
+            },
         ];
         let wobble = |k: usize| 0.1 * ((k as f64) * 0.731).sin();
         for e in 0..20 {

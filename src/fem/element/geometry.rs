@@ -117,6 +117,12 @@ impl Geometry {
         (self.vbb / (8.0 * self.volume)).sqrt()
     }
 
+    /// volume * sum_a |bbar_a|^2
+    #[inline]
+    pub(in crate::fem) fn vbb(&self) -> f64 {
+        self.vbb
+    }
+
     #[inline]
     pub(in crate::fem) fn bbar_at(&self, a: usize) -> Vec3 {
         [self.bbar[0][a], self.bbar[1][a], self.bbar[2][a]]
@@ -204,17 +210,12 @@ pub(super) fn put(t: &mut QMat, q: usize, m: &Mat3, w: f64) {
 }
 
 /// Hourglass sums of the reference coordinates, hx_alpha = sum_a base_alpha,a x_a (from
-/// the geometry), and the stiffness k (Flanagan-Belytschko): the hourglass vectors
-/// orthogonalised against linear fields are gamma_alpha,a = base_alpha,a - bbar_a .
-/// hx_alpha, and f_a = k sum_alpha gamma_alpha,a q_alpha with q_alpha = sum_a
-/// gamma_alpha,a u_a.
+/// the geometry): the hourglass vectors orthogonalised against linear fields are
+/// gamma_alpha,a = base_alpha,a - bbar_a . hx_alpha, and f_a = sum_alpha gamma_alpha,a
+/// Q_alpha with Q = K q (`stabilization`), q_alpha = sum_a gamma_alpha,a u_a.
 #[inline]
-pub(in crate::fem) fn hourglass(geo: &Geometry, coefficient: f64, mu: f64) -> ([Vec3; 4], f64) {
-    let hx = geo.hx;
-    // Scaled so that coefficient 1 matches the shear part of the fully integrated
-    // element's hourglass-mode stiffness on a cube. Shear modulus only: the modes are
-    // volume-preserving on average, and lambda would lock near incompressibility.
-    (hx, coefficient * mu * geo.vbb / 24.0)
+pub(in crate::fem) fn hourglass(geo: &Geometry) -> [Vec3; 4] {
+    geo.hx
 }
 
 /// Reference volume of the element.

@@ -19,6 +19,8 @@
 //! of the last converged step are committed with the element's history (`SLOTS` extra
 //! states after the centre's), so a restart continues bit for bit.
 
+use super::geometry::Geometry;
+use super::stabilization::Stiffness;
 use crate::material::{Material, PlasticState, STATE_LEN};
 use crate::math::{Mat3, Vec3};
 
@@ -152,20 +154,20 @@ pub struct Centre {
     pub radius: f64,
 }
 
-/// The generalised hourglass forces of the step: Q = Q_old + k r (q - q_old), each Q_alpha
-/// then held to the length k q_y at which the mode yields: q_y = radius / (2 mu g), the
-/// displacement sum whose strain q g (g the rms of the nodes' mean gradients) reaches the
-/// yield radius, as the stress of a fully integrated element's hourglass mode is held by
-/// its Gauss points' yield surfaces. Without the bound a body past its limit load finds
-/// equilibrium on the hourglass springs (Hill's sphere at 1.02 of its limit pressure did,
-/// at 2000 times the displacement just below it).
+/// The generalised hourglass forces of the step: Q = Q_old + r K (q - q_old), K the
+/// element's elastic hourglass stiffness (`stabilization`), each Q_alpha then held to the
+/// length `Stiffness::cap` at which the mode yields, as the stress of a fully integrated
+/// element's hourglass mode is held by its Gauss points' yield surfaces. Without the bound
+/// a body past its limit load finds equilibrium on the hourglass springs (Hill's sphere at
+/// 1.02 of its limit pressure did, at 2000 times the displacement just below it).
 #[inline]
-pub fn forces(q: &[Vec3; 4], k: f64, mu: f64, g: f64, c: &Centre) -> [Vec3; 4] {
-    let cap = k * c.radius / (2.0 * mu * g);
+pub fn forces(q: &[Vec3; 4], k: &Stiffness, mu: f64, geo: &Geometry, c: &Centre) -> [Vec3; 4] {
+    let cap = k.cap(c.radius, mu, geo.rms_gradient(), geo.volume);
+    let dq: [Vec3; 4] =
+        std::array::from_fn(|alpha| std::array::from_fn(|i| q[alpha][i] - c.old.q[alpha][i]));
+    let df = k.apply(c.r, &dq);
     std::array::from_fn(|alpha| {
-        let mut f: Vec3 = std::array::from_fn(|i| {
-            c.old.force[alpha][i] + k * c.r * (q[alpha][i] - c.old.q[alpha][i])
-        });
+        let mut f: Vec3 = std::array::from_fn(|i| c.old.force[alpha][i] + df[alpha][i]);
         let norm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
         if norm > cap {
             for v in f.iter_mut() {
@@ -222,7 +224,12 @@ mod tests {
     #[test]
     fn a_virgin_elastic_step_gives_the_total_force_and_the_bound_holds_each_mode() {
         let q: [Vec3; 4] = std::array::from_fn(|a| std::array::from_fn(|i| 1e-3 * (a + i) as f64));
-        let (k, mu, g) = (7.0, 50.0, 0.4);
+        // A cube of side 2: volume 8, mean gradients (+-1/8, +-1/8, +-1/8), g = sqrt(3)/8.
+        let x: [Vec3; 8] = crate::fem::hex8::NODE_XI;
+        let (geo, _) = super::super::geometry::geometry(&x).expect("a valid element");
+        let g = 3f64.sqrt() / 8.0;
+        assert!((geo.rms_gradient() - g).abs() < 1e-15);
+        let mu = 50.0;
         let c = |radius| Centre {
             stress: [[0.0; 3]; 3],
             state: PlasticState::default(),
@@ -230,17 +237,27 @@ mod tests {
             r: 1.0,
             radius,
         };
-        let f = forces(&q, k, mu, g, &c(f64::INFINITY));
-        for a in 0..4 {
-            for i in 0..3 {
-                assert_eq!(f[a][i].to_bits(), (k * q[a][i]).to_bits());
+        let mat = Material::LinearElastic(crate::material::LinearElastic::new(130.0, 0.3));
+        for k in [
+            Stiffness::Scalar(7.0),
+            Stiffness::new(&geo, super::super::Stabilization::AssumedStrain, &mat),
+        ] {
+            let f = forces(&q, &k, mu, &geo, &c(f64::INFINITY));
+            let total = k.apply(1.0, &q);
+            for a in 0..4 {
+                for i in 0..3 {
+                    assert_eq!(f[a][i].to_bits(), total[a][i].to_bits());
+                }
             }
-        }
-        // The bound: k radius / (2 mu g) = 7 * 0.1 / 40.
-        let cap = k * 0.1 / (2.0 * mu * g);
-        for fa in forces(&q, k, mu, g, &c(0.1)) {
-            let norm = (fa[0] * fa[0] + fa[1] * fa[1] + fa[2] * fa[2]).sqrt();
-            assert!(norm <= cap * (1.0 + 1e-15), "{norm} {cap}");
+            // The bound: k radius / (2 mu g) for a scalar k, (V / 3) g radius otherwise.
+            let cap = match k {
+                Stiffness::Scalar(k) => k * 0.1 / (2.0 * mu * g),
+                _ => 8.0 / 3.0 * g * 0.1,
+            };
+            for fa in forces(&q, &k, mu, &geo, &c(0.1)) {
+                let norm = (fa[0] * fa[0] + fa[1] * fa[1] + fa[2] * fa[2]).sqrt();
+                assert!(norm <= cap * (1.0 + 1e-15), "{norm} {cap}");
+            }
         }
     }
 }

@@ -101,7 +101,12 @@ mod tests {
         for form in [
             Formulation::Full,
             Formulation::FullBar,
-            Formulation::Mean { hourglass: 0.05 },
+            Formulation::Mean {
+                hourglass: crate::fem::Stabilization::Coefficient(0.05),
+            },
+            Formulation::Mean {
+                hourglass: crate::fem::Stabilization::AssumedStrain,
+            },
         ] {
             for _ in 0..5 {
                 let mut x = [[0.0; 3]; 8];

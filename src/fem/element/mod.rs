@@ -6,14 +6,16 @@
 //! One concept per file: `geometry` (the reference-configuration data and the Gauss-point
 //! array helpers), `kinematics` (deformation gradient, mean dilatation), `force` (internal
 //! force), `matrix` (the stiffness matrix of a linear element), `tangent` (diagonal blocks
-//! of the tangent), `stress` (average Cauchy stress) and `hourglass` (the hourglass
-//! control of plastic one-point elements).
+//! of the tangent), `stress` (average Cauchy stress), `stabilization` (the hourglass
+//! stiffness of one-point elements) and `hourglass` (the hourglass control of plastic
+//! one-point elements).
 
 mod force;
 mod geometry;
 mod hourglass;
 mod kinematics;
 mod matrix;
+mod stabilization;
 mod stress;
 mod tangent;
 
@@ -25,10 +27,11 @@ pub use stress::{average_cauchy, average_cauchy_with};
 pub use tangent::{diagonal_blocks, diagonal_blocks_with};
 
 pub(in crate::fem) use force::modes;
-pub(in crate::fem) use geometry::hourglass as hourglass_stiffness;
+pub(in crate::fem) use geometry::hourglass as hourglass_sums;
 pub(in crate::fem) use geometry::{at, g_at, gauss_gradient, mean_gradient};
 pub(in crate::fem) use hourglass::{centre, dev_sym, forces, SLOTS};
 pub(in crate::fem) use kinematics::{deformation, mean_dilatation, scaled, sub_identity};
+pub(in crate::fem) use stabilization::Stiffness;
 pub(in crate::fem) use tangent::{add_tangent, point_tangent};
 
 /// How an element is integrated.
@@ -39,9 +42,18 @@ pub enum Formulation {
     /// 2x2x2 Gauss with the volumetric part taken from the element mean: B-bar (mean
     /// dilatation) under small kinematics, F-bar with the volume-averaged J under large.
     FullBar,
-    /// One-point uniform-gradient integration with Flanagan-Belytschko hourglass stiffness
-    /// of the given coefficient.
-    Mean { hourglass: f64 },
+    /// One-point uniform-gradient integration with hourglass control.
+    Mean { hourglass: Stabilization },
+}
+
+/// The hourglass control of a one-point element (`stabilization`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stabilization {
+    /// Assumed-strain physical stabilisation: the stiffness from the moduli and the
+    /// geometry (Belytschko-Bindeman, Puso), the default.
+    AssumedStrain,
+    /// Flanagan-Belytschko stiffness of the given coefficient (a scene's `hourglass = c`).
+    Coefficient(f64),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -6,7 +6,8 @@ use super::geometry::{
     ZERO_Q,
 };
 use super::kinematics::{add_identity, deformation, mean_dilatation};
-use super::{ElementFailure, Formulation};
+use super::stabilization::Stiffness;
+use super::{ElementFailure, Formulation, Stabilization};
 use crate::material::{Material, PlasticState};
 use crate::math::{inverse, Mat3, Vec3, ZERO33};
 
@@ -136,9 +137,7 @@ pub fn diagonal_blocks_with(
     match form {
         Formulation::Full => diagonal_full(full(), u, mat, hist, d),
         Formulation::FullBar => diagonal_bar(geo, full(), u, mat, d)?,
-        Formulation::Mean {
-            hourglass: coefficient,
-        } => diagonal_mean(geo, u, mat, hist, coefficient, d),
+        Formulation::Mean { hourglass: control } => diagonal_mean(geo, u, mat, hist, control, d),
     }
     Ok(())
 }
@@ -211,34 +210,57 @@ fn diagonal_bar(
     Ok(())
 }
 
-/// Diagonal blocks of the one-point element with hourglass control, added to `d`.
+/// Diagonal blocks of the one-point element with hourglass control, added to `d`: the
+/// centre's tangent with the mean gradients and sum_alpha,beta gamma_alpha,a
+/// gamma_beta,a K_alpha,beta, K the hourglass stiffness (`stabilization`) of the step.
 #[inline(always)]
 fn diagonal_mean(
     geo: &Geometry,
     u: &[Vec3; 8],
     mat: &Material,
     hist: &[PlasticState],
-    coefficient: f64,
+    control: Stabilization,
     d: &mut [Mat3; 8],
 ) {
-    let (_, mu) = mat.lambda_mu();
     let h = mean_gradient(u, geo);
     let pt = point_tangent(mat, &h, hist.first());
-    let (hx, mut k) = hourglass(geo, coefficient, mu);
-    if hist.len() > 1 {
-        // A plastic element's hourglass stiffness of the step (see `hourglass`).
-        k *= super::hourglass::centre(mat, &h, hist).map_or(1.0, |c| c.r);
-    }
+    let hx = hourglass(geo);
+    let stiff = Stiffness::new(geo, control, mat);
+    // A plastic element's hourglass stiffness of the step (see `hourglass`).
+    let r = if hist.len() > 1 {
+        super::hourglass::centre(mat, &h, hist).map_or(1.0, |c| c.r)
+    } else {
+        1.0
+    };
     for (a, da) in d.iter_mut().enumerate() {
         let b = geo.bbar_at(a);
         add_tangent(da, &pt, &b, geo.volume);
-        let mut s = 0.0;
-        for alpha in 0..4 {
-            let g = HG_BASE[alpha][a] - crate::math::dot(&b, &hx[alpha]);
-            s += g * g;
-        }
-        for i in 0..3 {
-            da[i][i] += k * s;
+        let gamma: [f64; 4] =
+            std::array::from_fn(|alpha| HG_BASE[alpha][a] - crate::math::dot(&b, &hx[alpha]));
+        match stiff {
+            Stiffness::Scalar(mut k) => {
+                k *= r;
+                let mut s = 0.0;
+                for g in gamma {
+                    s += g * g;
+                }
+                for i in 0..3 {
+                    da[i][i] += k * s;
+                }
+            }
+            Stiffness::AssumedStrain { .. } => {
+                for j in 0..3 {
+                    let q: [Vec3; 4] = std::array::from_fn(|alpha| {
+                        std::array::from_fn(|i| if i == j { gamma[alpha] } else { 0.0 })
+                    });
+                    let f = stiff.apply(r, &q);
+                    for i in 0..3 {
+                        for alpha in 0..4 {
+                            da[i][j] += gamma[alpha] * f[alpha][i];
+                        }
+                    }
+                }
+            }
         }
     }
 }
