@@ -7,6 +7,7 @@ pub mod punch;
 pub mod restart;
 pub mod scenes;
 pub mod stacked;
+pub mod synthetic;
 
 #[allow(unused_imports)]
 pub use paths::{fresh_dir, paper_scene, repo, solver, stderr_text};
