@@ -4,7 +4,9 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use solver::output::{layout, OutputError, ResultFile, ResultWriter, StepField, StepOutput};
+use solver::output::{
+    layout, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepField, StepOutput,
+};
 use solver::post;
 
 mod common;
@@ -41,10 +43,27 @@ fn round_trip_of_every_dataset_and_attribute() {
     assert!(dir.join("result.xmf").exists());
 
     let f = ResultFile::open(&path).unwrap();
+    check_the_data_read_back(&f, &mesh, &info, &steps);
+    check_the_attributes_read_back(&f, &info);
+    check_exactly_the_documented_datasets(&f);
+    let all: Vec<[u64; 8]> = mesh.all_connectivity();
+    assert_eq!(all.len(), 3);
+    assert_eq!(all[0], mesh.bodies[0].connectivity[0]);
+    assert_eq!(all[2], mesh.bodies[1].connectivity[1]);
+}
+
+/// The mesh, partition, times, statistics and every step's fields of `f` are the ones
+/// written (`mesh`, `info`, `steps`).
+fn check_the_data_read_back(
+    f: &ResultFile,
+    mesh: &OutputMesh,
+    info: &RunInfo,
+    steps: &[StepOutput],
+) {
     assert_eq!(f.num_steps(), 3);
     assert_eq!(f.num_nodes(), 20);
     assert_eq!(f.num_elements(), 3);
-    assert_eq!(f.mesh().unwrap(), mesh);
+    assert_eq!(&f.mesh().unwrap(), mesh);
     assert_eq!(f.element_rank().unwrap(), info.element_rank);
     assert_eq!(
         f.time().unwrap(),
@@ -96,7 +115,10 @@ fn round_trip_of_every_dataset_and_attribute() {
             ..
         })
     ));
+}
 
+/// The root attributes of `f`: the documented ones, with the values `info` gave.
+fn check_the_attributes_read_back(f: &ResultFile, info: &RunInfo) {
     let a = f.attributes().unwrap();
     assert_eq!(a.format_version, layout::FORMAT_VERSION);
     assert_eq!(a.solver_version, info.solver_version);
@@ -113,8 +135,10 @@ fn round_trip_of_every_dataset_and_attribute() {
         .map(|s| s.to_string())
         .collect();
     assert_eq!(attr_names, required);
+}
 
-    // Exactly the documented datasets, with the documented shapes.
+/// Exactly the documented datasets, with the documented shapes.
+fn check_exactly_the_documented_datasets(f: &ResultFile) {
     let (n, e, st) = (20, 3, 3);
     let expected: Vec<(&str, Vec<usize>)> = vec![
         ("/mesh/coordinates", vec![n, 3]),
@@ -154,10 +178,6 @@ fn round_trip_of_every_dataset_and_attribute() {
     for (name, shape) in &expected {
         assert_eq!(&f.shape(name).unwrap(), shape, "{name}");
     }
-    let all: Vec<[u64; 8]> = mesh.all_connectivity();
-    assert_eq!(all.len(), 3);
-    assert_eq!(all[0], mesh.bodies[0].connectivity[0]);
-    assert_eq!(all[2], mesh.bodies[1].connectivity[1]);
 }
 
 #[test]
@@ -478,84 +498,7 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     let mesh = synthetic_mesh();
     let mut w = ResultWriter::create(&dir.join("r.h5"), &synthetic_info(), &mesh).unwrap();
     w.append_step(&synthetic_step(0, &mesh)).unwrap();
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.displacement[5][1] = f64::NAN;
-    let err = w.append_step(&bad).unwrap_err();
-    let msg = err.to_string();
-    assert!(matches!(err, OutputError::NonFinite { .. }), "{msg}");
-    assert!(msg.contains("/results/displacement"), "{msg}");
-    assert!(msg.contains("node 5 (id 11), component 1"), "{msg}");
-    assert!(msg.contains("r.h5.tmp"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stress[2][4] = f64::INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/stress") && msg.contains("element 2"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_gap[0] = f64::NEG_INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/results/contact/gap"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure[7] = f64::NAN;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("node 7 (id 15)"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure.pop();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("19 values for 20 nodes"),
-        "{msg}"
-    );
-
-    // The steps before had a pressure: a step without one would leave a hole.
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure.clear();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("no contact pressure"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.residual = f64::NAN;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/stats/residual"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.max_penetration = f64::INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/stats/max_penetration"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.max_penetration = -1e-6;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/stats/max_penetration") && msg.contains(">= 0"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.reaction.pop();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/reaction") && msg.contains("19 values for 20 nodes"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_status[3] = 7;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/results/contact/status"), "{msg}");
+    refuse_bad_steps(&mut w, &mesh);
 
     // Nothing of a refused step reached the file; the writer goes on.
     assert_eq!(w.steps(), 1);
@@ -565,7 +508,94 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     assert_eq!(f.num_steps(), 2);
     assert_eq!(f.shape("/results/displacement").unwrap(), vec![2, 20, 3]);
 
-    // Bad meshes are refused at create.
+    refuse_bad_meshes(&dir);
+}
+
+/// Steps with a value that is not finite, a field of the wrong length, a missing pressure
+/// after steps that had one, a negative penetration or an unknown status are refused by `w`,
+/// naming the dataset (and the node or element).
+fn refuse_bad_steps(w: &mut ResultWriter, mesh: &OutputMesh) {
+    let mut bad = synthetic_step(1, mesh);
+    bad.displacement[5][1] = f64::NAN;
+    let err = w.append_step(&bad).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, OutputError::NonFinite { .. }), "{msg}");
+    assert!(msg.contains("/results/displacement"), "{msg}");
+    assert!(msg.contains("node 5 (id 11), component 1"), "{msg}");
+    assert!(msg.contains("r.h5.tmp"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stress[2][4] = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/stress") && msg.contains("element 2"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_gap[0] = f64::NEG_INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/gap"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure[7] = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("node 7 (id 15)"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    // The steps before had a pressure: a step without one would leave a hole.
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure.clear();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("no contact pressure"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.residual = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/residual"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.max_penetration = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/max_penetration"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.max_penetration = -1e-6;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/stats/max_penetration") && msg.contains(">= 0"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.reaction.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/reaction") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_status[3] = 7;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/status"), "{msg}");
+}
+
+/// Bad meshes (and a partition of the wrong length) are refused at create.
+fn refuse_bad_meshes(dir: &Path) {
     let mut m = synthetic_mesh();
     m.coordinates[3][0] = f64::NAN;
     let msg = ResultWriter::create(&dir.join("m.h5"), &synthetic_info(), &m)

@@ -95,8 +95,15 @@ fn a_file_without_contact_pressure_is_read_as_before() {
 fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
     let dir = test_dir("compare");
     let a = write_synthetic(&dir, "a", 3);
+    compare_the_same_data(&dir, &a);
+    compare_one_value_off(&dir, &a);
+    compare_counted_statistics(&dir, &a);
+    compare_mismatched_meshes_and_step_counts(&dir, &a);
+}
 
-    // Same data; wall times and partition differ, which never counts.
+/// Same data as `a`; wall times and partition differ, which never counts.
+fn compare_the_same_data(dir: &Path, a: &Path) {
+    let a = a.to_path_buf();
     let mesh = synthetic_mesh();
     let mut info = synthetic_info();
     info.element_rank = vec![0, 0, 0];
@@ -121,8 +128,12 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
         tol: 0.0,
     };
     assert_eq!(post::run_post(&cmd).unwrap(), 0);
+}
 
-    // One displacement value off by a relative 1e-6 of the dataset's largest value.
+/// One displacement value off by a relative 1e-6 of the dataset's largest value.
+fn compare_one_value_off(dir: &Path, a: &Path) {
+    let a = a.to_path_buf();
+    let mesh = synthetic_mesh();
     let mut w = ResultWriter::create(&dir.join("c.h5"), &synthetic_info(), &mesh).unwrap();
     for s in 0..3 {
         let mut step = synthetic_step(s, &mesh);
@@ -157,8 +168,12 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
     assert_eq!(report.exit_code(), 0, "{}", report.render());
     assert!(!report.bitwise_identical());
     assert!(report.render().contains("within tolerance"));
+}
 
-    // A counted statistic differing fails too.
+/// A counted statistic differing fails; so do the contact statistics, a released count and
+/// a penetration, each off in one step.
+fn compare_counted_statistics(dir: &Path, a: &Path) {
+    let mesh = synthetic_mesh();
     let mut w = ResultWriter::create(&dir.join("d.h5"), &synthetic_info(), &mesh).unwrap();
     for s in 0..3 {
         let mut step = synthetic_step(s, &mesh);
@@ -166,11 +181,10 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
         w.append_step(&step).unwrap();
     }
     let d = w.finish(1.0).unwrap();
-    let report = post::compare_files(&a, &d, 0.0).unwrap();
+    let report = post::compare_files(a, &d, 0.0).unwrap();
     assert_eq!(report.exit_code(), 1);
     assert!(report.render().contains("/stats/cg_iterations"));
 
-    // So do the contact statistics: a released count and a penetration, each off in one step.
     for (name, change) in [
         (
             "/stats/contact_released",
@@ -188,7 +202,7 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
             w.append_step(&step).unwrap();
         }
         let d = w.finish(1.0).unwrap();
-        let report = post::compare_files(&a, &d, 0.0).unwrap();
+        let report = post::compare_files(a, &d, 0.0).unwrap();
         let text = report.render();
         assert_eq!(report.exit_code(), 1, "{text}");
         let failing: Vec<&str> = report
@@ -199,8 +213,11 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
             .collect();
         assert_eq!(failing, [name], "{text}");
     }
+}
 
-    // Different meshes or step counts cannot be compared.
+/// Different meshes or step counts cannot be compared, nor with a negative tolerance.
+fn compare_mismatched_meshes_and_step_counts(dir: &Path, a: &Path) {
+    let a = a.to_path_buf();
     let mut m = synthetic_mesh();
     m.coordinates.pop();
     m.node_ids.pop();
@@ -236,7 +253,7 @@ fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
         "{err}"
     );
 
-    let short = write_synthetic(&dir, "short", 2);
+    let short = write_synthetic(dir, "short", 2);
     let err = post::compare_files(&a, &short, 0.0)
         .unwrap_err()
         .to_string();
@@ -381,6 +398,16 @@ fn plot_along_a_node_set_and_through_time() {
     let path = write_synthetic(&dir, "r", 3);
     let file = path.to_str().unwrap();
     let out = dir.join("along.png");
+    plot_along_x_at_every_step(file, &out);
+    plot_along_the_arc_length_without_fonts(file, &dir.join("arc.png"));
+    let out3 = dir.join("history.png");
+    plot_the_summed_force_through_time(file, &out3);
+    plot_the_pressure_and_the_status_per_node(file, &out3);
+    plot_argument_errors(file, out.to_str().unwrap());
+}
+
+/// The x displacement along the set `top` against x, at every step, drawn to `out`.
+fn plot_along_x_at_every_step(file: &str, out: &Path) {
     let cmd = parse(&[
         "plot",
         file,
@@ -417,11 +444,13 @@ fn plot_along_a_node_set_and_through_time() {
         }
     }
     assert_eq!(post::run_post(&cmd).unwrap(), 0);
-    let png = std::fs::read(&out).unwrap();
+    let png = std::fs::read(out).unwrap();
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+}
 
-    // Arc length along the set, last step, without fonts.
-    let out2 = dir.join("arc.png");
+/// The gap along the set `bottom` against its arc length at the last step, drawn to `out2`
+/// without fonts.
+fn plot_along_the_arc_length_without_fonts(file: &str, out2: &Path) {
     let cmd = parse(&[
         "plot",
         file,
@@ -440,11 +469,13 @@ fn plot_along_a_node_set_and_through_time() {
     let xs: Vec<f64> = data.series[0].points.iter().map(|p| p.0).collect();
     assert_eq!(xs.first(), Some(&0.0));
     assert!(xs.windows(2).all(|w| w[0] <= w[1]));
-    post::render_plot(&data, &out2, false).unwrap();
-    assert_eq!(&std::fs::read(&out2).unwrap()[..4], b"\x89PNG");
+    post::render_plot(&data, out2, false).unwrap();
+    assert_eq!(&std::fs::read(out2).unwrap()[..4], b"\x89PNG");
+}
 
-    // Summed contact force through time.
-    let out3 = dir.join("history.png");
+/// The contact force summed over the set `top` through time, drawn to `out3`.
+fn plot_the_summed_force_through_time(file: &str, out3: &Path) {
+    let mesh = synthetic_mesh();
     let cmd = parse(&[
         "plot",
         file,
@@ -473,8 +504,12 @@ fn plot_along_a_node_set_and_through_time() {
     }
     assert_eq!(post::run_post(&cmd).unwrap(), 0);
     assert!(out3.exists());
+}
 
-    // The contact pressure, a scalar, along the set at the last step.
+/// The contact pressure, a scalar, along the set `bottom` at the last step; the status per
+/// node through time, one line per node of the set.
+fn plot_the_pressure_and_the_status_per_node(file: &str, out3: &Path) {
+    let mesh = synthetic_mesh();
     let cmd = parse(&[
         "plot",
         file,
@@ -514,13 +549,15 @@ fn plot_along_a_node_set_and_through_time() {
     ])
     .unwrap();
     assert_eq!(plot_data(&cmd).series.len(), 4);
+}
 
-    // Argument errors.
+/// A missing component, an unknown node set, a step out of range and bad arguments are
+/// refused (`o` the picture's path).
+fn plot_argument_errors(file: &str, o: &str) {
     let bad = |args: &[&str]| {
         let cmd = parse(args).unwrap();
         post::run_post(&cmd).unwrap_err().to_string()
     };
-    let o = out.to_str().unwrap();
     let e = bad(&[
         "plot",
         file,
