@@ -4,7 +4,7 @@
 Usage: /usr/bin/python3 run/check_h5.py RESULT.h5
 
 Prints every dataset with its shape and dtype and every root attribute, then checks the
-documented layout (src/output/README-section.md): the datasets and attributes that must be
+documented layout (README.md, "Result files"): the datasets and attributes that must be
 there, their dtypes, and that node, element and step counts agree between datasets.
 Exits 0 when the file is consistent, 1 on any mismatch, 2 when it cannot be read.
 

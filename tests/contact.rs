@@ -14,6 +14,7 @@
 
 mod common;
 
+use common::stacked::{nodes_at_y, pressure_top, stacked};
 use common::{problem, run_serial, solve};
 use solver::problem::Problem;
 use solver::run::GlobalState;
@@ -21,94 +22,17 @@ use solver::run::GlobalState;
 /// Residual tolerance of every scene below.
 const TOL: f64 = 1e-12;
 
-/// Two stacked unit cubes: `lower` [0,1]^3 and `upper` [0,1]x[1,2]x[0,1], the lower top the
-/// master, the upper bottom the slave; rollers u_y = 0 on the lower bottom, u_x = 0 on
-/// x = 0 and u_z = 0 on z = 0 (both bodies); a pressure `p` on the upper top.
+/// Two stacked unit cubes (`common::stacked`) of linear elastic blocks (E = 1e6, `nu`),
+/// frictionless node-to-face contact, a pressure rising to `p` in one step.
 fn stacked_blocks(n_lower: usize, n_upper: usize, nu: f64, p: f64) -> String {
-    format!(
-        r#"
-name = "stacked"
-kinematics = "small"
-
-[[body]]
-name = "lower"
-box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
-divisions = [{n_lower}, {n_lower}, {n_lower}]
-material = {{ model = "linear_elastic", E = 1.0e6, nu = {nu:?} }}
-
-[[body]]
-name = "upper"
-box = {{ min = [0.0, 1.0, 0.0], max = [1.0, 2.0, 1.0] }}
-divisions = [{n_upper}, {n_upper}, {n_upper}]
-material = {{ model = "linear_elastic", E = 1.0e6, nu = {nu:?} }}
-
-[[node_set]]
-name = "lower_bottom"
-body = "lower"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-
-[[node_set]]
-name = "x0"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-
-[[node_set]]
-name = "z0"
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-
-[[side_set]]
-name = "lower_top"
-body = "lower"
-plane = {{ point = [0.0, 1.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-
-[[side_set]]
-name = "upper_bottom"
-body = "upper"
-plane = {{ point = [0.0, 1.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-
-[[side_set]]
-name = "upper_top"
-body = "upper"
-plane = {{ point = [0.0, 2.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-
-[[displacement]]
-node_set = "lower_bottom"
-components = ["y"]
-value = 0.0
-
-[[displacement]]
-node_set = "x0"
-components = ["x"]
-value = 0.0
-
-[[displacement]]
-node_set = "z0"
-components = ["z"]
-value = 0.0
-
-[[pressure]]
-side_set = "upper_top"
-function = [[0.0, 0.0], [1.0, {p:?}]]
-
-[[contact]]
-master = "lower_top"
-slave = "upper_bottom"
-friction = "frictionless"
-
-[time]
-segments = [{{ end = 1.0, steps = 1 }}]
-
-[solver]
-tolerance = {TOL:?}
-"#
+    let material = format!("{{ model = \"linear_elastic\", E = 1.0e6, nu = {nu:?} }}");
+    stacked(
+        (n_lower, n_upper),
+        ("small", &material),
+        "node_face",
+        &pressure_top(p),
+        "{ end = 1.0, steps = 1 }",
     )
-}
-
-/// Global ids of the nodes of body `b` on the plane y = `y`.
-fn nodes_at_y(p: &Problem, b: usize, y: f64) -> Vec<usize> {
-    let body = &p.mesh.bodies[b];
-    (body.first_node..body.first_node + body.num_nodes)
-        .filter(|&n| (p.mesh.coords[n][1] - y).abs() < 1e-9)
-        .collect()
 }
 
 /// Tributary area of a node of a uniform n x n grid on the unit square (x, z).

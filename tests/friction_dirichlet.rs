@@ -47,15 +47,6 @@ pub fn scene(nx: usize, ny: usize, push: Push) -> String {
     let (xe, ye) = (L * c, L * s);
     let (b0x, b0y) = (-0.3 * c, -0.3 * s);
     let (b1x, b1y) = ((L + 0.3) * c, (L + 0.3) * s);
-    let corners = |p: [[f64; 2]; 4]| {
-        let mut out = Vec::new();
-        for z in [0.0, D] {
-            for q in p {
-                out.push(format!("[{:?}, {:?}, {z:?}]", q[0], q[1]));
-            }
-        }
-        out.join(", ")
-    };
     let block = corners([[0.0, 0.0], [xe, ye], [xe, ye + H], [0.0, H]]);
     let base = corners([[b0x, b0y - 0.5], [b1x, b1y - 0.5], [b1x, b1y], [b0x, b0y]]);
     let mut text = format!(
@@ -132,8 +123,27 @@ tolerance = 1e-12
         mp = -P_TOP,
     );
     match push {
-        Push::Prescribed => text.push_str(&format!(
-            r#"
+        Push::Prescribed => text.push_str(&prescribed_push()),
+        Push::Pusher => text.push_str(&pusher(ny)),
+    }
+    text
+}
+
+/// The 8 corners of a prism of depth D over the quadrilateral `p` (x, y), as scene text.
+fn corners(p: [[f64; 2]; 4]) -> String {
+    let mut out = Vec::new();
+    for z in [0.0, D] {
+        for q in p {
+            out.push(format!("[{:?}, {:?}, {z:?}]", q[0], q[1]));
+        }
+    }
+    out.join(", ")
+}
+
+/// `Push::Prescribed`: u_x prescribed on the block's rear face from t = 1.
+fn prescribed_push() -> String {
+    format!(
+        r#"
 [[node_set]]
 name = "block_rear"
 body = "block"
@@ -144,11 +154,15 @@ node_set = "block_rear"
 components = ["x"]
 function = [[0.0, 0.0], [1.0, 0.0], [2.0, {PUSH:?}]]
 "#
-        )),
-        Push::Pusher => {
-            let pusher = corners([[-0.2, 0.0], [0.0, 0.0], [0.0, H], [-0.2, H]]);
-            text.push_str(&format!(
-                r#"
+    )
+}
+
+/// `Push::Pusher`: the pusher body (1 x `ny` x 1 elements), moved by u_x from t = 1,
+/// touching the block's rear face through frictionless contact.
+fn pusher(ny: usize) -> String {
+    let pusher = corners([[-0.2, 0.0], [0.0, 0.0], [0.0, H], [-0.2, H]]);
+    format!(
+        r#"
 [[body]]
 name = "pusher"
 corners = [{pusher}]
@@ -185,10 +199,7 @@ master = "pusher_front"
 slave = "block_rear"
 friction = "frictionless"
 "#
-            ));
-        }
-    }
-    text
+    )
 }
 
 /// Totals over the base contact: (normal force N, friction vector on the block, push P),

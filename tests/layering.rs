@@ -1,6 +1,6 @@
 //! The library's modules form layers that only import downward: a module may name (through
-//! `crate::...`) only modules of its own layer or below. The order is the README's (section
-//! "Layout"); this test reads every `crate::` path in `src/` (comments excluded) and fails
+//! `crate::...`) only modules of its own layer or below. The order is docs/layout.md's; this
+//! test reads every `crate::` path in `src/` (comments excluded) and fails
 //! on an arrow that runs up, and on a top-level module the order does not place.
 
 use std::collections::BTreeSet;

@@ -233,7 +233,7 @@ fn estimates_within_25_percent(
 /// ranks 2509.8 against 2751.0, +9.6%). With element matrices (the blocks' elements share
 /// a few shapes): 71.0 and 346.0 MiB against 66.1 and 301.0 (-6.9%, -13.0%; n = 80 on 2
 /// ranks 1575.5 against 1798.4, +14.1%). Since each rank keeps only its rows of the first
-/// coarse operator: see `memory::model` and the README's table.
+/// coarse operator: see `memory::model` and docs/memory.md's table.
 #[test]
 fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
     let scene = root().join("run/scenes/bench/block_on_block.toml");

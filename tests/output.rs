@@ -1,164 +1,19 @@
-//! The result file: writing, reading back, XDMF, `post compare/info/plot`, bad files, and the
-//! independent Python check (run/check_h5.py).
+//! The result file: writing, reading back, XDMF (`post compare/info/plot`, bad files, files
+//! without the contact pressure and the Python check: tests/output_post.rs).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use clap::Parser;
 use solver::output::{
-    layout, OutputBody, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepField,
-    StepOutput, StepStats,
+    layout, OutputError, OutputMesh, ResultFile, ResultWriter, RunInfo, StepField, StepOutput,
 };
-use solver::post::{self, PostCommand};
+use solver::post;
 
 mod common;
 
-/// A fresh, empty directory for one test.
-fn test_dir(name: &str) -> PathBuf {
-    common::fresh_dir(&format!("output-tests/{name}"))
-}
-
-/// Nodes and hexahedra of a structured box of `n` elements, node indices from `first`.
-fn block(origin: [f64; 3], n: [usize; 3], first: u64) -> (Vec<[f64; 3]>, Vec<[u64; 8]>) {
-    let mut coords = Vec::new();
-    for k in 0..=n[2] {
-        for j in 0..=n[1] {
-            for i in 0..=n[0] {
-                coords.push([
-                    origin[0] + i as f64,
-                    origin[1] + j as f64,
-                    origin[2] + k as f64,
-                ]);
-            }
-        }
-    }
-    let id = |i: usize, j: usize, k: usize| first + (i + (n[0] + 1) * (j + (n[1] + 1) * k)) as u64;
-    let mut hexes = Vec::new();
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                hexes.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
-            }
-        }
-    }
-    (coords, hexes)
-}
-
-/// Two bodies: a unit cube ("base", 8 nodes, 1 element) and a 2x1x1 plate above it ("lid",
-/// 12 nodes, 2 elements). Node ids are 2i+1, element ids 1..3.
-fn synthetic_mesh() -> OutputMesh {
-    let (mut coordinates, base) = block([0.0, 0.0, 0.0], [1, 1, 1], 0);
-    let (lid_coords, lid) = block([0.0, 0.0, 1.25], [2, 1, 1], 8);
-    coordinates.extend(lid_coords);
-    let node_ids: Vec<u64> = (0..coordinates.len() as u64).map(|i| 2 * i + 1).collect();
-    let top: Vec<u64> = coordinates
-        .iter()
-        .zip(&node_ids)
-        .filter(|(c, _)| c[2] == 2.25)
-        .map(|(_, &id)| id)
-        .collect();
-    let bottom: Vec<u64> = coordinates
-        .iter()
-        .zip(&node_ids)
-        .filter(|(c, _)| c[2] == 0.0)
-        .map(|(_, &id)| id)
-        .collect();
-    OutputMesh {
-        coordinates,
-        node_ids,
-        bodies: vec![
-            OutputBody {
-                name: "base".into(),
-                connectivity: base,
-                element_ids: vec![1],
-            },
-            OutputBody {
-                name: "lid".into(),
-                connectivity: lid,
-                element_ids: vec![2, 3],
-            },
-        ],
-        node_sets: vec![("top".into(), top), ("bottom".into(), bottom)],
-        side_sets: vec![
-            ("contact_slave".into(), vec![(2, 4), (3, 4)]),
-            ("contact_master".into(), vec![(1, 5)]),
-        ],
-    }
-}
-
-fn synthetic_info() -> RunInfo {
-    RunInfo {
-        solver_version: "0.1.0-test".into(),
-        ranks: 2,
-        scene_text: "[scene]\nname = \"two blocks\"\n# a comment with <xml> & \"quotes\"\n".into(),
-        scene_name: "two blocks".into(),
-        start_time: "2024-05-01T12:00:00Z".into(),
-        element_rank: vec![0, 1, 1],
-    }
-}
-
-/// Step `s` with values distinct per step, node, element and component.
-fn synthetic_step(s: usize, mesh: &OutputMesh) -> StepOutput {
-    let n = mesh.coordinates.len();
-    let e = mesh.num_elements();
-    let sf = s as f64 + 1.0;
-    StepOutput {
-        time: 0.25 * sf,
-        displacement: (0..n)
-            .map(|i| {
-                let c = mesh.coordinates[i];
-                [1e-3 * sf * c[0], -2e-3 * sf * c[2], 1e-4 * (i as f64) + sf]
-            })
-            .collect(),
-        stress: (0..e)
-            .map(|j| std::array::from_fn(|k| 1e6 * sf + 1e3 * j as f64 + k as f64))
-            .collect(),
-        reaction: (0..n)
-            .map(|i| [sf, -(i as f64), 0.5 * sf * i as f64])
-            .collect(),
-        contact_force: (0..n)
-            .map(|i| [0.0, 10.0 * sf + i as f64, -3.0 * sf])
-            .collect(),
-        contact_status: (0..n).map(|i| ((i + s) % 4) as u8).collect(),
-        contact_gap: (0..n).map(|i| 1e-2 * (i as f64) - 1e-3 * sf).collect(),
-        contact_pressure: (0..n).map(|i| 2.5 * sf * (i % 3) as f64).collect(),
-        plastic_strain: Vec::new(),
-        stats: StepStats {
-            cg_iterations: 40 + s as u64,
-            contact_updates: s as u64 % 2 + 1,
-            residual: 1e-9 / sf,
-            wall_time: 0.5 + 0.1 * sf,
-            cutbacks: u64::from(s == 1),
-            // Distinct per step and field; active = stick + slip as the solver reports.
-            contact_active: 5 + 2 * s as u64,
-            contact_stick: 3 + s as u64,
-            contact_slip: 2 + s as u64,
-            contact_released: s as u64 % 2,
-            // Step 0 has no penetration (the value is 0 then, never negative).
-            max_penetration: 2.5e-4 * s as f64,
-        },
-    }
-}
-
-/// Writes the synthetic result with `steps` steps to `<dir>/<name>.h5`, finished.
-fn write_synthetic(dir: &Path, name: &str, steps: usize) -> PathBuf {
-    let mesh = synthetic_mesh();
-    let mut w =
-        ResultWriter::create(&dir.join(format!("{name}.h5")), &synthetic_info(), &mesh).unwrap();
-    for s in 0..steps {
-        w.append_step(&synthetic_step(s, &mesh)).unwrap();
-    }
-    w.finish(12.5).unwrap()
-}
+use common::synthetic::{
+    synthetic_info, synthetic_mesh, synthetic_step, test_dir, write_synthetic,
+};
 
 #[test]
 fn round_trip_of_every_dataset_and_attribute() {
@@ -188,10 +43,27 @@ fn round_trip_of_every_dataset_and_attribute() {
     assert!(dir.join("result.xmf").exists());
 
     let f = ResultFile::open(&path).unwrap();
+    check_the_data_read_back(&f, &mesh, &info, &steps);
+    check_the_attributes_read_back(&f, &info);
+    check_exactly_the_documented_datasets(&f);
+    let all: Vec<[u64; 8]> = mesh.all_connectivity();
+    assert_eq!(all.len(), 3);
+    assert_eq!(all[0], mesh.bodies[0].connectivity[0]);
+    assert_eq!(all[2], mesh.bodies[1].connectivity[1]);
+}
+
+/// The mesh, partition, times, statistics and every step's fields of `f` are the ones
+/// written (`mesh`, `info`, `steps`).
+fn check_the_data_read_back(
+    f: &ResultFile,
+    mesh: &OutputMesh,
+    info: &RunInfo,
+    steps: &[StepOutput],
+) {
     assert_eq!(f.num_steps(), 3);
     assert_eq!(f.num_nodes(), 20);
     assert_eq!(f.num_elements(), 3);
-    assert_eq!(f.mesh().unwrap(), mesh);
+    assert_eq!(&f.mesh().unwrap(), mesh);
     assert_eq!(f.element_rank().unwrap(), info.element_rank);
     assert_eq!(
         f.time().unwrap(),
@@ -243,7 +115,10 @@ fn round_trip_of_every_dataset_and_attribute() {
             ..
         })
     ));
+}
 
+/// The root attributes of `f`: the documented ones, with the values `info` gave.
+fn check_the_attributes_read_back(f: &ResultFile, info: &RunInfo) {
     let a = f.attributes().unwrap();
     assert_eq!(a.format_version, layout::FORMAT_VERSION);
     assert_eq!(a.solver_version, info.solver_version);
@@ -260,8 +135,10 @@ fn round_trip_of_every_dataset_and_attribute() {
         .map(|s| s.to_string())
         .collect();
     assert_eq!(attr_names, required);
+}
 
-    // Exactly the documented datasets, with the documented shapes.
+/// Exactly the documented datasets, with the documented shapes.
+fn check_exactly_the_documented_datasets(f: &ResultFile) {
     let (n, e, st) = (20, 3, 3);
     let expected: Vec<(&str, Vec<usize>)> = vec![
         ("/mesh/coordinates", vec![n, 3]),
@@ -301,10 +178,6 @@ fn round_trip_of_every_dataset_and_attribute() {
     for (name, shape) in &expected {
         assert_eq!(&f.shape(name).unwrap(), shape, "{name}");
     }
-    let all: Vec<[u64; 8]> = mesh.all_connectivity();
-    assert_eq!(all.len(), 3);
-    assert_eq!(all[0], mesh.bodies[0].connectivity[0]);
-    assert_eq!(all[2], mesh.bodies[1].connectivity[1]);
 }
 
 #[test]
@@ -625,84 +498,7 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     let mesh = synthetic_mesh();
     let mut w = ResultWriter::create(&dir.join("r.h5"), &synthetic_info(), &mesh).unwrap();
     w.append_step(&synthetic_step(0, &mesh)).unwrap();
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.displacement[5][1] = f64::NAN;
-    let err = w.append_step(&bad).unwrap_err();
-    let msg = err.to_string();
-    assert!(matches!(err, OutputError::NonFinite { .. }), "{msg}");
-    assert!(msg.contains("/results/displacement"), "{msg}");
-    assert!(msg.contains("node 5 (id 11), component 1"), "{msg}");
-    assert!(msg.contains("r.h5.tmp"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stress[2][4] = f64::INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/stress") && msg.contains("element 2"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_gap[0] = f64::NEG_INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/results/contact/gap"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure[7] = f64::NAN;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("node 7 (id 15)"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure.pop();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("19 values for 20 nodes"),
-        "{msg}"
-    );
-
-    // The steps before had a pressure: a step without one would leave a hole.
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_pressure.clear();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/contact/pressure") && msg.contains("no contact pressure"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.residual = f64::NAN;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/stats/residual"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.max_penetration = f64::INFINITY;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/stats/max_penetration"), "{msg}");
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.stats.max_penetration = -1e-6;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/stats/max_penetration") && msg.contains(">= 0"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.reaction.pop();
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(
-        msg.contains("/results/reaction") && msg.contains("19 values for 20 nodes"),
-        "{msg}"
-    );
-
-    let mut bad = synthetic_step(1, &mesh);
-    bad.contact_status[3] = 7;
-    let msg = w.append_step(&bad).unwrap_err().to_string();
-    assert!(msg.contains("/results/contact/status"), "{msg}");
+    refuse_bad_steps(&mut w, &mesh);
 
     // Nothing of a refused step reached the file; the writer goes on.
     assert_eq!(w.steps(), 1);
@@ -712,7 +508,94 @@ fn non_finite_values_and_bad_lengths_are_refused() {
     assert_eq!(f.num_steps(), 2);
     assert_eq!(f.shape("/results/displacement").unwrap(), vec![2, 20, 3]);
 
-    // Bad meshes are refused at create.
+    refuse_bad_meshes(&dir);
+}
+
+/// Steps with a value that is not finite, a field of the wrong length, a missing pressure
+/// after steps that had one, a negative penetration or an unknown status are refused by `w`,
+/// naming the dataset (and the node or element).
+fn refuse_bad_steps(w: &mut ResultWriter, mesh: &OutputMesh) {
+    let mut bad = synthetic_step(1, mesh);
+    bad.displacement[5][1] = f64::NAN;
+    let err = w.append_step(&bad).unwrap_err();
+    let msg = err.to_string();
+    assert!(matches!(err, OutputError::NonFinite { .. }), "{msg}");
+    assert!(msg.contains("/results/displacement"), "{msg}");
+    assert!(msg.contains("node 5 (id 11), component 1"), "{msg}");
+    assert!(msg.contains("r.h5.tmp"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stress[2][4] = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/stress") && msg.contains("element 2"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_gap[0] = f64::NEG_INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/gap"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure[7] = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("node 7 (id 15)"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    // The steps before had a pressure: a step without one would leave a hole.
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_pressure.clear();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/contact/pressure") && msg.contains("no contact pressure"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.residual = f64::NAN;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/residual"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.max_penetration = f64::INFINITY;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/stats/max_penetration"), "{msg}");
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.stats.max_penetration = -1e-6;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/stats/max_penetration") && msg.contains(">= 0"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.reaction.pop();
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(
+        msg.contains("/results/reaction") && msg.contains("19 values for 20 nodes"),
+        "{msg}"
+    );
+
+    let mut bad = synthetic_step(1, mesh);
+    bad.contact_status[3] = 7;
+    let msg = w.append_step(&bad).unwrap_err().to_string();
+    assert!(msg.contains("/results/contact/status"), "{msg}");
+}
+
+/// Bad meshes (and a partition of the wrong length) are refused at create.
+fn refuse_bad_meshes(dir: &Path) {
     let mut m = synthetic_mesh();
     m.coordinates[3][0] = f64::NAN;
     let msg = ResultWriter::create(&dir.join("m.h5"), &synthetic_info(), &m)
@@ -834,662 +717,4 @@ fn xdmf_references_resolve_in_the_hdf5_file() {
         "<Attribute Name=\"contact_pressure\" AttributeType=\"Scalar\" Center=\"Node\">"
     ));
     assert!(xmf.contains("res.h5:/results/contact/pressure|2 0:1 1:1 20:3 20"));
-}
-
-/// A file written before the contact pressure was recorded (its steps have none): read as
-/// before, `post` says the pressure is not there, `compare` lists the dataset as one-sided.
-#[test]
-fn a_file_without_contact_pressure_is_read_as_before() {
-    let dir = test_dir("no_pressure");
-    let mesh = synthetic_mesh();
-    let mut w = ResultWriter::create(&dir.join("old.h5"), &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let mut step = synthetic_step(s, &mesh);
-        step.contact_pressure.clear();
-        w.append_step(&step).unwrap();
-    }
-    let old = w.finish(1.0).unwrap();
-    let f = ResultFile::open(&old).unwrap();
-    assert!(!f.has_contact_pressure());
-    assert!(!f
-        .dataset_names()
-        .contains(&layout::CONTACT_PRESSURE.to_string()));
-    assert_eq!(f.contact_pressure(2).unwrap(), None);
-    assert!(matches!(
-        f.contact_pressure(3),
-        Err(OutputError::StepOutOfRange { .. })
-    ));
-    assert_eq!(f.gap(1).unwrap(), synthetic_step(1, &mesh).contact_gap);
-    let xmf = std::fs::read_to_string(dir.join("old.xmf")).unwrap();
-    assert!(!xmf.contains("contact_pressure"), "{xmf}");
-    assert!(xmf.contains("Name=\"contact_gap\""));
-
-    let text = post::info_text(&old).unwrap();
-    assert!(
-        text.contains("contact pressure: not in this file"),
-        "{text}"
-    );
-    let png = dir.join("p.png");
-    let cmd = parse(&[
-        "plot",
-        old.to_str().unwrap(),
-        "--quantity",
-        "contact_pressure",
-        "--node-set",
-        "top",
-        "--against",
-        "x",
-        "-o",
-        png.to_str().unwrap(),
-    ])
-    .unwrap();
-    let err = post::run_post(&cmd).unwrap_err().to_string();
-    assert!(
-        err.contains("old.h5") && err.contains("no /results/contact/pressure in this file"),
-        "{err}"
-    );
-    assert!(!png.exists());
-
-    // Against a file that has it: every common dataset compared, the pressure one-sided.
-    let new = write_synthetic(&dir, "new", 3);
-    let report = post::compare_files(&old, &new, 0.0).unwrap();
-    assert_eq!(report.exit_code(), 0, "{}", report.render());
-    assert_eq!(report.only_in_b, [layout::CONTACT_PRESSURE]);
-    assert!(report.only_in_a.is_empty());
-
-    // A file whose first step has no pressure (a run continued from such a file) gets none
-    // for later steps either: no dataset with rows that belong to no step.
-    let mut w = ResultWriter::create(&dir.join("cont.h5"), &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let mut step = synthetic_step(s, &mesh);
-        if s == 0 {
-            step.contact_pressure.clear();
-        }
-        w.append_step(&step).unwrap();
-    }
-    let cont = w.finish(1.0).unwrap();
-    let f = ResultFile::open(&cont).unwrap();
-    assert!(!f.has_contact_pressure());
-    assert_eq!(f.num_steps(), 3);
-}
-
-#[test]
-fn compare_identical_within_and_beyond_tolerance_and_mismatched_meshes() {
-    let dir = test_dir("compare");
-    let a = write_synthetic(&dir, "a", 3);
-
-    // Same data; wall times and partition differ, which never counts.
-    let mesh = synthetic_mesh();
-    let mut info = synthetic_info();
-    info.element_rank = vec![0, 0, 0];
-    info.ranks = 1;
-    let mut w = ResultWriter::create(&dir.join("b.h5"), &info, &mesh).unwrap();
-    for s in 0..3 {
-        let mut step = synthetic_step(s, &mesh);
-        step.stats.wall_time *= 3.0;
-        w.append_step(&step).unwrap();
-    }
-    let b = w.finish(99.0).unwrap();
-    let report = post::compare_files(&a, &b, 0.0).unwrap();
-    let text = report.render();
-    assert_eq!(report.exit_code(), 0, "{text}");
-    assert!(report.bitwise_identical());
-    assert!(text.contains("bitwise identical"), "{text}");
-    assert!(text.contains("/stats/wall_time"), "{text}");
-    assert!(text.contains("not counted"), "{text}");
-    let cmd = PostCommand::Compare {
-        a: a.clone(),
-        b: b.clone(),
-        tol: 0.0,
-    };
-    assert_eq!(post::run_post(&cmd).unwrap(), 0);
-
-    // One displacement value off by a relative 1e-6 of the dataset's largest value.
-    let mut w = ResultWriter::create(&dir.join("c.h5"), &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let mut step = synthetic_step(s, &mesh);
-        if s == 2 {
-            step.displacement[7][2] += 3.0 * 1e-6;
-        }
-        w.append_step(&step).unwrap();
-    }
-    let c = w.finish(1.0).unwrap();
-    let report = post::compare_files(&a, &c, 0.0).unwrap();
-    let text = report.render();
-    assert_eq!(report.exit_code(), 1, "{text}");
-    assert!(text.contains("EXCEEDS"), "{text}");
-    assert!(
-        text.contains("DIFFERENT") && text.contains("/results/displacement"),
-        "{text}"
-    );
-    let d = report
-        .datasets
-        .iter()
-        .find(|d| d.name == "/results/displacement")
-        .unwrap();
-    assert_eq!(d.differing, 1);
-    assert!((d.max_rel_diff - 1e-6).abs() < 1e-9, "{}", d.max_rel_diff);
-    let cmd = PostCommand::Compare {
-        a: a.clone(),
-        b: c.clone(),
-        tol: 1e-8,
-    };
-    assert_eq!(post::run_post(&cmd).unwrap(), 1);
-    let report = post::compare_files(&a, &c, 1e-5).unwrap();
-    assert_eq!(report.exit_code(), 0, "{}", report.render());
-    assert!(!report.bitwise_identical());
-    assert!(report.render().contains("within tolerance"));
-
-    // A counted statistic differing fails too.
-    let mut w = ResultWriter::create(&dir.join("d.h5"), &synthetic_info(), &mesh).unwrap();
-    for s in 0..3 {
-        let mut step = synthetic_step(s, &mesh);
-        step.stats.cg_iterations += 1;
-        w.append_step(&step).unwrap();
-    }
-    let d = w.finish(1.0).unwrap();
-    let report = post::compare_files(&a, &d, 0.0).unwrap();
-    assert_eq!(report.exit_code(), 1);
-    assert!(report.render().contains("/stats/cg_iterations"));
-
-    // So do the contact statistics: a released count and a penetration, each off in one step.
-    for (name, change) in [
-        (
-            "/stats/contact_released",
-            (|st: &mut StepStats| st.contact_released += 1) as fn(&mut StepStats),
-        ),
-        ("/stats/max_penetration", |st| st.max_penetration += 1e-9),
-    ] {
-        let file = dir.join(format!("d{}.h5", name.len()));
-        let mut w = ResultWriter::create(&file, &synthetic_info(), &mesh).unwrap();
-        for s in 0..3 {
-            let mut step = synthetic_step(s, &mesh);
-            if s == 1 {
-                change(&mut step.stats);
-            }
-            w.append_step(&step).unwrap();
-        }
-        let d = w.finish(1.0).unwrap();
-        let report = post::compare_files(&a, &d, 0.0).unwrap();
-        let text = report.render();
-        assert_eq!(report.exit_code(), 1, "{text}");
-        let failing: Vec<&str> = report
-            .datasets
-            .iter()
-            .filter(|d| d.counted && !d.within_tol)
-            .map(|d| d.name.as_str())
-            .collect();
-        assert_eq!(failing, [name], "{text}");
-    }
-
-    // Different meshes or step counts cannot be compared.
-    let mut m = synthetic_mesh();
-    m.coordinates.pop();
-    m.node_ids.pop();
-    for set in &mut m.node_sets {
-        set.1.retain(|&id| id != 39);
-    }
-    m.bodies[1].connectivity[1][6] = 0;
-    let mut w = ResultWriter::create(&dir.join("e.h5"), &synthetic_info(), &m).unwrap();
-    for s in 0..3 {
-        w.append_step(&synthetic_step(s, &m)).unwrap();
-    }
-    let e = w.finish(1.0).unwrap();
-    let err = post::compare_files(&a, &e, 0.0).unwrap_err();
-    assert!(matches!(err, OutputError::Mismatch { .. }), "{err}");
-    assert!(err.to_string().contains("/mesh/coordinates"), "{err}");
-    assert!(post::run_post(&PostCommand::Compare {
-        a: a.clone(),
-        b: e,
-        tol: 0.0
-    })
-    .is_err());
-
-    let mut m = synthetic_mesh();
-    m.bodies[1].connectivity[1].swap(0, 1);
-    let mut w = ResultWriter::create(&dir.join("f.h5"), &synthetic_info(), &m).unwrap();
-    for s in 0..3 {
-        w.append_step(&synthetic_step(s, &m)).unwrap();
-    }
-    let f = w.finish(1.0).unwrap();
-    let err = post::compare_files(&a, &f, 0.0).unwrap_err().to_string();
-    assert!(
-        err.contains("meshes differ") && err.contains("connectivity"),
-        "{err}"
-    );
-
-    let short = write_synthetic(&dir, "short", 2);
-    let err = post::compare_files(&a, &short, 0.0)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("/results/displacement has shape [3, 20, 3] in a, [2, 20, 3] in b"),
-        "{err}"
-    );
-
-    assert!(post::compare_files(&a, &a, -1.0).is_err());
-}
-
-#[test]
-fn bad_files_give_clear_errors() {
-    let dir = test_dir("bad_files");
-    let missing = dir.join("missing.h5");
-    let err = ResultFile::open(&missing).err().unwrap();
-    assert!(matches!(err, OutputError::NotFound { .. }), "{err}");
-    assert!(
-        err.to_string().contains("missing.h5: no such file"),
-        "{err}"
-    );
-
-    let text = dir.join("text.h5");
-    std::fs::write(&text, "this is not an HDF5 file\n".repeat(40)).unwrap();
-    let err = ResultFile::open(&text).err().unwrap();
-    assert!(matches!(err, OutputError::NotHdf5 { .. }), "{err}");
-    assert!(err.to_string().contains("not an HDF5 file"), "{err}");
-
-    let empty = dir.join("empty.h5");
-    std::fs::write(&empty, "").unwrap();
-    let err = ResultFile::open(&empty).err().unwrap();
-    assert!(err.to_string().contains("empty"), "{err}");
-
-    let good = write_synthetic(&dir, "good", 3);
-    let bytes = std::fs::read(&good).unwrap();
-    for keep in [bytes.len() / 2, bytes.len() - 100, 600, 40] {
-        let truncated = dir.join(format!("truncated_{keep}.h5"));
-        std::fs::write(&truncated, &bytes[..keep]).unwrap();
-        let err = ResultFile::open(&truncated).err().unwrap();
-        assert!(
-            matches!(err, OutputError::Corrupt { .. }),
-            "truncated to {keep} bytes: {err}"
-        );
-        assert!(err.to_string().contains("truncated"), "{err}");
-        assert!(post::info_text(&truncated).is_err());
-    }
-
-    // An HDF5 file that is not a result file.
-    let other = dir.join("other.h5");
-    {
-        let f = hdf5::File::create(&other).unwrap();
-        f.new_dataset_builder()
-            .with_data(&[1.0f64, 2.0][..])
-            .create("x")
-            .unwrap();
-    }
-    let err = ResultFile::open(&other).err().unwrap();
-    assert!(matches!(err, OutputError::Missing { .. }), "{err}");
-    assert!(
-        err.to_string()
-            .contains("missing dataset /mesh/coordinates"),
-        "{err}"
-    );
-
-    // A result file with one dataset removed.
-    let holed = dir.join("holed.h5");
-    std::fs::copy(&good, &holed).unwrap();
-    {
-        let f = hdf5::File::open_rw(&holed).unwrap();
-        f.unlink("/results/contact/gap").unwrap();
-    }
-    let err = ResultFile::open(&holed).err().unwrap().to_string();
-    assert!(
-        err.contains("holed.h5: missing dataset /results/contact/gap"),
-        "{err}"
-    );
-
-    let err = post::run_post(&PostCommand::Info { file: missing }).unwrap_err();
-    assert!(matches!(err, OutputError::NotFound { .. }));
-}
-
-#[test]
-fn info_summarises_the_run() {
-    let dir = test_dir("info");
-    let path = write_synthetic(&dir, "r", 3);
-    let text = post::info_text(&path).unwrap();
-    for want in [
-        "scene:        two blocks",
-        "ranks:        2",
-        "steps:        3",
-        "wall time:    12.500 s",
-        "exit status:  completed",
-        "base (1 elements), lid (2 elements)",
-        "node sets:    top, bottom",
-        "CG its",
-        "max penetration",
-        "max pressure",
-    ] {
-        assert!(text.contains(want), "missing '{want}' in\n{text}");
-    }
-    // One table row per step plus the header and total.
-    assert_eq!(
-        text.lines().filter(|l| l.contains("e-1")).count(),
-        3,
-        "{text}"
-    );
-    // The largest contact pressure of step 2 is 2.5 * 3 * 2 = 15, first at node index 2
-    // (id 5); it is the largest of all steps too.
-    let rows: Vec<&str> = text.lines().filter(|l| l.contains("1.5000e1")).collect();
-    assert_eq!(rows.len(), 2, "{text}");
-    assert!(rows[0].trim_start().starts_with("2 ") && rows[0].ends_with(" 5"));
-    assert!(rows[1].trim_start().starts_with("max ") && rows[1].ends_with(" 5"));
-    assert!(!text.contains("not in this file"), "{text}");
-    assert_eq!(
-        post::run_post(&PostCommand::Info { file: path }).unwrap(),
-        0
-    );
-}
-
-/// `solver post ...` as the lead's main would parse it.
-#[derive(Parser, Debug)]
-struct Cli {
-    #[command(subcommand)]
-    cmd: PostCommand,
-}
-
-fn parse(args: &[&str]) -> Result<PostCommand, clap::Error> {
-    Cli::try_parse_from(std::iter::once("post").chain(args.iter().copied())).map(|c| c.cmd)
-}
-
-/// The data of a `post plot` command.
-fn plot_data(cmd: &PostCommand) -> post::PlotData {
-    let PostCommand::Plot(args) = cmd else {
-        panic!("{cmd:?}")
-    };
-    post::plot_data(args).unwrap()
-}
-
-#[test]
-fn plot_along_a_node_set_and_through_time() {
-    let dir = test_dir("plot");
-    let path = write_synthetic(&dir, "r", 3);
-    let file = path.to_str().unwrap();
-    let out = dir.join("along.png");
-    let cmd = parse(&[
-        "plot",
-        file,
-        "--quantity",
-        "displacement",
-        "--component",
-        "x",
-        "--node-set",
-        "top",
-        "--against",
-        "x",
-        "--steps",
-        "all",
-        "-o",
-        out.to_str().unwrap(),
-    ])
-    .unwrap();
-    let data = plot_data(&cmd);
-    assert_eq!(data.series.len(), 3);
-    let mesh = synthetic_mesh();
-    for (s, series) in data.series.iter().enumerate() {
-        assert_eq!(series.points.len(), 6);
-        let step = synthetic_step(s, &mesh);
-        // Sorted by x; values are the nodes' x displacement.
-        assert!(series.points.windows(2).all(|w| w[0].0 <= w[1].0));
-        for &(x, v) in &series.points {
-            // Both nodes at this x have the same x displacement.
-            let i = mesh
-                .coordinates
-                .iter()
-                .position(|c| c[2] == 2.25 && c[0] == x)
-                .unwrap();
-            assert_eq!(v, step.displacement[i][0]);
-        }
-    }
-    assert_eq!(post::run_post(&cmd).unwrap(), 0);
-    let png = std::fs::read(&out).unwrap();
-    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-
-    // Arc length along the set, last step, without fonts.
-    let out2 = dir.join("arc.png");
-    let cmd = parse(&[
-        "plot",
-        file,
-        "--quantity",
-        "gap",
-        "--node-set",
-        "bottom",
-        "--against",
-        "s",
-        "-o",
-        out2.to_str().unwrap(),
-    ])
-    .unwrap();
-    let data = plot_data(&cmd);
-    assert_eq!(data.series.len(), 1);
-    let xs: Vec<f64> = data.series[0].points.iter().map(|p| p.0).collect();
-    assert_eq!(xs.first(), Some(&0.0));
-    assert!(xs.windows(2).all(|w| w[0] <= w[1]));
-    post::render_plot(&data, &out2, false).unwrap();
-    assert_eq!(&std::fs::read(&out2).unwrap()[..4], b"\x89PNG");
-
-    // Summed contact force through time.
-    let out3 = dir.join("history.png");
-    let cmd = parse(&[
-        "plot",
-        file,
-        "--history",
-        "--quantity",
-        "contact_force",
-        "--component",
-        "y",
-        "--node-set",
-        "top",
-        "--sum",
-        "-o",
-        out3.to_str().unwrap(),
-    ])
-    .unwrap();
-    let data = plot_data(&cmd);
-    assert_eq!(data.series.len(), 1);
-    let top: Vec<usize> = (0..20)
-        .filter(|&i| mesh.coordinates[i][2] == 2.25)
-        .collect();
-    for (s, &(t, v)) in data.series[0].points.iter().enumerate() {
-        let step = synthetic_step(s, &mesh);
-        assert_eq!(t, step.time);
-        let want: f64 = top.iter().map(|&i| step.contact_force[i][1]).sum();
-        assert!((v - want).abs() < 1e-12, "{v} vs {want}");
-    }
-    assert_eq!(post::run_post(&cmd).unwrap(), 0);
-    assert!(out3.exists());
-
-    // The contact pressure, a scalar, along the set at the last step.
-    let cmd = parse(&[
-        "plot",
-        file,
-        "--quantity",
-        "contact_pressure",
-        "--node-set",
-        "bottom",
-        "--against",
-        "x",
-        "-o",
-        out3.to_str().unwrap(),
-    ])
-    .unwrap();
-    let data = plot_data(&cmd);
-    let last = synthetic_step(2, &mesh);
-    let bottom: Vec<usize> = (0..20).filter(|&i| mesh.coordinates[i][2] == 0.0).collect();
-    let mut want: Vec<(f64, f64)> = bottom
-        .iter()
-        .map(|&i| (mesh.coordinates[i][0], last.contact_pressure[i]))
-        .collect();
-    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    let mut got = data.series[0].points.clone();
-    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    assert_eq!(got, want);
-
-    // Per node through time: one line per node of the set.
-    let cmd = parse(&[
-        "plot",
-        file,
-        "--history",
-        "--quantity",
-        "status",
-        "--node-set",
-        "bottom",
-        "-o",
-        out3.to_str().unwrap(),
-    ])
-    .unwrap();
-    assert_eq!(plot_data(&cmd).series.len(), 4);
-
-    // Argument errors.
-    let bad = |args: &[&str]| {
-        let cmd = parse(args).unwrap();
-        post::run_post(&cmd).unwrap_err().to_string()
-    };
-    let o = out.to_str().unwrap();
-    let e = bad(&[
-        "plot",
-        file,
-        "--quantity",
-        "displacement",
-        "--node-set",
-        "top",
-        "--against",
-        "x",
-        "-o",
-        o,
-    ]);
-    assert!(e.contains("--component"), "{e}");
-    let e = bad(&[
-        "plot",
-        file,
-        "--quantity",
-        "reaction",
-        "--component",
-        "z",
-        "--node-set",
-        "nope",
-        "--against",
-        "x",
-        "-o",
-        o,
-    ]);
-    assert!(
-        e.contains("no node set 'nope'") && e.contains("top, bottom"),
-        "{e}"
-    );
-    let e = bad(&[
-        "plot",
-        file,
-        "--quantity",
-        "reaction",
-        "--component",
-        "z",
-        "--node-set",
-        "top",
-        "--against",
-        "x",
-        "--steps",
-        "0,7",
-        "-o",
-        o,
-    ]);
-    assert!(e.contains("step 7 out of range"), "{e}");
-    assert!(parse(&[
-        "plot",
-        file,
-        "--quantity",
-        "reaction",
-        "--node-set",
-        "top",
-        "-o",
-        o
-    ])
-    .is_err());
-    assert!(parse(&[
-        "plot",
-        file,
-        "--quantity",
-        "strain",
-        "--node-set",
-        "top",
-        "--history",
-        "-o",
-        o
-    ])
-    .is_err());
-}
-
-#[test]
-fn python_check_accepts_a_result_and_rejects_a_broken_one() {
-    let python = Path::new("/usr/bin/python3");
-    let has_h5py = python.exists()
-        && std::process::Command::new(python)
-            .args(["-c", "import h5py"])
-            .status()
-            .map(|s| s.success())
-            .unwrap_or(false);
-    assert!(
-        has_h5py,
-        "/usr/bin/python3 lacks h5py: `run/setup` installs it (Debian's python3-h5py)"
-    );
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("run/check_h5.py");
-    let dir = test_dir("python");
-    let good = write_synthetic(&dir, "good", 3);
-    let out = std::process::Command::new(python)
-        .arg(&script)
-        .arg(&good)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(stdout.contains("/results/displacement"), "{stdout}");
-    assert!(
-        stdout.contains("shape=(3, 20, 3) dtype=float64"),
-        "{stdout}"
-    );
-    assert!(stdout.contains("check_h5: ok"), "{stdout}");
-
-    // Replace /mesh/node_ids by one of the wrong length: the check must fail.
-    let broken = dir.join("broken.h5");
-    std::fs::copy(&good, &broken).unwrap();
-    {
-        let f = hdf5::File::open_rw(&broken).unwrap();
-        f.unlink("/mesh/node_ids").unwrap();
-        f.new_dataset_builder()
-            .with_data(&[1u64, 2, 3][..])
-            .create("/mesh/node_ids")
-            .unwrap();
-    }
-    let out = std::process::Command::new(python)
-        .arg(&script)
-        .arg(&broken)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(1), "{stdout}");
-    assert!(stdout.contains("MISMATCH: /mesh/node_ids"), "{stdout}");
-
-    // The optional contact pressure: checked when there, of the wrong shape refused.
-    let broken = dir.join("broken_pressure.h5");
-    std::fs::copy(&good, &broken).unwrap();
-    {
-        let f = hdf5::File::open_rw(&broken).unwrap();
-        f.unlink(layout::CONTACT_PRESSURE).unwrap();
-        f.new_dataset_builder()
-            .with_data(&[0.0f64; 20][..])
-            .create(layout::CONTACT_PRESSURE)
-            .unwrap();
-    }
-    let out = std::process::Command::new(python)
-        .arg(&script)
-        .arg(&broken)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(1), "{stdout}");
-    assert!(
-        stdout.contains("MISMATCH: /results/contact/pressure"),
-        "{stdout}"
-    );
 }

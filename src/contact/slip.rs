@@ -343,7 +343,7 @@ impl ContactState {
             let nodal = stiffness_along(&p, &diag[l]).max(0.0);
             // The node's own stiffness across the direction. (The consistent tangent,
             // capacity / |slip|, is unbounded at the start of a step and made the contact
-            // loop wander in the measurements; see the README.)
+            // loop wander in the measurements; see docs/contact.md.)
             let k = nodal;
             if k > 0.0 && k.is_finite() {
                 out.push(Spring {

@@ -1,6 +1,6 @@
 //! Names of the datasets and attributes of a result file, and the file names beside it.
 //!
-//! `src/output/README-section.md` documents the layout for users; keep the two in step.
+//! The README's "Result files" and docs/output.md document the layout; keep them in step.
 
 use std::path::{Path, PathBuf};
 

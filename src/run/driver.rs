@@ -74,21 +74,7 @@ pub fn run_from<C: Comm + ?Sized>(
         problem.mesh.num_nodes(),
         problem.mesh.num_elements(),
     );
-    let mut stepper = Stepper::new(comm, problem, &local)?;
-    if opts.export_operator.is_some() {
-        if comm.size() != 1 {
-            return Err(format!(
-                "the operator export works on one rank only (this run has {})",
-                comm.size()
-            ));
-        }
-        stepper.request_export();
-    }
-    let refused = stepper.coarse_note.starts_with("preconditioner: refused");
-    log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
-    if let Some(note) = &stepper.shapes_note {
-        log.at(2, note);
-    }
+    let mut stepper = new_stepper(comm, problem, &local, opts, &log)?;
     if let Some(c) = continued {
         let with_pressure = continue_from(
             comm,
@@ -149,6 +135,33 @@ pub fn run_from<C: Comm + ?Sized>(
         },
         state,
     ))
+}
+
+/// The stepper of this rank's part of the mesh, asked for the operator export when the
+/// options ask (one rank only), its preconditioner's and element matrices' notes logged.
+fn new_stepper<'a, C: Comm + ?Sized>(
+    comm: &'a C,
+    problem: &'a Problem,
+    local: &'a LocalMesh,
+    opts: &RunOptions,
+    log: &Log,
+) -> Result<Stepper<'a, C>, String> {
+    let mut stepper = Stepper::new(comm, problem, local)?;
+    if opts.export_operator.is_some() {
+        if comm.size() != 1 {
+            return Err(format!(
+                "the operator export works on one rank only (this run has {})",
+                comm.size()
+            ));
+        }
+        stepper.request_export();
+    }
+    let refused = stepper.coarse_note.starts_with("preconditioner: refused");
+    log.at(if refused { 1 } else { 2 }, &stepper.coarse_note);
+    if let Some(note) = &stepper.shapes_note {
+        log.at(2, note);
+    }
+    Ok(stepper)
 }
 
 /// The decomposition over the ranks and this rank's part of the mesh.

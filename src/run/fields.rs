@@ -224,20 +224,7 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         return (None, None);
     }
     let stats = step_stats(rec);
-    // The active set is whole on every rank; the pressure is computed on rank 0 from the
-    // displacements it reads gathered in global order, so it does not depend on the number
-    // of ranks.
-    let active = &stepper.contact.active;
-    let surface = surface_displacement(comm, problem, stepper, local);
-    let contact_pressure = if comm.is_root() {
-        crate::contact::area::contact_pressure(problem, active, |g| {
-            let i = surface.binary_search_by_key(&g, |e| e.0);
-            surface[i.expect("every slave face node is owned by a rank")].1
-        })
-    } else {
-        Vec::new()
-    };
-    drop(surface);
+    let contact_pressure = root_contact_pressure(comm, problem, stepper, local);
     let root_finite = contact_pressure.iter().all(|x| x.is_finite()) && stats.writable(rec.time);
     let finite = match &fields {
         LocalFields::Whole(f) => f.finite(stepper, local.num_owned_nodes),
@@ -263,12 +250,61 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         LocalFields::Checked(_) => Fields::new(comm, problem, stepper, local).0,
         LocalFields::Whole(f) => f,
     };
-    let displacement = gather.nodes(comm, local, &stepper.u);
     let mut sink = Sink {
         writer: writer.as_deref_mut().filter(|_| stream),
         err: None,
         kept: (whole || keep).then(StepOutput::default),
     };
+    let kept = gather_step(
+        comm,
+        stepper,
+        (gather, local),
+        fields,
+        contact_pressure,
+        &mut sink,
+        (rec.time, stats),
+    );
+    let mut err = sink.err;
+    if let (Some(w), Some(s)) = (writer.filter(|_| whole), &kept) {
+        err = w.append_step(s).err().map(|e| e.to_string());
+    }
+    (kept.filter(|_| keep), err)
+}
+
+/// The contact pressure on rank 0, from the displacements it reads gathered in global
+/// order, so that it does not depend on the number of ranks (the active set is whole on
+/// every rank); empty elsewhere (collective).
+fn root_contact_pressure<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    stepper: &Stepper<C>,
+    local: &LocalMesh,
+) -> Vec<f64> {
+    let active = &stepper.contact.active;
+    let surface = surface_displacement(comm, problem, stepper, local);
+    if comm.is_root() {
+        crate::contact::area::contact_pressure(problem, active, |g| {
+            let i = surface.binary_search_by_key(&g, |e| e.0);
+            surface[i.expect("every slave face node is owned by a rank")].1
+        })
+    } else {
+        Vec::new()
+    }
+}
+
+/// Gathers the step's `fields` onto rank 0 one at a time, each put into `sink` once
+/// gathered and then dropped unless the sink keeps the step; the step ends in the writer
+/// at `time` with `stats`. Returns the whole step when kept (collective).
+fn gather_step<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    (gather, local): (&Gather, &LocalMesh),
+    fields: Fields,
+    contact_pressure: Vec<f64>,
+    sink: &mut Sink<'_>,
+    (time, stats): (f64, StepStats),
+) -> Option<StepOutput> {
+    let displacement = gather.nodes(comm, local, &stepper.u);
     sink.put(StepField::Displacement(&displacement));
     if !contact_pressure.is_empty() {
         sink.put(StepField::ContactPressure(&contact_pressure));
@@ -310,11 +346,10 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         sink.put(StepField::PlasticStrain(&plastic_strain));
     }
     if let (Some(w), None) = (sink.writer.as_deref_mut(), &sink.err) {
-        sink.err = w.end_step(rec.time, &stats).err().map(|e| e.to_string());
+        sink.err = w.end_step(time, &stats).err().map(|e| e.to_string());
     }
-    let mut err = sink.err;
-    let kept = sink.kept.map(|_| StepOutput {
-        time: rec.time,
+    sink.kept.take().map(|_| StepOutput {
+        time,
         displacement: displacement.unwrap_or_default(),
         stress: stress.unwrap_or_default(),
         reaction: reaction.unwrap_or_default(),
@@ -324,11 +359,7 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         contact_pressure: contact_pressure.unwrap_or_default(),
         plastic_strain,
         stats,
-    });
-    if let (Some(w), Some(s)) = (writer.filter(|_| whole), &kept) {
-        err = w.append_step(s).err().map(|e| e.to_string());
-    }
-    (kept.filter(|_| keep), err)
+    })
 }
 
 /// The displacements `contact_pressure` reads (`area::pressure_nodes`) as (global id,

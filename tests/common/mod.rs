@@ -6,6 +6,8 @@ pub mod paths;
 pub mod punch;
 pub mod restart;
 pub mod scenes;
+pub mod stacked;
+pub mod synthetic;
 
 #[allow(unused_imports)]
 pub use paths::{fresh_dir, paper_scene, repo, solver, stderr_text};

@@ -294,6 +294,37 @@ impl Cg {
         Ok(())
     }
 
+    /// BiCGStab's start: the work vectors, the true residual and its gauge (with the outcome
+    /// when it has converged already), the preconditioners set up.
+    fn bicgstab_start<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        s: &CgSettings,
+        links: &[FrictionLink],
+        linear: bool,
+    ) -> Result<(Gauge, Option<ModelOutcome>), SolveFailure> {
+        super::agree_alloc(pb.comm, self.coupled.ensure(u.len()))?;
+        let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
+        let mut g = Gauge {
+            rnorm: 0.0,
+            refv: 0.0,
+            floor: s.reference_floor.max(roundoff),
+            tolerance: s.tolerance,
+        };
+        if let Some(o) = self.true_residual(pb, u, links, &mut g, 0)? {
+            return Ok((g, Some(o)));
+        }
+        if !g.rnorm.is_finite() {
+            return Err(SolveFailure::NonFinite { iterations: 0 });
+        }
+        self.coupled.base_rnorm = g.rnorm;
+        self.precondition(pb, u)?;
+        self.setup_coarse(pb, u, linear, s)?;
+        self.setup_multilevel(pb, u, linear, s)?;
+        Ok((g, None))
+    }
+
     /// Right-preconditioned BiCGStab on the coupled problem; None on a breakdown or when
     /// the iteration limit is reached (the caller solves plainly instead).
     fn bicgstab<C: Comm + ?Sized>(
@@ -305,25 +336,11 @@ impl Cg {
         linear: bool,
     ) -> Result<Option<ModelOutcome>, SolveFailure> {
         let (comm, n, nl) = (pb.comm, pb.owned(), u.len());
-        super::agree_alloc(comm, self.coupled.ensure(nl))?;
-        let roundoff = s.stiffness_floor * 1e3 * f64::EPSILON / s.tolerance;
-        let mut g = Gauge {
-            rnorm: 0.0,
-            refv: 0.0,
-            floor: s.reference_floor.max(roundoff),
-            tolerance: s.tolerance,
-        };
-        if let Some(o) = self.true_residual(pb, u, links, &mut g, 0)? {
-            return Ok(Some(o));
+        let (mut g, converged) = self.bicgstab_start(pb, u, s, links, linear)?;
+        if converged.is_some() {
+            return Ok(converged);
         }
         let initial = g.rnorm;
-        if !initial.is_finite() {
-            return Err(SolveFailure::NonFinite { iterations: 0 });
-        }
-        self.coupled.base_rnorm = initial;
-        self.precondition(pb, u)?;
-        self.setup_coarse(pb, u, linear, s)?;
-        self.setup_multilevel(pb, u, linear, s)?;
         let mut fresh = true;
         let (mut rho, mut alpha, mut omega): (f64, f64, f64) = (1.0, 1.0, 1.0);
         for it in 1..=s.max_iterations {

@@ -142,6 +142,30 @@ fn unknowns<C: Comm + ?Sized>(pb: &Problem<C>) -> Unknowns {
     }
 }
 
+/// The nodes coloured so that none couples to two of one colour (through an element or a
+/// contact tie): the probes of [`assemble`].
+fn colour_nodes<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+    let mesh = pb.asm.mesh;
+    let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
+    for e in &mesh.elements {
+        for a in 0..8 {
+            for b in a + 1..8 {
+                edges.push((
+                    mesh.node_global[e[a] as usize],
+                    mesh.node_global[e[b] as usize],
+                ));
+            }
+        }
+    }
+    let graph = Graph::from_edges(n, &edges);
+    drop(edges);
+    let ties = Ties::gather(pb.comm, pb.cons, mesh, n);
+    let identity: Vec<u32> = (0..n as u32).collect();
+    let col = Colouring::new(&graph, &identity, n, &ties);
+    drop(graph);
+    col
+}
+
 /// The matrix of `op` in the unknowns `un`, by one application per colour and basis index.
 fn assemble<O: FineOperator<Error = SolveFailure>>(
     un: &Unknowns,
@@ -278,23 +302,7 @@ impl Cg {
         for (l, &g) in mesh.node_global.iter().enumerate() {
             local_of[g as usize] = l;
         }
-        let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
-        for e in &mesh.elements {
-            for a in 0..8 {
-                for b in a + 1..8 {
-                    edges.push((
-                        mesh.node_global[e[a] as usize],
-                        mesh.node_global[e[b] as usize],
-                    ));
-                }
-            }
-        }
-        let graph = Graph::from_edges(n, &edges);
-        drop(edges);
-        let ties = Ties::gather(pb.comm, pb.cons, mesh, n);
-        let identity: Vec<u32> = (0..n as u32).collect();
-        let col = Colouring::new(&graph, &identity, n, &ties);
-        drop(graph);
+        let col = colour_nodes(pb, n);
         let mut x = vec![[0.0; 3]; n];
         let mut y = vec![[0.0; 3]; n];
         let mut op = fine_op!(self, pb, u, linear, s);
