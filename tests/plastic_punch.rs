@@ -530,3 +530,36 @@ fn mortar_contact_punch_matches_the_prescribed_punch_at_n24() {
     let (worst, _) = contact_against_prescribed(24, "mortar");
     assert!(worst < 1e-6, "{worst}");
 }
+
+/// The comment lines at the top of the contact punch scenes in `run/scenes/plasticity/`.
+fn contact_scene_header(n: usize) -> String {
+    format!(
+        "# The contact punch of tests/plastic_punch.rs (`contact_scene`) at n = {n}: a linear elastic\n\
+         # punch body (every node prescribed) pressed 0.06 into an elastic-perfectly plastic block\n\
+         # (sigma_y = 250, full + mean_dilatation) through frictionless node-to-face contact, 12\n\
+         # steps. Run by `run/bench --plasticity`. Below this header: the text the test generates\n\
+         # (`contact_scene_files_are_the_generated_ones` checks it; PUNCH_WRITE_SCENES=1 rewrites).\n"
+    )
+}
+
+#[test]
+fn contact_scene_files_are_the_generated_ones() {
+    for n in [48, 96] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(format!("run/scenes/plasticity/contact_punch_{n}.toml"));
+        let text = format!(
+            "{}{}",
+            contact_scene_header(n),
+            contact_scene(n, 0.06 * A, 12, 0.0, "node_face")
+        );
+        if std::env::var_os("PUNCH_WRITE_SCENES").is_some() {
+            std::fs::write(&path, &text).unwrap();
+        }
+        let file = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            file == text,
+            "{} differs from contact_scene({n})",
+            path.display()
+        );
+    }
+}

@@ -37,6 +37,11 @@
 //! `bench --ironing [--out DIR]` runs only the ironing example with CalculiX beside it
 //! (`peers::calculix::ironing`) into `<out>/ironing/`.
 //!
+//! `bench --plasticity [--quick] [--out DIR]` runs only the flat punch in a J2 block,
+//! prescribed (40 x 40, 80 x 80) and through contact (n = 48, 96; `--quick`: 40 x 40 and
+//! n = 48), ours on 2 ranks beside CalculiX on 2 threads, into `<out>/plasticity/`
+//! (`peers::calculix::plasticity`).
+//!
 //! `bench --pyamg [--out DIR]` exports the first model problem of the block on block
 //! (n = 20, 40) and of the Hertz example x2 (`solver run --export-operator`) and runs
 //! PyAMG's smoothed aggregation on it (`run/pyamg_peer.py`) beside our multilevel
@@ -83,6 +88,7 @@ const USAGE: &str = concat!(
     "       bench --ironing [--out DIR]\n",
     "       bench --pyamg [--out DIR]\n",
     "       bench --robustness [--quick] [--out DIR]\n",
+    "       bench --plasticity [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
@@ -96,6 +102,11 @@ const USAGE: &str = concat!(
     "               160 x 8 x 1, block n = 20 on 2 ranks with jacobi, two_level, multilevel\n",
     "               and auto (240 s limit per run), CalculiX beside Hertz and the bar\n",
     "               (600 s limit), in <out>/robustness/ (with --quick: a subset, 60 s limit)\n",
+    "  --plasticity only the flat punch in a J2 block beside CalculiX (ours 2 ranks, ccx 2\n",
+    "               threads, C3D8I): prescribed at 40 x 40 and 80 x 80 (50 increments),\n",
+    "               through contact at n = 48 and 96 (12 steps); wall times, CG per\n",
+    "               increment, Newton iterations, final pressures, in <out>/plasticity/\n",
+    "               (with --quick: 40 x 40 and n = 48)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
     "               two_level (default) or multilevel, for --large (its section replaces an\n",
@@ -111,6 +122,7 @@ enum Mode {
     Ironing,
     Pyamg,
     Robustness { quick: bool },
+    Plasticity { quick: bool },
 }
 
 #[derive(Debug, PartialEq)]
@@ -127,6 +139,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut ironing = false;
     let mut pyamg = false;
     let mut robustness = false;
+    let mut plasticity = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut precond: Option<Precond> = None;
     let mut out = PathBuf::from("out/bench");
@@ -138,6 +151,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--ironing" => ironing = true,
             "--pyamg" => pyamg = true,
             "--robustness" => robustness = true,
+            "--plasticity" => plasticity = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -180,7 +194,12 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if pyamg && (ironing || large || quick || robustness) {
         return Err("--pyamg goes with --out only".into());
     }
-    let mode = if pyamg {
+    if plasticity && (large || ironing || pyamg || robustness) {
+        return Err("--plasticity goes with --quick and --out only".into());
+    }
+    let mode = if plasticity {
+        Mode::Plasticity { quick }
+    } else if pyamg {
         Mode::Pyamg
     } else if robustness {
         Mode::Robustness { quick }
@@ -215,6 +234,7 @@ fn main() -> ExitCode {
         Mode::Ironing => peers::calculix::ironing::run(&args.out).map(|_| ()),
         Mode::Pyamg => pyamg::run(&args.out),
         Mode::Robustness { quick } => robustness::run(&args.out, quick),
+        Mode::Plasticity { quick } => peers::calculix::plasticity::run(&args.out, quick),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
@@ -296,6 +316,17 @@ mod tests {
         assert_eq!(
             parse(&["--robustness", "--ironing"]),
             Err("--robustness goes with --quick and --out only".into())
+        );
+        assert_eq!(
+            parse(&["--plasticity", "--quick", "--out", "d"]),
+            Ok(Some(Args {
+                mode: Mode::Plasticity { quick: true },
+                out: PathBuf::from("d"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--plasticity", "--large"]),
+            Err("--plasticity goes with --quick and --out only".into())
         );
         assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
         assert_eq!(parse(&["-h"]), Ok(None));

@@ -21,9 +21,29 @@ pub struct Deck {
     pub steps: Vec<Step>,
 }
 
-/// C3D8 elements of one material: `*ELEMENT`, `*MATERIAL`, `*SOLID SECTION`.
+/// A hexahedron of ccx's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ElementType {
+    /// 2x2x2 Gauss.
+    #[default]
+    C3D8,
+    /// 2x2x2 Gauss with incompatible modes (no shear or volumetric locking).
+    C3D8I,
+}
+
+impl ElementType {
+    pub fn label(self) -> &'static str {
+        match self {
+            ElementType::C3D8 => "C3D8",
+            ElementType::C3D8I => "C3D8I",
+        }
+    }
+}
+
+/// Hexahedra of one material: `*ELEMENT`, `*MATERIAL`, `*SOLID SECTION`.
 pub struct Solid {
     pub elset: String,
+    pub element: ElementType,
     /// (element id, its 8 node ids), 1-based, in ccx's (and our) corner order.
     pub elements: Vec<(usize, [usize; 8])>,
     pub material: Material,
@@ -40,6 +60,9 @@ pub enum MaterialCard {
     Elastic { e: f64, nu: f64 },
     /// `*HYPERELASTIC, NEO HOOKE`: W = C10 (I1bar - 3) + (J - 1)^2 / D1.
     NeoHooke { c10: f64, d1: f64 },
+    /// `*PLASTIC` (von Mises, isotropic hardening): (yield stress, equivalent plastic
+    /// strain) points, constant beyond the last.
+    Plastic { points: Vec<(f64, f64)> },
 }
 
 pub struct NodeSet {
@@ -79,6 +102,8 @@ pub struct ContactPair {
 /// `*STEP` ... `*END STEP`.
 pub struct Step {
     pub nlgeom: bool,
+    /// `*STATIC, DIRECT`: the increments fixed at the initial one (no cut-backs).
+    pub direct: bool,
     /// `INC=`: the most increments ccx may take in the step (its default is 100).
     pub max_increments: usize,
     /// `*STATIC`: initial increment, step period, minimum and maximum increment.
@@ -219,7 +244,12 @@ impl Deck {
 
 impl Solid {
     fn write(&self, w: &mut String) {
-        let _ = writeln!(w, "*ELEMENT, TYPE=C3D8, ELSET={}", self.elset);
+        let _ = writeln!(
+            w,
+            "*ELEMENT, TYPE={}, ELSET={}",
+            self.element.label(),
+            self.elset
+        );
         for (id, nodes) in &self.elements {
             let _ = write!(w, "{id}");
             for n in nodes {
@@ -236,6 +266,12 @@ impl Solid {
                 }
                 MaterialCard::NeoHooke { c10, d1 } => {
                     let _ = writeln!(w, "*HYPERELASTIC, NEO HOOKE\n{}, {}", real(*c10), real(*d1));
+                }
+                MaterialCard::Plastic { points } => {
+                    let _ = writeln!(w, "*PLASTIC");
+                    for &(stress, strain) in points {
+                        let _ = writeln!(w, "{}, {}", real(stress), real(strain));
+                    }
                 }
             }
         }
@@ -256,7 +292,8 @@ impl Step {
             self.max_increments
         );
         let inc: Vec<String> = self.increments.iter().map(|&x| real(x)).collect();
-        let _ = writeln!(w, "*STATIC\n{}", inc.join(", "));
+        let direct = if self.direct { ", DIRECT" } else { "" };
+        let _ = writeln!(w, "*STATIC{direct}\n{}", inc.join(", "));
         if !self.boundaries.is_empty() {
             let _ = writeln!(w, "*BOUNDARY");
         }
@@ -367,6 +404,7 @@ RF
             nodes: corners.to_vec(),
             solids: vec![Solid {
                 elset: "E_CUBE".into(),
+                element: ElementType::C3D8,
                 elements: vec![(1, [1, 2, 3, 4, 5, 6, 7, 8])],
                 material: Material {
                     name: "M_CUBE".into(),
@@ -394,6 +432,7 @@ RF
             }],
             steps: vec![Step {
                 nlgeom: true,
+                direct: false,
                 max_increments: 100,
                 increments: [0.1, 1.0, 1e-5, 0.5],
                 boundaries: vec![Boundary {

@@ -8,6 +8,8 @@
 //! - `output`: what ccx wrote (.dat totals, its log), read back;
 //! - `block`: the block-on-block problem with CalculiX beside our runs;
 //! - `ironing`: the ironing example with CalculiX beside our run (`bench --ironing`);
+//! - `plasticity`: the flat punch, prescribed and through contact, beside our runs
+//!   (`bench --plasticity`);
 //! - `robustness`: the Hertz example and the stick/slip bar beside the robustness table
 //!   (`bench --robustness`).
 //!
@@ -18,6 +20,7 @@ pub mod block;
 pub mod deck;
 pub mod ironing;
 pub mod output;
+pub mod plasticity;
 pub mod robustness;
 pub mod run;
 pub mod scene;

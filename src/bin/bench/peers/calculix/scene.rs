@@ -5,12 +5,15 @@
 //! scene's increments with the prescribed displacements and the pressures (`*DLOAD`) at the
 //! segment's end, every contact pair as node-to-surface penalty contact (with Coulomb
 //! friction when the pair has it), and the total reaction force of every prescribed node
-//! set printed to the .dat file at every increment. What a scene holds beyond that is
-//! refused with a message naming it; a new problem extends the translation here.
+//! set printed to the .dat file at every increment. `deck_with` also writes scenes
+//! without contact, J2 plasticity (`j2_plastic` without kinematic hardening as *PLASTIC),
+//! another hexahedron (C3D8I) and fixed increments (`*STATIC, DIRECT`). What a scene holds
+//! beyond that is refused with a message naming it; a new problem extends the translation
+//! here.
 
 use super::deck::{
-    name, Boundary, ContactPair, DLoad, Deck, Interaction, Material as CcxMaterial, MaterialCard,
-    NodePrint, NodeSet, PairType, Solid, Step, Surface,
+    name, Boundary, ContactPair, DLoad, Deck, ElementType, Interaction, Material as CcxMaterial,
+    MaterialCard, NodePrint, NodeSet, PairType, Solid, Step, Surface,
 };
 use crate::api::{Formulation, Kinematics, Material, PiecewiseLinear, Problem};
 
@@ -28,35 +31,69 @@ fn unsupported<T>(what: &str) -> Result<T, String> {
     Err(format!("the CalculiX deck does not support {what}"))
 }
 
+/// How `deck_with` writes a scene.
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    /// Slope of the linear pressure-overclosure law of every contact pair.
+    pub penalty: f64,
+    /// The hexahedron of every body: C3D8 stands for the scene's "full" only; C3D8I (no
+    /// volumetric locking) also for "full" with mean dilatation.
+    pub element: ElementType,
+    /// Fixed increments, the scene's steps (`*STATIC, DIRECT`), instead of ccx's automatic
+    /// incrementation starting from them.
+    pub direct: bool,
+    /// Whether a scene without contact pairs is written (refused by `deck`).
+    pub without_contact: bool,
+}
+
 /// The deck of `problem`, contact by a linear pressure-overclosure law of slope `penalty`.
 pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
+    let options = Options {
+        penalty,
+        element: ElementType::C3D8,
+        direct: false,
+        without_contact: false,
+    };
+    deck_with(problem, &options)
+}
+
+/// The deck of `problem` as `options` ask.
+pub fn deck_with(problem: &Problem, options: &Options) -> Result<Deck, String> {
     if !problem.tractions.is_empty() || !problem.body_forces.is_empty() {
         return unsupported("tractions or body forces");
     }
-    if problem.contacts.is_empty() {
+    if problem.contacts.is_empty() && !options.without_contact {
         return unsupported("scenes without contact");
     }
     let friction = problem.contacts.iter().any(|p| p.mu > 0.0);
     let large = matches!(problem.kinematics, Kinematics::Large);
-    let solids = solids(problem)?;
-    let (node_sets, steps) = prescribed(problem, large)?;
+    let solids = solids(problem, options.element)?;
+    let (node_sets, mut steps) = prescribed(problem, large)?;
+    for step in &mut steps {
+        step.direct = options.direct;
+    }
+    let element = match options.element {
+        ElementType::C3D8 => "C3D8 (2x2x2 Gauss) as the scene's \"full\"",
+        ElementType::C3D8I => {
+            "C3D8I (incompatible modes) for the scene's \"full\" (with or without mean dilatation)"
+        }
+    };
     let mut deck = Deck {
         comments: vec![
+            format!("{} written by the solver's bench: {element},", problem.name),
             format!(
-                "{} written by the solver's bench: C3D8 (2x2x2 Gauss) as the scene's \"full\",",
-                problem.name
-            ),
-            format!(
-                "node-to-surface penalty contact{}, {}.",
-                if friction {
-                    " with Coulomb friction"
+                "{}, {}.",
+                if problem.contacts.is_empty() {
+                    "no contact"
+                } else if friction {
+                    "node-to-surface penalty contact with Coulomb friction"
                 } else {
-                    ", frictionless"
+                    "node-to-surface penalty contact, frictionless"
                 },
                 if large {
                     "NLGEOM"
                 } else {
-                    "linear static (no NLGEOM)"
+                    "small strain (no NLGEOM)"
                 }
             ),
         ],
@@ -67,46 +104,76 @@ pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
         steps,
         ..Deck::default()
     };
-    contact(problem, penalty, &mut deck)?;
+    contact(problem, options.penalty, &mut deck)?;
     Ok(deck)
 }
 
-/// One element block per body, with its material (E and nu from the scene's Lamé
-/// constants) and section.
-fn solids(problem: &Problem) -> Result<Vec<Solid>, String> {
+/// E and nu from the Lamé constants.
+fn elastic(lambda: f64, mu: f64) -> MaterialCard {
+    MaterialCard::Elastic {
+        e: mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu),
+        nu: lambda / (2.0 * (lambda + mu)),
+    }
+}
+
+/// Equivalent plastic strain of the second *PLASTIC point of a hardening J2 material (ccx
+/// holds the yield stress constant beyond the last point): far beyond any strain a
+/// bench problem reaches.
+const HARDENING_STRAIN: f64 = 10.0;
+
+/// The cards of a body's material.
+fn material_cards(material: &Material) -> Result<Vec<MaterialCard>, String> {
+    Ok(match material {
+        Material::LinearElastic(m) => vec![elastic(m.lambda, m.mu)],
+        // W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 and ccx's C10 (I1bar - 3) +
+        // (J - 1)^2 / D1 agree to second order in the strain with C10 = mu / 2 and
+        // D1 = 2 / K, K = lambda + 2 mu / 3; they differ at large strain.
+        Material::NeoHookean(m) => vec![MaterialCard::NeoHooke {
+            c10: m.mu / 2.0,
+            d1: 2.0 / (m.lambda + 2.0 * m.mu / 3.0),
+        }],
+        // Linear isotropic hardening sigma_y + K alpha (alpha the equivalent plastic
+        // strain) is ccx's *PLASTIC through two points; perfect plasticity is one.
+        Material::J2Plastic(m) => {
+            if m.kinematic != 0.0 {
+                return unsupported("j2_plastic with kinematic hardening");
+            }
+            let mut points = vec![(m.yield_stress, 0.0)];
+            if m.isotropic != 0.0 {
+                points.push((
+                    m.yield_stress + m.isotropic * HARDENING_STRAIN,
+                    HARDENING_STRAIN,
+                ));
+            }
+            vec![elastic(m.lambda, m.mu), MaterialCard::Plastic { points }]
+        }
+    })
+}
+
+/// One element block per body, with its material and section.
+fn solids(problem: &Problem, element: ElementType) -> Result<Vec<Solid>, String> {
     let mesh = &problem.mesh;
     let mut solids = Vec::new();
     for (b, body) in mesh.bodies.iter().enumerate() {
         let model = &problem.body_models[b];
-        let card = match &model.material {
-            Material::LinearElastic(m) => {
-                let (lambda, mu) = (m.lambda, m.mu);
-                MaterialCard::Elastic {
-                    e: mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu),
-                    nu: lambda / (2.0 * (lambda + mu)),
-                }
+        let cards = material_cards(&model.material)?;
+        match (model.formulation, element) {
+            (Formulation::Full, _) | (Formulation::FullBar, ElementType::C3D8I) => {}
+            (Formulation::FullBar, ElementType::C3D8) => {
+                return unsupported("mean dilatation with C3D8 (C3D8I instead)")
             }
-            // W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 and ccx's C10 (I1bar - 3) +
-            // (J - 1)^2 / D1 agree to second order in the strain with C10 = mu / 2 and
-            // D1 = 2 / K, K = lambda + 2 mu / 3; they differ at large strain.
-            Material::NeoHookean(m) => MaterialCard::NeoHooke {
-                c10: m.mu / 2.0,
-                d1: 2.0 / (m.lambda + 2.0 * m.mu / 3.0),
-            },
-            _ => return unsupported("materials other than linear elastic and neo-Hookean"),
-        };
-        if !matches!(model.formulation, Formulation::Full) {
-            return unsupported("formulations other than \"full\"");
+            _ => return unsupported("formulations other than \"full\""),
         }
         let elements = (body.first_element..body.first_element + body.num_elements)
             .map(|k| (k + 1, mesh.elements[k].map(|n| n as usize + 1)))
             .collect();
         solids.push(Solid {
             elset: name("E_", &body.name),
+            element,
             elements,
             material: CcxMaterial {
                 name: name("M_", &body.name),
-                cards: vec![card],
+                cards,
             },
         });
     }
@@ -156,6 +223,7 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
         .into_iter()
         .map(|(start, end, dt)| Step {
             nlgeom: large,
+            direct: false,
             max_increments: 10_000,
             increments: [dt, end - start, 1.0e-5 * (end - start), dt],
             boundaries: problem
@@ -341,6 +409,47 @@ mod tests {
         assert_eq!(
             e,
             "the CalculiX deck does not support prescribed directions other than x, y or z"
+        );
+    }
+
+    /// The plastic punch: no contact, C3D8I for "full" with mean dilatation, *ELASTIC and
+    /// *PLASTIC (perfect: one point), 50 fixed increments; C3D8 and contact-less scenes
+    /// are refused unless asked for.
+    #[test]
+    fn deck_of_the_plastic_punch() {
+        let scene = repo_root().join("run/scenes/plasticity/punch_40.toml");
+        let problem = load_scene_refined(&scene, 1).unwrap();
+        let mut options = Options {
+            penalty: 1e7,
+            element: ElementType::C3D8I,
+            direct: true,
+            without_contact: true,
+        };
+        let text = deck_with(&problem, &options).unwrap().text();
+        assert!(
+            text.contains("*ELEMENT, TYPE=C3D8I, ELSET=E_BLOCK\n"),
+            "{text}"
+        );
+        let material = "*MATERIAL, NAME=M_BLOCK\n*ELASTIC\n";
+        let i = text.find(material).unwrap() + material.len();
+        let cards: Vec<&str> = text[i..].lines().take(3).collect();
+        let elastic: Vec<f64> = cards[0].split(", ").map(|x| x.parse().unwrap()).collect();
+        assert!((elastic[0] - 200e3).abs() < 1e-6 && (elastic[1] - 0.3).abs() < 1e-12);
+        assert_eq!(cards[1..], ["*PLASTIC", "100.0, 0.0"]);
+        assert!(
+            text.contains("*STATIC, DIRECT\n0.02, 1.0, 1.0e-5, 0.02\n"),
+            "{text}"
+        );
+        assert!(text.contains("N_PUNCH, 2, 2, -0.1\n"));
+        assert!(!text.contains("*CONTACT PAIR"));
+        options.element = ElementType::C3D8;
+        assert_eq!(
+            deck_with(&problem, &options).err().unwrap(),
+            "the CalculiX deck does not support mean dilatation with C3D8 (C3D8I instead)"
+        );
+        assert_eq!(
+            deck(&problem, 1e7).err().unwrap(),
+            "the CalculiX deck does not support scenes without contact"
         );
     }
 
