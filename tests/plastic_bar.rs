@@ -159,8 +159,24 @@ fn bar_isotropic_and_kinematic_every_formulation() {
             let p = common::problem(&scene(8, 8.0, k, h, PATH, 7, extra));
             let (es, ee, cg) = check(&p, k, h, PATH);
             println!("bar [{extra}] K {k} H {h}: stress error {es:.2e} sigma_y, eqps error {ee:.2e}, {cg} CG iterations");
-            assert!(es < 1e-10 && ee < 1e-10, "[{extra}] K {k} H {h}");
+            assert!(es < 1e-10, "[{extra}] K {k} H {h}");
+            assert!(ee < eqps_tolerance(k, h), "[{extra}] K {k} H {h}");
         }
+    }
+}
+
+/// The tolerance of the equivalent plastic strain: 1e-10 (above) with hardening. Without
+/// it (K = H = 0) the axial tangent vanishes once the bar yields, so equilibrium fixes the
+/// stress but not how the elongation divides among the elements: each element's plastic
+/// strain is set by where the solver stops along that null direction, not by the
+/// residual's tolerance (measured: 2.9e-9 of the path's value for `mean` elements with the
+/// full tangent preconditioner, whose factor raises the vanishing pivots; 1e-12 and below
+/// with block Jacobi). 1e-8 still catches a wrong return map (errors of order 1).
+fn eqps_tolerance(k: f64, h: f64) -> f64 {
+    if k == 0.0 && h == 0.0 {
+        1e-8
+    } else {
+        1e-10
     }
 }
 
