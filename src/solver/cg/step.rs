@@ -7,6 +7,9 @@ use super::{agree, max_abs, residual, Cg, CgSettings, Problem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
+/// Corrections of a nonlinear step's length at most (each a force evaluation).
+const MAX_SECANTS: usize = 4;
+
 impl Cg {
     /// Linear PCG step: exact curvature p.K p, recurrence for the residual, replaced by the
     /// true residual every 50 iterations and before convergence is accepted.
@@ -100,15 +103,7 @@ impl Cg {
                 }
             }
         }
-        let s1 = comm::dot(comm, &self.r, &self.p, n);
-        if s1.abs() > 0.25 * rp {
-            // try_step leaves the state untouched when the corrected point fails.
-            let a2 = (alpha * rp / (rp - s1)).clamp(0.1 * alpha, 4.0 * alpha);
-            self.trace.secants += 1;
-            if self.try_step(pb, u, a2 - alpha).is_err() {
-                self.trace.secants_refused += 1;
-            }
-        }
+        self.secant_search(pb, u, rp, alpha);
         let (rn, reference) = pb.measure(&self.r, &self.fi, &self.fe);
         st.rnorm = rn;
         st.refv = reference.max(st.floor);
@@ -118,6 +113,71 @@ impl Cg {
             st.restart = true;
         }
         Ok(())
+    }
+
+    /// The step length's correction along p from `alpha`, where the residual's component
+    /// along p is still above a quarter of its start `rp`: a secant through the start and
+    /// the probed step, kept within [0.1, 4] of it; then, while the component stays above
+    /// a quarter, regula falsi (Illinois) within the bracket once the component changed
+    /// sign, or the secant through the last two points (at most 4 times as far) while it
+    /// has not; at most `MAX_SECANTS` corrections. Where the tangent at u is the soft one of a yielded region that
+    /// unloads along p, the curvature probe overestimates the step by the ratio of the
+    /// elastic to the plastic modulus, far more than one secant recovers.
+    fn secant_search<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &mut [Vec3],
+        rp: f64,
+        alpha: f64,
+    ) {
+        let (comm, n) = (pb.comm, pb.owned());
+        // (step, residual along p) at the bracket's ends: the root lies between them once
+        // `hi` is set.
+        let mut lo = (0.0, rp);
+        let mut hi: Option<(f64, f64)> = None;
+        let mut prev = lo;
+        let mut at = (alpha, comm::dot(comm, &self.r, &self.p, n));
+        let mut last_side = 0;
+        for k in 0..MAX_SECANTS {
+            if !(at.1.abs() > 0.25 * rp) {
+                break;
+            }
+            let side = if at.1 > 0.0 { 1 } else { -1 };
+            if side > 0 {
+                lo = at;
+            } else {
+                hi = Some(at);
+            }
+            // Illinois: the same end replaced twice in a row halves the other end's value.
+            if side == last_side {
+                match (side, hi.as_mut()) {
+                    (1, Some(h)) => h.1 *= 0.5,
+                    (1, None) => {}
+                    _ => lo.1 *= 0.5,
+                }
+            }
+            last_side = side;
+            let next = match hi {
+                // The first correction: the secant through the start and the probed step,
+                // kept within [0.1, 4] of it.
+                _ if k == 0 => (alpha * rp / (rp - at.1)).clamp(0.1 * alpha, 4.0 * alpha),
+                Some(h) => lo.0 + (h.0 - lo.0) * lo.1 / (lo.1 - h.1),
+                // Still descending: the secant through the last two points, at most 4
+                // times as far.
+                None if prev.1 > at.1 => {
+                    (at.0 + at.1 * (at.0 - prev.0) / (prev.1 - at.1)).min(4.0 * at.0)
+                }
+                None => 4.0 * at.0,
+            };
+            prev = at;
+            self.trace.secants += 1;
+            // try_step leaves the state untouched when the corrected point fails.
+            if !next.is_finite() || self.try_step(pb, u, next - at.0).is_err() {
+                self.trace.secants_refused += 1;
+                break;
+            }
+            at = (next, comm::dot(comm, &self.r, &self.p, n));
+        }
     }
 
     /// u += alpha p with forces and residual at the new point; on an element failure u is
