@@ -185,7 +185,7 @@ impl FullTangent {
                 }
             }
         }
-        self.chol.solve(&mut self.x);
+        self.chol.solve_split_sums(&mut self.x);
         for (l, b) in self.basis.iter().enumerate() {
             let f = self.first[node_global[l] as usize];
             let mut v = [0.0; 3];

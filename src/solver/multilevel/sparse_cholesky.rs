@@ -310,6 +310,53 @@ impl SparseCholesky {
             x[self.perm[k]] = y[k];
         }
     }
+
+    /// Solves L L^T x = b in place as `solve` does, except that the backward substitution's
+    /// sums run in four interleaved partial sums: about twice as fast (the single running
+    /// sum waits on each addition), equal to `solve` to round-off but not bit for bit. For
+    /// factors whose solves need not match `solve`'s (the full tangent preconditioner).
+    pub fn solve_split_sums(&mut self, x: &mut [f64]) {
+        let n = self.diag.len();
+        let y = &mut self.work;
+        for k in 0..n {
+            y[k] = x[self.perm[k]];
+        }
+        for j in 0..n {
+            if self.diag[j] == 0.0 {
+                y[j] = 0.0;
+                continue;
+            }
+            y[j] /= self.diag[j];
+            let yj = y[j];
+            let (a, b) = (self.colptr[j], self.colptr[j + 1]);
+            for (&r, &v) in self.rowidx[a..b].iter().zip(&self.val[a..b]) {
+                y[r as usize] -= v * yj;
+            }
+        }
+        for j in (0..n).rev() {
+            if self.diag[j] == 0.0 {
+                y[j] = 0.0;
+                continue;
+            }
+            let (a, b) = (self.colptr[j], self.colptr[j + 1]);
+            let (rows, vals) = (&self.rowidx[a..b], &self.val[a..b]);
+            let mut acc = [0.0; 4];
+            let mut rc = rows.chunks_exact(4);
+            let mut vc = vals.chunks_exact(4);
+            for (r4, v4) in (&mut rc).zip(&mut vc) {
+                for k in 0..4 {
+                    acc[k] += v4[k] * y[r4[k] as usize];
+                }
+            }
+            for (&r, &v) in rc.remainder().iter().zip(vc.remainder()) {
+                acc[0] += v * y[r as usize];
+            }
+            y[j] = (y[j] - ((acc[0] + acc[1]) + (acc[2] + acc[3]))) / self.diag[j];
+        }
+        for k in 0..n {
+            x[self.perm[k]] = y[k];
+        }
+    }
 }
 
 /// The elimination tree of P A P^T (parent of each column, usize::MAX at a root), by
