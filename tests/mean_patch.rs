@@ -3,9 +3,10 @@
 //! cube around a distorted inner hexahedron, under a linear displacement field u = A x + b.
 //! The exact solution is that field with the constant stress C : sym(A): every element's
 //! stress must be it, and the internal forces assembled at the eight inner nodes (which
-//! carry no load) must vanish. Both hourglass controls: the assumed-strain stabilisation
-//! (the default) and Flanagan-Belytschko; linear elastic and neo-Hookean (a homogeneous
-//! deformation), also near incompressibility.
+//! carry no load) must vanish. Every hourglass control: the assumed-strain stabilisation
+//! with the shear modulus only (the default of linear elastic bodies), with lambda, and
+//! Flanagan-Belytschko; linear elastic and neo-Hookean (a homogeneous deformation), also
+//! near incompressibility.
 
 use solver::fem::element::{average_cauchy, internal_force};
 use solver::fem::{Formulation, Stabilization};
@@ -86,6 +87,7 @@ fn mean_elements_pass_the_constant_strain_patch_test() {
         Material::NeoHookean(NeoHookean::new(1000.0, 0.3)),
     ];
     let controls = [
+        Stabilization::AssumedStrainMu,
         Stabilization::AssumedStrain,
         Stabilization::Coefficient(0.1),
     ];

@@ -62,7 +62,8 @@ pub struct BodyDef {
     #[serde(default)]
     pub volumetric: Volumetric,
     /// Hourglass control, `mean` integration only: a Flanagan-Belytschko stiffness
-    /// coefficient or "assumed_strain"; unset: 0.1 (`scene::validate`).
+    /// coefficient, "assumed_strain" or "assumed_strain_mu"; unset: "assumed_strain_mu"
+    /// for linear elastic bodies, 0.1 for the others (`scene::validate`).
     pub hourglass: Option<HourglassDef>,
 }
 

@@ -286,11 +286,21 @@ impl Builder {
     }
 
     /// The element formulation from a body's integration, volumetric treatment and
-    /// hourglass control. A `mean` body without `hourglass` takes Flanagan-Belytschko at
-    /// `DEFAULT_HOURGLASS`; "assumed_strain" is asked for by name (docs/elements.md: as
-    /// the default it left a bonded near-incompressible block 2.98% stiff at h).
+    /// hourglass control. A `mean` body without `hourglass` takes the assumed-strain
+    /// stabilisation with the shear modulus only if it is linear elastic, and
+    /// Flanagan-Belytschko at `DEFAULT_HOURGLASS` otherwise: plastic bodies (the
+    /// incremental control of `fem::element::hourglass`) and neo-Hookean ones (with the
+    /// assumed strain two ironing scenes of `tests/penetration_audit.rs` stopped);
+    /// "assumed_strain" (with lambda) and "assumed_strain_mu" are asked for by name
+    /// (docs/elements.md).
     fn formulation(&self, key: &str, b: &BodyDef) -> Result<Formulation, SceneError> {
         let mean = |h| Ok(Formulation::Mean { hourglass: h });
+        let default = match b.material {
+            MaterialDef::LinearElastic { .. } => Stabilization::AssumedStrainMu,
+            MaterialDef::NeoHookean { .. } | MaterialDef::J2Plastic { .. } => {
+                Stabilization::Coefficient(DEFAULT_HOURGLASS)
+            }
+        };
         match (b.integration, b.volumetric, &b.hourglass) {
             (Integration::Full, Volumetric::Standard, None) => Ok(Formulation::Full),
             (Integration::Full, Volumetric::MeanDilatation, None) => Ok(Formulation::FullBar),
@@ -300,14 +310,12 @@ impl Builder {
             (Integration::Mean, Volumetric::MeanDilatation, _) => {
                 Err(self.err(format!("{key}.volumetric"), "mean_dilatation applies to integration = \"full\" only (\"mean\" is already one-point)"))
             }
-            (Integration::Mean, Volumetric::Standard, None) => mean(Stabilization::Coefficient(DEFAULT_HOURGLASS)),
-            (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Named(n))) => {
-                if n == "assumed_strain" {
-                    mean(Stabilization::AssumedStrain)
-                } else {
-                    Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0 or \"assumed_strain\", got \"{n}\"")))
-                }
-            }
+            (Integration::Mean, Volumetric::Standard, None) => mean(default),
+            (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Named(n))) => match n.as_str() {
+                "assumed_strain" => mean(Stabilization::AssumedStrain),
+                "assumed_strain_mu" => mean(Stabilization::AssumedStrainMu),
+                _ => Err(self.err(format!("{key}.hourglass"), format!("expected a number >= 0, \"assumed_strain\" or \"assumed_strain_mu\", got \"{n}\""))),
+            },
             (Integration::Mean, Volumetric::Standard, Some(HourglassDef::Coefficient(h))) => {
                 let h = *h;
                 if !(h.is_finite() && h >= 0.0) {

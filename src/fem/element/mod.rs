@@ -50,8 +50,11 @@ pub enum Formulation {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stabilization {
     /// Assumed-strain physical stabilisation: the stiffness from the moduli and the
-    /// geometry (Belytschko-Bindeman, Puso), the default.
+    /// geometry (Belytschko-Bindeman, Puso), by name (`hourglass = "assumed_strain"`).
     AssumedStrain,
+    /// The same with the shear modulus only (lambda = 0 in the hourglass energy), the
+    /// default of linear elastic bodies (`hourglass = "assumed_strain_mu"`; docs/elements.md).
+    AssumedStrainMu,
     /// Flanagan-Belytschko stiffness of the given coefficient (a scene's `hourglass = c`).
     Coefficient(f64),
 }

@@ -2,12 +2,12 @@
 //! displacement sums q_alpha to the generalised hourglass forces Q_alpha (f_a = sum_alpha
 //! gamma_alpha,a Q_alpha, see `force::force_mean`).
 //!
-//! The default is an assumed-strain physical stabilisation (Belytschko and Bindeman, CMAME
-//! 105 (1993) 225; Puso, IJNME 49 (2000) 1029): the stiffness comes from the material's
-//! moduli and the element's geometry, with no coefficient. The hourglass part of the
-//! trilinear field is u = (1/8) sum_alpha q_alpha h_alpha(xi), h = (eta zeta, zeta xi,
-//! xi eta, xi eta zeta), and its gradient, with n_k the element's mean gradient of xi_k,
-//! splits by the monomial it multiplies:
+//! The assumed-strain physical stabilisation (Belytschko and Bindeman, CMAME 105 (1993)
+//! 225; Puso, IJNME 49 (2000) 1029): the stiffness comes from the material's moduli and
+//! the element's geometry, with no coefficient. The hourglass part of the trilinear field
+//! is u = (1/8) sum_alpha q_alpha h_alpha(xi), h = (eta zeta, zeta xi, xi eta, xi eta
+//! zeta), and its gradient, with n_k the element's mean gradient of xi_k, splits by the
+//! monomial it multiplies:
 //!
 //! - xi_k (k = 1, 2, 3): G_k = (q_j2 (x) n_j1 + q_j1 (x) n_j2) / 8, (j1, j2) the other two
 //!   axes. The shear across n_k that G_k holds is the parasitic shear of a bending mode;
@@ -27,8 +27,16 @@
 //! For a distorted element the n_k are the volume means of grad xi_k; the constant-strain
 //! patch test holds for any stiffness, since the gamma vectors annihilate linear fields.
 //!
+//! `AssumedStrainMu`, the default of linear elastic bodies, is the same energy with lambda = 0:
+//! the layer's stress 2 mu P e P, the hourglass modes' normal modulus 2 mu for every nu
+//! (E at nu = 0, where pure bending stays exact), as Flanagan-Belytschko and Belytschko
+//! and Bindeman's ASMD take the shear modulus only. With lambda the plane-strain layer's
+//! modulus doubles to 4 mu as nu -> 1/2, and a coarse near-incompressible mesh is stiffer
+//! (docs/elements.md: the bonded block of `tests/foundation.rs`).
+//!
 //! The older Flanagan-Belytschko control (IJNME 17 (1981) 679), Q = k q with k proportional
-//! to a user coefficient, remains for scenes that set `hourglass = <coefficient>`.
+//! to a user coefficient, remains for scenes that set `hourglass = <coefficient>` and is the
+//! default of plastic (`hourglass`) and neo-Hookean bodies.
 
 use super::geometry::Geometry;
 use super::Stabilization;
@@ -66,6 +74,12 @@ impl Stiffness {
                 n: dual_basis(geo),
                 volume: geo.volume,
                 lambda,
+                mu,
+            },
+            Stabilization::AssumedStrainMu => Stiffness::AssumedStrain {
+                n: dual_basis(geo),
+                volume: geo.volume,
+                lambda: 0.0,
                 mu,
             },
         }
@@ -274,6 +288,13 @@ mod tests {
                 // Rounding: sums of a few dozen terms of one sign, and lambda / mu = 5000
                 // at nu = 0.4999 cancelled in the plane-stress relaxation: 1e-9.
                 assert!((ours / exact - 1.0).abs() < 1e-9, "{nu}: {ours} vs {exact}");
+                // The elastic default (lambda = 0 in the hourglass energy) is exact at nu = 0.
+                if nu == 0.0 {
+                    let mu_only = energy(Formulation::Mean {
+                        hourglass: Stabilization::AssumedStrainMu,
+                    });
+                    assert!((mu_only / exact - 1.0).abs() < 1e-9, "{mu_only} vs {exact}");
+                }
                 assert!((fb / exact - 1.0).abs() > 0.1, "{nu}: {fb} vs {exact}");
             }
         }
