@@ -52,6 +52,7 @@ impl FullTangent {
     pub(super) fn build<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
         pb: &Problem<C>,
         op: &mut O,
+        order: &mut Option<Order>,
     ) -> Result<Result<Self, usize>, SolveFailure> {
         let comm = pb.comm;
         let mesh = pb.asm.mesh;
@@ -107,10 +108,10 @@ impl FullTangent {
                     }
                     let j = first[col_node as usize] + k;
                     for (i, d) in basis[lb].iter().enumerate() {
+                        // Kept when exactly zero too: the pattern is the mesh's and the
+                        // ties', the same from build to build (`Order`).
                         let v = dot(d, &y[lb]);
-                        if v != 0.0 {
-                            mine.extend([(first[row_node as usize] + i) as f64, j as f64, v]);
-                        }
+                        mine.extend([(first[row_node as usize] + i) as f64, j as f64, v]);
                     }
                 }
             }
@@ -134,12 +135,22 @@ impl FullTangent {
             p.push(m);
             p
         };
-        let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, MAX_FACTOR_ENTRIES)
-        else {
-            return Ok(Err(MAX_FACTOR_ENTRIES));
-        };
+        if !order.as_ref().is_some_and(|o| o.fits(&a, &node_ptr)) {
+            let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, MAX_FACTOR_ENTRIES)
+            else {
+                return Ok(Err(MAX_FACTOR_ENTRIES));
+            };
+            *order = Some(Order {
+                ptr: a.ptr.clone(),
+                idx: a.idx.clone(),
+                node_ptr,
+                perm,
+                counts,
+            });
+        }
         let analysed = clock.elapsed().as_secs_f64();
-        let chol = SparseCholesky::new_modified(&a, perm, &counts, PIVOT_FLOOR);
+        let o = order.as_ref().expect("the order was just made");
+        let chol = SparseCholesky::new_modified(&a, o.perm.clone(), &o.counts, PIVOT_FLOOR);
         let factored = clock.elapsed().as_secs_f64();
         Ok(Ok(FullTangent {
             seconds: [
@@ -196,6 +207,24 @@ impl FullTangent {
             }
             z[l] = v;
         }
+    }
+}
+
+/// The fill-reducing order of the last build and the pattern it was made for: a build whose
+/// assembled tangent has the same pattern (and node blocks) keeps it, as its analysis would
+/// give the same order and column counts again. Within a run the pattern changes only with
+/// the constraint set.
+pub(super) struct Order {
+    ptr: Vec<usize>,
+    idx: Vec<u32>,
+    node_ptr: Vec<usize>,
+    perm: Vec<usize>,
+    counts: Vec<usize>,
+}
+
+impl Order {
+    fn fits(&self, a: &Csr, node_ptr: &[usize]) -> bool {
+        self.ptr == a.ptr && self.idx == a.idx && self.node_ptr == node_ptr
     }
 }
 
@@ -307,7 +336,7 @@ impl Cg {
         self.tangent = None;
         let mut op = fine_op!(self, pb, u, linear, s);
         op.central = true;
-        let t = match FullTangent::build(pb, &mut op)? {
+        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
             Ok(t) => t,
             Err(limit) => {
                 self.use_tangent = false;

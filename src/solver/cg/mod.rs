@@ -138,6 +138,8 @@ pub struct Cg {
     /// The full tangent preconditioner is used (`full_tangent`), and its factor when built.
     use_tangent: bool,
     tangent: Option<full_tangent::FullTangent>,
+    /// The full tangent's order, kept while its pattern does not change.
+    tangent_order: Option<full_tangent::Order>,
     tangent_builds: usize,
     /// Builds in the current model problem.
     tangent_builds_here: usize,
@@ -190,6 +192,7 @@ impl Cg {
             ml_standby: false,
             use_tangent: false,
             tangent: None,
+            tangent_order: None,
             tangent_builds: 0,
             tangent_builds_here: 0,
             built_rate: None,
