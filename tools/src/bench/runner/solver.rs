@@ -9,9 +9,11 @@ use crate::stats::Stat;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The repository the bench was built from: scenes and `run/mpirun` are found there.
+/// The repository the bench was built from (the parent of tools/): scenes and `run/mpirun`
+/// are found there.
 pub fn repo_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    let tools = Path::new(env!("CARGO_MANIFEST_DIR"));
+    tools.parent().unwrap_or(tools).to_path_buf()
 }
 
 /// The `solver` binary built beside this one (`run/bench` builds both).
@@ -23,7 +25,7 @@ pub fn solver_exe() -> Result<PathBuf, String> {
         Ok(solver)
     } else {
         Err(format!(
-            "{} not found: build it first (`cargo build --release --bin solver`; run/bench does)",
+            "{} not found: build it first (`cargo build --release -p solver --bin solver`; run/bench does)",
             solver.display()
         ))
     }

@@ -100,7 +100,11 @@ mod tests {
     fn the_scene_file_carries_the_refinement_and_the_tolerance() {
         let dir = std::env::temp_dir().join(format!("suite-study-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let text = std::fs::read_to_string("run/scenes/paper/capture_release.toml").unwrap();
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../run/scenes/paper/capture_release.toml"
+        ))
+        .unwrap();
         let path = scene_file(&text, "capture_release", 2, 1e-7, &dir).unwrap();
         assert_eq!(path, dir.join("capture_release_r2_tol1e-7.toml"));
         let written = std::fs::read_to_string(&path).unwrap();

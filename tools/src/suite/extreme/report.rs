@@ -315,6 +315,10 @@ mod tests {
 
     #[test]
     fn scene_comments_and_step_counts_come_from_the_scene_files() {
+        // The suite reads its scenes relative to the repository, where run/extreme starts
+        // it; cargo runs the tools' tests in tools/.
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+        std::env::set_current_dir(repo).unwrap();
         let c = scene_comment("off_edge");
         assert!(
             c.starts_with(char::is_uppercase) && !c.starts_with("Extreme: "),
