@@ -207,7 +207,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
         Mode::Ironing
     } else if large {
         Mode::Large {
-            ranks: ranks.unwrap_or(large::LARGE_DEFAULT_RANKS.to_vec()),
+            ranks: ranks.unwrap_or(results::large::LARGE_DEFAULT_RANKS.to_vec()),
             precond: precond.unwrap_or(Precond::TwoLevel),
         }
     } else {

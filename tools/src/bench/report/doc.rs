@@ -1,6 +1,8 @@
 //! The `doc` object of results.json: what each section and figure means. A new section
 //! adds its entry here.
 
+use super::json::J;
+
 /// Identifier and version of results.json's layout.
 pub const SCHEMA: &str = "solver-bench/3";
 
@@ -23,3 +25,13 @@ pub const DOC: &[(&str, &str)] = &[
     ("large", "written by `run/bench --large` only (never by the normal or quick run, which keep an earlier large section as it is): the block on block refined by 8 (n = 80, 2 x 512000 elements) with --preconditioner two_level (or multilevel with `--preconditioner multilevel`; `preconditioner` says which, and a later `--large` replaces the section whichever it ran) on the rank counts of `--ranks` (default 2), each after a memory check: pilot runs with the same preconditioner at n = 20 and 40 on the same rank count, their peak per rank extrapolated linearly in elements per rank to n = 80 (predicted_peak_mib_per_rank), and the run started only when ranks x that x memory_margin fits in MemAvailable (available_mib); stopped when MemAvailable falls below min_available_mib or after timeout_s. Fields of a finished run as in block_on_block.runs; meta as in `meta`, of the large run itself"),
     ("units", "seconds (s), elements per second, nanoseconds per element, 1e9 bytes per second (GB/s), slave nodes per second, microseconds per query (us)"),
 ];
+
+/// The `doc` object: every entry of `DOC`, or those of `keys` only.
+pub fn object(keys: Option<&[&str]>) -> J {
+    J::Obj(
+        DOC.iter()
+            .filter(|(k, _)| keys.is_none_or(|keys| keys.contains(k)))
+            .map(|(k, v)| (k.to_string(), J::Str(v.to_string())))
+            .collect(),
+    )
+}

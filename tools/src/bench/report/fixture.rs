@@ -6,11 +6,11 @@ use crate::bandwidth::Stream;
 use crate::block::{BlockCase, BlockSize, PartitionReport, PrecondRuns};
 use crate::cube::CubeResult;
 use crate::kernels::{model_bytes, Case, KernelResult};
-use crate::large::{Large, LargeOutcome, LargeRun, MemoryEstimate};
 use crate::machine::{Machine, RunInfo};
 use crate::peers::calculix::block::{Calculix, CcxSize, Forces};
 use crate::peers::calculix::run::{Outcome, Timed};
 use crate::report::json::J;
+use crate::results::large::{Large, LargeOutcome, LargeRun, MemoryEstimate};
 use crate::results::{EarlierLarge, Results};
 use crate::runner::log::SolverLog;
 use crate::runner::solver::{Compare, Precond, Runs};
@@ -384,10 +384,10 @@ pub fn large() -> Large {
 
 /// The robustness table of one Hertz mesh with every outcome: Jacobi failed, two-level
 /// over the time limit, multilevel and auto finished, CalculiX finished.
-pub fn robustness() -> crate::robustness::Robustness {
+pub fn robustness() -> crate::results::robustness::Robustness {
     use crate::peers::calculix::robustness::CcxRun;
-    use crate::robustness::run::{Outcome as RunOutcome, Run};
-    use crate::robustness::{Case as RCase, Robustness, Source};
+    use crate::results::robustness::Source;
+    use crate::results::robustness::{Case as RCase, Outcome as RunOutcome, Robustness, Run};
     let log = SolverLog {
         elements: 2940,
         nodes: 6218,

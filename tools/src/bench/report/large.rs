@@ -6,7 +6,7 @@ use super::doc::SCHEMA;
 use super::json::{Rec, J};
 use super::markdown::{cell, dirty, fmt_opt, fmt_steal, identity_text};
 use crate::block::{BLOCK_BASE_N, BLOCK_SCENE};
-use crate::large::{
+use crate::results::large::{
     model_estimate_mib, model_text, Large, LargeOutcome, LargeRun, MemoryEstimate,
     LARGE_MEMORY_MARGIN, LARGE_MIN_AVAILABLE, LARGE_PILOT, LARGE_REFINE, LARGE_TIMEOUT_S,
 };
@@ -233,7 +233,7 @@ pub fn merge(out: &Path, json: J, section: &str) -> Result<(PathBuf, PathBuf), S
                 .put("schema", SCHEMA)
                 .put(
                     "doc",
-                    super::doc_object(Some(&["schema", "statistics", "large", "units"])),
+                    super::doc::object(Some(&["schema", "statistics", "large", "units"])),
                 )
                 .json()
         });

@@ -75,17 +75,6 @@ const SECTIONS: &[Section] = &[
     },
 ];
 
-/// The `doc` object: every entry of `doc::DOC`, or those of `keys` only.
-fn doc_object(keys: Option<&[&str]>) -> J {
-    J::Obj(
-        doc::DOC
-            .iter()
-            .filter(|(k, _)| keys.is_none_or(|keys| keys.contains(k)))
-            .map(|(k, v)| (k.to_string(), J::Str(v.to_string())))
-            .collect(),
-    )
-}
-
 /// results.json of a normal run.
 pub fn json(r: &Results) -> J {
     SECTIONS
@@ -93,7 +82,7 @@ pub fn json(r: &Results) -> J {
         .fold(
             Rec::default()
                 .put("schema", doc::SCHEMA)
-                .put("doc", doc_object(None))
+                .put("doc", doc::object(None))
                 .put("meta", meta::json(r)),
             |rec, s| rec.put(s.key, (s.json)(r)),
         )

@@ -5,8 +5,9 @@ use super::json::{Rec, J};
 use super::markdown::{cell, dirty, fmt_opt, fmt_steal};
 use crate::peers::calculix::robustness::CcxRun;
 use crate::peers::calculix::run::Outcome as CcxOutcome;
-use crate::robustness::run::{Outcome, Run};
-use crate::robustness::{Case, Robustness, PRECONDITIONERS, ROBUSTNESS_RANKS};
+use crate::results::robustness::{
+    Case, Outcome, Robustness, Run, PRECONDITIONERS, ROBUSTNESS_RANKS,
+};
 use crate::runner::process::MIB;
 use crate::runner::solver::repo_root;
 use std::fmt::Write as _;

@@ -4,7 +4,8 @@
 //! preconditioner (Jacobi, two-level, multilevel and the default `auto`) under a time
 //! limit, and CalculiX on the Hertz meshes and the bar beside them. Writes
 //! `<out>/robustness/` (`report.md`, `results.json`, the derived scenes, every log and
-//! result file, the CalculiX decks and outputs); the report is `report::robustness`.
+//! result file, the CalculiX decks and outputs); what it measured is `results::robustness`,
+//! which the report, `report::robustness`, reads.
 //!
 //! - `scenes`: the scene files of the table (derived ones written into the output);
 //! - `run`: one solver run and how it ended.
@@ -17,9 +18,11 @@ use crate::machine::{machine, RunInfo};
 use crate::peers::calculix::robustness::{self as ccx, CcxRun};
 use crate::peers::calculix::run::version;
 use crate::report;
+use crate::results::robustness::{
+    Case, Outcome, Robustness, Run, Source, PRECONDITIONERS, ROBUSTNESS_RANKS,
+};
 use crate::runner::process::Limits;
-use crate::runner::solver::{repo_root, solver_exe, Job, Precond};
-use run::Run;
+use crate::runner::solver::{repo_root, solver_exe, Job};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -33,14 +36,6 @@ pub const ROBUSTNESS_QUICK_TIMEOUT_S: f64 = 60.0;
 /// x4 it takes about 220 s on 2 cores (it was stopped at 240 s when the machine was
 /// busier). `--quick` gives it the quick limit.
 pub const ROBUSTNESS_CCX_TIMEOUT_S: f64 = 600.0;
-pub const ROBUSTNESS_RANKS: usize = 2;
-/// The preconditioners of the table, in its order.
-pub const PRECONDITIONERS: [Precond; 4] = [
-    Precond::Jacobi,
-    Precond::TwoLevel,
-    Precond::Multilevel,
-    Precond::Auto,
-];
 /// Slope of CalculiX's linear pressure-overclosure law on the Hertz example: the peak
 /// contact pressure is about 4300 MPa, so the overclosure stays near 4e-5 mm, about 1e-3
 /// of the cylinder's approach.
@@ -51,19 +46,6 @@ pub const HERTZ_PENALTY: f64 = 1e8;
 /// force the squeeze gives: with 1e10 CalculiX's came out 2.0% above ours, with 1e11 0.2%;
 /// with 1e12 ccx does not converge.
 pub const STICK_SLIP_PENALTY: f64 = 1e11;
-
-/// Where a problem of the table comes from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Source {
-    /// The Hertz example at this refinement factor of its Gmsh mesh.
-    Hertz(usize),
-    /// The extreme suite's scene of this name.
-    Extreme(&'static str),
-    /// The paper's stick/slip bar at 160 x 8 x 1.
-    StickSlip,
-    /// The block on block refined by this factor.
-    Block(usize),
-}
 
 /// A problem of the table: where it comes from, and CalculiX's contact slope and the node
 /// set whose largest |u| both codes report, when CalculiX runs it.
@@ -96,62 +78,14 @@ pub fn specs(quick: bool) -> Vec<Spec> {
     v
 }
 
-impl Source {
-    /// The label of the table's rows.
-    pub fn label(self) -> String {
-        match self {
-            Source::Hertz(f) => format!("Hertz x{f}"),
-            Source::Extreme(name) => name.to_string(),
-            Source::StickSlip => "stick/slip 160 x 8 x 1".into(),
-            Source::Block(f) => format!("block on block n = {}", crate::block::BLOCK_BASE_N * f),
-        }
-    }
-
-    /// A file-name stem.
-    pub fn key(self) -> String {
-        match self {
-            Source::Hertz(f) => format!("hertz_x{f}"),
-            Source::Extreme(name) => name.to_string(),
-            Source::StickSlip => "stick_slip_160x8".into(),
-            Source::Block(f) => format!("block_n{}", crate::block::BLOCK_BASE_N * f),
-        }
-    }
-
-    /// The scene file and `--refine`, derived scenes written into `dir`.
-    fn scene(self, dir: &Path) -> Result<(PathBuf, Option<usize>), String> {
-        Ok(match self {
-            Source::Hertz(f) => (scenes::hertz(dir, f)?, None),
-            Source::Extreme(name) => (scenes::extreme(name)?, None),
-            Source::StickSlip => (scenes::stick_slip(dir)?, None),
-            Source::Block(f) => (repo_root().join(crate::block::BLOCK_SCENE), Some(f)),
-        })
-    }
-}
-
-/// One problem of the table, measured.
-pub struct Case {
-    pub source: Source,
-    pub scene: PathBuf,
-    pub elements: usize,
-    pub nodes: usize,
-    /// The node set whose largest |u| is compared with CalculiX's.
-    pub compare_set: Option<&'static str>,
-    pub runs: Vec<Run>,
-    /// CalculiX's run, when it runs this problem (`None`: it does not, or is missing).
-    pub ccx: Option<CcxRun>,
-    /// Why the problem could not be set up (no runs then).
-    pub error: Option<String>,
-}
-
-/// Everything `--robustness` measured.
-pub struct Robustness {
-    pub info: RunInfo,
-    pub quick: bool,
-    pub timeout_s: f64,
-    /// CalculiX's time limit.
-    pub ccx_timeout_s: f64,
-    pub ccx_version: Option<String>,
-    pub cases: Vec<Case>,
+/// The scene file of `source` and `--refine`, derived scenes written into `dir`.
+fn scene_file(source: Source, dir: &Path) -> Result<(PathBuf, Option<usize>), String> {
+    Ok(match source {
+        Source::Hertz(f) => (scenes::hertz(dir, f)?, None),
+        Source::Extreme(name) => (scenes::extreme(name)?, None),
+        Source::StickSlip => (scenes::stick_slip(dir)?, None),
+        Source::Block(f) => (repo_root().join(crate::block::BLOCK_SCENE), Some(f)),
+    })
 }
 
 /// A problem with every preconditioner, then CalculiX.
@@ -168,13 +102,11 @@ fn case(exe: &Path, dir: &Path, spec: &Spec, limits: &Limits, ccx_timeout_s: Opt
         ccx: None,
         error: None,
     };
-    let setup = source
-        .scene(&dir.join("scenes"))
-        .and_then(|(scene, refine)| {
-            let problem = load_scene_refined(&scene, refine.unwrap_or(1) as u32)
-                .map_err(|e| e.to_string())?;
-            Ok((scene, refine, problem))
-        });
+    let setup = scene_file(source, &dir.join("scenes")).and_then(|(scene, refine)| {
+        let problem =
+            load_scene_refined(&scene, refine.unwrap_or(1) as u32).map_err(|e| e.to_string())?;
+        Ok((scene, refine, problem))
+    });
     let (scene, refine, problem) = match setup {
         Ok(s) => s,
         Err(e) => {
@@ -220,7 +152,7 @@ fn case(exe: &Path, dir: &Path, spec: &Spec, limits: &Limits, ccx_timeout_s: Opt
                 eprintln!("bench:   {:<10} could not run: {e}", p.label());
                 c.runs.push(Run {
                     precond: p,
-                    outcome: run::Outcome::Failed(format!("could not run: {e}")),
+                    outcome: Outcome::Failed(format!("could not run: {e}")),
                     process_wall: 0.0,
                     partial: (0, 0),
                     preconditioner: None,
@@ -241,15 +173,15 @@ fn case(exe: &Path, dir: &Path, spec: &Spec, limits: &Limits, ccx_timeout_s: Opt
 /// How a run ended, in one line of progress.
 fn outcome_line(r: &Run, limit: f64) -> String {
     match &r.outcome {
-        run::Outcome::Finished(l) => format!(
+        Outcome::Finished(l) => format!(
             "{} CG iterations, {} contact updates, {:.1} s ({:.1} s process), {:.1} MiB per rank",
             l.cg_iterations, l.contact_updates, l.wall, r.process_wall, l.peak_mib
         ),
-        run::Outcome::Failed(why) => format!(
+        Outcome::Failed(why) => format!(
             "failed after {:.1} s ({} CG iterations logged): {why}",
             r.process_wall, r.partial.0
         ),
-        run::Outcome::OverLimit => format!(
+        Outcome::OverLimit => format!(
             "stopped at the limit of {limit:.0} s ({} CG iterations logged)",
             r.partial.0
         ),

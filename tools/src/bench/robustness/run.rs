@@ -4,53 +4,11 @@
 //! kept.
 
 use crate::api::ResultFile;
-use crate::runner::log::{last_line, number_after, parse_solver_log, SolverLog};
-use crate::runner::process::{run_limited, Limits, MIB};
-use crate::runner::solver::{Job, Precond};
+use crate::results::robustness::{Outcome, Run};
+use crate::runner::log::{last_line, number_after, parse_solver_log};
+use crate::runner::process::{run_limited, Limits};
+use crate::runner::solver::Job;
 use std::path::Path;
-
-/// How one run ended.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Outcome {
-    Finished(SolverLog),
-    /// The solver stopped with an error (or used another preconditioner than the one asked
-    /// for): the message.
-    Failed(String),
-    /// Stopped at the time limit.
-    OverLimit,
-}
-
-/// One run of one scene with one preconditioner.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Run {
-    pub precond: Precond,
-    pub outcome: Outcome,
-    /// Wall time of the `run/mpirun` process (start-up and mesh reading included), s.
-    pub process_wall: f64,
-    /// CG iterations and contact updates the log shows when the run did not finish: the
-    /// steps it completed and the contact updates of the step it was in (at least what it
-    /// did).
-    pub partial: (u64, u64),
-    /// The solver's `preconditioner:` line (without the prefix), when it printed one.
-    pub preconditioner: Option<String>,
-    /// Largest |u| over the compared node set and every step, when finished and asked for.
-    pub max_u: Option<f64>,
-}
-
-impl Run {
-    pub fn log(&self) -> Option<&SolverLog> {
-        match &self.outcome {
-            Outcome::Finished(l) => Some(l),
-            _ => None,
-        }
-    }
-
-    /// Peak memory per element a rank holds, bytes (finished runs).
-    pub fn bytes_per_element(&self, ranks: usize) -> Option<f64> {
-        let l = self.log()?;
-        Some(l.peak_mib * MIB / (l.elements as f64 / ranks as f64))
-    }
-}
 
 /// CG iterations and contact updates in a log that has no `done:` line: every `step` line
 /// and the contact-update lines after the last of them (the step in progress).

@@ -16,30 +16,9 @@ mod scenes;
 use crate::facts::Facts;
 use crate::runner::{in_order, scenes_in, Suite};
 use outcome::{judge, Run};
+use scenes::{ORDER, SCENE_DIR};
 use std::path::{Path, PathBuf};
 
-pub const SCENE_DIR: &str = "run/scenes/extreme";
-/// The suite's scenes in the report's order.
-const ORDER: [&str; 16] = [
-    "contrast_stiff_master",
-    "contrast_soft_master",
-    "contrast_stiff_on_soft",
-    "incompressible_bbar",
-    "incompressible_mean",
-    "barrel",
-    "drag",
-    "drag_deformable",
-    "bc_mu10",
-    "bc_mu_tan_plus",
-    "bc_mu_tan_minus",
-    "penetration",
-    "penetration_micro",
-    "penetration_mega",
-    "aspect100",
-    "off_edge",
-];
-/// Scenes that cannot be solved: they must stop with a diagnosis.
-pub const MUST_STOP: [&str; 1] = ["off_edge"];
 /// The unscaled scene each scaled scene is compared with.
 fn base_of(name: &str) -> Option<&'static str> {
     matches!(name, "penetration_micro" | "penetration_mega").then_some("penetration")

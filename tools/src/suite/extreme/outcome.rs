@@ -6,7 +6,7 @@
 use super::checks::Checks;
 use super::result::Res;
 use super::scenes::{checks_of, generic};
-use super::{MUST_STOP, SCENE_DIR};
+use super::scenes::{MUST_STOP, SCENE_DIR};
 use crate::record::{read, read_trim, Record};
 use crate::text::n;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! failures and stops, then every scene with its checks; prints the table.
 
 use super::outcome::{names, Run, Verdict};
-use super::{MUST_STOP, SCENE_DIR};
+use super::scenes::{MUST_STOP, SCENE_DIR};
 use crate::facts::Facts;
 use crate::record::read;
 use crate::text::{cell, n, number_between, table, Doc};

@@ -1,10 +1,34 @@
 //! Each extreme scene's checks (`checks_of`), reading the last completed step unless said;
-//! a scene without its own uses `generic` (force balance, and the slave body's).
+//! a scene without its own uses `generic` (force balance, and the slave body's); the
+//! suite's scenes, in the report's order, and those that must stop.
 
 use super::checks::*;
 use super::result::Res;
 use crate::text::n;
 use solver::post::balance::V3;
+
+pub const SCENE_DIR: &str = "run/scenes/extreme";
+/// The suite's scenes in the report's order.
+pub const ORDER: [&str; 16] = [
+    "contrast_stiff_master",
+    "contrast_soft_master",
+    "contrast_stiff_on_soft",
+    "incompressible_bbar",
+    "incompressible_mean",
+    "barrel",
+    "drag",
+    "drag_deformable",
+    "bc_mu10",
+    "bc_mu_tan_plus",
+    "bc_mu_tan_minus",
+    "penetration",
+    "penetration_micro",
+    "penetration_mega",
+    "aspect100",
+    "off_edge",
+];
+/// Scenes that cannot be solved: they must stop with a diagnosis.
+pub const MUST_STOP: [&str; 1] = ["off_edge"];
 
 /// The unscaled result a scaled scene is compared with.
 pub type Base<'a> = Option<&'a Res>;

@@ -8,106 +8,24 @@
 //!
 //! The phases: `runs` (the solver on each scene), `post` (verify, compare, figures, Hertz,
 //! pictures), then the judgement (`verdicts`) and the report (`report`, with the sections'
-//! fixed text in `sections` and the pictures' captions in `pictures`).
+//! fixed text in `sections` and the pictures' captions in `pictures`), which read what the
+//! runs left through `results` (and `model`, one run).
 
 mod model;
 mod pictures;
 mod post;
 mod report;
+mod results;
 mod sections;
 mod texts;
 mod verdicts;
 
-use crate::record::{read, read_trim};
+use crate::facts::Facts;
 use crate::runner::{in_order, scenes_in, Suite};
-use model::PaperRun;
+use results::{
+    Paper, EXAMPLE, EXAMPLE_SCENE, ORDER, PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE, SCENE_DIR,
+};
 use std::path::{Path, PathBuf};
-
-pub const SCENE_DIR: &str = "run/scenes/paper";
-/// The paper scenes in the paper's order (base scene, then its variants).
-const ORDER: [&str; 16] = [
-    "bc_interaction",
-    "bc_interaction_mu037",
-    "bc_interaction_mu036",
-    "bc_interaction_frictionless",
-    "bc_interaction_mortar",
-    "bc_interaction_mu036_mortar",
-    "normal_smoothing",
-    "normal_smoothing_off",
-    "capture_release",
-    "capture_release_mortar",
-    "stick_slip",
-    "stick_slip_mortar",
-    "multi_constraint",
-    "multi_constraint_nonmatching",
-    "multi_constraint_mortar",
-    "multi_constraint_nonmatching_mortar",
-];
-/// The scenes whose checks must pass.
-pub const BASE: [&str; 5] = [
-    "bc_interaction",
-    "normal_smoothing",
-    "capture_release",
-    "stick_slip",
-    "multi_constraint",
-];
-/// Expected to stop with a diagnosed non-convergence.
-pub const EXPECTED_FAILURE: [&str; 1] = ["normal_smoothing_off"];
-/// The Gmsh example, compared with Hertz.
-const EXAMPLE: &str = "cylinder_on_block";
-const EXAMPLE_SCENE: &str = "run/examples/cylinder_on_block.toml";
-/// The plastic example: run on 1 and 2 ranks, compared, drawn.
-pub const PLASTIC_EXAMPLE: &str = "bolted_clamp";
-const PLASTIC_EXAMPLE_SCENE: &str = "run/examples/bolted_clamp.toml";
-
-/// Everything the report is written from.
-pub struct Paper {
-    pub out: PathBuf,
-    pub scenes: Vec<String>,
-    pub example: String,
-    pub example_scene: String,
-    /// (name, (1 rank, 2 ranks)) of every scene and the example.
-    pub runs: Vec<(String, (PaperRun, PaperRun))>,
-    pub hertz_rc: String,
-    pub hertz_txt: String,
-    pub render_rc: String,
-    pub render_log: String,
-}
-
-impl Paper {
-    /// Reads every run back from `out` (after the runs and the post-processing).
-    pub fn load(out: &Path, scenes: Vec<String>) -> Paper {
-        let logs = out.join("logs");
-        let pair = |name: &str, scene: &str| {
-            (
-                name.to_string(),
-                (
-                    PaperRun::load(out, name, 1, scene),
-                    PaperRun::load(out, name, 2, scene),
-                ),
-            )
-        };
-        let mut runs: Vec<_> = scenes
-            .iter()
-            .map(|n| pair(n, &format!("{SCENE_DIR}/{n}.toml")))
-            .collect();
-        runs.push(pair(EXAMPLE, EXAMPLE_SCENE));
-        runs.push(pair(PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE));
-        Paper {
-            out: out.to_path_buf(),
-            scenes,
-            example: EXAMPLE.into(),
-            example_scene: EXAMPLE_SCENE.into(),
-            runs,
-            hertz_rc: read_trim(&logs.join("hertz.rc")),
-            hertz_txt: read(&logs.join("hertz.txt"))
-                .map(|t| t.trim_end().to_string())
-                .unwrap_or_default(),
-            render_rc: read_trim(&logs.join("render.rc")),
-            render_log: read_trim(&logs.join("render.log")),
-        }
-    }
-}
 
 /// The whole job; returns the exit code.
 pub fn run(suite: &Suite) -> Result<i32, String> {
@@ -127,7 +45,7 @@ pub fn run(suite: &Suite) -> Result<i32, String> {
     post::figures(suite);
     post::hertz(suite);
     post::render(suite);
-    let facts = report::Facts::gather(suite);
+    let facts = Facts::gather(suite);
     let paper = Paper::load(&suite.out, scenes);
     let status = report::write(&paper, &facts)?;
     println!();

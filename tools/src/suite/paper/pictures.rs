@@ -1,8 +1,8 @@
 //! The captions of run/render's ParaView pictures of a result's last step (from its
 //! `<scene>.render.json`), or why there are none.
 
-use super::report::{Doc, Render};
-use super::Paper;
+use super::results::{Paper, Render};
+use crate::text::Doc;
 use crate::text::{general, num};
 use serde_json::Value;
 

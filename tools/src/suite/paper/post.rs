@@ -3,7 +3,7 @@
 //! against 2 ranks, the figures, `solver post hertz` of the cylinder, and run/render's
 //! ParaView pictures.
 
-use super::EXAMPLE;
+use super::results::{EXAMPLE, PLASTIC_EXAMPLE};
 use crate::record::{read, read_trim};
 use crate::runner::{run_merged, Suite};
 use std::path::{Path, PathBuf};
@@ -112,7 +112,7 @@ pub fn hertz(suite: &Suite) {
         }
     }
     compare(suite, EXAMPLE);
-    compare(suite, super::PLASTIC_EXAMPLE);
+    compare(suite, PLASTIC_EXAMPLE);
     let text = read(&txt).unwrap_or_default();
     let line = text
         .lines()
@@ -172,7 +172,7 @@ pub fn render(suite: &Suite) {
 fn render_plastic(suite: &Suite) {
     let logs = suite.logs();
     let log = logs.join("render_plastic.log");
-    let Some(r) = suite.result_of(super::PLASTIC_EXAMPLE, 1) else {
+    let Some(r) = suite.result_of(PLASTIC_EXAMPLE, 1) else {
         return;
     };
     let xmf = PathBuf::from(s(&r).strip_suffix(".h5").unwrap_or(s(&r)).to_string() + ".xmf");

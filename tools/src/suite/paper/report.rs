@@ -2,43 +2,12 @@
 //! the failures and notes, then a section per paper test (`sections`); prints the table
 //! and the failures; returns the exit code.
 
+use super::results::{hertz_rms, Paper, Render, SCENE_DIR};
 use super::texts::*;
-use super::{Paper, SCENE_DIR};
-pub use crate::text::Doc;
+use crate::text::Doc;
 use crate::text::{cell, code, n, num, table};
 
-pub use crate::facts::Facts;
-
-/// How run/render ended: ParaView absent (why), or its exit code and error lines.
-pub struct Render {
-    pub absent: Option<String>,
-    pub rc: String,
-    pub errors: Vec<String>,
-}
-
-impl Render {
-    pub fn of(paper: &Paper) -> Render {
-        let errors: Vec<String> = paper
-            .render_log
-            .lines()
-            .filter(|l| l.starts_with("run/render:") || l.starts_with("render: error"))
-            .map(str::to_string)
-            .collect();
-        let absent = (paper.render_rc == "3")
-            .then(|| {
-                errors
-                    .last()
-                    .map_or(paper.render_log.as_str(), String::as_str)
-                    .replace("run/render: ", "")
-            })
-            .filter(|why| !why.is_empty());
-        Render {
-            absent,
-            rc: paper.render_rc.clone(),
-            errors,
-        }
-    }
-}
+use crate::facts::Facts;
 
 impl Paper {
     /// The summary table.
@@ -335,7 +304,7 @@ pub fn write(paper: &Paper, facts: &Facts) -> Result<i32, String> {
         paper.example,
         paper.two_ranks(&paper.example)
     );
-    if let Some(rms) = super::sections::hertz_rms(&paper.hertz_txt) {
+    if let Some(rms) = hertz_rms(&paper.hertz_txt) {
         ex += &format!("; Hertz RMS error {rms}% of p0");
     }
     println!("{ex}");

@@ -1,10 +1,10 @@
 //! The report's sections, one per paper test (4.1-4.5), the Gmsh example and any other
 //! scene: fixed text (`texts`), the scenes' blocks, the figures and the pictures.
 
-use super::report::{Doc, Render};
+use super::results::{hertz_half, hertz_peak, hertz_rms, Paper, Render, PLASTIC_EXAMPLE};
 use super::texts::*;
 use super::verdicts::cycle_updates;
-use super::Paper;
+use crate::text::Doc;
 use crate::text::{code, num};
 
 /// A scene of a section and its title in the report.
@@ -53,48 +53,6 @@ const SECTIONS: [(&str, &[Titled]); 5] = [
         ],
     ),
 ];
-
-/// The RMS error of `solver post hertz` (`RMS error ...: X% of p0`), as printed.
-pub fn hertz_rms(txt: &str) -> Option<String> {
-    txt.lines().find_map(|l| {
-        let rest = &l[l.find("RMS error")?..];
-        let after = &rest[rest.find(':')? + 1..];
-        let v = after.trim_start();
-        let num: String = v
-            .chars()
-            .take_while(|c| c.is_ascii_digit() || *c == '-' || *c == '.')
-            .collect();
-        (!num.is_empty() && v[num.len()..].starts_with("% of p0")).then_some(num)
-    })
-}
-
-/// `peak pressure: Hertz p0 P, FE F (D%)`: (P, F, D).
-fn hertz_peak(txt: &str) -> Option<(String, String, String)> {
-    txt.lines().find_map(|l| {
-        let rest = &l[l.find("peak pressure: Hertz p0 ")? + "peak pressure: Hertz p0 ".len()..];
-        let (p0, rest) = rest.split_once(", FE ")?;
-        let (fe, rest) = rest.split_once(" (")?;
-        let pct = rest.split_once("%)")?.0;
-        let simple = |s: &str| !s.is_empty() && !s.contains(char::is_whitespace);
-        (simple(p0)
-            && simple(fe)
-            && !pct.is_empty()
-            && pct.chars().all(|c| c.is_ascii_digit() || "+-.".contains(c)))
-        .then(|| (p0.into(), fe.into(), pct.into()))
-    })
-}
-
-/// `half-width a: Hertz A, FE outermost node in contact B (node spacing C)`: (A, B, C).
-fn hertz_half(txt: &str) -> Option<(String, String, String)> {
-    txt.lines().find_map(|l| {
-        let key = "half-width a: Hertz ";
-        let rest = &l[l.find(key)? + key.len()..];
-        let (a, rest) = rest.split_once(", FE outermost node in contact ")?;
-        let (b, rest) = rest.split_once(" (node spacing ")?;
-        let c = rest.split_once(')')?.0;
-        Some((a.into(), b.into(), c.into()))
-    })
-}
 
 impl Paper {
     fn blocks(&self, d: &mut Doc, section: usize) {
@@ -273,7 +231,7 @@ impl Paper {
 
     /// The plastic example: a bolted clamp of two J2 plates with friction.
     fn plastic_section(&self, d: &mut Doc, render: &Render) {
-        let name = super::PLASTIC_EXAMPLE;
+        let name = PLASTIC_EXAMPLE;
         if !self.runs.iter().any(|r| r.0 == name) {
             return;
         }
@@ -345,29 +303,5 @@ impl Paper {
             d.w("![Hertz line contact: FE nodal pressure against Hertz](hertz.png)\n");
             d.w(HERTZ_CAPTION);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const HERTZ: &str = "Hertz line contact (plane strain)\n\
-  half-width a: Hertz 1.474, FE outermost node in contact 1.155 (node spacing 0.2735)\n\
-  peak pressure: Hertz p0 4319, FE 4719 (+9.3%)\n\
-  RMS error of the nodal pressure within |x| <= 1.5 a (26 nodes): 7.2% of p0\n";
-
-    #[test]
-    fn the_hertz_numbers_are_read_as_printed() {
-        assert_eq!(hertz_rms(HERTZ).as_deref(), Some("7.2"));
-        assert_eq!(
-            hertz_peak(HERTZ),
-            Some(("4319".into(), "4719".into(), "+9.3".into()))
-        );
-        assert_eq!(
-            hertz_half(HERTZ),
-            Some(("1.474".into(), "1.155".into(), "0.2735".into()))
-        );
-        assert_eq!(hertz_rms("no result"), None);
     }
 }

@@ -2,7 +2,7 @@
 //! error of each scene, the summary table's cells, and what fails the job.
 
 use super::model::{first, Comparison, PaperRun};
-use super::{Paper, BASE, EXPECTED_FAILURE};
+use super::results::{Paper, BASE, EXPECTED_FAILURE, PLASTIC_EXAMPLE};
 use crate::text::{cell, num, number_between};
 
 /// The number of contact updates a cycling diagnosis names (`after N contact updates`).
@@ -275,7 +275,7 @@ impl Paper {
         if two != "bitwise identical" {
             failures.push(format!("{}: 2 ranks: {two}", self.example));
         }
-        let plastic = super::PLASTIC_EXAMPLE;
+        let plastic = PLASTIC_EXAMPLE;
         if self.runs.iter().any(|r| r.0 == plastic) {
             let (p1, _) = self.pair(plastic);
             if !p1.completed() {

@@ -1,6 +1,6 @@
 //! `results.csv`: one row per series, refinement, tolerance and rank count.
 
-use super::Row;
+use super::row::Row;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -6,33 +6,20 @@
 //! PNG per scene series.
 //!
 //! The tree: `cases` (the series and how their errors are read), `solve` (one run: scene
-//! file, solver, verify, comparison), `csv` and `report` (the two files).
+//! file, solver, verify, comparison), `row` (one run's results), `csv` and `report` (the
+//! two files, which read the rows).
 
 mod cases;
 mod csv;
 mod report;
+mod row;
 mod solve;
 
 use cases::{pick_error, value, CASES, RANKS, TOLERANCES};
+use row::{opt, Row};
 use solve::{same, scene_file, solve};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-pub struct Row {
-    pub series: String,
-    pub scene: String,
-    pub factor: u32,
-    pub tolerance: f64,
-    pub ranks: usize,
-    /// None when the run did not finish or the check is missing.
-    pub error: Option<f64>,
-    pub wall_time: Option<f64>,
-    pub cg_iterations: Option<f64>,
-    pub contact_updates: Option<f64>,
-    /// Whether the 2-rank result equals the 1-rank one bitwise (None on 1 rank).
-    pub identical: Option<bool>,
-    pub status: String,
-}
 
 /// `suite study [--quick] [--out DIR]`.
 pub fn main(args: &[String]) -> Result<(), String> {
@@ -131,8 +118,4 @@ fn run(quick: bool, out: &Path) -> Result<(), String> {
     std::fs::write(&path, &report).map_err(|e| format!("{}: {e}", path.display()))?;
     println!("{report}");
     Ok(())
-}
-
-fn opt(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:.3e}"))
 }

@@ -2,7 +2,7 @@
 //! 2-rank identity), then per series a table and a log-log plot of error against time.
 
 use super::cases::{CASES, RANKS, TOLERANCES};
-use super::{opt, Row};
+use super::row::{opt, Row};
 use solver::post::{fonts_available, render_plot, PlotData, Series};
 use std::fmt::Write as _;
 use std::path::Path;

@@ -11,6 +11,7 @@
 
 pub mod ours;
 mod report;
+pub mod results;
 
 use super::deck::{name, ElementType};
 use super::output::total_forces;
@@ -18,7 +19,7 @@ use super::run::{version, Job, Outcome};
 use super::scene::{deck_with, Options};
 use crate::api::{load_scene_refined, Material, Problem};
 use crate::runner::solver::repo_root;
-use ours::Ours;
+use results::{Case, Ccx, Kind, Row, CASES, CONTACT_PENALTY};
 use std::path::{Path, PathBuf};
 
 /// The punch's half-width (every scene's; the pressure's area is it times the thickness).
@@ -28,78 +29,6 @@ pub const PUNCH_SET: &str = "punch";
 /// Wall-clock limit of each run (ours and ccx's).
 const TIMEOUT_S: f64 = 1200.0;
 const QUICK_TIMEOUT_S: f64 = 300.0;
-/// ccx's pressure-overclosure slope for the contact punch: about 30 times E over the
-/// block's element size at n = 96, an overclosure of about 2.5e-5 at its pressure (0.04%
-/// of the punch's depth).
-const CONTACT_PENALTY: f64 = 3e7;
-
-/// How the punch is pressed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// The block's top nodes under the punch moved down.
-    Prescribed,
-    /// A punch body through frictionless node-to-face contact.
-    Contact,
-}
-
-/// One case of the section.
-pub struct Case {
-    pub name: &'static str,
-    pub scene: &'static str,
-    pub kind: Kind,
-    /// Elements per edge of the block.
-    pub n: usize,
-}
-
-/// The cases of a full run; `--quick` runs the first of each kind.
-pub const CASES: [Case; 4] = [
-    Case {
-        name: "punch_40",
-        scene: "run/scenes/plasticity/punch_40.toml",
-        kind: Kind::Prescribed,
-        n: 40,
-    },
-    Case {
-        name: "punch_80",
-        scene: "run/scenes/plasticity/punch_80.toml",
-        kind: Kind::Prescribed,
-        n: 80,
-    },
-    Case {
-        name: "contact_punch_48",
-        scene: "run/scenes/plasticity/contact_punch_48.toml",
-        kind: Kind::Contact,
-        n: 48,
-    },
-    Case {
-        name: "contact_punch_96",
-        scene: "run/scenes/plasticity/contact_punch_96.toml",
-        kind: Kind::Contact,
-        n: 96,
-    },
-];
-
-/// ccx's run of a case.
-#[derive(Clone, Debug)]
-pub struct Ccx {
-    pub wall: f64,
-    pub newton_iterations: usize,
-    /// Increments with a printed punch force.
-    pub increments: usize,
-    pub pressure: f64,
-    pub element: ElementType,
-}
-
-/// One case's outcome.
-pub struct Row {
-    pub case: &'static Case,
-    pub increments: usize,
-    /// Prandtl's limit pressure (2 + pi) sigma_y / sqrt(3) of the block.
-    pub prandtl: f64,
-    pub ours: Result<Ours, String>,
-    pub ccx: Result<Ccx, String>,
-}
-
 /// Where `bench --plasticity` writes.
 pub fn report_dir(out: &Path) -> PathBuf {
     out.join("plasticity")
@@ -133,7 +62,7 @@ fn run_case(case: &'static Case, dir: &Path, timeout: f64, ccx: bool) -> Result<
     eprintln!(
         "bench: plasticity: {}: ours on {} ranks",
         case.name,
-        ours::RANKS
+        results::RANKS
     );
     let ours = ours::run(&scene, &case_dir, PUNCH_SET, area, timeout);
     match &ours {

@@ -3,42 +3,13 @@
 //! line, the CG iterations of every increment) and the punch's final mean pressure from the
 //! result file.
 
+use super::results::{Ours, RANKS};
 use crate::api::ResultFile;
 use crate::runner::log::{last_line, number_after, number_before};
 use crate::runner::process::{run_limited, Limits};
 use crate::runner::solver::{repo_root, solver_exe};
 use std::path::Path;
 use std::process::Command;
-
-/// Ranks of our runs (beside ccx's 2 threads).
-pub const RANKS: usize = 2;
-
-/// What our run of one case measured.
-#[derive(Clone, Debug)]
-pub struct Ours {
-    /// Wall time of the `run/mpirun` process (MPI start-up and scene loading included).
-    pub wall: f64,
-    /// The solver's own wall time (its `done:` line).
-    pub solver_wall: f64,
-    pub cg_total: u64,
-    /// CG iterations of every increment, in order.
-    pub cg_per_step: Vec<u64>,
-    pub contact_updates: u64,
-    /// The `preconditioner: ..` line without its prefix.
-    pub preconditioner: String,
-    /// The punch's mean pressure at the end.
-    pub pressure: f64,
-}
-
-impl Ours {
-    /// (largest CG iterations of one increment, that increment, 1-based).
-    pub fn cg_max(&self) -> (u64, usize) {
-        self.cg_per_step
-            .iter()
-            .enumerate()
-            .fold((0, 0), |m, (k, &c)| if c > m.0 { (c, k + 1) } else { m })
-    }
-}
 
 /// What `solver -v run` printed on standard error (rank 0), read back.
 #[derive(Clone, Debug, PartialEq)]

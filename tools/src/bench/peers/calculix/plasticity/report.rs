@@ -1,6 +1,6 @@
 //! The plasticity section as Markdown (a table and the notes under it) and JSON.
 
-use super::{Kind, Row, CASES};
+use super::results::{Kind, Row, CASES, CONTACT_PENALTY, RANKS};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -67,7 +67,7 @@ pub fn markdown(rows: &[Row], ccx_version: Option<&str>) -> String {
         w,
         "Ours: `run/mpirun -np 2 solver -v run SCENE` (default `auto` preconditioner). CalculiX {}: the same mesh, C3D8I, `*PLASTIC`, `OMP_NUM_THREADS=2`; ccx's own incrementation starting from the scene's increment and never above it (`*STATIC, DIRECT` with the scene's fixed increments diverges in the second increment at 40 x 40: ccx asks for automatic incrementation), the contact punch as node-to-surface penalty contact (slope {:e}); the increments column is the scene's, ccx's own count is in the notes. One after the other on this machine: wall times include start-up and are noisy on a shared machine. Pressure: the punch set's y reaction at the end over half-width x thickness; Prandtl: (2 + pi) sigma_y / sqrt(3).\n",
         ccx_version.unwrap_or("(not run)"),
-        super::CONTACT_PENALTY
+        CONTACT_PENALTY
     );
     let _ = writeln!(
         w,
@@ -139,7 +139,7 @@ fn json(rows: &[Row], ccx_version: Option<&str>) -> String {
     let case_json = |r: &Row| {
         let ours = match &r.ours {
             Ok(o) => serde_json::json!({
-                "ranks": super::ours::RANKS,
+                "ranks": RANKS,
                 "wall_s": o.wall,
                 "solver_wall_s": o.solver_wall,
                 "cg_total": o.cg_total,

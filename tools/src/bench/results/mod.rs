@@ -2,6 +2,9 @@
 //! report writers (`report/`) read. Quantities derived from several measurements are
 //! computed here (or on the measurement's own type), once for both files.
 
+pub mod large;
+pub mod robustness;
+
 use crate::bandwidth::Stream;
 use crate::block::{marginal_bytes, BlockCase, BlockSize, PartitionReport, BLOCK_RANKS};
 use crate::cube::CubeResult;
