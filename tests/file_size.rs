@@ -1,5 +1,5 @@
-//! No Rust file of the solver crate (`src/`), of `partition/` or of the tests (`tests/`) is
-//! over 800 lines: a file that grows past that holds more than one concept and wants
+//! No Rust file of the solver crate (`src/`), of `partition/`, of the tools (`tools/`: bench
+//! and suite, their tests) or of the tests (`tests/`) is over 800 lines: a file that grows past that holds more than one concept and wants
 //! splitting (docs/layout.md). The function limit, 100 lines, is clippy's `too_many_lines`
 //! (clippy.toml), which `run/tests` runs with `-D warnings`.
 
@@ -23,10 +23,10 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 fn no_rust_file_is_over_800_lines() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    for dir in ["src", "partition", "tests"] {
+    for dir in ["src", "partition", "tools", "tests"] {
         rust_files(&root.join(dir), &mut files);
     }
-    assert!(files.len() > 100, "found only {} files", files.len());
+    assert!(files.len() > 200, "found only {} files", files.len());
     let mut over: Vec<String> = files
         .iter()
         .filter_map(|f| {

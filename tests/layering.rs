@@ -2,6 +2,9 @@
 //! `crate::...`) only modules of its own layer or below. The order is docs/layout.md's; this
 //! test reads every `crate::` path in `src/` (comments excluded) and fails
 //! on an arrow that runs up, and on a top-level module the order does not place.
+//! Above them all sit the tools (`tools/`: bench and suite), a crate of their own that sees
+//! the solver crate's public API only: no binary in `src/`, no tools source reaching into
+//! `src/` by path, and nothing below naming the tools.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -39,7 +42,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 /// The top-level module a file of `src/` belongs to (`None` for the crate root and the
-/// binaries, which sit above every layer).
+/// binary, which sit above every layer).
 fn owner(src: &Path, file: &Path) -> Option<String> {
     let rel = file.strip_prefix(src).unwrap();
     let first = rel
@@ -49,7 +52,7 @@ fn owner(src: &Path, file: &Path) -> Option<String> {
         .to_string_lossy()
         .into_owned();
     let name = first.strip_suffix(".rs").unwrap_or(&first).to_string();
-    (!matches!(name.as_str(), "lib" | "main" | "bin")).then_some(name)
+    (!matches!(name.as_str(), "lib" | "main")).then_some(name)
 }
 
 /// The modules a file names as `crate::NAME`, with the line, outside `//` comments.
@@ -124,4 +127,43 @@ fn the_check_sees_an_upward_import() {
         vec![(1, "solver".to_string()), (2, "math".to_string())]
     );
     assert!(layer("solver") > layer("contact"));
+}
+
+#[test]
+fn the_tools_sit_above_the_solver_crate() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    assert!(
+        !root.join("src/bin").exists(),
+        "src/bin: the bench and the suites live in tools/"
+    );
+    let mut tools = Vec::new();
+    rust_files(&root.join("tools"), &mut tools);
+    assert!(
+        tools.len() > 50,
+        "found only {} files in tools/",
+        tools.len()
+    );
+    for f in &tools {
+        let text = std::fs::read_to_string(f).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap();
+            assert!(
+                !code.contains("#[path") && !code.contains("include!("),
+                "{}:{}: tools reach source files by path",
+                f.display(),
+                i + 1
+            );
+        }
+    }
+    let mut below = Vec::new();
+    rust_files(&root.join("src"), &mut below);
+    rust_files(&root.join("partition"), &mut below);
+    for f in &below {
+        let text = std::fs::read_to_string(f).unwrap();
+        assert!(
+            !text.contains("solver_tools"),
+            "{} names the tools crate",
+            f.display()
+        );
+    }
 }
