@@ -5,8 +5,8 @@
 
 use super::element::{
     add_tangent, at, centre, deformation, forces, g_at, gauss_gradient, hourglass_sums,
-    mean_dilatation, mean_gradient, modes, point_tangent, scaled, sub_identity, ElementFailure,
-    Formulation, GaussGeometry, Geometry, Hourglass, Stabilization, Stiffness, SLOTS,
+    mean_dilatation, mean_gradient, modes, scaled, sub_identity, ElementFailure, Formulation,
+    GaussGeometry, Geometry, Hourglass, Stabilization, Stiffness, SLOTS,
 };
 use crate::material::{Material, PlasticState};
 use crate::math::{Mat3, Vec3, ZERO33};
@@ -93,10 +93,10 @@ pub fn update_with(
     }
     let (h, _, n) = point_gradients(geo, gauss, u, mat.is_large(), form)?;
     for q in 0..n {
-        let (_, state, _) = mat
+        new[q] = mat
             .update(&h[q], &old[q])
-            .ok_or(ElementFailure::InvertedCurrent)?;
-        new[q] = state;
+            .ok_or(ElementFailure::InvertedCurrent)?
+            .state;
     }
     Ok(())
 }
@@ -169,7 +169,7 @@ pub(super) fn diagonal_blocks_bar(
     };
     let (lambda, mu) = mat.lambda_mu();
     for q in 0..8 {
-        let mut pt = point_tangent(mat, &h[q], hist.get(q));
+        let mut pt = mat.tangent(&h[q], hist.get(q));
         // Keep the deviatoric part only: c = kappa + mu_t / 3 minus kappa.
         pt.c -= lambda + 2.0 * mu / 3.0;
         let w = gauss.wdet[q];

@@ -4,8 +4,8 @@
 //! Cauchy-Green tensor b_e = F C_p^-1 F^T is diagonalised; in its principal frame the
 //! logarithmic elastic strains eps_A = ln(lambda_A) take the small-strain radial return
 //! unchanged (Kirchhoff stress tau = lambda tr(eps) I + 2 mu eps), and b_e is rebuilt
-//! from the returned strains. Isotropic hardening only: the scene layer refuses a
-//! kinematic modulus with large kinematics.
+//! from the returned strains. Isotropic hardening only: `J2Params` refuses a kinematic
+//! modulus with large kinematics.
 //!
 //! The state keeps C_p^-1 - I (zero in a virgin point) and the equivalent plastic strain.
 

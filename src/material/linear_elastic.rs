@@ -1,6 +1,10 @@
 //! Isotropic linear elasticity under small kinematics.
 
-use crate::math::{Mat3, Vec3, ZERO33};
+use super::{
+    check_elastic, Material, ParamError, Parameters, PlasticState, PointModel, PointTangent,
+};
+use crate::math::{Mat3, ZERO33};
+use serde::Deserialize;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearElastic {
@@ -13,10 +17,31 @@ impl LinearElastic {
         let (lambda, mu) = super::lame(e, nu);
         LinearElastic { lambda, mu }
     }
+}
+
+impl PointModel for LinearElastic {
+    fn name(&self) -> &'static str {
+        "linear_elastic"
+    }
+
+    #[inline]
+    fn lambda_mu(&self) -> (f64, f64) {
+        (self.lambda, self.mu)
+    }
+
+    #[inline]
+    fn is_large(&self) -> bool {
+        false
+    }
+
+    #[inline]
+    fn linear(&self) -> Option<(f64, f64)> {
+        Some((self.lambda, self.mu))
+    }
 
     /// Cauchy stress of the symmetric part of `h`.
     #[inline]
-    pub fn stress(&self, h: &Mat3) -> Mat3 {
+    fn stress(&self, h: &Mat3) -> Option<Mat3> {
         let tr = h[0][0] + h[1][1] + h[2][2];
         let mut s = ZERO33;
         for i in 0..3 {
@@ -25,20 +50,57 @@ impl LinearElastic {
             }
             s[i][i] += self.lambda * tr;
         }
-        s
+        Some(s)
+    }
+
+    #[inline]
+    fn cauchy(&self, h: &Mat3, _old: &PlasticState) -> Option<Mat3> {
+        self.stress(h)
     }
 
     /// `(lambda + mu) g g^T + mu |g|^2 I`.
     #[inline]
-    pub fn tangent_gg(&self, g: &Vec3) -> Mat3 {
-        let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-        let mut k = ZERO33;
-        for i in 0..3 {
-            for j in 0..3 {
-                k[i][j] = (self.lambda + self.mu) * g[i] * g[j];
-            }
-            k[i][i] += self.mu * gg;
+    fn tangent(&self, _h: &Mat3, _old: Option<&PlasticState>) -> PointTangent {
+        PointTangent::isotropic(None, self.lambda + self.mu, self.mu)
+    }
+}
+
+/// The scene keys of `linear_elastic`.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LinearElasticParams {
+    #[serde(rename = "E")]
+    pub e: f64,
+    pub nu: f64,
+    #[serde(default)]
+    pub density: f64,
+}
+
+impl Parameters for LinearElasticParams {
+    fn young_poisson(&self) -> (f64, f64) {
+        (self.e, self.nu)
+    }
+
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn is_plastic(&self) -> bool {
+        false
+    }
+
+    fn is_linear(&self) -> bool {
+        true
+    }
+
+    fn build(&self, large: bool) -> Result<Material, ParamError> {
+        check_elastic(self.e, self.nu, self.density)?;
+        if large {
+            return Err(ParamError::new(
+                "model",
+                "linear_elastic needs kinematics = \"small\"; use neo_hookean for kinematics = \"large\"",
+            ));
         }
-        k
+        Ok(Material::LinearElastic(LinearElastic::new(self.e, self.nu)))
     }
 }

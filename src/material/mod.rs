@@ -1,18 +1,27 @@
-//! Constitutive models. Each is a pure pointwise kernel: stress from the displacement
-//! gradient, and the tangent contracted with a shape-function gradient on both sides
-//! (what the nodal block-diagonal preconditioner needs).
+//! Constitutive models. Each is a pure pointwise kernel behind `PointModel`: stress from the
+//! displacement gradient and the committed history, the history a converged step commits,
+//! and the tangent in the form the element kernels contract with shape-function gradients.
+//! Each model's file also holds its scene keys and their checks (`Parameters`).
+//!
+//! Adding a model: its file implements `PointModel` and `Parameters`; here it takes a
+//! `mod` line, a variant of `Material` and an arm of `each!`; `scene/types.rs` takes a
+//! variant of `MaterialDef` and an arm of `MaterialDef::params` (docs/layout.md).
 
 mod j2_large;
 mod j2_small;
 mod linear_elastic;
 mod neo_hookean;
+mod parameters;
+mod tangent;
 
 pub use j2_large::{sym_eigen, LargeUpdate};
-pub use j2_small::{from_sym6, J2Plastic, PlasticState, Return, STATE_LEN};
-pub use linear_elastic::LinearElastic;
-pub use neo_hookean::NeoHookean;
+pub use j2_small::{from_sym6, J2Params, J2Plastic, PlasticState, Return, STATE_LEN};
+pub use linear_elastic::{LinearElastic, LinearElasticParams};
+pub use neo_hookean::{NeoHookean, NeoHookeanParams};
+pub use parameters::{check_elastic, ParamError, Parameters};
+pub use tangent::PointTangent;
 
-use crate::math::{Mat3, Vec3};
+use crate::math::Mat3;
 
 /// Lamé parameters from Young's modulus and Poisson's ratio.
 pub fn lame(e: f64, nu: f64) -> (f64, f64) {
@@ -21,114 +30,151 @@ pub fn lame(e: f64, nu: f64) -> (f64, f64) {
     (lambda, mu)
 }
 
-/// A material at a point. `h` is the displacement gradient grad_X u.
+/// What `PointModel::update` finds at a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Update {
+    /// Cauchy stress (small kinematics) or first Piola-Kirchhoff stress (large).
+    pub stress: Mat3,
+    /// The state a converged step commits (virgin for a model without history).
+    pub state: PlasticState,
+    /// Whether the point flowed plastically in this update.
+    pub yielded: bool,
+}
+
+/// A constitutive model at a point. `h` is the displacement gradient grad_X u.
 ///
-/// Under small kinematics `stress` is the Cauchy stress of the linearised strain; under
+/// Under small kinematics the stress is the Cauchy stress of the linearised strain; under
 /// large kinematics it is the first Piola-Kirchhoff stress of F = I + h. Either way the
 /// element force is the integral of `stress * grad N`, so one element loop serves both.
+/// A model with an integration-point history keeps it in a `PlasticState` per point,
+/// committed only after a step converges; the history-free methods answer for a virgin
+/// point.
+pub trait PointModel {
+    /// The model's name in the scene file, for messages.
+    fn name(&self) -> &'static str;
+
+    /// Lamé parameters of the small-strain elastic response: the moduli hourglass control,
+    /// the preconditioners and the stiffness scale use.
+    fn lambda_mu(&self) -> (f64, f64);
+
+    /// True for models written in the reference configuration with finite strain.
+    fn is_large(&self) -> bool;
+
+    /// True for models with an integration-point history.
+    fn is_plastic(&self) -> bool {
+        false
+    }
+
+    /// `Some((lambda, mu))` when the stress is isotropic linear elasticity of the small
+    /// strain: the body is then linear, its tangent does not depend on the displacement and
+    /// the fully integrated element evaluates the stress at all Gauss points at once.
+    fn linear(&self) -> Option<(f64, f64)> {
+        None
+    }
+
+    /// Stress at `h` of a virgin point; `None` when the deformation is inadmissible
+    /// (J <= 0).
+    fn stress(&self, h: &Mat3) -> Option<Mat3>;
+
+    /// Stress at `h` from the committed state `old` and the state a converged step
+    /// commits; `None` when the deformation is inadmissible. A model without history
+    /// returns its `stress` and a virgin state.
+    #[inline]
+    fn update(&self, h: &Mat3, _old: &PlasticState) -> Option<Update> {
+        Some(Update {
+            stress: self.stress(h)?,
+            state: PlasticState::default(),
+            yielded: false,
+        })
+    }
+
+    /// Cauchy stress at `h` from the committed state `old`, for output.
+    fn cauchy(&self, h: &Mat3, old: &PlasticState) -> Option<Mat3>;
+
+    /// The tangent at `h` from the committed state `old` (`None`: a virgin point).
+    fn tangent(&self, h: &Mat3, old: Option<&PlasticState>) -> PointTangent;
+
+    /// The radius of the yield surface in deviatoric stress after the update to `state`
+    /// (the bound hourglass forces are held to); infinite for an elastic model.
+    #[inline]
+    fn yield_radius(&self, _state: &PlasticState) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// A body's material: one variant per model, each delegating to its `PointModel`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Material {
     LinearElastic(LinearElastic),
     NeoHookean(NeoHookean),
-    /// Von Mises plasticity; its response depends on the history of the point, so the
-    /// history-free methods below answer for a virgin point and the element kernels use
-    /// `update` with the committed state.
+    /// Von Mises plasticity, under small or large kinematics, with a history per point.
     J2Plastic(J2Plastic),
 }
 
+/// `$e` with `$m` bound to the model of `$material`: the one place models are matched.
+macro_rules! each {
+    ($material:expr, $m:ident => $e:expr) => {
+        match $material {
+            Material::LinearElastic($m) => $e,
+            Material::NeoHookean($m) => $e,
+            Material::J2Plastic($m) => $e,
+        }
+    };
+}
+
+/// `PointModel`'s methods, dispatched to the model (see there).
 impl Material {
     #[inline]
-    pub fn lambda_mu(&self) -> (f64, f64) {
-        match self {
-            Material::LinearElastic(m) => (m.lambda, m.mu),
-            Material::NeoHookean(m) => (m.lambda, m.mu),
-            Material::J2Plastic(m) => (m.lambda, m.mu),
-        }
+    pub fn name(&self) -> &'static str {
+        each!(self, m => m.name())
     }
 
-    /// True for models written in the reference configuration with finite strain.
+    #[inline]
+    pub fn lambda_mu(&self) -> (f64, f64) {
+        each!(self, m => m.lambda_mu())
+    }
+
     #[inline]
     pub fn is_large(&self) -> bool {
-        match self {
-            Material::NeoHookean(_) => true,
-            Material::J2Plastic(m) => m.large,
-            Material::LinearElastic(_) => false,
-        }
+        each!(self, m => m.is_large())
     }
 
-    /// True for models with an integration-point history.
     #[inline]
     pub fn is_plastic(&self) -> bool {
-        matches!(self, Material::J2Plastic(_))
+        each!(self, m => m.is_plastic())
     }
 
-    /// Stress at `h` from the committed state `old`, the state a converged step commits and
-    /// the return data; `None` when the deformation is inadmissible. Elastic models return
-    /// a virgin state.
     #[inline]
-    pub fn update(&self, h: &Mat3, old: &PlasticState) -> Option<(Mat3, PlasticState, Return)> {
-        match self {
-            Material::J2Plastic(m) if m.large => {
-                let r = m.update_large(h, old)?;
-                Some((r.pk1, r.state, r.ret))
-            }
-            Material::J2Plastic(m) => Some(m.update(h, old)),
-            _ => Some((self.stress(h)?, PlasticState::default(), Return::ELASTIC)),
-        }
+    pub fn linear(&self) -> Option<(f64, f64)> {
+        each!(self, m => m.linear())
     }
 
-    /// Cauchy stress at `h` from the committed state `old`.
-    #[inline]
-    pub fn cauchy_from(&self, h: &Mat3, old: &PlasticState) -> Option<Mat3> {
-        match self {
-            Material::J2Plastic(m) if m.large => {
-                let r = m.update_large(h, old)?;
-                Some(scaled(&r.tau, 1.0 / r.j))
-            }
-            Material::J2Plastic(m) => Some(m.update(h, old).0),
-            _ => self.cauchy(h),
-        }
-    }
-
-    /// Stress (Cauchy for small kinematics, first Piola-Kirchhoff for large). `None` when
-    /// the deformation is inadmissible (J <= 0).
     #[inline]
     pub fn stress(&self, h: &Mat3) -> Option<Mat3> {
-        match self {
-            Material::LinearElastic(m) => Some(m.stress(h)),
-            Material::NeoHookean(m) => m.pk1(h),
-            Material::J2Plastic(_) => Some(self.update(h, &PlasticState::default())?.0),
-        }
+        each!(self, m => m.stress(h))
     }
 
-    /// `sum_JL g_J A_iJkL g_L`: the 3x3 block the tangent contributes for one gradient `g`.
     #[inline]
-    pub fn tangent_gg(&self, h: &Mat3, g: &Vec3) -> Mat3 {
-        match self {
-            Material::LinearElastic(m) => m.tangent_gg(g),
-            Material::NeoHookean(m) => m.tangent_gg(h, g),
-            Material::J2Plastic(m) if !m.large => {
-                m.tangent_gg(&m.update(h, &PlasticState::default()).2, g)
-            }
-            Material::J2Plastic(m) => NeoHookean {
-                lambda: m.lambda,
-                mu: m.mu,
-            }
-            .tangent_gg(h, g),
-        }
+    pub fn update(&self, h: &Mat3, old: &PlasticState) -> Option<Update> {
+        each!(self, m => m.update(h, old))
     }
 
-    /// Cauchy stress for output, from the same displacement gradient.
     #[inline]
-    pub fn cauchy(&self, h: &Mat3) -> Option<Mat3> {
-        match self {
-            Material::LinearElastic(m) => Some(m.stress(h)),
-            Material::NeoHookean(m) => m.cauchy(h),
-            Material::J2Plastic(_) => self.cauchy_from(h, &PlasticState::default()),
-        }
+    pub fn cauchy(&self, h: &Mat3, old: &PlasticState) -> Option<Mat3> {
+        each!(self, m => m.cauchy(h, old))
+    }
+
+    #[inline]
+    pub fn tangent(&self, h: &Mat3, old: Option<&PlasticState>) -> PointTangent {
+        each!(self, m => m.tangent(h, old))
+    }
+
+    #[inline]
+    pub fn yield_radius(&self, state: &PlasticState) -> f64 {
+        each!(self, m => m.yield_radius(state))
     }
 }
 
-fn scaled(m: &Mat3, s: f64) -> Mat3 {
-    std::array::from_fn(|i| std::array::from_fn(|j| m[i][j] * s))
-}
+#[cfg(test)]
+mod tests;

@@ -1,6 +1,10 @@
 //! Compressible neo-Hookean solid, W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2.
 
-use crate::math::{det, inverse, matmul, transpose, Mat3, Vec3, IDENTITY, ZERO33};
+use super::{
+    check_elastic, Material, ParamError, Parameters, PlasticState, PointModel, PointTangent,
+};
+use crate::math::{det, inverse, matmul, transpose, Mat3, IDENTITY, ZERO33};
+use serde::Deserialize;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NeoHookean {
@@ -41,9 +45,31 @@ impl NeoHookean {
         }
         Some(p)
     }
+}
+
+impl PointModel for NeoHookean {
+    fn name(&self) -> &'static str {
+        "neo_hookean"
+    }
+
+    #[inline]
+    fn lambda_mu(&self) -> (f64, f64) {
+        (self.lambda, self.mu)
+    }
+
+    #[inline]
+    fn is_large(&self) -> bool {
+        true
+    }
+
+    /// The first Piola-Kirchhoff stress `pk1`.
+    #[inline]
+    fn stress(&self, h: &Mat3) -> Option<Mat3> {
+        self.pk1(h)
+    }
 
     /// sigma = P F^T / J.
-    pub fn cauchy(&self, h: &Mat3) -> Option<Mat3> {
+    fn cauchy(&self, h: &Mat3, _old: &PlasticState) -> Option<Mat3> {
         let p = self.pk1(h)?;
         let f = Self::deformation_gradient(h);
         let j = det(&f);
@@ -59,25 +85,53 @@ impl NeoHookean {
     /// `mu |g|^2 I + (mu + lambda - lambda ln J) (F^-T g)(F^-T g)^T`, the exact
     /// contraction of dP/dF with `g` on both sides.
     #[inline]
-    pub fn tangent_gg(&self, h: &Mat3, g: &Vec3) -> Mat3 {
-        let f = Self::deformation_gradient(h);
-        let (finv, j) = inverse(&f);
+    fn tangent(&self, h: &Mat3, _old: Option<&PlasticState>) -> PointTangent {
+        let (finv, j) = inverse(&Self::deformation_gradient(h));
         let lnj = if j > 0.0 { j.ln() } else { 0.0 };
-        // hv = F^-T g: hv_i = sum_L Finv_Li g_L
-        let hv = [
-            finv[0][0] * g[0] + finv[1][0] * g[1] + finv[2][0] * g[2],
-            finv[0][1] * g[0] + finv[1][1] * g[1] + finv[2][1] * g[2],
-            finv[0][2] * g[0] + finv[1][2] * g[1] + finv[2][2] * g[2],
-        ];
-        let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-        let c = self.mu + self.lambda - self.lambda * lnj;
-        let mut k = ZERO33;
-        for i in 0..3 {
-            for m in 0..3 {
-                k[i][m] = c * hv[i] * hv[m];
-            }
-            k[i][i] += self.mu * gg;
+        PointTangent::isotropic(
+            Some(finv),
+            self.mu + self.lambda - self.lambda * lnj,
+            self.mu,
+        )
+    }
+}
+
+/// The scene keys of `neo_hookean`.
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NeoHookeanParams {
+    #[serde(rename = "E")]
+    pub e: f64,
+    pub nu: f64,
+    #[serde(default)]
+    pub density: f64,
+}
+
+impl Parameters for NeoHookeanParams {
+    fn young_poisson(&self) -> (f64, f64) {
+        (self.e, self.nu)
+    }
+
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn is_plastic(&self) -> bool {
+        false
+    }
+
+    fn is_linear(&self) -> bool {
+        false
+    }
+
+    fn build(&self, large: bool) -> Result<Material, ParamError> {
+        check_elastic(self.e, self.nu, self.density)?;
+        if !large {
+            return Err(ParamError::new(
+                "model",
+                "neo_hookean needs kinematics = \"large\"",
+            ));
         }
-        k
+        Ok(Material::NeoHookean(NeoHookean::new(self.e, self.nu)))
     }
 }

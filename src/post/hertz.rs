@@ -21,7 +21,7 @@ use super::plot::fonts_available;
 use crate::fem::hex8::FACES;
 use crate::math::{dot, Vec3};
 use crate::output::{check_picture_output, write_picture, OutputError, OutputMesh, ResultFile};
-use crate::scene::{MaterialDef, SceneFile};
+use crate::scene::SceneFile;
 
 /// Arguments of `solver post hertz`.
 #[derive(clap::Args, Debug, Clone, PartialEq)]
@@ -425,10 +425,7 @@ fn rms_error(nodes: &[(f64, f64)], hertz: &HertzLine) -> Option<f64> {
 /// compared by its elastic constants, valid while it has not yielded.
 fn elastic_constants(scene: &SceneFile, body: &str) -> Option<(f64, f64)> {
     let def = scene.body.iter().find(|b| b.name == body)?;
-    Some(match def.material {
-        MaterialDef::LinearElastic { e, nu, .. } | MaterialDef::NeoHookean { e, nu, .. } => (e, nu),
-        MaterialDef::J2Plastic { e, nu, .. } => (e, nu),
-    })
+    Some(def.material.params().young_poisson())
 }
 
 /// Each slave node's tributary area: a quarter of each of its faces.

@@ -145,9 +145,7 @@ impl Preconditioner {
 /// model problem is linear (then friction is coupled to the normal force in it, and
 /// slipping nodes carry Coulomb's tangent).
 pub fn linear_models(models: &[BodyModel]) -> bool {
-    models
-        .iter()
-        .all(|m| !m.material.is_large() && !m.material.is_plastic())
+    models.iter().all(|m| m.material.linear().is_some())
 }
 
 /// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel

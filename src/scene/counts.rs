@@ -2,7 +2,7 @@
 //! from `divisions` without building the mesh, for the memory estimate that comes before
 //! any allocation (`solver check`, `solver run`).
 
-use super::types::{BodyDef, Integration, MaterialDef, SceneFile};
+use super::types::{BodyDef, Integration, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
@@ -106,16 +106,17 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         // too: its elements differ in shape unless it is a parallelepiped).
         // Not when nearly incompressible: bulk over shear modulus 2 (1 + nu) / (3 (1 - 2 nu))
         // at least 49 (`problem::NEARLY_INCOMPRESSIBLE`).
+        let material = b.material.params();
+        let nu = material.young_poisson().1;
         let shared = b.box_.is_some()
-            && matches!(b.material, MaterialDef::LinearElastic { nu, .. }
-                if 2.0 * (1.0 + nu) < NEARLY_INCOMPRESSIBLE * 3.0 * (1.0 - 2.0 * nu))
+            && material.is_linear()
+            && 2.0 * (1.0 + nu) < NEARLY_INCOMPRESSIBLE * 3.0 * (1.0 - 2.0 * nu)
             && raw.kinematics == Kinematics::Small;
         if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);
         }
-        plastic |= matches!(b.material, MaterialDef::J2Plastic { .. });
-        counts.nonlinear |= !matches!(b.material, MaterialDef::LinearElastic { .. })
-            || raw.kinematics != Kinematics::Small;
+        plastic |= material.is_plastic();
+        counts.nonlinear |= !material.is_linear() || raw.kinematics != Kinematics::Small;
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
             beyond_ids = Some(SceneError {
                 file: file.clone(),

@@ -2,6 +2,7 @@
 
 use serde::Deserialize;
 
+use crate::material::{J2Params, LinearElasticParams, NeoHookeanParams, Parameters};
 use crate::problem::Kinematics;
 
 #[derive(Deserialize, Debug, Clone)]
@@ -82,36 +83,26 @@ pub struct BoxDef {
     pub max: [f64; 3],
 }
 
+/// The `material` table: `model` names the model, whose own keys and checks live in its
+/// file under `material/` (`Parameters`).
 #[derive(Deserialize, Debug, Clone, Copy, PartialEq)]
-#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "model", rename_all = "snake_case")]
 pub enum MaterialDef {
-    LinearElastic {
-        #[serde(rename = "E")]
-        e: f64,
-        nu: f64,
-        #[serde(default)]
-        density: f64,
-    },
-    NeoHookean {
-        #[serde(rename = "E")]
-        e: f64,
-        nu: f64,
-        #[serde(default)]
-        density: f64,
-    },
+    LinearElastic(LinearElasticParams),
+    NeoHookean(NeoHookeanParams),
     /// Von Mises plasticity with linear isotropic and kinematic hardening.
-    J2Plastic {
-        #[serde(rename = "E")]
-        e: f64,
-        nu: f64,
-        yield_stress: f64,
-        #[serde(default)]
-        isotropic_hardening: f64,
-        #[serde(default)]
-        kinematic_hardening: f64,
-        #[serde(default)]
-        density: f64,
-    },
+    J2Plastic(J2Params),
+}
+
+impl MaterialDef {
+    /// The model's parameters as given.
+    pub fn params(&self) -> &dyn Parameters {
+        match self {
+            MaterialDef::LinearElastic(p) => p,
+            MaterialDef::NeoHookean(p) => p,
+            MaterialDef::J2Plastic(p) => p,
+        }
+    }
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -60,7 +60,7 @@ impl Plan {
             .iter()
             .zip(models)
             .map(|(b, m)| {
-                if m.material.is_large() || m.material.is_plastic() || b.num_elements == 0 {
+                if m.material.linear().is_none() || b.num_elements == 0 {
                     return 0;
                 }
                 // K u sums the volumetric stiffness's large terms, which cancel for a

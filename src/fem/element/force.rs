@@ -28,7 +28,7 @@ pub fn internal_force(
 #[inline(always)]
 fn point_stress(mat: &Material, h: &Mat3, hist: &[PlasticState], q: usize) -> Option<Mat3> {
     match hist.get(q) {
-        Some(old) => mat.update(h, old).map(|r| r.0),
+        Some(old) => mat.update(h, old).map(|r| r.stress),
         None => mat.stress(h),
     }
 }
@@ -111,8 +111,8 @@ fn force_full(
 ) -> Result<(), ElementFailure> {
     let h = gauss_gradient(u, gauss);
     let mut t = ZERO_Q;
-    match mat {
-        Material::LinearElastic(m) => {
+    match mat.linear() {
+        Some((lambda, mu)) => {
             // s = mu (h + h^T) + lambda tr(h) I, weighted, all Gauss points at once.
             let w = &gauss.wdet;
             let mut tr = [0.0; 8];
@@ -122,16 +122,16 @@ fn force_full(
             for i in 0..3 {
                 for j in 0..3 {
                     for q in 0..8 {
-                        let mut s = m.mu * (h[i][j][q] + h[j][i][q]);
+                        let mut s = mu * (h[i][j][q] + h[j][i][q]);
                         if i == j {
-                            s += m.lambda * tr[q];
+                            s += lambda * tr[q];
                         }
                         t[i][j][q] = w[q] * s;
                     }
                 }
             }
         }
-        _ => {
+        None => {
             for q in 0..8 {
                 let s = point_stress(mat, &at(&h, q), hist, q)
                     .ok_or(ElementFailure::InvertedCurrent)?;

@@ -125,24 +125,19 @@ pub fn ratio(mu: f64, e: &[f64; 6], s: &[f64; 6], plastic: bool, old: &Hourglass
 /// when the deformation is inadmissible.
 #[inline]
 pub fn centre(mat: &Material, h: &Mat3, hist: &[PlasticState]) -> Option<Centre> {
-    let (s, state, ret) = mat.update(h, &hist[0])?;
+    let up = mat.update(h, &hist[0])?;
     let old = Hourglass::read(&hist[1..]);
     let (_, mu) = mat.lambda_mu();
-    let r = ratio(mu, &dev_sym(h), &dev_sym(&s), ret.gamma > 0.0, &old);
-    let radius = match mat {
-        Material::J2Plastic(m) => SQRT_2_3 * (m.yield_stress + m.isotropic * state.eqps),
-        _ => f64::INFINITY,
-    };
+    let r = ratio(mu, &dev_sym(h), &dev_sym(&up.stress), up.yielded, &old);
+    let radius = mat.yield_radius(&up.state);
     Some(Centre {
-        stress: s,
-        state,
+        stress: up.stress,
+        state: up.state,
         old,
         r,
         radius,
     })
 }
-
-const SQRT_2_3: f64 = 0.816_496_580_927_726;
 
 /// What `centre` finds.
 pub struct Centre {

@@ -32,7 +32,7 @@ pub(in crate::fem) use geometry::{at, g_at, gauss_gradient, mean_gradient};
 pub(in crate::fem) use hourglass::{centre, dev_sym, forces, SLOTS};
 pub(in crate::fem) use kinematics::{deformation, mean_dilatation, scaled, sub_identity};
 pub(in crate::fem) use stabilization::Stiffness;
-pub(in crate::fem) use tangent::{add_tangent, point_tangent};
+pub(in crate::fem) use tangent::add_tangent;
 
 /// How an element is integrated.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -42,7 +42,7 @@ pub fn average_cauchy_with(
     let virgin = PlasticState::default();
     for q in 0..n {
         let s = mat
-            .cauchy_from(&h[q], hist.get(q).unwrap_or(&virgin))
+            .cauchy(&h[q], hist.get(q).unwrap_or(&virgin))
             .ok_or(ElementFailure::InvertedCurrent)?;
         let jw = if mat.is_large() {
             w[q] * det(&add_identity(&h[q]))

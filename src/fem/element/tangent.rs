@@ -5,11 +5,11 @@ use super::geometry::{
     at, g_at, gauss_gradient, geometry, hourglass, mean_gradient, GaussGeometry, Geometry, HG_BASE,
     ZERO_Q,
 };
-use super::kinematics::{add_identity, deformation, mean_dilatation};
+use super::kinematics::{deformation, mean_dilatation};
 use super::stabilization::Stiffness;
 use super::{ElementFailure, Formulation, Stabilization};
-use crate::material::{Material, PlasticState};
-use crate::math::{inverse, Mat3, Vec3, ZERO33};
+use crate::material::{Material, PlasticState, PointTangent};
+use crate::math::{Mat3, Vec3, ZERO33};
 
 /// The eight 3x3 diagonal blocks K_aa of the element tangent, into `d` (overwritten).
 /// Exact for `Full`, for `Mean` and for `FullBar` under small kinematics; under large
@@ -25,72 +25,6 @@ pub fn diagonal_blocks(
     diagonal_blocks_with(&geo, Some(&gauss), u, mat, form, &[], d)
 }
 
-/// The material tangent at one point, ready to be contracted with gradients:
-/// `sum_JL g_J A_iJkL g_L = c v v^T + mu |g|^2 I` with v = g (linear elasticity,
-/// c = lambda + mu) or v = F^-T g (neo-Hookean, c = mu + lambda - lambda ln J); the same
-/// expressions as `Material::tangent_gg`, with F^-1 and ln J computed once per point.
-/// For J2 plasticity (consistent tangent, see `J2Plastic::tangent_gg`) c = kappa + mu_t/3,
-/// mu = mu_t and the extra term - cn (n v)(n v)^T; under large kinematics the same form
-/// with v = F^-T g, an approximation that only preconditions.
-pub(in crate::fem) struct PointTangent {
-    finv: Option<Mat3>,
-    pub(in crate::fem) c: f64,
-    mu: f64,
-    n: Mat3,
-    cn: f64,
-}
-
-#[inline]
-pub(in crate::fem) fn point_tangent(
-    mat: &Material,
-    h: &Mat3,
-    old: Option<&PlasticState>,
-) -> PointTangent {
-    match mat {
-        Material::LinearElastic(m) => PointTangent {
-            finv: None,
-            c: m.lambda + m.mu,
-            mu: m.mu,
-            n: ZERO33,
-            cn: 0.0,
-        },
-        Material::J2Plastic(m) => {
-            let virgin = PlasticState::default();
-            let old = old.unwrap_or(&virgin);
-            let (ret, finv) = if m.large {
-                match m.update_large(h, old) {
-                    Some(r) => (r.ret, Some(r.finv)),
-                    None => (
-                        crate::material::Return::ELASTIC,
-                        Some(crate::math::IDENTITY),
-                    ),
-                }
-            } else {
-                (m.update(h, old).2, None)
-            };
-            let (kappa, mu_t, cn) = m.moduli(&ret);
-            PointTangent {
-                finv,
-                c: kappa + mu_t / 3.0,
-                mu: mu_t,
-                n: ret.n,
-                cn,
-            }
-        }
-        Material::NeoHookean(m) => {
-            let (finv, j) = inverse(&add_identity(h));
-            let lnj = if j > 0.0 { j.ln() } else { 0.0 };
-            PointTangent {
-                finv: Some(finv),
-                c: m.mu + m.lambda - m.lambda * lnj,
-                mu: m.mu,
-                n: ZERO33,
-                cn: 0.0,
-            }
-        }
-    }
-}
-
 /// F^-T g: v_i = sum_L Finv_Li g_L
 #[inline(always)]
 pub(in crate::fem) fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
@@ -101,7 +35,8 @@ pub(in crate::fem) fn finv_t(finv: &Mat3, g: &Vec3) -> Vec3 {
     ]
 }
 
-/// d += w (c v v^T + mu |g|^2 I)
+/// d += w (c v v^T + mu |g|^2 I - cn (n v)(n v)^T), the point's tangent (`PointTangent`)
+/// contracted with `g`.
 #[inline(always)]
 pub(in crate::fem) fn add_tangent(d: &mut Mat3, pt: &PointTangent, g: &Vec3, w: f64) {
     let v = match &pt.finv {
@@ -152,13 +87,13 @@ fn diagonal_full(
     d: &mut [Mat3; 8],
 ) {
     // The linear elastic tangent does not depend on u.
-    let h = if mat.is_large() || mat.is_plastic() {
-        gauss_gradient(u, gauss)
-    } else {
+    let h = if mat.linear().is_some() {
         ZERO_Q
+    } else {
+        gauss_gradient(u, gauss)
     };
     for q in 0..8 {
-        let pt = point_tangent(mat, &at(&h, q), hist.get(q));
+        let pt = mat.tangent(&at(&h, q), hist.get(q));
         for (a, da) in d.iter_mut().enumerate() {
             add_tangent(da, &pt, &g_at(gauss, a, q), gauss.wdet[q]);
         }
@@ -223,7 +158,7 @@ fn diagonal_mean(
     d: &mut [Mat3; 8],
 ) {
     let h = mean_gradient(u, geo);
-    let pt = point_tangent(mat, &h, hist.first());
+    let pt = mat.tangent(&h, hist.first());
     let hx = hourglass(geo);
     let stiff = Stiffness::new(geo, control, mat);
     // A plastic element's hourglass stiffness of the step (see `hourglass`).

@@ -147,6 +147,7 @@ fn material_cards(material: &Material) -> Result<Vec<MaterialCard>, String> {
             }
             vec![elastic(m.lambda, m.mu), MaterialCard::Plastic { points }]
         }
+        other => return unsupported(other.name()),
     })
 }
 
