@@ -135,21 +135,10 @@ impl FullTangent {
             p.push(m);
             p
         };
-        if !order.as_ref().is_some_and(|o| o.fits(&a, &node_ptr)) {
-            let Some((perm, counts)) = SparseCholesky::analyse(&a, &node_ptr, MAX_FACTOR_ENTRIES)
-            else {
-                return Ok(Err(MAX_FACTOR_ENTRIES));
-            };
-            *order = Some(Order {
-                ptr: a.ptr.clone(),
-                idx: a.idx.clone(),
-                node_ptr,
-                perm,
-                counts,
-            });
-        }
+        let Some(o) = Order::ensure(order, &a, node_ptr) else {
+            return Ok(Err(MAX_FACTOR_ENTRIES));
+        };
         let analysed = clock.elapsed().as_secs_f64();
-        let o = order.as_ref().expect("the order was just made");
         let chol = SparseCholesky::new_modified(&a, o.perm.clone(), &o.counts, PIVOT_FLOOR);
         let factored = clock.elapsed().as_secs_f64();
         Ok(Ok(FullTangent {
@@ -223,8 +212,22 @@ pub(super) struct Order {
 }
 
 impl Order {
-    fn fits(&self, a: &Csr, node_ptr: &[usize]) -> bool {
-        self.ptr == a.ptr && self.idx == a.idx && self.node_ptr == node_ptr
+    /// The order for `a` (node blocks `node_ptr`): the kept one when it was made for the
+    /// same pattern, else a new analysis kept in `slot`; None when the factor would hold
+    /// more than MAX_FACTOR_ENTRIES.
+    fn ensure<'a>(slot: &'a mut Option<Order>, a: &Csr, node_ptr: Vec<usize>) -> Option<&'a Order> {
+        let fits = |o: &Order| o.ptr == a.ptr && o.idx == a.idx && o.node_ptr == node_ptr;
+        if !slot.as_ref().is_some_and(fits) {
+            let (perm, counts) = SparseCholesky::analyse(a, &node_ptr, MAX_FACTOR_ENTRIES)?;
+            *slot = Some(Order {
+                ptr: a.ptr.clone(),
+                idx: a.idx.clone(),
+                node_ptr,
+                perm,
+                counts,
+            });
+        }
+        slot.as_ref()
     }
 }
 
