@@ -277,8 +277,9 @@ impl SparseCholesky {
         self.val.len()
     }
 
-    /// x <- A^-1 x (zero on the unknowns left out).
-    pub fn solve(&mut self, x: &mut [f64]) {
+    /// The permuted `x` into the work vector, then the forward substitution L y = P x
+    /// there (column by column: each entry's updates in the order of the columns).
+    fn forward(&mut self, x: &[f64]) {
         let n = self.diag.len();
         let y = &mut self.work;
         for k in 0..n {
@@ -291,10 +292,18 @@ impl SparseCholesky {
             }
             y[j] /= self.diag[j];
             let yj = y[j];
-            for p in self.colptr[j]..self.colptr[j + 1] {
-                y[self.rowidx[p] as usize] -= self.val[p] * yj;
+            let (a, b) = (self.colptr[j], self.colptr[j + 1]);
+            for (&r, &v) in self.rowidx[a..b].iter().zip(&self.val[a..b]) {
+                y[r as usize] -= v * yj;
             }
         }
+    }
+
+    /// x <- A^-1 x (zero on the unknowns left out).
+    pub fn solve(&mut self, x: &mut [f64]) {
+        let n = self.diag.len();
+        self.forward(x);
+        let y = &mut self.work;
         for j in (0..n).rev() {
             if self.diag[j] == 0.0 {
                 y[j] = 0.0;
@@ -317,22 +326,8 @@ impl SparseCholesky {
     /// factors whose solves need not match `solve`'s (the full tangent preconditioner).
     pub fn solve_split_sums(&mut self, x: &mut [f64]) {
         let n = self.diag.len();
+        self.forward(x);
         let y = &mut self.work;
-        for k in 0..n {
-            y[k] = x[self.perm[k]];
-        }
-        for j in 0..n {
-            if self.diag[j] == 0.0 {
-                y[j] = 0.0;
-                continue;
-            }
-            y[j] /= self.diag[j];
-            let yj = y[j];
-            let (a, b) = (self.colptr[j], self.colptr[j + 1]);
-            for (&r, &v) in self.rowidx[a..b].iter().zip(&self.val[a..b]) {
-                y[r as usize] -= v * yj;
-            }
-        }
         for j in (0..n).rev() {
             if self.diag[j] == 0.0 {
                 y[j] = 0.0;
