@@ -41,8 +41,9 @@ fn plastic_indent_killed_mid_yield_restarts_bitwise() {
 
 #[test]
 fn plastic_indent_with_the_full_tangent_restarts_bitwise() {
-    // The factor is built at every model problem's start from that state, so a restart
-    // repeats the uninterrupted run's factors.
+    // The factor is built at every increment's first model problem from that state (and
+    // kept within the increment while its unknowns fit), so a restart repeats the
+    // uninterrupted run's factors.
     killed_and_restarted_is_identical("mpi-tests/plastic_indent_tangent.toml", 3);
 }
 
@@ -55,4 +56,13 @@ fn plastic_indent_by_newton_restarts_bitwise() {
 fn plastic_indent_with_mean_elements_killed_mid_yield_restarts_bitwise() {
     // The hourglass state of the plastic one-point elements is committed history too.
     killed_and_restarted_is_identical("mpi-tests/plastic_indent_mean.toml", 3);
+}
+
+#[test]
+fn bolted_clamp_killed_while_slipping_restarts_bitwise() {
+    // Plastic plates with friction: the coupled (friction) solves keep the full tangent
+    // within an increment, never across one, so a restart repeats the run. Killed after
+    // step 2 of 12: the head is pressed on, the upper plate yielding under its edges and
+    // most of the contact nodes slipping.
+    killed_and_restarted_is_identical("run/examples/bolted_clamp.toml", 2);
 }

@@ -322,6 +322,9 @@ impl Cg {
         self.precondition(pb, u)?;
         self.setup_coarse(pb, u, linear, s)?;
         self.setup_multilevel(pb, u, linear, s)?;
+        if !linear {
+            self.refresh_full_tangent(pb, u, s)?;
+        }
         Ok((g, None))
     }
 

@@ -29,6 +29,10 @@ use crate::solver::multilevel::sparse::Csr;
 use crate::solver::multilevel::sparse_cholesky::SparseCholesky;
 use crate::solver::multilevel::FineOperator;
 
+/// Free directions of a node (unit vectors) that differ by less than this are the same
+/// unknowns for the factor (`FullTangent::fits`).
+const BASIS_ROUNDOFF: f64 = 1e-9;
+
 /// The factored tangent and how to map nodal vectors to its unknowns.
 pub(super) struct FullTangent {
     /// The first unknown of every global node (len: nodes + 1).
@@ -46,6 +50,25 @@ pub(super) struct FullTangent {
 }
 
 impl FullTangent {
+    /// Whether this rank's owned nodes have the free directions the factor was built with
+    /// (to round-off: a contact normal recomputed as its node slides along a flat face
+    /// differs in its last bits).
+    fn fits<C: Comm + ?Sized>(&self, pb: &Problem<C>) -> bool {
+        let near = |a: &[Vec3], b: &[Vec3]| {
+            a.len() == b.len()
+                && a.iter().zip(b).all(|(x, y)| {
+                    let d = [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+                    dot(&d, &d) <= BASIS_ROUNDOFF * BASIS_ROUNDOFF
+                })
+        };
+        self.basis.len() == pb.asm.mesh.num_owned_nodes
+            && self
+                .basis
+                .iter()
+                .enumerate()
+                .all(|(l, b)| near(&free_basis(pb.cons.projector(l)), b))
+    }
+
     /// Assembles T^T K T by probing `op` and factors it (collective); Ok(Err(entries)) when
     /// the factor would hold more than MAX_FACTOR_ENTRIES (the same on every rank: every
     /// rank analyses the same matrix).
@@ -335,6 +358,13 @@ impl Cg {
         if !self.use_tangent {
             return Ok(());
         }
+        if why == MODEL_START && !self.tangent_increment && self.tangent_fits(pb) {
+            // A later model problem of the increment on the same unknowns: the factor is
+            // kept, and the rate rule rebuilds it when it goes stale.
+            self.tangent_builds_here = 0;
+            return Ok(());
+        }
+        self.tangent_increment = false;
         let start = std::time::Instant::now();
         self.tangent = None;
         let mut op = fine_op!(self, pb, u, linear, s);
@@ -369,5 +399,37 @@ impl Cg {
         self.add_note(note);
         self.tangent = Some(t);
         Ok(())
+    }
+
+    /// The full tangent of a coupled solve (cg/coupled.rs) of nonlinear bodies: built at
+    /// the increment's first model problem (so a restart, which begins at an increment,
+    /// builds what the run it continues built) and again when the free directions of a
+    /// node changed (its unknowns are another set: stick and slip change a node's rows),
+    /// or when it was dropped; kept otherwise (collective).
+    pub(super) fn refresh_full_tangent<C: Comm + ?Sized>(
+        &mut self,
+        pb: &Problem<C>,
+        u: &[Vec3],
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        if !self.use_tangent {
+            return Ok(());
+        }
+        if !self.tangent_increment && self.tangent_fits(pb) {
+            return Ok(());
+        }
+        let why = if self.tangent_increment {
+            "coupled solve, new increment"
+        } else {
+            "coupled solve on another constraint set"
+        };
+        self.setup_full_tangent(pb, u, false, s, why)
+    }
+
+    /// Whether the full tangent is built on the unknowns of `pb` on every rank
+    /// (collective).
+    fn tangent_fits<C: Comm + ?Sized>(&self, pb: &Problem<C>) -> bool {
+        let fits = self.tangent.as_ref().is_some_and(|t| t.fits(pb));
+        !crate::comm::any(pb.comm, !fits)
     }
 }

@@ -143,6 +143,8 @@ pub struct Cg {
     tangent_builds: usize,
     /// Builds in the current model problem.
     tangent_builds_here: usize,
+    /// No model problem of this increment has built the full tangent yet.
+    tangent_increment: bool,
     /// Newton-Krylov: the convergence rate of the first inner solve after the coarse space
     /// or hierarchy was built (`newton::judge_rate`).
     built_rate: Option<f64>,
@@ -195,6 +197,7 @@ impl Cg {
             tangent_order: None,
             tangent_builds: 0,
             tangent_builds_here: 0,
+            tangent_increment: true,
             built_rate: None,
             rebuild_note: None,
             trace: CgTrace::default(),
@@ -255,6 +258,7 @@ impl Cg {
     /// so a run continued from a restart file repeats the uninterrupted run bit for bit.
     pub fn invalidate_coarse(&mut self) {
         self.coarse_stale = true;
+        self.tangent_increment = true;
     }
 
     /// The internal and external forces of the last accepted iterate.
