@@ -6,9 +6,9 @@
 //! to the nearest master face, where gap removal would put it back. Collective; every rank
 //! returns the same findings, in the order (slave node, pair).
 
+use super::active::{Active, ContactState, Mode};
 use super::ghost::{self, position};
 use super::search::{Interaction, MasterSurface};
-use super::state::{Active, ContactState, Mode};
 use crate::comm::{message, Comm};
 use crate::fem::hex8;
 use crate::math::{inverse, matvec, norm, sub, Vec3};

@@ -5,8 +5,8 @@
 //! implements it, and another discretization is another implementation, not an edit of
 //! the loop.
 
+use super::active::ContactCounts;
 use super::audit::Finding;
-use super::state::ContactCounts;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, RowSpec};
 use crate::math::{Mat3, Vec3};

@@ -4,6 +4,7 @@
 //! problem, then updates it (gap removal with a capture tolerance, release of tensile nodes,
 //! the equilibrium query, Coulomb stick/slip).
 
+pub mod active;
 pub mod area;
 pub mod audit;
 mod codec;

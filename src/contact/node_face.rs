@@ -3,11 +3,12 @@
 //! nodes, applies Coulomb's law (coulomb.rs) and searches (search.rs, ghost.rs); the state
 //! is made whole on every rank after each change.
 
+use super::active::{new_active, ContactCounts, ContactState, Mode, PENETRATION_NOISE};
 use super::audit::{self, Finding};
 use super::enforcement::{Enforcement, SetEntry, TieSupport};
 use super::ghost;
 use super::mortar::surfaces::Positions;
-use super::state::{new_active, tangents, ContactCounts, ContactState, Mode, PENETRATION_NOISE};
+use super::project::tangents;
 use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, RowKind, RowSpec};
 use crate::math::{add, scale, sub, Mat3, Vec3};
@@ -357,7 +358,7 @@ impl Enforcement for ContactState {
     }
 
     fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
-        let tie = |a: &super::state::Active| {
+        let tie = |a: &super::active::Active| {
             let master = self.masters(problem, a).first().map_or(
                 problem.contacts[a.pair].face_nodes[a.face as usize][0],
                 |m| m.0,
