@@ -9,6 +9,7 @@ pub mod area;
 pub mod audit;
 mod codec;
 pub mod coulomb;
+mod dispatch;
 pub mod enforcement;
 pub mod ghost;
 pub mod mortar;

@@ -6,12 +6,13 @@
 
 use super::surfaces::Positions;
 use super::ties::{relative, Tie};
+use crate::comm::Comm;
 use crate::contact::active::{new_active, ContactState, Mode, PENETRATION_NOISE};
 use crate::contact::audit::Finding;
 use crate::contact::search::Interaction;
-use crate::math::{norm, sub};
+use crate::math::{norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::Problem;
+use crate::problem::{Discretization, Problem};
 use std::collections::{HashMap, HashSet};
 
 impl ContactState {
@@ -160,6 +161,43 @@ impl ContactState {
     pub(in crate::contact) fn prune_ties(&mut self) {
         let live: HashSet<(u32, usize)> = self.active.iter().map(|a| (a.slave, a.pair)).collect();
         self.ties.retain(|(p, t)| live.contains(&(t.slave, *p)));
+    }
+
+    /// The gathered surfaces of the mortar pairs at (current, step-start) displacements;
+    /// None when the problem has no mortar pair. Collective.
+    pub(in crate::contact) fn mortar_positions<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        (u, start): (&[Vec3], &[Vec3]),
+    ) -> Option<Positions> {
+        problem
+            .contacts
+            .iter()
+            .any(|p| p.discretization == Discretization::Mortar)
+            .then(|| Positions::gather(comm, problem, mesh, u, start))
+    }
+
+    /// Capture (`follow` false) or the search (true) of every mortar pair at the
+    /// gathered `positions`.
+    pub(in crate::contact) fn mortar_pairs(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        positions: Option<&Positions>,
+        follow: bool,
+    ) -> bool {
+        let Some(positions) = positions else {
+            return false;
+        };
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization == Discretization::Mortar {
+                changed |= self.mortar_pass(problem, mesh, p, positions, follow);
+            }
+        }
+        changed
     }
 }
 
