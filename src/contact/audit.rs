@@ -79,8 +79,9 @@ pub fn contains(x: &[Vec3; 8], p: &Vec3) -> bool {
     xi.iter().all(|v| v.abs() <= 1.0)
 }
 
-/// Every slave node inside a master body, with its depth, except the nodes of mortar pairs
-/// in `tied` (slave node, pair; ascending). A mortar tie constrains a weighted gap, not
+/// Every slave node inside a master body, with its depth, except the nodes in `tied`
+/// (slave node, pair; ascending): the caller's, the mortar pairs' tied nodes. A mortar tie
+/// constrains a weighted gap, not
 /// the node's point, so a tied node may sit inside a curved master by the
 /// discretization's error; a mortar node without a tie is held by nothing, and one inside
 /// the master body was lost (released, or beyond the normal search tolerance of every
@@ -94,8 +95,7 @@ pub fn audit<C: Comm + ?Sized>(
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
     let mut found: Vec<(usize, u32)> = Vec::new();
-    for (p, pair) in problem.contacts.iter().enumerate() {
-        let mortar = pair.discretization == crate::problem::Discretization::Mortar;
+    for p in 0..problem.contacts.len() {
         let bodies = master_bodies(problem, p);
         if slaves[p].is_empty() {
             continue;
@@ -126,7 +126,7 @@ pub fn audit<C: Comm + ?Sized>(
         }
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
         for (&s, x) in slaves[p].iter() {
-            if mortar && tied.binary_search(&(s, p)).is_ok() {
+            if tied.binary_search(&(s, p)).is_ok() {
                 continue;
             }
             let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));

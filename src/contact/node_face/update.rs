@@ -33,7 +33,7 @@ impl ContactState {
             self.active.iter().map(|a| (a.slave, a.pair)).collect();
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization == Discretization::Mortar {
+            if pair.discretization != Discretization::NodeFace {
                 continue;
             }
             for &s in &pair.slave_nodes {
@@ -80,7 +80,7 @@ impl ContactState {
         let mut gone = vec![false; self.active.len()];
         let mut added = Vec::new();
         for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization == Discretization::Mortar {
+            if pair.discretization != Discretization::NodeFace {
                 continue;
             }
             for &s in &pair.slave_nodes {
@@ -137,7 +137,7 @@ impl ContactState {
     ) {
         for a in &mut self.active {
             if !matches!(a.mode, Mode::Slip { .. })
-                || problem.contacts[a.pair].discretization == Discretization::Mortar
+                || problem.contacts[a.pair].discretization != Discretization::NodeFace
             {
                 continue;
             }
