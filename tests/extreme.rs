@@ -397,7 +397,7 @@ fn support_diagnosis_counts_the_rigid_motions_a_body_keeps() {
     // rotation about x are free: 3 of 6 blocked. Exact counts: the rows are unit vectors
     // and the Gram matrix's null space is exact up to round-off (1e-16 against the 1e-10
     // cut).
-    use solver::contact::state::ContactState;
+    use solver::contact::active::ContactState;
     use solver::solver::support::unheld_bodies;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("run/examples/bar.toml");
     let text = std::fs::read_to_string(path).unwrap();

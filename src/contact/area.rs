@@ -6,7 +6,7 @@
 //! order of the pair's slave faces and constraint by constraint in the order of the active
 //! set: the same numbers on any number of ranks.
 
-use super::state::Active;
+use super::active::Active;
 use crate::math::{add, Vec3};
 use crate::problem::{ContactPair, Kinematics, Problem};
 

@@ -8,7 +8,6 @@
 
 use super::ghost::{self, position};
 use super::search::{Interaction, MasterSurface};
-use super::state::{Active, ContactState, Mode};
 use crate::comm::{message, Comm};
 use crate::fem::hex8;
 use crate::math::{inverse, matvec, norm, sub, Vec3};
@@ -80,8 +79,9 @@ pub fn contains(x: &[Vec3; 8], p: &Vec3) -> bool {
     xi.iter().all(|v| v.abs() <= 1.0)
 }
 
-/// Every slave node inside a master body, with its depth, except the nodes of mortar pairs
-/// in `tied` (slave node, pair; ascending). A mortar tie constrains a weighted gap, not
+/// Every slave node inside a master body, with its depth, except the nodes in `tied`
+/// (slave node, pair; ascending): the caller's, the mortar pairs' tied nodes. A mortar tie
+/// constrains a weighted gap, not
 /// the node's point, so a tied node may sit inside a curved master by the
 /// discretization's error; a mortar node without a tie is held by nothing, and one inside
 /// the master body was lost (released, or beyond the normal search tolerance of every
@@ -95,8 +95,7 @@ pub fn audit<C: Comm + ?Sized>(
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
     let mut found: Vec<(usize, u32)> = Vec::new();
-    for (p, pair) in problem.contacts.iter().enumerate() {
-        let mortar = pair.discretization == crate::problem::Discretization::Mortar;
+    for p in 0..problem.contacts.len() {
         let bodies = master_bodies(problem, p);
         if slaves[p].is_empty() {
             continue;
@@ -127,7 +126,7 @@ pub fn audit<C: Comm + ?Sized>(
         }
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
         for (&s, x) in slaves[p].iter() {
-            if mortar && tied.binary_search(&(s, p)).is_ok() {
+            if tied.binary_search(&(s, p)).is_ok() {
                 continue;
             }
             let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
@@ -266,46 +265,6 @@ pub fn too_deep(problem: &Problem, findings: &[Finding]) -> Vec<Finding> {
 fn is_deep(problem: &Problem, f: &Finding) -> bool {
     let pair = &problem.contacts[f.pair];
     f.depth > pair.capture_tolerance.max(1e-10 * pair.face_size)
-}
-
-/// Gap removal for the node-to-face nodes found inside a master body: each is tied to the
-/// nearest master face (an active constraint on another face moves there), sticking where
-/// the pair has friction. Every rank holds the same findings and the same active set, so
-/// every rank changes it alike.
-pub fn recapture(state: &mut ContactState, problem: &Problem, findings: &[Finding]) {
-    for f in findings {
-        let it = &f.interaction;
-        if let Some(a) = state
-            .active
-            .iter_mut()
-            .find(|a| a.slave == f.slave && a.pair == f.pair)
-        {
-            a.face = it.face;
-            a.s = it.s;
-            a.normal = it.normal;
-            continue;
-        }
-        state.active.push(Active {
-            pair: f.pair,
-            slave: f.slave,
-            face: it.face,
-            s: it.s,
-            normal: it.normal,
-            offset: it.offset,
-            mode: if problem.contacts[f.pair].mu > 0.0 {
-                Mode::Stick
-            } else {
-                Mode::Free
-            },
-            normal_force: 0.0,
-            tangential_force: [0.0; 3],
-            slip_stiffness: 0.0,
-            secant: None,
-            start: None,
-            reversals: 0,
-        });
-    }
-    state.active.sort_by_key(|a| (a.slave, a.pair));
 }
 
 /// The bodies that own a pair's master faces.

@@ -2,8 +2,8 @@
 //! ranks when the state is made whole, and stored in the restart file), and the whole state
 //! for a restart, read back checked against the problem.
 
+use super::active::{Active, ContactState, Mode};
 use super::mortar::Tie;
-use super::state::{Active, ContactState, Mode};
 use crate::comm::message::{self, Message, Reader, Writer};
 use crate::problem::Discretization;
 use crate::problem::Problem;

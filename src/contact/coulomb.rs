@@ -2,9 +2,9 @@
 //! a sticking node, slip driven by prescribed motion, the reversal of slip, and the
 //! friction force's direction (a return mapping with the node's secant stiffness).
 
+use super::active::{Active, Mode};
 use super::search::MasterSurface;
 use super::slip::{coulomb_tangent, friction_direction, secant_stiffness, SLIP_NOISE};
-use super::state::{Active, Mode};
 use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -164,8 +164,8 @@ pub(super) fn judge_slip(
 
 #[cfg(test)]
 mod tests {
+    use super::super::active::new_active;
     use super::super::search::Interaction;
-    use super::super::state::new_active;
     use super::*;
 
     fn node(normal_force: f64, tangential: f64, mode: Mode) -> Active {

@@ -1,12 +1,12 @@
 //! The one interface through which the stepper's control-contact loop enforces contact.
 //! The loop knows the phases (gap removal, the frozen set as rows and loads, the model
 //! problem's forces read back, the update, the penetration audit) and nothing of how a
-//! constraint is made: node-to-face (`ContactState`, the paper's, in node_face.rs)
-//! implements it, and another discretization is another implementation, not an edit of
-//! the loop.
+//! constraint is made: `ContactState` implements it (dispatch.rs) for every pair, the
+//! node-to-face (node_face/) and the mortar (mortar/) ones, and another discretization is
+//! an edit of the dispatch, not of the loop.
 
+use super::active::ContactCounts;
 use super::audit::Finding;
-use super::state::ContactCounts;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, RowSpec};
 use crate::math::{Mat3, Vec3};

@@ -4,10 +4,12 @@
 //! problem, then updates it (gap removal with a capture tolerance, release of tensile nodes,
 //! the equilibrium query, Coulomb stick/slip).
 
+pub mod active;
 pub mod area;
 pub mod audit;
 mod codec;
 pub mod coulomb;
+mod dispatch;
 pub mod enforcement;
 pub mod ghost;
 pub mod mortar;

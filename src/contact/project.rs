@@ -2,7 +2,7 @@
 //! face's local coordinates), and the face normal.
 
 use crate::fem::face;
-use crate::math::{cross, dot, norm, sub, Vec3};
+use crate::math::{cross, dot, norm, scale, sub, Vec3};
 
 /// Local coordinates of the closest point of the (extended) bilinear surface, and whether
 /// Newton converged.
@@ -63,6 +63,21 @@ pub fn normal(x: &[Vec3; 4], s: &[f64; 2]) -> Vec3 {
     let n = cross(&ts, &tt);
     let l = norm(&n);
     [n[0] / l, n[1] / l, n[2] / l]
+}
+
+/// A tangent basis of the plane normal to n, chosen deterministically.
+pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
+    let a = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
+        [1.0, 0.0, 0.0]
+    } else if n[1].abs() <= n[2].abs() {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    let t1 = cross(&a, n);
+    let t1 = scale(&t1, 1.0 / norm(&t1));
+    let t2 = cross(n, &t1);
+    (t1, t2)
 }
 
 #[cfg(test)]

@@ -3,8 +3,8 @@
 //! the return mapping that turns a slipping node's friction force against its slip, and the
 //! tangential springs slipping nodes carry in the model problem.
 
+use super::active::{Active, ContactState, Mode};
 use super::ghost;
-use super::state::{Active, ContactState, Mode};
 use crate::comm::Comm;
 use crate::math::{dot, matvec, norm, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;

@@ -1,144 +1,28 @@
-//! The contact constraint set and its update: the outer level of the paper's control
-//! contact. With the set frozen, CG solves a model problem; then `update` releases nodes
-//! whose contact force turned tensile, decides stick or slip for Coulomb friction, searches
-//! again, and captures penetrating nodes (push) or nodes within the capture tolerance
-//! (pull). Gap removal happens when the new constraint rows are imposed.
+//! The contact set's update that every discretisation shares: the outer level of the
+//! paper's control contact. With the set frozen, CG solves a model problem; then the update
+//! releases nodes whose contact force turned tensile and decides stick or slip for Coulomb
+//! friction (here), and each discretisation searches and captures (node_face/, mortar/).
+//! Gap removal happens when the new constraint rows are imposed. The rows of the active
+//! constraints and their master points are here too.
 
+use super::active::{Active, ContactState, Mode};
 use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, step_slip, tensile};
-use super::ghost;
-use super::mortar::enforce::{mortar_driven_slip, mortar_step_slip};
+use super::mortar::slip::{mortar_driven_slip, mortar_step_slip};
 use super::mortar::surfaces::Positions;
 use super::mortar::Tie;
-use super::search::Interaction;
+use super::project::tangents;
 use super::slip::{driven_slip, SLIP_NOISE};
 use crate::comm::{message, Comm};
 use crate::constraints::{Row, RowKind, RowSpec};
-use crate::math::{cross, dot, norm, scale, sub, Vec3};
+use crate::math::{dot, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::{Discretization, Problem};
-use std::collections::{HashMap, HashSet};
-
-/// A gap more negative than this fraction of the face size is a penetration; closer to
-/// zero it is round-off of a node that sits on the surface.
-pub(super) const PENETRATION_NOISE: f64 = 1e-10;
-
-/// How far (in face coordinates, which span 2) a node in contact may pass a face's edge
-/// and keep the face: enough to absorb the solver's round-off of a node sliding along an
-/// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
-const EDGE_HYSTERESIS: f64 = 1e-4;
+use std::collections::HashSet;
 
 /// Slipping nodes' friction forces count as settled once each is within this fraction of
 /// its capacity (the capacity's own change between model problems): the reversal of a
 /// slip is judged from then on.
 const SETTLED: f64 = 1e-8;
-
-/// Tangential behaviour of an active constraint.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Mode {
-    /// Frictionless: only the normal is tied.
-    Free,
-    /// Tied to its master point in every direction.
-    Stick,
-    /// Slipping: normal tied, a friction force of the last computed magnitude along `dir`
-    /// (unit, acting on the slave) opposes the slip.
-    Slip { dir: Vec3, magnitude: f64 },
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Active {
-    pub pair: usize,
-    /// Global node id of the slave node.
-    pub slave: u32,
-    pub face: u32,
-    pub s: [f64; 2],
-    pub normal: Vec3,
-    /// The slave's offset from its master point across the normal, which a stick holds:
-    /// nonzero for a node beyond its face's edge (within the search's tangential
-    /// tolerance), which the clamped projection ties to a point of the edge (node-to-face;
-    /// zero for mortar, whose ties hold their own offsets).
-    pub offset: Vec3,
-    pub mode: Mode,
-    /// Normal contact force on the slave from the last model problem (compressive > 0).
-    pub normal_force: f64,
-    /// Tangential contact force on the slave from the last model problem.
-    pub tangential_force: Vec3,
-    /// Secant estimate of the node's tangential stiffness (force per slip), measured from
-    /// two model problems of one step; 0 until measured. Kept across steps.
-    pub slip_stiffness: f64,
-    /// The tangential force held on the slave in the last model problem of this step (the
-    /// stick force, or the friction force) with the slip measured after it: one end of the
-    /// next secant. Cleared when a step begins.
-    pub secant: Option<(Vec3, Vec3)>,
-    /// The master point (face, coordinates, offset) the node sat on when the step began;
-    /// None for a node captured during the step.
-    pub start: Option<(u32, [f64; 2], Vec3)>,
-    /// How often the node's slip reversed (slip -> stick) in this step.
-    pub reversals: u32,
-}
-
-/// Counts reported per step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ContactCounts {
-    pub active: u64,
-    pub stick: u64,
-    pub slip: u64,
-    pub released: u64,
-    /// Largest penetration (minus the most negative gap) of any slave node after
-    /// enforcement; 0 when none penetrates.
-    pub max_penetration: f64,
-}
-
-#[derive(Clone, Debug, Default)]
-pub struct ContactState {
-    /// Active constraints, ordered by (slave node, pair).
-    pub active: Vec<Active>,
-    /// (slave node, pair) released during the current step: not pulled back in by the
-    /// capture tolerance until the next step (a penetrating node is still pushed out).
-    pub(super) released: Vec<(u32, usize)>,
-    /// The ties of the active constraints of mortar pairs, ordered by (slave node, pair),
-    /// frozen between contact updates.
-    pub(super) ties: Vec<(usize, Tie)>,
-    /// Whether the last model problem carried Coulomb's tangent at the slipping nodes that
-    /// have one (set by the solver, alike on every rank).
-    pub(super) tangent: bool,
-    /// Whether the last model problem carried the onset springs (`slip::onset_spring`) at
-    /// the slipping nodes without Coulomb's tangent (set by the solver, alike on every rank).
-    pub(super) onset: bool,
-    /// The onset springs' stiffnesses of the last model problem, by (slave node, pair), at
-    /// the nodes this rank owns.
-    pub(super) onset_springs: HashMap<(u32, usize), f64>,
-    /// Whether the last update left the constraint set unchanged (alike on every rank);
-    /// false when a step begins.
-    pub(super) steady: bool,
-    /// Per pair, whether its master nodes are all prescribed (`slip::held_masters`),
-    /// found at the first use.
-    pub(super) held_masters: Option<Vec<bool>>,
-    /// The turn of each slipping node's friction direction (owned nodes) in the last
-    /// update that followed a model problem with its onset spring.
-    pub(super) spring_turns: HashMap<(u32, usize), f64>,
-    /// Newton's turn of each slipping node's friction direction in the last update of this
-    /// step (owned nodes, by (slave node, pair)), and the nodes for which Newton is off for
-    /// the rest of the step: a turn that did not shrink below `slip::NEWTON_CONTRACTION` of the last
-    /// (a direction that cycles, typically a node moving between master faces) goes back to
-    /// the return mapping, which contracts.
-    pub(super) newton_turns: HashMap<(u32, usize), f64>,
-    pub(super) newton_off: HashSet<(u32, usize)>,
-}
-
-/// A tangent basis of the plane normal to n, chosen deterministically.
-pub fn tangents(n: &Vec3) -> (Vec3, Vec3) {
-    let a = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
-        [1.0, 0.0, 0.0]
-    } else if n[1].abs() <= n[2].abs() {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let t1 = cross(&a, n);
-    let t1 = scale(&t1, 1.0 / norm(&t1));
-    let t2 = cross(n, &t1);
-    (t1, t2)
-}
 
 impl ContactState {
     pub fn released(&self) -> &[(u32, usize)] {
@@ -349,150 +233,6 @@ impl ContactState {
         changed
     }
 
-    /// The search from the current configuration, for the owned slave nodes: a node in
-    /// contact keeps or moves its contact point (or is released when it slid out of the
-    /// search tolerances); a node not in contact that penetrates, or touches within the
-    /// capture tolerance, is captured. Returns whether the set changed.
-    pub(super) fn search(
-        &mut self,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-        surfaces: &[super::search::MasterSurface],
-    ) -> bool {
-        let mut changed = false;
-        // Search from the current configuration, for the owned slave nodes.
-        let mut index: HashMap<(u32, usize), usize> = HashMap::new();
-        for (k, a) in self.active.iter().enumerate() {
-            if mesh.owned_node(a.slave).is_some() {
-                index.insert((a.slave, a.pair), k);
-            }
-        }
-        let released = self.released_set();
-        let mut gone = vec![false; self.active.len()];
-        let mut added = Vec::new();
-        for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization == Discretization::Mortar {
-                continue;
-            }
-            for &s in &pair.slave_nodes {
-                let Some(l) = mesh.owned_node(s) else {
-                    continue;
-                };
-                let x = ghost::position(mesh, u, l);
-                let current = index.get(&(s, p)).map(|&k| self.active[k].face);
-                let found = current
-                    .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
-                    .or_else(|| surfaces[p].search(&x));
-                match (index.get(&(s, p)), found) {
-                    (Some(&k), found) => {
-                        if self.follow(k, found, (s, p), &released, pair.face_size) {
-                            gone[k] = true;
-                            changed = true;
-                        }
-                    }
-                    (None, Some(it)) => {
-                        // A node released in this step is only pushed back if it clearly
-                        // penetrates; at zero gap it is just leaving.
-                        let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                        if penetrates
-                            || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
-                        {
-                            added.push(new_active(p, s, &it, pair.mu));
-                            changed = true;
-                        }
-                    }
-                    (None, None) => {}
-                }
-            }
-        }
-        let mut k = 0;
-        self.active.retain(|_| {
-            k += 1;
-            !gone[k - 1]
-        });
-        self.active.extend(added);
-        changed
-    }
-
-    /// The slipping nodes this rank owns (node-to-face pairs) move their contact points to
-    /// where the search finds them at `u`, the predicted configuration of an increment: the
-    /// ties of its first model problem are then those of the predicted slide, not of the
-    /// last increment's end. A node the search does not find keeps its point (the update
-    /// judges it). Not a change of the set.
-    pub(super) fn slide_to(
-        &mut self,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        u: &[Vec3],
-        surfaces: &[super::search::MasterSurface],
-    ) {
-        for a in &mut self.active {
-            if !matches!(a.mode, Mode::Slip { .. })
-                || problem.contacts[a.pair].discretization == Discretization::Mortar
-            {
-                continue;
-            }
-            let Some(l) = mesh.owned_node(a.slave) else {
-                continue;
-            };
-            let x = ghost::position(mesh, u, l);
-            let surface = &surfaces[a.pair];
-            if let Some(it) = surface
-                .stay_on(a.face, &x, EDGE_HYSTERESIS)
-                .or_else(|| surface.search(&x))
-            {
-                a.face = it.face;
-                a.s = it.s;
-                a.normal = it.normal;
-                a.offset = it.offset;
-            }
-        }
-    }
-
-    /// Follows contact `k` of (slave node, pair) `sp` to what the search found: a sticking
-    /// contact stays, a sliding one moves its contact point, or is released when nothing was
-    /// found. Returns whether it was released.
-    fn follow(
-        &mut self,
-        k: usize,
-        found: Option<Interaction>,
-        sp: (u32, usize),
-        released: &HashSet<(u32, usize)>,
-        pair_size: f64,
-    ) -> bool {
-        let a = &mut self.active[k];
-        if a.mode == Mode::Stick {
-            return false;
-        }
-        match found {
-            Some(it) => {
-                // Moving the contact point (also onto a neighbouring face, or along
-                // an edge the node has passed) is not a change of the set: the equilibrium query after the
-                // next model problem judges it. Round-off-sized moves are
-                // ignored so the loop can settle.
-                let moved = it.face != a.face
-                    || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
-                    || norm(&sub(&it.normal, &a.normal)) > 1e-12
-                    || norm(&sub(&it.offset, &a.offset)) > 1e-12 * pair_size;
-                if moved {
-                    a.face = it.face;
-                    a.s = it.s;
-                    a.normal = it.normal;
-                    a.offset = it.offset;
-                }
-                false
-            }
-            None => {
-                // Slid out of the search tolerances: no longer in contact.
-                if !released.contains(&sp) {
-                    self.released.push(sp);
-                }
-                true
-            }
-        }
-    }
-
     pub(super) fn released_set(&self) -> HashSet<(u32, usize)> {
         self.released.iter().copied().collect()
     }
@@ -527,23 +267,5 @@ impl ContactState {
         self.active.sort_by_key(|a| (a.slave, a.pair));
         self.released.sort_unstable();
         self.released.dedup();
-    }
-}
-
-pub(super) fn new_active(pair: usize, slave: u32, it: &Interaction, mu: f64) -> Active {
-    Active {
-        pair,
-        slave,
-        face: it.face,
-        s: it.s,
-        normal: it.normal,
-        offset: it.offset,
-        mode: if mu > 0.0 { Mode::Stick } else { Mode::Free },
-        normal_force: 0.0,
-        tangential_force: [0.0; 3],
-        slip_stiffness: 0.0,
-        secant: None,
-        start: None,
-        reversals: 0,
     }
 }

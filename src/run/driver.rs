@@ -9,7 +9,7 @@ use super::{
     RunOptions, RunSummary,
 };
 use crate::comm::{self, Comm};
-use crate::contact::state::Mode;
+use crate::contact::active::Mode;
 use crate::mesh::local::LocalMesh;
 use crate::output::{ResultWriter, RunInfo, StepOutput};
 use crate::problem::Problem;

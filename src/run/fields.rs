@@ -6,7 +6,7 @@
 use super::{plastic, Gather};
 use crate::comm::{self, message, Comm};
 use crate::constraints::RowKind;
-use crate::contact::state::Mode;
+use crate::contact::active::Mode;
 use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;

@@ -5,7 +5,7 @@
 use super::gather::Gather;
 use super::plastic;
 use crate::comm::{self, Comm};
-use crate::contact::state::ContactState;
+use crate::contact::active::ContactState;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::output::{RestartState, ResultFile, ResultWriter, StepOutput, StepStats};

@@ -7,7 +7,7 @@ use super::loads::Loads;
 use super::springs::Spring;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
-use crate::contact::state::{ContactCounts, ContactState};
+use crate::contact::active::{ContactCounts, ContactState};
 use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;

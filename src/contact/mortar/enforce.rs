@@ -6,13 +6,13 @@
 
 use super::surfaces::Positions;
 use super::ties::{relative, Tie};
+use crate::comm::Comm;
+use crate::contact::active::{new_active, ContactState, Mode, PENETRATION_NOISE};
 use crate::contact::audit::Finding;
 use crate::contact::search::Interaction;
-use crate::contact::state::Active;
-use crate::contact::state::{new_active, ContactState, Mode, PENETRATION_NOISE};
-use crate::math::{dot, norm, scale, sub, Vec3};
+use crate::math::{norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::Problem;
+use crate::problem::{Discretization, Problem};
 use std::collections::{HashMap, HashSet};
 
 impl ContactState {
@@ -162,6 +162,43 @@ impl ContactState {
         let live: HashSet<(u32, usize)> = self.active.iter().map(|a| (a.slave, a.pair)).collect();
         self.ties.retain(|(p, t)| live.contains(&(t.slave, *p)));
     }
+
+    /// The gathered surfaces of the mortar pairs at (current, step-start) displacements;
+    /// None when the problem has no mortar pair. Collective.
+    pub(in crate::contact) fn mortar_positions<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        (u, start): (&[Vec3], &[Vec3]),
+    ) -> Option<Positions> {
+        problem
+            .contacts
+            .iter()
+            .any(|p| p.discretization == Discretization::Mortar)
+            .then(|| Positions::gather(comm, problem, mesh, u, start))
+    }
+
+    /// Capture (`follow` false) or the search (true) of every mortar pair at the
+    /// gathered `positions`.
+    pub(in crate::contact) fn mortar_pairs(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        positions: Option<&Positions>,
+        follow: bool,
+    ) -> bool {
+        let Some(positions) = positions else {
+            return false;
+        };
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization == Discretization::Mortar {
+                changed |= self.mortar_pass(problem, mesh, p, positions, follow);
+            }
+        }
+        changed
+    }
 }
 
 impl ContactState {
@@ -199,38 +236,4 @@ fn moved(old: &Tie, new: &Tie) -> bool {
             .zip(&new.masters)
             .any(|(a, b)| a.0 != b.0 || (a.1 - b.1).abs() > 1e-12)
         || norm(&sub(&old.normal, &new.normal)) > 1e-12
-}
-
-/// The tangential part of `d` for the constraint's normal.
-fn tangential(a: &Active, d: &Vec3) -> Vec3 {
-    sub(d, &scale(&a.normal, dot(d, &a.normal)))
-}
-
-/// The slip since the start of the step of a mortar node relative to its master point
-/// (the tie's weights applied to the step's master motion), on the rank that owns it.
-pub(in crate::contact) fn mortar_step_slip(
-    a: &Active,
-    t: &Tie,
-    mesh: &LocalMesh,
-    positions: &Positions,
-) -> Option<Vec3> {
-    mesh.owned_node(a.slave)?;
-    let now = relative(t, &positions.now(a.slave), &|g| positions.now(g));
-    let then = relative(t, &positions.start(a.slave), &|g| positions.start(g));
-    Some(tangential(a, &sub(&now, &then)))
-}
-
-/// How far a sticking mortar node sits from where its tie holds it along the master,
-/// when more than `noise` (see `driven_slip`), on the rank that owns it.
-pub(in crate::contact) fn mortar_driven_slip(
-    a: &Active,
-    t: &Tie,
-    mesh: &LocalMesh,
-    positions: &Positions,
-    noise: f64,
-) -> Option<Vec3> {
-    mesh.owned_node(a.slave)?;
-    let now = relative(t, &positions.now(a.slave), &|g| positions.now(g));
-    let d = tangential(a, &sub(&now, &t.offset));
-    (norm(&d) > noise).then_some(d)
 }

@@ -6,6 +6,7 @@ pub mod dual;
 pub(super) mod enforce;
 pub mod plane;
 pub mod segment;
+pub(super) mod slip;
 pub mod surfaces;
 pub mod ties;
 

@@ -33,7 +33,7 @@ impl Plane {
             return None;
         }
         let normal = scale(&n, 1.0 / l);
-        let (e1, e2) = crate::contact::state::tangents(&normal);
+        let (e1, e2) = crate::contact::project::tangents(&normal);
         Some(Plane {
             origin,
             normal,

@@ -1,20 +1,22 @@
-//! Node-to-face contact (the paper's): `ContactState` as the stepper's `Enforcement`. Each
-//! slave node is tied to one point of a bilinear master face; the update releases tensile
-//! nodes, applies Coulomb's law (coulomb.rs) and searches (search.rs, ghost.rs); the state
-//! is made whole on every rank after each change.
+//! `ContactState` as the stepper's `Enforcement`: each step of the interface runs the
+//! contact set's shared part (release of tensile nodes, Coulomb's law, the rows, the forces
+//! read back: state.rs, coulomb.rs, slip.rs) and each discretisation's part, pair by pair:
+//! node-to-face (node_face/) and mortar (mortar/enforce.rs). The state is made whole on
+//! every rank after each change.
 
+use super::active::{ContactCounts, ContactState, Mode};
 use super::audit::{self, Finding};
 use super::enforcement::{Enforcement, SetEntry, TieSupport};
 use super::ghost;
 use super::mortar::surfaces::Positions;
-use super::state::{new_active, tangents, ContactCounts, ContactState, Mode, PENETRATION_NOISE};
+use super::node_face;
+use super::project::tangents;
 use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, RowKind, RowSpec};
 use crate::math::{add, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::{Discretization, Problem};
 use crate::springs::Spring;
-use std::collections::HashSet;
 
 impl Enforcement for ContactState {
     /// Starts a load step: records where each constrained node sits on its master surface,
@@ -157,32 +159,7 @@ impl Enforcement for ContactState {
         if slide {
             self.slide_to(problem, mesh, u, &surfaces);
         }
-        let released = self.released_set();
-        let existing: HashSet<(u32, usize)> =
-            self.active.iter().map(|a| (a.slave, a.pair)).collect();
-        let mut changed = false;
-        for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization == Discretization::Mortar {
-                continue;
-            }
-            for &s in &pair.slave_nodes {
-                let Some(l) = mesh.owned_node(s) else {
-                    continue;
-                };
-                if existing.contains(&(s, p)) {
-                    continue;
-                }
-                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
-                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                    if penetrates
-                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
-                    {
-                        self.active.push(new_active(p, s, &it, pair.mu));
-                        changed = true;
-                    }
-                }
-            }
-        }
+        let mut changed = self.capture_node_face(problem, mesh, u, &surfaces);
         let positions = self.mortar_positions(comm, problem, mesh, (u, u));
         changed |= self.mortar_pairs(problem, mesh, positions.as_ref(), false);
         self.share(comm, mesh);
@@ -347,7 +324,7 @@ impl Enforcement for ContactState {
         let (mortar, node_face): (Vec<Finding>, Vec<Finding>) = findings
             .iter()
             .partition(|f| problem.contacts[f.pair].discretization == Discretization::Mortar);
-        audit::recapture(self, problem, &node_face);
+        node_face::recapture(self, problem, &node_face);
         // Every rank holds the same findings, so every rank takes this branch alike.
         if !mortar.is_empty() {
             let positions = Positions::gather(comm, problem, mesh, u, u);
@@ -357,7 +334,7 @@ impl Enforcement for ContactState {
     }
 
     fn supports(&self, problem: &Problem) -> Vec<TieSupport> {
-        let tie = |a: &super::state::Active| {
+        let tie = |a: &super::active::Active| {
             let master = self.masters(problem, a).first().map_or(
                 problem.contacts[a.pair].face_nodes[a.face as usize][0],
                 |m| m.0,
@@ -388,44 +365,5 @@ impl Enforcement for ContactState {
             );
         }
         out + &format!("  released {:?}", self.released())
-    }
-}
-
-impl ContactState {
-    /// The gathered surfaces of the mortar pairs at (current, step-start) displacements;
-    /// None when the problem has no mortar pair. Collective.
-    fn mortar_positions<C: Comm + ?Sized>(
-        &self,
-        comm: &C,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        (u, start): (&[Vec3], &[Vec3]),
-    ) -> Option<Positions> {
-        problem
-            .contacts
-            .iter()
-            .any(|p| p.discretization == Discretization::Mortar)
-            .then(|| Positions::gather(comm, problem, mesh, u, start))
-    }
-
-    /// Capture (`follow` false) or the search (true) of every mortar pair at the
-    /// gathered `positions`.
-    fn mortar_pairs(
-        &mut self,
-        problem: &Problem,
-        mesh: &LocalMesh,
-        positions: Option<&Positions>,
-        follow: bool,
-    ) -> bool {
-        let Some(positions) = positions else {
-            return false;
-        };
-        let mut changed = false;
-        for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization == Discretization::Mortar {
-                changed |= self.mortar_pass(problem, mesh, p, positions, follow);
-            }
-        }
-        changed
     }
 }

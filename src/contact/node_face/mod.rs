@@ -1,0 +1,10 @@
+//! Node-to-face contact (the paper's): each slave node of a pair is tied to one point of
+//! a bilinear master face. update.rs captures and searches the pairs' slave nodes,
+//! recapture.rs ties back the nodes the penetration audit found inside a master body.
+//! What every discretisation shares (release, Coulomb's law, the rows, the forces read
+//! back) is the contact set's (state.rs, coulomb.rs, slip.rs).
+
+mod recapture;
+mod update;
+
+pub(super) use recapture::recapture;

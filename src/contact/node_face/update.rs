@@ -1,0 +1,203 @@
+//! Node-to-face pairs in the contact set: each slave node tied to one point of a bilinear
+//! master face, found by the search (search.rs over the ghosted master surfaces, ghost.rs):
+//! capture before a model problem, the search of a contact update (a node in contact keeps,
+//! moves or loses its contact point; one not in contact is captured), and the predicted
+//! slide of the slipping nodes at the start of an increment.
+
+use crate::contact::active::{new_active, ContactState, Mode, PENETRATION_NOISE};
+use crate::contact::ghost;
+use crate::contact::search::{Interaction, MasterSurface};
+use crate::math::{norm, sub, Vec3};
+use crate::mesh::local::LocalMesh;
+use crate::problem::{Discretization, Problem};
+use std::collections::{HashMap, HashSet};
+
+/// How far (in face coordinates, which span 2) a node in contact may pass a face's edge
+/// and keep the face: enough to absorb the solver's round-off of a node sliding along an
+/// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
+const EDGE_HYSTERESIS: f64 = 1e-4;
+
+impl ContactState {
+    /// Captures the owned slave nodes of the node-to-face pairs not in contact that
+    /// penetrate, or touch within the capture tolerance, at `u` (`Enforcement::capture`).
+    /// Returns whether any node was added.
+    pub(in crate::contact) fn capture_node_face(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        surfaces: &[MasterSurface],
+    ) -> bool {
+        let released = self.released_set();
+        let existing: HashSet<(u32, usize)> =
+            self.active.iter().map(|a| (a.slave, a.pair)).collect();
+        let mut changed = false;
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization != Discretization::NodeFace {
+                continue;
+            }
+            for &s in &pair.slave_nodes {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                if existing.contains(&(s, p)) {
+                    continue;
+                }
+                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
+                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
+                    if penetrates
+                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
+                    {
+                        self.active.push(new_active(p, s, &it, pair.mu));
+                        changed = true;
+                    }
+                }
+            }
+        }
+        changed
+    }
+
+    /// The search from the current configuration, for the owned slave nodes: a node in
+    /// contact keeps or moves its contact point (or is released when it slid out of the
+    /// search tolerances); a node not in contact that penetrates, or touches within the
+    /// capture tolerance, is captured. Returns whether the set changed.
+    pub(in crate::contact) fn search(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        surfaces: &[MasterSurface],
+    ) -> bool {
+        let mut changed = false;
+        // Search from the current configuration, for the owned slave nodes.
+        let mut index: HashMap<(u32, usize), usize> = HashMap::new();
+        for (k, a) in self.active.iter().enumerate() {
+            if mesh.owned_node(a.slave).is_some() {
+                index.insert((a.slave, a.pair), k);
+            }
+        }
+        let released = self.released_set();
+        let mut gone = vec![false; self.active.len()];
+        let mut added = Vec::new();
+        for (p, pair) in problem.contacts.iter().enumerate() {
+            if pair.discretization != Discretization::NodeFace {
+                continue;
+            }
+            for &s in &pair.slave_nodes {
+                let Some(l) = mesh.owned_node(s) else {
+                    continue;
+                };
+                let x = ghost::position(mesh, u, l);
+                let current = index.get(&(s, p)).map(|&k| self.active[k].face);
+                let found = current
+                    .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
+                    .or_else(|| surfaces[p].search(&x));
+                match (index.get(&(s, p)), found) {
+                    (Some(&k), found) => {
+                        if self.follow(k, found, (s, p), &released, pair.face_size) {
+                            gone[k] = true;
+                            changed = true;
+                        }
+                    }
+                    (None, Some(it)) => {
+                        // A node released in this step is only pushed back if it clearly
+                        // penetrates; at zero gap it is just leaving.
+                        let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
+                        if penetrates
+                            || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
+                        {
+                            added.push(new_active(p, s, &it, pair.mu));
+                            changed = true;
+                        }
+                    }
+                    (None, None) => {}
+                }
+            }
+        }
+        let mut k = 0;
+        self.active.retain(|_| {
+            k += 1;
+            !gone[k - 1]
+        });
+        self.active.extend(added);
+        changed
+    }
+
+    /// The slipping nodes this rank owns (node-to-face pairs) move their contact points to
+    /// where the search finds them at `u`, the predicted configuration of an increment: the
+    /// ties of its first model problem are then those of the predicted slide, not of the
+    /// last increment's end. A node the search does not find keeps its point (the update
+    /// judges it). Not a change of the set.
+    pub(in crate::contact) fn slide_to(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        surfaces: &[MasterSurface],
+    ) {
+        for a in &mut self.active {
+            if !matches!(a.mode, Mode::Slip { .. })
+                || problem.contacts[a.pair].discretization != Discretization::NodeFace
+            {
+                continue;
+            }
+            let Some(l) = mesh.owned_node(a.slave) else {
+                continue;
+            };
+            let x = ghost::position(mesh, u, l);
+            let surface = &surfaces[a.pair];
+            if let Some(it) = surface
+                .stay_on(a.face, &x, EDGE_HYSTERESIS)
+                .or_else(|| surface.search(&x))
+            {
+                a.face = it.face;
+                a.s = it.s;
+                a.normal = it.normal;
+                a.offset = it.offset;
+            }
+        }
+    }
+
+    /// Follows contact `k` of (slave node, pair) `sp` to what the search found: a sticking
+    /// contact stays, a sliding one moves its contact point, or is released when nothing was
+    /// found. Returns whether it was released.
+    fn follow(
+        &mut self,
+        k: usize,
+        found: Option<Interaction>,
+        sp: (u32, usize),
+        released: &HashSet<(u32, usize)>,
+        pair_size: f64,
+    ) -> bool {
+        let a = &mut self.active[k];
+        if a.mode == Mode::Stick {
+            return false;
+        }
+        match found {
+            Some(it) => {
+                // Moving the contact point (also onto a neighbouring face, or along
+                // an edge the node has passed) is not a change of the set: the equilibrium query after the
+                // next model problem judges it. Round-off-sized moves are
+                // ignored so the loop can settle.
+                let moved = it.face != a.face
+                    || (it.s[0] - a.s[0]).abs() + (it.s[1] - a.s[1]).abs() > 1e-12
+                    || norm(&sub(&it.normal, &a.normal)) > 1e-12
+                    || norm(&sub(&it.offset, &a.offset)) > 1e-12 * pair_size;
+                if moved {
+                    a.face = it.face;
+                    a.s = it.s;
+                    a.normal = it.normal;
+                    a.offset = it.offset;
+                }
+                false
+            }
+            None => {
+                // Slid out of the search tolerances: no longer in contact.
+                if !released.contains(&sp) {
+                    self.released.push(sp);
+                }
+                true
+            }
+        }
+    }
+}
