@@ -375,7 +375,6 @@ fn crate_roots(repo: &Path) -> Vec<PathBuf> {
 /// `SRC_CIRCLES` of them: opening one lowers the number.
 const SRC_MODULES_WITH_CIRCLES: &[&str] = &[
     "comm",
-    "constraints",
     "contact",
     "fem",
     "material",
@@ -385,7 +384,7 @@ const SRC_MODULES_WITH_CIRCLES: &[&str] = &[
     "scene",
     "solver",
 ];
-const SRC_CIRCLES: usize = 13;
+const SRC_CIRCLES: usize = 12;
 
 /// The top-level module of the solver crate a file belongs to (`None` outside `src/`).
 fn src_module(rel: &str) -> Option<&str> {
