@@ -4,10 +4,10 @@
 
 use super::gather::Gather;
 use super::restart::{self, Continued};
-use super::{
-    output_mesh, peak_memory, plastic, write_fields, ActiveConstraint, GlobalState, LocalFields,
-    RunOptions, RunSummary,
-};
+use super::fields::{write_fields, LocalFields};
+use super::mesh::output_mesh;
+use super::outcome::{peak_memory, ActiveConstraint, GlobalState, RunOptions, RunSummary};
+use super::plastic;
 use crate::comm::{self, Comm};
 use crate::contact::state::Mode;
 use crate::mesh::local::LocalMesh;
