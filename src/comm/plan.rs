@@ -4,7 +4,7 @@
 //! fetches are all such plans.
 
 use super::message;
-use super::Comm;
+use super::communicator::Comm;
 
 #[derive(Clone, Debug, Default)]
 pub struct ExchangePlan {
