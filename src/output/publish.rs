@@ -7,9 +7,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::error::{io_error, OutputError};
-use super::reader::ResultFile;
 use super::layout::ResultPaths;
 use super::lock::OutputLock;
+use super::reader::ResultFile;
 use super::xdmf::XdmfDescription;
 
 /// Ends a run whose file could not be completed: the temporary file is kept when it still

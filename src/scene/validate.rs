@@ -17,9 +17,9 @@ mod gmsh;
 mod loads;
 mod material;
 mod sets;
-pub use gmsh::mesh_files;
-pub use error::SceneError;
 use error::Builder;
+pub use error::SceneError;
+pub use gmsh::mesh_files;
 use gmsh::{GmshImport, NEEDS_GMSH};
 
 /// The Flanagan-Belytschko coefficient of a `mean` body that sets no `hourglass`.
