@@ -6,7 +6,7 @@
 //! inside a message or runs on past the last one makes `decode` answer None. The same
 //! encoding serves the restart file, which stores these words.
 
-use super::Comm;
+use super::communicator::Comm;
 
 /// A value that travels between ranks as words.
 pub trait Message: Sized {

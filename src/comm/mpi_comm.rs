@@ -1,6 +1,6 @@
 //! The MPI implementation of `Comm` (rsmpi over OpenMPI). The only file that uses `mpi`.
 
-use super::Comm;
+use super::communicator::Comm;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::topology::SimpleCommunicator;

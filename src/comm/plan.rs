@@ -3,8 +3,8 @@
 //! ghost copies), the constraints' master fetches and force pushes and the coarse spaces'
 //! fetches are all such plans.
 
+use super::communicator::Comm;
 use super::message;
-use super::Comm;
 
 #[derive(Clone, Debug, Default)]
 pub struct ExchangePlan {

@@ -1,6 +1,6 @@
 //! One rank, no MPI.
 
-use super::Comm;
+use super::communicator::Comm;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SerialComm;

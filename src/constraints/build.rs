@@ -2,7 +2,9 @@
 //! value lives, the dependency depth of every node, the order by level, and per level the
 //! exchanges of master values and of the forces the ties pass on.
 
-use super::{invert_small, CircularDependency, Level, NodeRows, RowKind, RowSpec, Src, MAX_DEPTH};
+use super::rows::{
+    invert_small, CircularDependency, Level, NodeRows, RowKind, RowSpec, Src, MAX_DEPTH,
+};
 use crate::comm::{self, message, plan, Comm, ExchangePlan};
 use crate::math::{dot, Vec3, IDENTITY};
 use crate::mesh::local::LocalMesh;

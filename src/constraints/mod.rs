@@ -22,75 +22,16 @@
 //! on any number of ranks.
 
 mod build;
+mod rows;
 
-use crate::comm::{self, Comm, ExchangePlan};
+pub use rows::{CircularDependency, Row, RowKind, RowSpec};
+use rows::{Level, NodeRows, Src};
+
+use crate::comm::{self, Comm};
 use crate::math::{dot, matvec, Mat3, Vec3, IDENTITY};
 use crate::mesh::local::LocalMesh;
 use std::cell::RefCell;
 use std::ops::Range;
-
-/// Chains of constrained nodes deeper than this are circular dependencies.
-const MAX_DEPTH: usize = 64;
-
-/// What a row stands for, so forces can be reported per constraint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowKind {
-    /// A prescribed displacement; the index is the scene's Dirichlet entry.
-    Dirichlet(usize),
-    /// A contact tie; `constraint` indexes the contact state's active list, `component`
-    /// is 0 for the normal and 1, 2 for the tangents of a sticking node.
-    Contact { constraint: usize, component: u8 },
-}
-
-#[derive(Clone, Debug)]
-pub struct Row {
-    pub dir: Vec3,
-    /// Fixed part of the right-hand side.
-    pub value: f64,
-    /// Master nodes (global ids, on any rank) and weights.
-    pub masters: Vec<(u32, f64)>,
-    pub kind: RowKind,
-}
-
-/// A row as given, before the independent subset is chosen.
-pub struct RowSpec {
-    /// Local index of the constrained node; it must be owned by this rank.
-    pub node: usize,
-    pub row: Row,
-}
-
-/// Where a master value lives: an owned local node or a slot of the fetched values.
-#[derive(Clone, Copy, Debug)]
-enum Src {
-    Local(u32),
-    Remote(u32),
-}
-
-struct NodeRows {
-    node: usize,
-    global: u32,
-    rows: Vec<Row>,
-    /// Per row, per master: where its value is.
-    refs: Vec<Vec<Src>>,
-    /// Per row, per master: the slot of the force this tie passes to the master.
-    out: Vec<Vec<u32>>,
-    /// Slots of the forces this node receives, in key order (a range of `incoming`).
-    incoming: Range<usize>,
-    /// Inverse of the Gram matrix of the kept rows (leading k x k block).
-    ginv: Mat3,
-    proj: Mat3,
-    /// Index of the node's first row in the flat multiplier array.
-    first: usize,
-}
-
-struct Level {
-    /// Range of `Constraints::nodes`.
-    nodes: Range<usize>,
-    /// Master values this level reads from other ranks.
-    fetch: ExchangePlan,
-    /// Forces this level's ties pass to masters on other ranks.
-    push: ExchangePlan,
-}
 
 #[derive(Default)]
 struct Scratch {
@@ -116,10 +57,6 @@ pub struct Constraints {
     /// Rows dropped as redundant with earlier rows on their node.
     pub dropped: Vec<(usize, RowKind)>,
 }
-
-/// A circular master/slave dependency between constrained nodes (a global node id).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CircularDependency(pub u32);
 
 impl Constraints {
     /// No constraints on this mesh. Collective only in name: no communication.
@@ -357,24 +294,6 @@ impl Constraints {
             minv[nr.node] = crate::math::matmul(p, &crate::math::matmul(&minv[nr.node], p));
         }
     }
-}
-
-/// Inverse of the leading k x k block (k <= 3) of a symmetric positive definite matrix.
-fn invert_small(g: &Mat3, k: usize) -> Mat3 {
-    let mut out = [[0.0; 3]; 3];
-    match k {
-        0 => {}
-        1 => out[0][0] = 1.0 / g[0][0],
-        2 => {
-            let det = g[0][0] * g[1][1] - g[0][1] * g[1][0];
-            out[0][0] = g[1][1] / det;
-            out[1][1] = g[0][0] / det;
-            out[0][1] = -g[0][1] / det;
-            out[1][0] = -g[1][0] / det;
-        }
-        _ => out = crate::math::inverse(g).0,
-    }
-    out
 }
 
 #[cfg(test)]

@@ -9,7 +9,8 @@
 //!
 //! The state keeps C_p^-1 - I (zero in a virgin point) and the equivalent plastic strain.
 
-use super::j2_small::{from_sym6, J2Plastic, PlasticState, Return};
+use super::j2_small::{from_sym6, J2Plastic, Return};
+use super::state::PlasticState;
 use crate::math::{inverse, matmul, transpose, Mat3, ZERO33};
 
 /// Eigenvalues and eigenvectors (columns of the second) of a symmetric 3x3 matrix, by

@@ -13,42 +13,12 @@
 //! `update_small` or `j2_large`'s `update_large`) and its scene keys (`J2Params`) are here
 //! too.
 
-use super::{check_elastic, Material, ParamError, Parameters, PointModel, PointTangent, Update};
+use super::parameters::{check_elastic, ParamError, Parameters};
+use super::point::{lame, PointModel, Update};
+use super::state::PlasticState;
+use super::tangent::PointTangent;
 use crate::math::{Mat3, Vec3, ZERO33};
 use serde::Deserialize;
-
-/// The history of one integration point; all zero in a virgin point.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PlasticState {
-    /// Plastic strain (small kinematics) or C_p^-1 - I (large kinematics), in the order
-    /// xx yy zz xy yz zx (tensor components, not engineering shears).
-    pub strain: [f64; 6],
-    /// Back stress, same order.
-    pub back: [f64; 6],
-    /// Equivalent plastic strain, the integral of sqrt(2/3) |eps_p'|.
-    pub eqps: f64,
-}
-
-/// Number of f64 one `PlasticState` is stored as (restart files).
-pub const STATE_LEN: usize = 13;
-
-impl PlasticState {
-    pub fn to_array(&self) -> [f64; STATE_LEN] {
-        let mut a = [0.0; STATE_LEN];
-        a[..6].copy_from_slice(&self.strain);
-        a[6..12].copy_from_slice(&self.back);
-        a[12] = self.eqps;
-        a
-    }
-
-    pub fn from_slice(a: &[f64]) -> Self {
-        PlasticState {
-            strain: std::array::from_fn(|i| a[i]),
-            back: std::array::from_fn(|i| a[6 + i]),
-            eqps: a[12],
-        }
-    }
-}
 
 /// Symmetric tensor from the order xx yy zz xy yz zx.
 #[inline]
@@ -134,7 +104,7 @@ impl J2Plastic {
         kinematic: f64,
         large: bool,
     ) -> Self {
-        let (lambda, mu) = super::lame(e, nu);
+        let (lambda, mu) = lame(e, nu);
         J2Plastic {
             lambda,
             mu,
@@ -393,7 +363,7 @@ pub struct J2Params {
     pub density: f64,
 }
 
-impl Parameters for J2Params {
+impl<M: From<J2Plastic>> Parameters<M> for J2Params {
     fn young_poisson(&self) -> (f64, f64) {
         (self.e, self.nu)
     }
@@ -410,7 +380,7 @@ impl Parameters for J2Params {
         false
     }
 
-    fn build(&self, large: bool) -> Result<Material, ParamError> {
+    fn build(&self, large: bool) -> Result<M, ParamError> {
         check_elastic(self.e, self.nu, self.density)?;
         let yield_stress = self.yield_stress;
         if !(yield_stress.is_finite() && yield_stress > 0.0) {
@@ -438,7 +408,7 @@ impl Parameters for J2Params {
                 "kinematic hardening is available with kinematics = \"small\" only; under kinematics = \"large\" j2_plastic hardens isotropically (use isotropic_hardening)",
             ));
         }
-        Ok(Material::J2Plastic(J2Plastic::new(
+        Ok(M::from(J2Plastic::new(
             self.e,
             self.nu,
             yield_stress,

@@ -1,8 +1,9 @@
 //! Isotropic linear elasticity under small kinematics.
 
-use super::{
-    check_elastic, Material, ParamError, Parameters, PlasticState, PointModel, PointTangent,
-};
+use super::parameters::{check_elastic, ParamError, Parameters};
+use super::point::{lame, PointModel};
+use super::state::PlasticState;
+use super::tangent::PointTangent;
 use crate::math::{Mat3, ZERO33};
 use serde::Deserialize;
 
@@ -14,7 +15,7 @@ pub struct LinearElastic {
 
 impl LinearElastic {
     pub fn new(e: f64, nu: f64) -> Self {
-        let (lambda, mu) = super::lame(e, nu);
+        let (lambda, mu) = lame(e, nu);
         LinearElastic { lambda, mu }
     }
 }
@@ -76,7 +77,7 @@ pub struct LinearElasticParams {
     pub density: f64,
 }
 
-impl Parameters for LinearElasticParams {
+impl<M: From<LinearElastic>> Parameters<M> for LinearElasticParams {
     fn young_poisson(&self) -> (f64, f64) {
         (self.e, self.nu)
     }
@@ -93,7 +94,7 @@ impl Parameters for LinearElasticParams {
         true
     }
 
-    fn build(&self, large: bool) -> Result<Material, ParamError> {
+    fn build(&self, large: bool) -> Result<M, ParamError> {
         check_elastic(self.e, self.nu, self.density)?;
         if large {
             return Err(ParamError::new(
@@ -101,6 +102,6 @@ impl Parameters for LinearElasticParams {
                 "linear_elastic needs kinematics = \"small\"; use neo_hookean for kinematics = \"large\"",
             ));
         }
-        Ok(Material::LinearElastic(LinearElastic::new(self.e, self.nu)))
+        Ok(M::from(LinearElastic::new(self.e, self.nu)))
     }
 }

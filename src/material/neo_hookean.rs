@@ -1,8 +1,9 @@
 //! Compressible neo-Hookean solid, W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2.
 
-use super::{
-    check_elastic, Material, ParamError, Parameters, PlasticState, PointModel, PointTangent,
-};
+use super::parameters::{check_elastic, ParamError, Parameters};
+use super::point::{lame, PointModel};
+use super::state::PlasticState;
+use super::tangent::PointTangent;
 use crate::math::{det, inverse, matmul, transpose, Mat3, IDENTITY, ZERO33};
 use serde::Deserialize;
 
@@ -14,7 +15,7 @@ pub struct NeoHookean {
 
 impl NeoHookean {
     pub fn new(e: f64, nu: f64) -> Self {
-        let (lambda, mu) = super::lame(e, nu);
+        let (lambda, mu) = lame(e, nu);
         NeoHookean { lambda, mu }
     }
 
@@ -107,7 +108,7 @@ pub struct NeoHookeanParams {
     pub density: f64,
 }
 
-impl Parameters for NeoHookeanParams {
+impl<M: From<NeoHookean>> Parameters<M> for NeoHookeanParams {
     fn young_poisson(&self) -> (f64, f64) {
         (self.e, self.nu)
     }
@@ -124,7 +125,7 @@ impl Parameters for NeoHookeanParams {
         false
     }
 
-    fn build(&self, large: bool) -> Result<Material, ParamError> {
+    fn build(&self, large: bool) -> Result<M, ParamError> {
         check_elastic(self.e, self.nu, self.density)?;
         if !large {
             return Err(ParamError::new(
@@ -132,6 +133,6 @@ impl Parameters for NeoHookeanParams {
                 "neo_hookean needs kinematics = \"large\"",
             ));
         }
-        Ok(Material::NeoHookean(NeoHookean::new(self.e, self.nu)))
+        Ok(M::from(NeoHookean::new(self.e, self.nu)))
     }
 }

@@ -2,10 +2,9 @@
 //! defines its keys (a serde struct) and implements `Parameters`; the scene layer names a
 //! model only to parse its table.
 
-use super::Material;
-
-/// A model's parameters as the scene gives them.
-pub trait Parameters {
+/// A model's parameters as the scene gives them; `M` is what they build, `Material`
+/// (which each model converts into, so that a model's file does not name `Material`).
+pub trait Parameters<M> {
     /// Young's modulus and Poisson's ratio as given (the elastic constants Hertz's
     /// solution and the scene's size use).
     fn young_poisson(&self) -> (f64, f64);
@@ -21,7 +20,7 @@ pub trait Parameters {
 
     /// The model under small (`large` false) or large kinematics, or the first key that is
     /// out of range (or the model, for kinematics it does not support) and why.
-    fn build(&self, large: bool) -> Result<Material, ParamError>;
+    fn build(&self, large: bool) -> Result<M, ParamError>;
 }
 
 /// A key of the `material` table (relative to it) and what is wrong with its value.

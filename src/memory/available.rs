@@ -91,8 +91,8 @@ pub fn cgroup_headroom() -> Option<Bound> {
             bytes: (limit - used).max(0.0),
             source: format!(
                 "cgroup v{v} {max} {} with {} in use",
-                super::format_bytes(limit),
-                super::format_bytes(used)
+                super::bytes::format_bytes(limit),
+                super::bytes::format_bytes(used)
             ),
             shared: true,
         })
@@ -121,8 +121,8 @@ pub fn address_space_headroom() -> Option<Bound> {
         bytes: (limit - size + rss).max(0.0),
         source: format!(
             "address space limit {} with {} mapped",
-            super::format_bytes(limit),
-            super::format_bytes(size)
+            super::bytes::format_bytes(limit),
+            super::bytes::format_bytes(size)
         ),
         shared: false,
     })

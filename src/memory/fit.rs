@@ -3,7 +3,7 @@
 //! address space limit per process.
 
 use super::available::Bound;
-use super::format_bytes as fb;
+use super::bytes::format_bytes as fb;
 use super::model::{estimate, estimate_run, ranks_on_one_machine, ranks_to_fit, Counts, Estimate};
 
 /// The comparison of a run's estimate with the memory it may use.

@@ -15,7 +15,7 @@ impl std::fmt::Display for AllocError {
             f,
             "out of memory: the system refused {} for {} (the memory estimate was too low; run \
              on more ranks or machines)",
-            super::format_bytes(self.bytes as f64),
+            super::bytes::format_bytes(self.bytes as f64),
             self.what
         )
     }

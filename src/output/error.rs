@@ -1,6 +1,6 @@
 //! The error type of the result file writer, reader and the `post` tools.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong writing, reading or post-processing a result file.
 ///
@@ -169,7 +169,7 @@ pub(crate) trait Hdf5Context<T> {
 
 impl<T> Hdf5Context<T> for Result<T, hdf5::Error> {
     fn at(self, file: &std::path::Path, dataset: &str) -> Result<T, OutputError> {
-        self.map_err(|source| super::integrity::classify(file, dataset, source))
+        self.map_err(|source| classify(file, dataset, source))
     }
 }
 
@@ -188,6 +188,44 @@ pub(crate) fn io_error(
         OutputError::Io {
             file: file.to_path_buf(),
             action: action.to_string(),
+            source,
+        }
+    }
+}
+
+/// What an HDF5 error means for the user.
+pub(crate) fn classify(file: &Path, dataset: &str, source: hdf5::Error) -> OutputError {
+    let frames: Vec<String> = source
+        .stack()
+        .map(|s| s.iter().map(|f| f.desc().to_string()).collect())
+        .unwrap_or_else(|| vec![source.to_string()]);
+    let any = |needle: &str| frames.iter().any(|f| f.contains(needle));
+    if any("errno = 28,") || any("No space left on device") {
+        // `/ (flush)`, `/ (creating the file)`: what was done to the whole file.
+        let action = match dataset
+            .strip_prefix("/ (")
+            .and_then(|d| d.strip_suffix(')'))
+        {
+            Some("flush") => "flushing the file".to_string(),
+            Some(what) => what.to_string(),
+            None => format!("writing {dataset}"),
+        };
+        OutputError::NoSpace {
+            file: file.to_path_buf(),
+            action,
+        }
+    } else if any("checksum") {
+        OutputError::Damaged {
+            file: file.to_path_buf(),
+            dataset: dataset.to_string(),
+            step: None,
+            message: "its data fail their checksum: the file was changed after it was written"
+                .into(),
+        }
+    } else {
+        OutputError::Hdf5 {
+            file: file.to_path_buf(),
+            dataset: dataset.to_string(),
             source,
         }
     }

@@ -223,11 +223,22 @@ impl ResultPaths {
             .unwrap_or_else(|| "result".into());
         ResultPaths {
             result: result.to_path_buf(),
-            tmp: super::paths::temp_name(result, 1),
+            tmp: temp_name(result, 1),
             lock: super::lock::lock_path(result),
             failed: dir.join(format!("{stem}.failed.h5")),
             xdmf: dir.join(format!("{stem}.xmf")),
             failed_xdmf: dir.join(format!("{stem}.failed.xmf")),
         }
     }
+}
+
+/// The `k`-th candidate name of a temporary file for `target`: `<target>.tmp`, then
+/// `<target>.2.tmp`, `<target>.3.tmp`, ...
+pub(crate) fn temp_name(target: &Path, k: usize) -> PathBuf {
+    let mut s = target.as_os_str().to_owned();
+    if k > 1 {
+        s.push(format!(".{k}"));
+    }
+    s.push(".tmp");
+    PathBuf::from(s)
 }

@@ -24,6 +24,7 @@ mod publish;
 mod reader;
 mod restart;
 mod timestamp;
+mod verify;
 mod writer;
 mod xdmf;
 

@@ -13,7 +13,7 @@ use std::os::unix::fs::{FileTypeExt, MetadataExt};
 use std::path::{Path, PathBuf};
 
 use super::error::{io_error, OutputError};
-use super::layout::{self, ResultPaths};
+use super::layout::{self, temp_name, ResultPaths};
 use super::lock::{LockError, LockHolder, OutputLock};
 
 /// The output of a run, checked and locked: no other run can write it while this is held.
@@ -246,17 +246,6 @@ pub fn claim_output(
 ) -> Result<OutputClaim, OutputError> {
     let (paths, lock) = check_and_lock(result, inputs, restart)?;
     Ok(OutputClaim { paths, lock })
-}
-
-/// The `k`-th candidate name of a temporary file for `target`: `<target>.tmp`, then
-/// `<target>.2.tmp`, `<target>.3.tmp`, ...
-pub(crate) fn temp_name(target: &Path, k: usize) -> PathBuf {
-    let mut s = target.as_os_str().to_owned();
-    if k > 1 {
-        s.push(format!(".{k}"));
-    }
-    s.push(".tmp");
-    PathBuf::from(s)
 }
 
 /// Creates a new, empty temporary file for `target` under the first free candidate name:

@@ -7,8 +7,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::error::{io_error, OutputError};
+use super::layout::ResultPaths;
+use super::lock::OutputLock;
 use super::reader::ResultFile;
-use super::writer::Closed;
 use super::xdmf::XdmfDescription;
 
 /// Ends a run whose file could not be completed: the temporary file is kept when it still
@@ -57,6 +58,21 @@ fn check_written(tmp: &Path, steps: usize) -> Result<(), OutputError> {
     std::fs::File::open(tmp)
         .and_then(|f| f.sync_all())
         .map_err(|e| io_error(tmp, "flushing the file to the disk", e))
+}
+
+/// A closed temporary file, ready to be checked and published.
+pub(super) struct Closed {
+    pub(super) paths: ResultPaths,
+    pub(super) tmp: PathBuf,
+    pub(super) times: Vec<f64>,
+    pub(super) nodes: usize,
+    pub(super) elements: usize,
+    /// The file has a plastic strain dataset.
+    pub(super) plastic: bool,
+    /// The file has a contact pressure dataset.
+    pub(super) pressure: bool,
+    /// Held until the file is published.
+    pub(super) _lock: OutputLock,
 }
 
 impl Closed {

@@ -256,7 +256,7 @@ impl ResultFile {
     pub(super) fn dataset(&self, name: &str) -> Result<hdf5::Dataset, OutputError> {
         self.file
             .dataset(name)
-            .map_err(|e| match super::integrity::classify(&self.path, name, e) {
+            .map_err(|e| match super::error::classify(&self.path, name, e) {
                 d @ OutputError::Damaged { .. } => d,
                 _ => OutputError::Missing {
                     file: self.path.clone(),

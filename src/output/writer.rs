@@ -10,6 +10,7 @@ use super::datasets::{set_attr, set_str_attr, write_rows, write_vec, StepDataset
 use super::error::{Hdf5Context, OutputError};
 use super::layout::{self, ResultPaths};
 use super::lock::OutputLock;
+use super::publish::Closed;
 use super::restart::RestartSlots;
 
 /// Writes a result file: created with the mesh and run metadata, one [`StepOutput`] appended
@@ -468,19 +469,4 @@ impl ResultWriter {
         let c = self.close(wall_time, &status)?;
         c.publish(true)
     }
-}
-
-/// A closed temporary file, ready to be checked and published.
-pub(super) struct Closed {
-    pub(super) paths: ResultPaths,
-    pub(super) tmp: PathBuf,
-    pub(super) times: Vec<f64>,
-    pub(super) nodes: usize,
-    pub(super) elements: usize,
-    /// The file has a plastic strain dataset.
-    pub(super) plastic: bool,
-    /// The file has a contact pressure dataset.
-    pub(super) pressure: bool,
-    /// Held until the file is published.
-    pub(super) _lock: OutputLock,
 }

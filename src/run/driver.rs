@@ -2,12 +2,12 @@
 //! part, read an earlier run to continue, open the result file, build the stepper), step
 //! through time (advance, report, write the step and its restart state), finish the file.
 
+use super::fields::{write_fields, LocalFields};
 use super::gather::Gather;
+use super::mesh::output_mesh;
+use super::outcome::{peak_memory, ActiveConstraint, GlobalState, RunOptions, RunSummary};
+use super::plastic;
 use super::restart::{self, Continued};
-use super::{
-    output_mesh, peak_memory, plastic, write_fields, ActiveConstraint, GlobalState, LocalFields,
-    RunOptions, RunSummary,
-};
 use crate::comm::{self, Comm};
 use crate::contact::active::Mode;
 use crate::mesh::local::LocalMesh;

@@ -2,7 +2,7 @@
 
 use serde::Deserialize;
 
-use crate::material::{J2Params, LinearElasticParams, NeoHookeanParams, Parameters};
+use crate::material::{J2Params, LinearElasticParams, Material, NeoHookeanParams, Parameters};
 use crate::problem::Kinematics;
 
 #[derive(Deserialize, Debug, Clone)]
@@ -96,7 +96,7 @@ pub enum MaterialDef {
 
 impl MaterialDef {
     /// The model's parameters as given.
-    pub fn params(&self) -> &dyn Parameters {
+    pub fn params(&self) -> &dyn Parameters<Material> {
         match self {
             MaterialDef::LinearElastic(p) => p,
             MaterialDef::NeoHookean(p) => p,

@@ -12,32 +12,15 @@ use crate::problem::*;
 use std::path::Path;
 
 mod contacts;
+mod error;
 mod gmsh;
 mod loads;
 mod material;
 mod sets;
+use error::Builder;
+pub use error::SceneError;
 pub use gmsh::mesh_files;
 use gmsh::{GmshImport, NEEDS_GMSH};
-
-/// A scene that cannot be run, with where and why.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneError {
-    pub file: String,
-    pub key: String,
-    pub message: String,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.key.is_empty() {
-            write!(f, "{}: {}", self.file, self.message)
-        } else {
-            write!(f, "{}: {}: {}", self.file, self.key, self.message)
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
 
 /// The Flanagan-Belytschko coefficient of a `mean` body that sets no `hourglass`.
 pub const DEFAULT_HOURGLASS: f64 = 0.1;
@@ -90,19 +73,7 @@ pub fn parse_scene(text: &str, file: &str, default_name: &str) -> Result<Problem
     .build(raw, text, default_name)
 }
 
-struct Builder {
-    file: String,
-}
-
 impl Builder {
-    fn err(&self, key: impl Into<String>, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.file.clone(),
-            key: key.into(),
-            message: message.into(),
-        }
-    }
-
     fn finite(&self, key: &str, v: f64) -> Result<f64, SceneError> {
         if v.is_finite() {
             Ok(v)

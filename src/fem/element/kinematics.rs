@@ -1,8 +1,10 @@
 //! Kinematics at the Gauss points: F = I + h, F^-1 and J, the F-bar mean dilatation, and
 //! the small 3x3 helpers (add or remove the identity, scale).
 
-use super::geometry::{at, gauss_scatter, GaussGeometry, Geometry, QMat, ZERO_Q};
-use super::ElementFailure;
+use super::formulation::{ElementFailure, Formulation};
+use super::geometry::{
+    at, gauss_gradient, gauss_scatter, mean_gradient, GaussGeometry, Geometry, QMat, ZERO_Q,
+};
 use crate::math::{inverse, Mat3, Vec3, ZERO33};
 
 #[inline]
@@ -86,4 +88,61 @@ pub(in crate::fem) fn mean_dilatation(
         }
     }
     (jsum / geo.volume, hbar)
+}
+
+/// The displacement gradient at each stress point as the constitutive model sees it (the
+/// volumetric part replaced by the element mean under `FullBar`), the reference volume
+/// weight of each point, and how many points there are.
+pub fn point_gradients(
+    geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
+    u: &[Vec3; 8],
+    large: bool,
+    form: Formulation,
+) -> Result<([Mat3; 8], [f64; 8], usize), ElementFailure> {
+    let expect = "Gauss-point geometry of a fully integrated element";
+    let mut out = [ZERO33; 8];
+    match form {
+        Formulation::Full => {
+            let gauss = gauss.expect(expect);
+            let h = gauss_gradient(u, gauss);
+            for (q, o) in out.iter_mut().enumerate() {
+                *o = at(&h, q);
+            }
+            Ok((out, gauss.wdet, 8))
+        }
+        Formulation::FullBar if !large => {
+            let gauss = gauss.expect(expect);
+            let theta_bar: f64 = (0..8)
+                .map(|a| crate::math::dot(&u[a], &geo.bbar_at(a)))
+                .sum();
+            let h = gauss_gradient(u, gauss);
+            for (q, o) in out.iter_mut().enumerate() {
+                let mut hq = at(&h, q);
+                let shift = (theta_bar - (hq[0][0] + hq[1][1] + hq[2][2])) / 3.0;
+                for (i, row) in hq.iter_mut().enumerate() {
+                    row[i] += shift;
+                }
+                *o = hq;
+            }
+            Ok((out, gauss.wdet, 8))
+        }
+        Formulation::FullBar => {
+            let gauss = gauss.expect(expect);
+            let h = gauss_gradient(u, gauss);
+            let (fq, finv, jq) = deformation(&h)?;
+            let (j0, _) = mean_dilatation(geo, gauss, &finv, &jq);
+            for (q, o) in out.iter_mut().enumerate() {
+                let ratio = (j0 / jq[q]).cbrt();
+                *o = sub_identity(&scaled(&fq[q], ratio));
+            }
+            Ok((out, gauss.wdet, 8))
+        }
+        Formulation::Mean { .. } => {
+            out[0] = mean_gradient(u, geo);
+            let mut w = [0.0; 8];
+            w[0] = geo.volume;
+            Ok((out, w, 1))
+        }
+    }
 }

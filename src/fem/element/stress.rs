@@ -1,7 +1,7 @@
 //! Element-average Cauchy stress, weighted by the current volume.
 
 use super::geometry::{geometry, GaussGeometry, Geometry};
-use super::kinematics::{add_identity, scaled};
+use super::kinematics::{add_identity, point_gradients, scaled};
 use super::{ElementFailure, Formulation};
 use crate::material::{Material, PlasticState};
 use crate::math::{det, Mat3, Vec3, ZERO33};
@@ -38,7 +38,7 @@ pub fn average_cauchy_with(
 ) -> Result<[f64; 6], ElementFailure> {
     let mut sum = ZERO33;
     let mut vol = 0.0;
-    let (h, w, n) = crate::fem::history::point_gradients(geo, gauss, u, mat.is_large(), form)?;
+    let (h, w, n) = point_gradients(geo, gauss, u, mat.is_large(), form)?;
     let virgin = PlasticState::default();
     for q in 0..n {
         let s = mat

@@ -5,7 +5,7 @@ use super::geometry::{
     at, g_at, gauss_gradient, geometry, hourglass, mean_gradient, GaussGeometry, Geometry, HG_BASE,
     ZERO_Q,
 };
-use super::kinematics::{deformation, mean_dilatation};
+use super::kinematics::{deformation, mean_dilatation, point_gradients};
 use super::stabilization::Stiffness;
 use super::{ElementFailure, Formulation, Stabilization};
 use crate::material::{Material, PlasticState, PointTangent};
@@ -66,7 +66,7 @@ pub fn diagonal_blocks_with(
 ) -> Result<(), ElementFailure> {
     *d = [ZERO33; 8];
     if mat.is_plastic() && matches!(form, Formulation::FullBar) {
-        return crate::fem::history::diagonal_blocks_bar(geo, gauss, u, mat, hist, d);
+        return diagonal_blocks_bar(geo, gauss, u, mat, hist, d);
     }
     let full = || gauss.expect("Gauss-point geometry of a fully integrated element");
     match form {
@@ -198,4 +198,46 @@ fn diagonal_mean(
             }
         }
     }
+}
+
+/// Diagonal blocks of a plastic `FullBar` element: the deviatoric part of the consistent
+/// tangent with each Gauss point's gradients and the bulk part with the mean ones (exact
+/// under small kinematics, where the pressure is kappa times the mean dilatation; an
+/// approximation under large kinematics that only preconditions).
+fn diagonal_blocks_bar(
+    geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
+    u: &[Vec3; 8],
+    mat: &Material,
+    hist: &[PlasticState],
+    d: &mut [Mat3; 8],
+) -> Result<(), ElementFailure> {
+    let gauss = gauss.expect("Gauss-point geometry of a fully integrated element");
+    let large = mat.is_large();
+    let (h, _, _) = point_gradients(geo, Some(gauss), u, large, Formulation::FullBar)?;
+    let hbar: [Vec3; 8] = if large {
+        let (_, finv, j) = deformation(&gauss_gradient(u, gauss))?;
+        mean_dilatation(geo, gauss, &finv, &j).1
+    } else {
+        std::array::from_fn(|a| geo.bbar_at(a))
+    };
+    let (lambda, mu) = mat.lambda_mu();
+    for q in 0..8 {
+        let mut pt = mat.tangent(&h[q], hist.get(q));
+        // Keep the deviatoric part only: c = kappa + mu_t / 3 minus kappa.
+        pt.c -= lambda + 2.0 * mu / 3.0;
+        let w = gauss.wdet[q];
+        for (a, da) in d.iter_mut().enumerate() {
+            add_tangent(da, &pt, &g_at(gauss, a, q), w);
+        }
+    }
+    let bulk = lambda + 2.0 * mu / 3.0;
+    for a in 0..8 {
+        for i in 0..3 {
+            for k in 0..3 {
+                d[a][i][k] += geo.volume * bulk * hbar[a][i] * hbar[a][k];
+            }
+        }
+    }
+    Ok(())
 }

@@ -2,7 +2,7 @@
 //! side sets from physical surfaces. Gmsh node tags become the solver's node numbers here and
 //! nowhere else.
 
-use super::{Builder, SceneError};
+use super::error::{Builder, SceneError};
 use crate::math::Vec3;
 use crate::mesh::gmsh::GmshMesh;
 use crate::mesh::GlobalMesh;

@@ -1,7 +1,7 @@
 //! The `material` table of a body: the model under the scene's kinematics, its parameters
 //! checked by the model (`material::Parameters`), errors named by the table's key.
 
-use super::{Builder, SceneError};
+use super::error::{Builder, SceneError};
 use crate::material::Material;
 use crate::problem::Kinematics;
 use crate::scene::types::MaterialDef;

@@ -1,0 +1,34 @@
+//! The `Comm` trait: what the solver asks of the parallel machine.
+
+/// What the solver needs from the parallel machine. Implementations: `SerialComm` (one
+/// rank) and the MPI one. Collective calls must be made by every rank in the same order.
+pub trait Comm {
+    fn rank(&self) -> usize;
+    fn size(&self) -> usize;
+    fn is_root(&self) -> bool {
+        self.rank() == 0
+    }
+    /// Element-wise sum of integer arrays over all ranks (exact, so order-independent).
+    fn sum_i64(&self, values: &mut [i64]);
+    /// Element-wise maximum over all ranks.
+    fn max_f64(&self, values: &mut [f64]);
+    /// Element-wise minimum over all ranks.
+    fn min_i64(&self, values: &mut [i64]);
+    /// Point-to-point exchange: send each (rank, data) and fill each receive buffer, whose
+    /// length the caller knows.
+    fn exchange(&self, send: &[(usize, Vec<f64>)], recv: &mut [(usize, Vec<f64>)]);
+    /// Gathers variable-length data on rank 0 (one entry per rank, in rank order);
+    /// other ranks get an empty vector.
+    fn gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
+    fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>>;
+    /// Broadcasts bytes from `root` to every rank.
+    fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>);
+    /// Every rank sends `send[r]` (possibly empty) to rank r and receives one buffer from
+    /// every rank, in rank order.
+    fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
+    /// Every rank receives every rank's `local`, in rank order.
+    fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
+    /// `all_gather_f64` for blocks of one length on every rank, into `out` (rank r's block
+    /// at r * local.len(); out.len() = size * local.len()), allocating nothing.
+    fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]);
+}
