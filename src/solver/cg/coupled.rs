@@ -22,7 +22,7 @@
 //! Every reduction is an exact dot product or a maximum of values only their owner rank
 //! holds (the others hold minus infinity), so 1, 2 and 3 ranks agree bitwise.
 
-use super::{agree, max_abs, residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure};
+use super::{agree, max_abs, residual, Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
@@ -39,7 +39,7 @@ pub struct FrictionLink {
     pub mu: f64,
     /// Friction direction (unit, on the slave).
     pub dir: Vec3,
-    /// The friction magnitude the fixed loads (`Problem::extra`) hold.
+    /// The friction magnitude the fixed loads (`ModelProblem::extra`) hold.
     pub held: f64,
     /// The normal multiplier a unit force along `dir` at the slave node takes through the
     /// node's other rows (`self_coupling`), on the owner rank; 0 elsewhere.
@@ -165,7 +165,7 @@ impl Cg {
     /// BiCGStab breaks down or does not converge. Returns the outcome.
     pub fn solve_coupled<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
         links: &[FrictionLink],
@@ -194,7 +194,7 @@ impl Cg {
     /// fi, fe (with the coupled friction) and the residual at `u`; returns (|r|, reference).
     fn coupled_residual<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         links: &[FrictionLink],
     ) -> Result<(f64, f64), SolveFailure> {
@@ -224,7 +224,7 @@ impl Cg {
     /// all displacements left in `pu`).
     fn coupled_apply<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         s: &CgSettings,
         links: &[FrictionLink],
         which: Which,
@@ -276,7 +276,7 @@ impl Cg {
     /// M^-1 applied to `p` (into `ph`) or `s` (into `sh`).
     fn coupled_precondition<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
         which: Which,
@@ -298,7 +298,7 @@ impl Cg {
     /// when it has converged already), the preconditioners set up.
     fn bicgstab_start<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
         links: &[FrictionLink],
@@ -329,7 +329,7 @@ impl Cg {
     /// the iteration limit is reached (the caller solves plainly instead).
     fn bicgstab<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
         links: &[FrictionLink],
@@ -430,7 +430,7 @@ impl Cg {
     /// reduce the residual (the plain solve takes over), Some(outcome) when converged.
     fn newton_residual<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         links: &[FrictionLink],
         g: &mut Gauge,
@@ -453,7 +453,7 @@ impl Cg {
     /// iterations when it meets the tolerance.
     fn true_residual<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         links: &[FrictionLink],
         g: &mut Gauge,

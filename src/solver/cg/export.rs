@@ -15,13 +15,13 @@
 //! aggregate, contact ties included), and one application per colour and basis index
 //! gives every coupling. One rank only (the probes use the local numbering as global).
 
-use super::{Cg, CgSettings, Problem, SolveFailure};
+use super::{Cg, CgSettings, ModelProblem, SolveFailure};
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::solver::multilevel::aggregation::Graph;
-use crate::solver::multilevel::colouring::{Colouring, Ties};
-use crate::solver::multilevel::sparse::Csr;
-use crate::solver::multilevel::FineOperator;
+use crate::precond::multilevel::aggregation::Graph;
+use crate::precond::multilevel::colouring::{Colouring, Ties};
+use crate::precond::multilevel::sparse::Csr;
+use crate::precond::multilevel::FineOperator;
 
 /// Free directions shorter than this after Gram-Schmidt are not free (P has entries of
 /// order one; a projector's range vector keeps its length).
@@ -117,7 +117,7 @@ struct Unknowns {
     direction: Vec<Vec3>,
 }
 
-fn unknowns<C: Comm + ?Sized>(pb: &Problem<C>) -> Unknowns {
+fn unknowns<C: Comm + ?Sized>(pb: &ModelProblem<C>) -> Unknowns {
     let mesh = pb.asm.mesh;
     let owned = mesh.num_owned_nodes;
     let basis: Vec<Vec<Vec3>> = (0..owned)
@@ -144,7 +144,7 @@ fn unknowns<C: Comm + ?Sized>(pb: &Problem<C>) -> Unknowns {
 
 /// The nodes coloured so that none couples to two of one colour (through an element or a
 /// contact tie): the probes of [`assemble`].
-fn colour_nodes<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+fn colour_nodes<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mesh = pb.asm.mesh;
     let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
     for e in &mesh.elements {
@@ -272,7 +272,7 @@ impl Cg {
     /// setup, before the first iteration).
     pub(super) fn capture<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,

@@ -20,14 +20,14 @@
 //! holds the whole factor: meant for the meshes one machine factors.
 
 use super::export::free_basis;
-use super::{Cg, CgSettings, Problem, SolveFailure};
+use super::{Cg, CgSettings, ModelProblem, SolveFailure};
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::solver::multilevel::aggregation::Graph;
-use crate::solver::multilevel::colouring::{Colouring, Ties};
-use crate::solver::multilevel::sparse::Csr;
-use crate::solver::multilevel::sparse_cholesky::SparseCholesky;
-use crate::solver::multilevel::FineOperator;
+use crate::precond::multilevel::aggregation::Graph;
+use crate::precond::multilevel::colouring::{Colouring, Ties};
+use crate::precond::multilevel::sparse::Csr;
+use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
+use crate::precond::multilevel::FineOperator;
 
 /// The factored tangent and how to map nodal vectors to its unknowns.
 pub(super) struct FullTangent {
@@ -50,7 +50,7 @@ impl FullTangent {
     /// the factor would hold more than MAX_FACTOR_ENTRIES (the same on every rank: every
     /// rank analyses the same matrix).
     pub(super) fn build<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         op: &mut O,
         order: &mut Option<Order>,
     ) -> Result<Result<Self, usize>, SolveFailure> {
@@ -242,7 +242,7 @@ const PIVOT_FLOOR: f64 = 1e-2;
 
 /// The colouring of the whole mesh's nodes (one node per aggregate) with the tie rows of
 /// every rank: the same on any number of ranks.
-fn colouring<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+fn colouring<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
     for e in &pb.global.elements {
         for a in 0..8 {
@@ -326,7 +326,7 @@ impl Cg {
     /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
     pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,

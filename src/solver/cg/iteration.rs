@@ -2,7 +2,7 @@
 //! direction (Fletcher-Reeves when linear, Polak-Ribiere+ otherwise).
 
 use super::full_tangent::{RateWatch, MODEL_START};
-use super::{residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure, SWITCH_AFTER};
+use super::{residual, Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure, SWITCH_AFTER};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
@@ -51,7 +51,7 @@ impl Cg {
     /// Solves the model problem in place; `u` must satisfy the constraints on entry.
     pub fn solve<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
@@ -62,7 +62,7 @@ impl Cg {
 
     fn solve_model<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
@@ -150,7 +150,7 @@ impl Cg {
     /// Forces and residual at the starting point.
     pub(super) fn initial_residual<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         s: &CgSettings,
     ) -> Result<Progress, SolveFailure> {
@@ -181,7 +181,7 @@ impl Cg {
     #[inline]
     fn update_direction<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         linear: bool,
         st: &mut Progress,
         nl: usize,

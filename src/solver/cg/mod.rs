@@ -18,7 +18,7 @@
 /// the caller, e.g. the multilevel preconditioner it is handed to).
 macro_rules! fine_op {
     ($cg:ident, $pb:expr, $u:expr, $linear:expr, $s:expr) => {
-        super::precondition::FineOp {
+        $crate::solver::cg::precondition::FineOp {
             pb: $pb,
             linear: $linear,
             eps_scale: $s.length_scale,
@@ -51,14 +51,14 @@ pub use failure::SolveFailure;
 pub use trace::CgTrace;
 
 use super::assembly::{Assembly, ElementError};
-use super::coarse::CoarseSpace;
 use super::loads::Loads;
-use super::multilevel::Multilevel;
 use crate::comm::{self, Comm};
 use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::memory::{try_filled, AllocError};
 use crate::mesh::GlobalMesh;
+use crate::precond::coarse::CoarseSpace;
+use crate::precond::multilevel::Multilevel;
 
 /// With `preconditioner = "auto"` on meshes below the two-level threshold, CG starts with
 /// block Jacobi and moves to the multilevel preconditioner at this iteration of a model
@@ -263,7 +263,7 @@ impl Cg {
     }
 
     /// Row multipliers at the last accepted iterate: the force each constraint row exerts.
-    pub fn multipliers<C: Comm + ?Sized>(&mut self, pb: &Problem<C>, out: &mut Vec<f64>) {
+    pub fn multipliers<C: Comm + ?Sized>(&mut self, pb: &ModelProblem<C>, out: &mut Vec<f64>) {
         out.clear();
         out.resize(pb.cons.num_rows(), 0.0);
         for a in 0..self.q.len() {
@@ -291,7 +291,7 @@ fn agree_alloc<C: Comm + ?Sized, T>(comm: &C, r: Result<T, AllocError>) -> Resul
     }
 }
 
-pub struct Problem<'a, C: Comm + ?Sized> {
+pub struct ModelProblem<'a, C: Comm + ?Sized> {
     pub comm: &'a C,
     /// The whole mesh (the multilevel preconditioner's colouring follows its node graph).
     pub global: &'a GlobalMesh,
@@ -301,11 +301,11 @@ pub struct Problem<'a, C: Comm + ?Sized> {
     /// Forces held fixed during the model problem (friction of slipping contact nodes).
     pub extra: &'a [Vec3],
     /// Tangential springs of slipping contact nodes (see `springs`).
-    pub springs: &'a [super::springs::Spring],
+    pub springs: &'a [crate::springs::Spring],
     pub time: f64,
 }
 
-impl<'a, C: Comm + ?Sized> Problem<'a, C> {
+impl<'a, C: Comm + ?Sized> ModelProblem<'a, C> {
     fn owned(&self) -> usize {
         self.asm.mesh.num_owned_nodes
     }
@@ -315,7 +315,7 @@ impl<'a, C: Comm + ?Sized> Problem<'a, C> {
         let r = self.asm.internal_force(u, fi);
         let r = r.and_then(|_| self.loads.external_force(self.asm, self.time, u, fe));
         agree(self.comm, r)?;
-        super::springs::add_forces(self.springs, u, fi);
+        crate::springs::add_forces(self.springs, u, fi);
         if !self.extra.is_empty() {
             for (f, x) in fe.iter_mut().zip(self.extra) {
                 *f = crate::math::add(f, x);

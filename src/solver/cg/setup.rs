@@ -1,7 +1,7 @@
 //! When and how the preconditioner's coarse parts are (re)built: the two-level coarse
 //! operator Q^T A Q, measured by probes and factored, and the multilevel hierarchy.
 
-use super::{agree, agree_alloc, max_abs, Cg, CgSettings, Problem, SolveFailure};
+use super::{agree, agree_alloc, max_abs, Cg, CgSettings, ModelProblem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
@@ -12,7 +12,7 @@ impl Cg {
     /// finite-difference probe at u otherwise).
     pub(super) fn setup_coarse<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,
@@ -106,7 +106,7 @@ impl Cg {
     /// constraint rows changed by more than a tenth.
     pub(super) fn setup_multilevel<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,
@@ -204,7 +204,7 @@ impl Cg {
 /// so a coarse space or hierarchy measured on an operator of the same fingerprint is the
 /// one measuring again would give. (Two different operators share a fingerprint with a
 /// probability of about 2^-64; the preconditioner kept would still be a valid one.)
-fn operator_fingerprint<C: Comm + ?Sized>(pb: &Problem<C>) -> u64 {
+fn operator_fingerprint<C: Comm + ?Sized>(pb: &ModelProblem<C>) -> u64 {
     let ids = &pb.asm.mesh.node_global;
     let mut sum = 0u64;
     for l in 0..pb.owned() {

@@ -3,7 +3,7 @@
 //! nonlinear ones.
 
 use super::iteration::Progress;
-use super::{agree, max_abs, residual, Cg, CgSettings, Problem, SolveFailure};
+use super::{agree, max_abs, residual, Cg, CgSettings, ModelProblem, SolveFailure};
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
@@ -16,7 +16,7 @@ impl Cg {
     #[inline]
     pub(super) fn linear_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         it: usize,
@@ -64,7 +64,7 @@ impl Cg {
     /// residual is far from zero; block Jacobi is rebuilt every 100 iterations.
     pub(super) fn nonlinear_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         it: usize,
@@ -125,7 +125,7 @@ impl Cg {
     /// elastic to the plastic modulus, far more than one secant recovers.
     fn secant_search<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         alpha: f64,
@@ -184,7 +184,7 @@ impl Cg {
     /// left unchanged.
     pub(super) fn try_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         alpha: f64,
     ) -> Result<(), SolveFailure> {
