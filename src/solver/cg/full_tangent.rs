@@ -19,8 +19,9 @@
 //! so the factor and every solve are bitwise the same on any number of ranks. Every rank
 //! holds the whole factor: meant for the meshes one machine factors.
 
-use super::export::free_basis;
-use super::{Cg, CgSettings, ModelProblem, SolveFailure};
+use super::exported::free_basis;
+use super::failure::SolveFailure;
+use super::model::ModelProblem;
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
 use crate::precond::multilevel::aggregation::Graph;
@@ -313,61 +314,3 @@ impl RateWatch {
 
 /// Why a build happens at a model problem's start.
 pub(super) const MODEL_START: &str = "model problem start";
-
-impl Cg {
-    /// Leaves the full tangent for the rest of the model problem (block Jacobi, built at its
-    /// start, takes over); logs why.
-    pub(super) fn drop_full_tangent(&mut self, why: &str) {
-        self.tangent = None;
-        let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
-        self.add_note(note);
-    }
-
-    /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
-    pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
-        &mut self,
-        pb: &ModelProblem<C>,
-        u: &[Vec3],
-        linear: bool,
-        s: &CgSettings,
-        why: &str,
-    ) -> Result<(), SolveFailure> {
-        if !self.use_tangent {
-            return Ok(());
-        }
-        let start = std::time::Instant::now();
-        self.tangent = None;
-        let mut op = fine_op!(self, pb, u, linear, s);
-        op.central = true;
-        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
-            Ok(t) => t,
-            Err(limit) => {
-                self.use_tangent = false;
-                self.drop_full_tangent(&format!(
-                    "its factor would hold more than {limit} entries; for the rest of the run"
-                ));
-                return Ok(());
-            }
-        };
-        self.tangent_builds += 1;
-        self.tangent_builds_here = if why == MODEL_START {
-            1
-        } else {
-            self.tangent_builds_here + 1
-        };
-        let note = format!(
-            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
-            t.unknowns,
-            t.nnz,
-            self.tangent_builds,
-            start.elapsed().as_secs_f64(),
-            t.seconds[0],
-            t.seconds[1],
-            t.seconds[2],
-            t.seconds[3]
-        );
-        self.add_note(note);
-        self.tangent = Some(t);
-        Ok(())
-    }
-}

@@ -1,14 +1,13 @@
 //! The CG iteration of a model problem: the starting residual, the loop, and the search
 //! direction (Fletcher-Reeves when linear, Polak-Ribiere+ otherwise).
 
+use super::failure::SolveFailure;
+use super::failure::MAX_WIDEN;
 use super::full_tangent::{RateWatch, MODEL_START};
-use super::{residual, Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure, SWITCH_AFTER};
+use super::model::{residual, CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
-
-/// How often a model problem may double the multilevel fine smoother's bound (a factor of
-/// 16 in all) before the cycle counts as broken.
-pub(super) const MAX_WIDEN: usize = 4;
 
 /// Builds of the full tangent one model problem may make before block Jacobi takes over:
 /// a bound on the probing's cost where the factor does not keep up with the tangent (the

@@ -15,7 +15,9 @@
 //! spreads; Newton's linear inner solves see one fixed tangent each and converge at the
 //! rate of the preconditioned linear problem (docs/plasticity-solve.md has the measurements).
 
-use super::{max_abs, Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure, SWITCH_AFTER};
+use super::failure::SolveFailure;
+use super::model::{max_abs, CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::precond::multilevel::FineOperator;

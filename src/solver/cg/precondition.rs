@@ -3,7 +3,9 @@
 //! block Jacobi to multilevel; and the constrained fine operator the multilevel cycle
 //! applies.
 
-use super::{agree, max_abs, Cg, CgSettings, ModelProblem, SolveFailure, SWITCH_AFTER};
+use super::failure::SolveFailure;
+use super::model::{agree, max_abs, CgSettings, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::Comm;
 use crate::math::Vec3;
 use crate::precond::jacobi;

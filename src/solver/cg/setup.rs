@@ -1,7 +1,10 @@
 //! When and how the preconditioner's coarse parts are (re)built: the two-level coarse
 //! operator Q^T A Q, measured by probes and factored, and the multilevel hierarchy.
 
-use super::{agree, agree_alloc, max_abs, Cg, CgSettings, ModelProblem, SolveFailure};
+use super::failure::SolveFailure;
+use super::full_tangent::{FullTangent, MODEL_START};
+use super::model::{agree, agree_alloc, max_abs, CgSettings, ModelProblem};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
@@ -244,4 +247,62 @@ fn mix(h: u64, x: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
+}
+
+impl Cg {
+    /// Leaves the full tangent for the rest of the model problem (block Jacobi, built at its
+    /// start, takes over); logs why.
+    pub(super) fn drop_full_tangent(&mut self, why: &str) {
+        self.tangent = None;
+        let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
+        self.add_note(note);
+    }
+
+    /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
+    pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
+        &mut self,
+        pb: &ModelProblem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+        why: &str,
+    ) -> Result<(), SolveFailure> {
+        if !self.use_tangent {
+            return Ok(());
+        }
+        let start = std::time::Instant::now();
+        self.tangent = None;
+        let mut op = fine_op!(self, pb, u, linear, s);
+        op.central = true;
+        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
+            Ok(t) => t,
+            Err(limit) => {
+                self.use_tangent = false;
+                self.drop_full_tangent(&format!(
+                    "its factor would hold more than {limit} entries; for the rest of the run"
+                ));
+                return Ok(());
+            }
+        };
+        self.tangent_builds += 1;
+        self.tangent_builds_here = if why == MODEL_START {
+            1
+        } else {
+            self.tangent_builds_here + 1
+        };
+        let note = format!(
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
+            t.unknowns,
+            t.nnz,
+            self.tangent_builds,
+            start.elapsed().as_secs_f64(),
+            t.seconds[0],
+            t.seconds[1],
+            t.seconds[2],
+            t.seconds[3]
+        );
+        self.add_note(note);
+        self.tangent = Some(t);
+        Ok(())
+    }
 }

@@ -2,8 +2,10 @@
 //! problems, a finite-difference curvature, step halving and a secant correction for
 //! nonlinear ones.
 
+use super::failure::SolveFailure;
 use super::iteration::Progress;
-use super::{agree, max_abs, residual, Cg, CgSettings, ModelProblem, SolveFailure};
+use super::model::{agree, max_abs, residual, CgSettings, ModelProblem};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
