@@ -11,6 +11,7 @@ pub mod memory;
 pub mod mesh;
 pub mod output;
 pub mod post;
+pub mod precond;
 pub mod preflight;
 pub mod problem;
 pub mod run;

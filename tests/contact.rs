@@ -643,7 +643,7 @@ tolerance = {TOL:?}
 /// slip radially, the step that adds a small sideways load starts with all four corners
 /// slipping, so with friction forces as fixed loads the block would have no tangential
 /// support and the model problem would be singular. Slipping nodes then carry a tangential
-/// spring in the model problem (`solver::springs`), the contact update re-sticks the corners
+/// spring in the model problem (`springs`), the contact update re-sticks the corners
 /// that the load unloads, and the step converges.
 #[test]
 fn coulomb_block_resists_a_small_tangential_load_after_radial_slip() {

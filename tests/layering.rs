@@ -20,6 +20,7 @@ const LAYERS: &[&[&str]] = &[
     &["problem"],
     &["scene"],
     &["constraints", "springs"],
+    &["precond"],
     &["contact"],
     &["solver"],
     &["run", "preflight"],
@@ -127,6 +128,7 @@ fn the_check_sees_an_upward_import() {
         vec![(1, "solver".to_string()), (2, "math".to_string())]
     );
     assert!(layer("solver") > layer("contact"));
+    assert!(layer("solver") > layer("precond") && layer("precond") > layer("constraints"));
 }
 
 #[test]

@@ -75,7 +75,7 @@ const LOCAL_PER_NODE: f64 = 32.0 + 168.0 + 72.0 + 48.0 + 88.0;
 const NONLINEAR_PER_NODE: f64 = 5.0 * 24.0;
 /// The friction-coupled model problem's vectors (8 x 24), allocated when a node slips.
 const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
-/// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (solver::coarse);
+/// Aggregates of the coarse space: aimed at 6^3 nodes each, at most 400 (precond::coarse);
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;

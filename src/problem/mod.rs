@@ -117,7 +117,7 @@ pub enum Preconditioner {
     Jacobi,
     /// Nodal block Jacobi plus a coarse space of aggregate rigid-body modes.
     TwoLevel,
-    /// Smoothed aggregation over several levels (src/solver/multilevel/).
+    /// Smoothed aggregation over several levels (src/precond/multilevel/).
     Multilevel,
     /// The model problem's tangent assembled and factored (src/solver/cg/full_tangent.rs).
     Tangent,

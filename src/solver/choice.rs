@@ -14,14 +14,14 @@
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
+use crate::precond::coarse::CoarseSpace;
+use crate::precond::multilevel::transfer::SINGLETON_NODES;
+use crate::precond::multilevel::{Multilevel, FINE_DEGREE};
 use crate::problem::{
     uses_full_tangent, Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TANGENT_NODES,
     TWO_LEVEL_NODES,
 };
 use crate::solver::cg::SWITCH_AFTER;
-use crate::solver::coarse::CoarseSpace;
-use crate::solver::multilevel::transfer::SINGLETON_NODES;
-use crate::solver::multilevel::{Multilevel, FINE_DEGREE};
 use crate::solver::support::held_by_contact_alone;
 
 /// The names of the bodies whose bulk modulus is at least NEARLY_INCOMPRESSIBLE times

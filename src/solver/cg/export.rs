@@ -15,89 +15,16 @@
 //! aggregate, contact ties included), and one application per colour and basis index
 //! gives every coupling. One rank only (the probes use the local numbering as global).
 
-use super::{Cg, CgSettings, Problem, SolveFailure};
+use super::exported::{free_basis, ExportState, ModelExport};
+use super::failure::SolveFailure;
+use super::model::{CgSettings, ModelOutcome, ModelProblem};
+use super::state::Cg;
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::solver::multilevel::aggregation::Graph;
-use crate::solver::multilevel::colouring::{Colouring, Ties};
-use crate::solver::multilevel::sparse::Csr;
-use crate::solver::multilevel::FineOperator;
-
-/// Free directions shorter than this after Gram-Schmidt are not free (P has entries of
-/// order one; a projector's range vector keeps its length).
-const RANK_TOLERANCE: f64 = 1e-6;
-
-/// The assembled model problem.
-#[derive(Clone, Debug, Default)]
-pub struct ModelExport {
-    /// Global node id of every unknown (0-based).
-    pub node: Vec<u32>,
-    /// The direction of every unknown (a unit vector).
-    pub direction: Vec<Vec3>,
-    /// The operator in these unknowns (square, measured: symmetric to round-off).
-    pub matrix: Csr,
-    /// The right-hand side: the starting residual T^T (f_ext - f_int) of the model problem.
-    pub rhs: Vec<f64>,
-    /// The six rigid-body modes (translations x, y, z; rotations about x, y, z through the
-    /// centroid of the nodes), restricted to the free directions like every vector CG sees.
-    pub modes: Vec<[f64; 6]>,
-    /// max |A x - op(x)| / max |op(x)| for a pseudo-random x (the assembly's check).
-    pub check_error: f64,
-    /// The CG tolerance and the reference force at the start: CG stops when
-    /// |r| <= tolerance * reference, the reference max(|f_ext|, |reaction|, floor)
-    /// recomputed with the true residual.
-    pub tolerance: f64,
-    pub reference_start: f64,
-    pub residual_start: f64,
-    /// The load time of the model problem.
-    pub time: f64,
-    /// Constraint rows of the model problem: Dirichlet and contact.
-    pub dirichlet_rows: usize,
-    pub contact_rows: usize,
-    /// Our CG on it: iterations, final residual and reference, or why it failed.
-    pub iterations: Option<usize>,
-    pub residual_end: f64,
-    pub reference_end: f64,
-    pub failure: Option<String>,
-}
-
-/// Where the export stands.
-#[derive(Clone, Debug, Default)]
-pub enum ExportState {
-    #[default]
-    Off,
-    /// Asked for: taken at the next model problem that needs a CG iteration.
-    Pending,
-    /// Assembled; the outcome is filled in when CG finishes.
-    Taken(Box<ModelExport>),
-    /// Could not be taken (nonlinear bodies, several ranks).
-    Refused(String),
-}
-
-/// An orthonormal basis of the range of the projector `p` (Gram-Schmidt of its columns).
-pub fn free_basis(p: Option<&crate::math::Mat3>) -> Vec<Vec3> {
-    let Some(p) = p else {
-        return vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    };
-    let mut basis: Vec<Vec3> = Vec::with_capacity(3);
-    for j in 0..3 {
-        let mut v: Vec3 = std::array::from_fn(|i| p[i][j]);
-        // Twice: classical Gram-Schmidt loses orthogonality otherwise.
-        for _ in 0..2 {
-            for q in &basis {
-                let c = dot(q, &v);
-                for i in 0..3 {
-                    v[i] -= c * q[i];
-                }
-            }
-        }
-        let n = dot(&v, &v).sqrt();
-        if n > RANK_TOLERANCE {
-            basis.push(std::array::from_fn(|i| v[i] / n));
-        }
-    }
-    basis
-}
+use crate::precond::multilevel::aggregation::Graph;
+use crate::precond::multilevel::colouring::{Colouring, Ties};
+use crate::precond::multilevel::sparse::Csr;
+use crate::precond::multilevel::FineOperator;
 
 /// A fixed pseudo-random value in [-1, 1) for an index (splitmix64).
 fn hash_unit(i: u64) -> f64 {
@@ -117,7 +44,7 @@ struct Unknowns {
     direction: Vec<Vec3>,
 }
 
-fn unknowns<C: Comm + ?Sized>(pb: &Problem<C>) -> Unknowns {
+fn unknowns<C: Comm + ?Sized>(pb: &ModelProblem<C>) -> Unknowns {
     let mesh = pb.asm.mesh;
     let owned = mesh.num_owned_nodes;
     let basis: Vec<Vec<Vec3>> = (0..owned)
@@ -144,7 +71,7 @@ fn unknowns<C: Comm + ?Sized>(pb: &Problem<C>) -> Unknowns {
 
 /// The nodes coloured so that none couples to two of one colour (through an element or a
 /// contact tie): the probes of [`assemble`].
-fn colour_nodes<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+fn colour_nodes<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mesh = pb.asm.mesh;
     let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
     for e in &mesh.elements {
@@ -272,7 +199,7 @@ impl Cg {
     /// setup, before the first iteration).
     pub(super) fn capture<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,
@@ -358,7 +285,7 @@ impl Cg {
     }
 
     /// Records CG's outcome on the model problem just exported.
-    pub(super) fn record_export(&mut self, outcome: &Result<super::ModelOutcome, SolveFailure>) {
+    pub(super) fn record_export(&mut self, outcome: &Result<ModelOutcome, SolveFailure>) {
         let ExportState::Taken(e) = &mut self.export else {
             return;
         };

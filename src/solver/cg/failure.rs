@@ -1,4 +1,7 @@
 //! Why a model problem could not be solved, and the message that says so.
+/// How often a model problem may double the multilevel fine smoother's bound (a factor of
+/// 16 in all) before the cycle counts as broken.
+pub(super) const MAX_WIDEN: usize = 4;
 
 /// Why a model problem could not be solved. Rank-agreed.
 #[derive(Clone, Debug, PartialEq)]
@@ -69,7 +72,7 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::IndefinitePreconditioner { iterations } => write!(
                 f,
                 "the multilevel preconditioner is not positive definite on this model problem (r.z <= 0 after {iterations} CG iterations, its smoother's bound widened {}x); try solver.preconditioner = \"jacobi\"",
-                1 << super::iteration::MAX_WIDEN
+                1 << MAX_WIDEN
             ),
             SolveFailure::Unbounded { max_displacement, .. } => write!(
                 f,

@@ -19,15 +19,16 @@
 //! so the factor and every solve are bitwise the same on any number of ranks. Every rank
 //! holds the whole factor: meant for the meshes one machine factors.
 
-use super::export::free_basis;
-use super::{Cg, CgSettings, Problem, SolveFailure};
+use super::exported::free_basis;
+use super::failure::SolveFailure;
+use super::model::ModelProblem;
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::solver::multilevel::aggregation::Graph;
-use crate::solver::multilevel::colouring::{Colouring, Ties};
-use crate::solver::multilevel::sparse::Csr;
-use crate::solver::multilevel::sparse_cholesky::SparseCholesky;
-use crate::solver::multilevel::FineOperator;
+use crate::precond::multilevel::aggregation::Graph;
+use crate::precond::multilevel::colouring::{Colouring, Ties};
+use crate::precond::multilevel::sparse::Csr;
+use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
+use crate::precond::multilevel::FineOperator;
 
 /// Free directions of a node (unit vectors) that differ by less than this are the same
 /// unknowns for the factor (`FullTangent::fits`).
@@ -53,7 +54,7 @@ impl FullTangent {
     /// Whether this rank's owned nodes have the free directions the factor was built with
     /// (to round-off: a contact normal recomputed as its node slides along a flat face
     /// differs in its last bits).
-    fn fits<C: Comm + ?Sized>(&self, pb: &Problem<C>) -> bool {
+    pub(super) fn fits<C: Comm + ?Sized>(&self, pb: &ModelProblem<C>) -> bool {
         let near = |a: &[Vec3], b: &[Vec3]| {
             a.len() == b.len()
                 && a.iter().zip(b).all(|(x, y)| {
@@ -73,7 +74,7 @@ impl FullTangent {
     /// the factor would hold more than MAX_FACTOR_ENTRIES (the same on every rank: every
     /// rank analyses the same matrix).
     pub(super) fn build<C: Comm + ?Sized, O: FineOperator<Error = SolveFailure>>(
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         op: &mut O,
         order: &mut Option<Order>,
     ) -> Result<Result<Self, usize>, SolveFailure> {
@@ -265,7 +266,7 @@ const PIVOT_FLOOR: f64 = 1e-2;
 
 /// The colouring of the whole mesh's nodes (one node per aggregate) with the tie rows of
 /// every rank: the same on any number of ranks.
-fn colouring<C: Comm + ?Sized>(pb: &Problem<C>, n: usize) -> Colouring {
+fn colouring<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
     for e in &pb.global.elements {
         for a in 0..8 {
@@ -336,100 +337,3 @@ impl RateWatch {
 
 /// Why a build happens at a model problem's start.
 pub(super) const MODEL_START: &str = "model problem start";
-
-impl Cg {
-    /// Leaves the full tangent for the rest of the model problem (block Jacobi, built at its
-    /// start, takes over); logs why.
-    pub(super) fn drop_full_tangent(&mut self, why: &str) {
-        self.tangent = None;
-        let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
-        self.add_note(note);
-    }
-
-    /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
-    pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
-        &mut self,
-        pb: &Problem<C>,
-        u: &[Vec3],
-        linear: bool,
-        s: &CgSettings,
-        why: &str,
-    ) -> Result<(), SolveFailure> {
-        if !self.use_tangent {
-            return Ok(());
-        }
-        if why == MODEL_START && !self.tangent_increment && self.tangent_fits(pb) {
-            // A later model problem of the increment on the same unknowns: the factor is
-            // kept, and the rate rule rebuilds it when it goes stale.
-            self.tangent_builds_here = 0;
-            return Ok(());
-        }
-        self.tangent_increment = false;
-        let start = std::time::Instant::now();
-        self.tangent = None;
-        let mut op = fine_op!(self, pb, u, linear, s);
-        op.central = true;
-        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
-            Ok(t) => t,
-            Err(limit) => {
-                self.use_tangent = false;
-                self.drop_full_tangent(&format!(
-                    "its factor would hold more than {limit} entries; for the rest of the run"
-                ));
-                return Ok(());
-            }
-        };
-        self.tangent_builds += 1;
-        self.tangent_builds_here = if why == MODEL_START {
-            1
-        } else {
-            self.tangent_builds_here + 1
-        };
-        let note = format!(
-            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
-            t.unknowns,
-            t.nnz,
-            self.tangent_builds,
-            start.elapsed().as_secs_f64(),
-            t.seconds[0],
-            t.seconds[1],
-            t.seconds[2],
-            t.seconds[3]
-        );
-        self.add_note(note);
-        self.tangent = Some(t);
-        Ok(())
-    }
-
-    /// The full tangent of a coupled solve (cg/coupled.rs) of nonlinear bodies: built at
-    /// the increment's first model problem (so a restart, which begins at an increment,
-    /// builds what the run it continues built) and again when the free directions of a
-    /// node changed (its unknowns are another set: stick and slip change a node's rows),
-    /// or when it was dropped; kept otherwise (collective).
-    pub(super) fn refresh_full_tangent<C: Comm + ?Sized>(
-        &mut self,
-        pb: &Problem<C>,
-        u: &[Vec3],
-        s: &CgSettings,
-    ) -> Result<(), SolveFailure> {
-        if !self.use_tangent {
-            return Ok(());
-        }
-        if !self.tangent_increment && self.tangent_fits(pb) {
-            return Ok(());
-        }
-        let why = if self.tangent_increment {
-            "coupled solve, new increment"
-        } else {
-            "coupled solve on another constraint set"
-        };
-        self.setup_full_tangent(pb, u, false, s, why)
-    }
-
-    /// Whether the full tangent is built on the unknowns of `pb` on every rank
-    /// (collective).
-    fn tangent_fits<C: Comm + ?Sized>(&self, pb: &Problem<C>) -> bool {
-        let fits = self.tangent.as_ref().is_some_and(|t| t.fits(pb));
-        !crate::comm::any(pb.comm, !fits)
-    }
-}

@@ -1,14 +1,13 @@
 //! The CG iteration of a model problem: the starting residual, the loop, and the search
 //! direction (Fletcher-Reeves when linear, Polak-Ribiere+ otherwise).
 
+use super::failure::SolveFailure;
+use super::failure::MAX_WIDEN;
 use super::full_tangent::{RateWatch, MODEL_START};
-use super::{residual, Cg, CgSettings, ModelOutcome, Problem, SolveFailure, SWITCH_AFTER};
+use super::model::{residual, CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
-
-/// How often a model problem may double the multilevel fine smoother's bound (a factor of
-/// 16 in all) before the cycle counts as broken.
-pub(super) const MAX_WIDEN: usize = 4;
 
 /// Builds of the full tangent one model problem may make before block Jacobi takes over:
 /// a bound on the probing's cost where the factor does not keep up with the tangent (the
@@ -51,7 +50,7 @@ impl Cg {
     /// Solves the model problem in place; `u` must satisfy the constraints on entry.
     pub fn solve<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
@@ -62,7 +61,7 @@ impl Cg {
 
     fn solve_model<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
@@ -150,7 +149,7 @@ impl Cg {
     /// Forces and residual at the starting point.
     pub(super) fn initial_residual<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         s: &CgSettings,
     ) -> Result<Progress, SolveFailure> {
@@ -181,7 +180,7 @@ impl Cg {
     #[inline]
     fn update_direction<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         linear: bool,
         st: &mut Progress,
         nl: usize,

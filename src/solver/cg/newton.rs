@@ -15,10 +15,12 @@
 //! spreads; Newton's linear inner solves see one fixed tangent each and converge at the
 //! rate of the preconditioned linear problem (docs/plasticity-solve.md has the measurements).
 
-use super::{max_abs, Cg, CgSettings, ModelOutcome, Problem, SolveFailure, SWITCH_AFTER};
+use super::failure::SolveFailure;
+use super::model::{max_abs, CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
-use crate::solver::multilevel::FineOperator;
+use crate::precond::multilevel::FineOperator;
 
 /// Newton steps one model problem may take before it counts as not converging.
 const MAX_NEWTON: usize = 60;
@@ -45,7 +47,7 @@ impl Cg {
     /// constraints on entry.
     pub(super) fn solve_newton<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
@@ -114,7 +116,7 @@ impl Cg {
     #[allow(clippy::too_many_arguments)]
     fn inner_solve<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         s: &CgSettings,
         rnorm: f64,
@@ -211,7 +213,7 @@ impl Cg {
     /// residual to the accepted point and returns its (|r|, reference).
     fn line_search<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
     ) -> Result<(f64, f64), SolveFailure> {
         let (comm, n) = (pb.comm, pb.owned());

@@ -1,17 +1,21 @@
-//! Applying the preconditioner: block Jacobi (built from the diagonal tangent blocks) or
-//! the multilevel cycle, then the two-level coarse correction; the switch from block Jacobi
-//! to multilevel; and the constrained fine operator the multilevel cycle applies.
+//! Applying the preconditioner: block Jacobi (`precond::jacobi`, from the diagonal tangent
+//! blocks) or the multilevel cycle, then the two-level coarse correction; the switch from
+//! block Jacobi to multilevel; and the constrained fine operator the multilevel cycle
+//! applies.
 
-use super::{agree, max_abs, Cg, CgSettings, Problem, SolveFailure, SWITCH_AFTER};
+use super::failure::SolveFailure;
+use super::model::{agree, max_abs, CgSettings, ModelProblem, SWITCH_AFTER};
+use super::state::Cg;
 use crate::comm::Comm;
-use crate::math::{inverse, matvec, Vec3};
-use crate::solver::multilevel::FineOperator;
+use crate::math::Vec3;
+use crate::precond::jacobi;
+use crate::precond::multilevel::FineOperator;
 
 impl Cg {
     /// Block Jacobi is not enough here: from now on the multilevel preconditioner.
     pub(super) fn switch_to_multilevel<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         linear: bool,
         s: &CgSettings,
@@ -31,7 +35,7 @@ impl Cg {
     #[inline]
     pub(super) fn apply_preconditioner<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         linear: bool,
         s: &CgSettings,
@@ -48,9 +52,7 @@ impl Cg {
             let mut op = fine_op!(self, pb, u, linear, s);
             ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
         } else {
-            for a in 0..u.len() {
-                self.z[a] = matvec(&self.minv[a], &self.r[a]);
-            }
+            jacobi::apply(&self.minv[..u.len()], &self.r, &mut self.z);
         }
         if let Some(c) = &self.coarse {
             c.apply(
@@ -69,24 +71,14 @@ impl Cg {
     /// d a positive scale so M is invertible, then z = P M^-1 P r.
     pub(super) fn precondition<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
     ) -> Result<(), SolveFailure> {
         // The blocks first, each then replaced by its inverse.
         agree(pb.comm, pb.asm.diagonal(u, &mut self.minv))?;
         crate::springs::add_diagonal(pb.springs, &mut self.minv);
         pb.cons.precondition_blocks(pb.comm, &mut self.minv);
-        for a in 0..u.len() {
-            let m = self.minv[a];
-            let (inv, det) = inverse(&m);
-            self.minv[a] =
-                if det.is_finite() && det != 0.0 && inv.iter().flatten().all(|v| v.is_finite()) {
-                    inv
-                } else {
-                    let s = 1.0 / (m[0][0] + m[1][1] + m[2][2]).abs().max(f64::MIN_POSITIVE);
-                    [[s, 0.0, 0.0], [0.0, s, 0.0], [0.0, 0.0, s]]
-                };
-        }
+        jacobi::invert_blocks(&mut self.minv[..u.len()]);
         pb.cons.project_inverse_blocks(&mut self.minv);
         Ok(())
     }
@@ -96,7 +88,7 @@ impl Cg {
 /// the slipping nodes' springs K_s, exact for linear bodies, a finite difference of the
 /// forces at u otherwise.
 pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
-    pub(super) pb: &'b Problem<'a, C>,
+    pub(super) pb: &'b ModelProblem<'a, C>,
     pub(super) linear: bool,
     pub(super) eps_scale: f64,
     pub(super) u: &'b [Vec3],

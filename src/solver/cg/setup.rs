@@ -1,7 +1,10 @@
 //! When and how the preconditioner's coarse parts are (re)built: the two-level coarse
 //! operator Q^T A Q, measured by probes and factored, and the multilevel hierarchy.
 
-use super::{agree, agree_alloc, max_abs, Cg, CgSettings, Problem, SolveFailure};
+use super::failure::SolveFailure;
+use super::full_tangent::{FullTangent, MODEL_START};
+use super::model::{agree, agree_alloc, max_abs, CgSettings, ModelProblem};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
@@ -12,7 +15,7 @@ impl Cg {
     /// finite-difference probe at u otherwise).
     pub(super) fn setup_coarse<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,
@@ -106,7 +109,7 @@ impl Cg {
     /// constraint rows changed by more than a tenth.
     pub(super) fn setup_multilevel<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &[Vec3],
         linear: bool,
         s: &CgSettings,
@@ -204,7 +207,7 @@ impl Cg {
 /// so a coarse space or hierarchy measured on an operator of the same fingerprint is the
 /// one measuring again would give. (Two different operators share a fingerprint with a
 /// probability of about 2^-64; the preconditioner kept would still be a valid one.)
-fn operator_fingerprint<C: Comm + ?Sized>(pb: &Problem<C>) -> u64 {
+fn operator_fingerprint<C: Comm + ?Sized>(pb: &ModelProblem<C>) -> u64 {
     let ids = &pb.asm.mesh.node_global;
     let mut sum = 0u64;
     for l in 0..pb.owned() {
@@ -244,4 +247,101 @@ fn mix(h: u64, x: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
+}
+
+impl Cg {
+    /// Leaves the full tangent for the rest of the model problem (block Jacobi, built at its
+    /// start, takes over); logs why.
+    pub(super) fn drop_full_tangent(&mut self, why: &str) {
+        self.tangent = None;
+        let note = format!("full tangent dropped for this model problem ({why}): block Jacobi");
+        self.add_note(note);
+    }
+
+    /// Builds the full tangent at `u` when the run uses it (collective); logs the build.
+    pub(super) fn setup_full_tangent<C: Comm + ?Sized>(
+        &mut self,
+        pb: &ModelProblem<C>,
+        u: &[Vec3],
+        linear: bool,
+        s: &CgSettings,
+        why: &str,
+    ) -> Result<(), SolveFailure> {
+        if !self.use_tangent {
+            return Ok(());
+        }
+        if why == MODEL_START && !self.tangent_increment && self.tangent_fits(pb) {
+            // A later model problem of the increment on the same unknowns: the factor is
+            // kept, and the rate rule rebuilds it when it goes stale.
+            self.tangent_builds_here = 0;
+            return Ok(());
+        }
+        self.tangent_increment = false;
+        let start = std::time::Instant::now();
+        self.tangent = None;
+        let mut op = fine_op!(self, pb, u, linear, s);
+        op.central = true;
+        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
+            Ok(t) => t,
+            Err(limit) => {
+                self.use_tangent = false;
+                self.drop_full_tangent(&format!(
+                    "its factor would hold more than {limit} entries; for the rest of the run"
+                ));
+                return Ok(());
+            }
+        };
+        self.tangent_builds += 1;
+        self.tangent_builds_here = if why == MODEL_START {
+            1
+        } else {
+            self.tangent_builds_here + 1
+        };
+        let note = format!(
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
+            t.unknowns,
+            t.nnz,
+            self.tangent_builds,
+            start.elapsed().as_secs_f64(),
+            t.seconds[0],
+            t.seconds[1],
+            t.seconds[2],
+            t.seconds[3]
+        );
+        self.add_note(note);
+        self.tangent = Some(t);
+        Ok(())
+    }
+
+    /// The full tangent of a coupled solve (cg/coupled.rs) of nonlinear bodies: built at
+    /// the increment's first model problem (so a restart, which begins at an increment,
+    /// builds what the run it continues built) and again when the free directions of a
+    /// node changed (its unknowns are another set: stick and slip change a node's rows),
+    /// or when it was dropped; kept otherwise (collective).
+    pub(super) fn refresh_full_tangent<C: Comm + ?Sized>(
+        &mut self,
+        pb: &ModelProblem<C>,
+        u: &[Vec3],
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        if !self.use_tangent {
+            return Ok(());
+        }
+        if !self.tangent_increment && self.tangent_fits(pb) {
+            return Ok(());
+        }
+        let why = if self.tangent_increment {
+            "coupled solve, new increment"
+        } else {
+            "coupled solve on another constraint set"
+        };
+        self.setup_full_tangent(pb, u, false, s, why)
+    }
+
+    /// Whether the full tangent is built on the unknowns of `pb` on every rank
+    /// (collective).
+    fn tangent_fits<C: Comm + ?Sized>(&self, pb: &ModelProblem<C>) -> bool {
+        let fits = self.tangent.as_ref().is_some_and(|t| t.fits(pb));
+        !comm::any(pb.comm, !fits)
+    }
 }

@@ -2,8 +2,10 @@
 //! problems, a finite-difference curvature, step halving and a secant correction for
 //! nonlinear ones.
 
+use super::failure::SolveFailure;
 use super::iteration::Progress;
-use super::{agree, max_abs, residual, Cg, CgSettings, Problem, SolveFailure};
+use super::model::{agree, max_abs, residual, CgSettings, ModelProblem};
+use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 
@@ -16,7 +18,7 @@ impl Cg {
     #[inline]
     pub(super) fn linear_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         it: usize,
@@ -64,7 +66,7 @@ impl Cg {
     /// residual is far from zero; block Jacobi is rebuilt every 100 iterations.
     pub(super) fn nonlinear_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         it: usize,
@@ -125,7 +127,7 @@ impl Cg {
     /// elastic to the plastic modulus, far more than one secant recovers.
     fn secant_search<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         rp: f64,
         alpha: f64,
@@ -184,7 +186,7 @@ impl Cg {
     /// left unchanged.
     pub(super) fn try_step<C: Comm + ?Sized>(
         &mut self,
-        pb: &Problem<C>,
+        pb: &ModelProblem<C>,
         u: &mut [Vec3],
         alpha: f64,
     ) -> Result<(), SolveFailure> {

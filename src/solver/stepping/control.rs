@@ -12,9 +12,9 @@ use crate::contact::enforcement::{Enforcement, SetEntry};
 use crate::math::Vec3;
 use crate::problem::NonlinearSolver;
 use crate::solver::cg::{
-    self_coupling, CgSettings, FrictionLink, ModelOutcome, Problem as ModelProblem, SolveFailure,
+    self_coupling, CgSettings, FrictionLink, ModelOutcome, ModelProblem, SolveFailure,
 };
-use crate::solver::springs::Spring;
+use crate::springs::Spring;
 
 /// A constraint set as the loop compares them: (slave, pair, face, sticking) per constraint.
 type Signature = Vec<SetEntry>;

@@ -14,6 +14,7 @@
 //! same factor and solves on every rank.
 
 use super::aggregation::Graph;
+use super::elimination::{etree, reach, Columns};
 use super::sparse::{node_of, Csr};
 
 /// Node sets at most this large are not dissected further.
@@ -155,7 +156,7 @@ impl SparseCholesky {
     /// indefinite or singular (a modified Cholesky), so that it preconditions CG.
     /// Computed by supernodes (`supernodal`): the same factor up to the order of additions.
     pub fn new_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
-        super::supernodal::factor(a, perm, counts, floor)
+        Self::from_columns(super::supernodal::factor(a, perm, counts, floor))
     }
 
     /// `new_modified` computed column by column (the reference of the supernodal form).
@@ -165,20 +166,14 @@ impl SparseCholesky {
     }
 
     /// A factor from its columns (rows below the diagonal increasing) and diagonal.
-    pub(super) fn from_columns(
-        perm: Vec<usize>,
-        colptr: Vec<usize>,
-        rowidx: Vec<u32>,
-        val: Vec<f64>,
-        diag: Vec<f64>,
-    ) -> Self {
-        let n = diag.len();
+    fn from_columns(c: Columns) -> Self {
+        let n = c.diag.len();
         SparseCholesky {
-            perm,
-            colptr,
-            rowidx,
-            val,
-            diag,
+            perm: c.perm,
+            colptr: c.colptr,
+            rowidx: c.rowidx,
+            val: c.val,
+            diag: c.diag,
             work: vec![0.0; n],
         }
     }
@@ -354,63 +349,6 @@ impl SparseCholesky {
     }
 }
 
-/// The elimination tree of P A P^T (parent of each column, usize::MAX at a root), by
-/// Liu's algorithm with path compression.
-pub(super) fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
-    let n = a.rows;
-    let mut parent = vec![usize::MAX; n];
-    let mut ancestor = vec![usize::MAX; n];
-    for k in 0..n {
-        for &q in a.row(perm[k]).0 {
-            let mut i = inv[q as usize];
-            while i < k {
-                let next = ancestor[i];
-                ancestor[i] = k;
-                if next == usize::MAX {
-                    parent[i] = k;
-                    break;
-                }
-                i = next;
-            }
-        }
-    }
-    parent
-}
-
-/// The columns j < k of row k of L in topological order (each column before the columns
-/// its updates reach): the union of the tree paths from the entries of A's row k to k.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn reach(
-    a: &Csr,
-    perm: &[usize],
-    inv: &[usize],
-    parent: &[usize],
-    k: usize,
-    flag: &mut [usize],
-    stack: &mut Vec<usize>,
-    pattern: &mut Vec<usize>,
-) {
-    pattern.clear();
-    flag[k] = k;
-    for &q in a.row(perm[k]).0 {
-        let mut i = inv[q as usize];
-        if i > k {
-            continue;
-        }
-        stack.clear();
-        while flag[i] != k {
-            stack.push(i);
-            flag[i] = k;
-            i = parent[i];
-        }
-        // The path from the entry up to the first column already in the pattern, pushed
-        // so the column nearest the leaf comes first once reversed below.
-        pattern.extend(stack.iter().rev());
-    }
-    // Paths were appended root-side first; a column must come before its ancestors.
-    pattern.sort_unstable();
-}
-
 /// Entries below the diagonal in each column of L (its row patterns by `reach`); None once
 /// their total passes `budget`.
 fn column_counts(a: &Csr, perm: &[usize], budget: usize) -> Option<Vec<usize>> {
@@ -448,7 +386,7 @@ fn column_counts(a: &Csr, perm: &[usize], budget: usize) -> Option<Vec<usize>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::multilevel::smoother::hash_value;
+    use crate::precond::multilevel::smoother::hash_value;
 
     #[test]
     fn solves_a_grid_laplacian_and_drops_a_dead_unknown() {

@@ -2,9 +2,8 @@
 //! around the model problem, and automatic cut-back of a step that fails.
 
 use super::assembly::Assembly;
-use super::cg::{Cg, CgSettings, ModelOutcome, Problem as ModelProblem, SolveFailure};
+use super::cg::{Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure};
 use super::loads::Loads;
-use super::springs::Spring;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::active::{ContactCounts, ContactState};
@@ -12,6 +11,7 @@ use crate::contact::Enforcement;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
+use crate::springs::Spring;
 use std::time::Instant;
 
 mod control;

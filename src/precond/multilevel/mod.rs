@@ -31,12 +31,14 @@ pub mod blocks;
 pub mod colouring;
 pub mod cycle;
 pub mod direct;
+mod elimination;
 pub mod first;
 pub mod measure;
 pub mod prolongator;
 pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;
+pub mod split;
 mod supernodal;
 pub mod transfer;
 pub mod triple;
@@ -51,6 +53,7 @@ use colouring::{Colouring, MeshNeighbours, Ties};
 use cycle::Hierarchy;
 use prolongator::MODES;
 use smoother::{hash_value, Chebyshev, Space};
+use split::Split;
 use transfer::Transfer;
 
 /// Chebyshev degree on the coarse levels.
@@ -86,26 +89,6 @@ pub struct Multilevel {
     pub builds: usize,
     /// What the last build made, for the log.
     pub summary: String,
-}
-
-/// The first coarse level's operator applied by rows split over the ranks: rank r computes
-/// rows r L to (r + 1) L - 1 (L = 6 ceil(aggregates / ranks), the rows it holds:
-/// `first::held`) and every rank gathers the whole product. Each entry is the row sum the whole product computes (`Csr::mul_rows_into`),
-/// so the cycle is the same bits on any number of ranks, at half the memory traffic on two
-/// (this level's products were a fifth of the 10^6-element block on block's run, every
-/// rank computing all of them).
-pub(super) struct Split<'a, C: Comm + ?Sized> {
-    pub(super) comm: &'a C,
-    pub(super) rows: &'a mut [f64],
-    pub(super) all: &'a mut [f64],
-}
-
-impl<C: Comm + ?Sized> cycle::Product for Split<'_, C> {
-    fn mul(&mut self, a: &cycle::Op, x: &[f64], y: &mut [f64]) {
-        a.mul_rows_into(x, self.comm.rank() * self.rows.len(), self.rows);
-        self.comm.all_gather_equal_f64(self.rows, self.all);
-        y.copy_from_slice(&self.all[..y.len()]);
-    }
 }
 
 /// The fine level as the smoother sees it (flat vectors, three entries per node).

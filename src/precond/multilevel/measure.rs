@@ -225,7 +225,7 @@ impl Blocks {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::multilevel::sparse::Csr;
+    use crate::precond::multilevel::sparse::Csr;
 
     /// The rows as sparse rows, entry by entry in column order (what the measurement gave
     /// before it kept blocks): the specification `finish` must meet bit for bit.

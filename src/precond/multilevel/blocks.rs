@@ -7,8 +7,8 @@
 //! Unknowns without stiffness, and modes the block's other modes already span, are left
 //! out of the inverse (they relax to zero), like the coarsest direct solve does.
 
-use super::direct::Dense;
 use super::sparse::{Csr, Offset, RowProduct, Rows};
+use crate::precond::dense_cholesky::DenseCholesky;
 
 /// Per node, the dense inverse of its diagonal block (row-major, size b x b for a node of
 /// b unknowns).
@@ -47,7 +47,7 @@ impl BlockInverse {
                     }
                 }
             }
-            let f = Dense::new(&block, b);
+            let f = DenseCholesky::new(&block, b);
             // Column k of the inverse: the solve of unit vector k (zero for a dropped mode).
             let mut cols = vec![0.0; b * b];
             let mut e = vec![0.0; b];

@@ -9,8 +9,8 @@
 //! fill in (the full tangent's). A fixed sequence of operations on data every rank holds
 //! alike: bitwise the same on every rank.
 
+use super::elimination::{etree, reach, Columns};
 use super::sparse::Csr;
-use super::sparse_cholesky::{etree, reach, SparseCholesky};
 
 /// One supernode: columns `first..first + width` of L, then the rows below them.
 struct Supernode {
@@ -40,7 +40,7 @@ impl Supernode {
 /// The factor of `a` in the order `perm`, with `counts` entries below the diagonal in each
 /// column, a pivot at least `floor` times its diagonal entry of `a` (see
 /// `SparseCholesky::new_modified`).
-pub(super) fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> SparseCholesky {
+pub(super) fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Columns {
     let n = a.rows;
     let mut inv = vec![0usize; n];
     for (k, &i) in perm.iter().enumerate() {
@@ -221,7 +221,7 @@ fn factor_block(sn: &mut Supernode, akk: &[f64], floor: f64, scale: f64) {
 }
 
 /// The supernodes' blocks as L column by column (rows below the diagonal, increasing).
-fn columns(perm: Vec<usize>, n: usize, counts: &[usize], supers: Vec<Supernode>) -> SparseCholesky {
+fn columns(perm: Vec<usize>, n: usize, counts: &[usize], supers: Vec<Supernode>) -> Columns {
     let nnz = counts.iter().sum();
     let mut colptr = vec![0usize; n + 1];
     let mut rowidx = Vec::with_capacity(nnz);
@@ -240,14 +240,20 @@ fn columns(perm: Vec<usize>, n: usize, counts: &[usize], supers: Vec<Supernode>)
             colptr[j + 1] = rowidx.len();
         }
     }
-    SparseCholesky::from_columns(perm, colptr, rowidx, val, diag)
+    Columns {
+        perm,
+        colptr,
+        rowidx,
+        val,
+        diag,
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::sparse_cholesky::SparseCholesky;
     use super::*;
-    use crate::solver::multilevel::smoother::hash_value;
+    use crate::precond::multilevel::smoother::hash_value;
 
     /// A 3-D 7-point operator on an m^3 grid, 3 unknowns per node coupled within the node
     /// (positive definite: its smallest eigenvalue is above 6.5 - 6 - 0.2), shifted by
@@ -290,7 +296,7 @@ mod tests {
             let (a, node_ptr) = grid(9, shift);
             let (perm, counts) = SparseCholesky::analyse(&a, &node_ptr, usize::MAX).unwrap();
             let mut col = SparseCholesky::column_modified(&a, perm.clone(), &counts, 1e-2);
-            let mut sup = factor(&a, perm, &counts, 1e-2);
+            let mut sup = SparseCholesky::new_modified(&a, perm, &counts, 1e-2);
             assert_eq!(col.nnz(), sup.nnz());
             let n = a.rows;
             let b: Vec<f64> = (0..n).map(|i| hash_value(i as u64)).collect();

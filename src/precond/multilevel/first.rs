@@ -25,8 +25,8 @@ use super::cycle::{self, FirstLevel, Hierarchy, Op};
 use super::prolongator::{smooth_nodes, tentative, MODES};
 use super::smoother::Chebyshev;
 use super::sparse::{node_of, Csr, Rows};
+use super::split::Split;
 use super::triple::{triple_product_part, Picked, TRIPLE_BLOCKS};
-use super::Split;
 use crate::comm::Comm;
 use std::ops::Range;
 

@@ -18,10 +18,11 @@
 //! solves the same coarse system. Results stay bitwise identical on any number of ranks.
 
 use super::aggregates::{Aggregates, MODES};
+use super::dense_cholesky::DenseCholesky;
 use crate::comm::Comm;
 use crate::constraints::Constraints;
 use crate::math::Vec3;
-use crate::memory::{try_filled, AllocError};
+use crate::memory::AllocError;
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::HashMap;
@@ -42,7 +43,7 @@ pub struct CoarseSpace {
     /// The aggregates (offsets scaled by the cell size H) and their summation plan.
     aggregates: Aggregates,
     /// The factor of Kc, when set up.
-    factor: Option<Factor>,
+    factor: Option<DenseCholesky>,
     /// A short description for the log.
     pub summary: String,
 }
@@ -147,8 +148,8 @@ impl CoarseSpace {
                 kc[j * n + i] = s;
             }
         }
-        let f = Factor::new(kc, n)?;
-        let kept = f.kept.iter().filter(|&&k| k).count();
+        let f = DenseCholesky::try_new(&kc, n, "the coarse operator's factor")?;
+        let kept = f.num_kept();
         self.factor = Some(f);
         Ok(kept)
     }
@@ -167,7 +168,7 @@ impl CoarseSpace {
             return;
         };
         self.restrict(comm, r, work);
-        f.solve(work);
+        f.solve_term_by_term(work);
         self.aggregates.prolong_add(cons, owned, work, z);
     }
 }
@@ -180,71 +181,6 @@ fn node_body(problem: &Problem, a: usize) -> u32 {
         .iter()
         .position(|b| a >= b.first_node && a < b.first_node + b.num_nodes)
         .unwrap_or(0) as u32
-}
-
-/// Dense Cholesky factor (lower, row-major) with unknowns of no stiffness left out.
-struct Factor {
-    n: usize,
-    l: Vec<f64>,
-    kept: Vec<bool>,
-}
-
-impl Factor {
-    /// Row-oriented Cholesky: each entry is a contiguous dot product of two row prefixes.
-    /// An unknown whose pivot is lost to cancellation (a mode the earlier ones already
-    /// span) or that has no stiffness is dropped.
-    fn new(a: Vec<f64>, n: usize) -> Result<Self, AllocError> {
-        let scale = (0..n).map(|i| a[i * n + i].abs()).fold(0.0, f64::max);
-        let mut l = try_filled(0.0, n * n, "the coarse operator's factor")?;
-        let mut kept = vec![false; n];
-        for i in 0..n {
-            for j in 0..=i {
-                let (ri, rj) = (&l[i * n..i * n + j], &l[j * n..j * n + j]);
-                let dot: f64 = ri.iter().zip(rj).map(|(x, y)| x * y).sum();
-                let s = a[i * n + j] - dot;
-                if j < i {
-                    l[i * n + j] = if kept[j] { s / l[j * n + j] } else { 0.0 };
-                } else {
-                    let d = a[i * n + i];
-                    if s > 1e-10 * d && d > 1e-14 * scale {
-                        l[i * n + i] = s.sqrt();
-                        kept[i] = true;
-                    } else {
-                        l[i * n..i * n + i + 1].iter_mut().for_each(|v| *v = 0.0);
-                    }
-                }
-            }
-        }
-        Ok(Factor { n, l, kept })
-    }
-
-    /// x <- A^-1 x on the kept unknowns (zero on the others).
-    fn solve(&self, x: &mut [f64]) {
-        let n = self.n;
-        let l = &self.l;
-        for i in 0..n {
-            if !self.kept[i] {
-                x[i] = 0.0;
-                continue;
-            }
-            let mut s = x[i];
-            for j in 0..i {
-                s -= l[i * n + j] * x[j];
-            }
-            x[i] = s / l[i * n + i];
-        }
-        for i in (0..n).rev() {
-            if !self.kept[i] {
-                x[i] = 0.0;
-                continue;
-            }
-            let mut s = x[i];
-            for j in i + 1..n {
-                s -= l[j * n + i] * x[j];
-            }
-            x[i] = s / l[i * n + i];
-        }
-    }
 }
 
 /// The box around every node.
@@ -374,67 +310,4 @@ fn centres(coords: &[Vec3], agg: &[u32], na: usize) -> Vec<Vec3> {
         }
     }
     centre
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::solver::aggregates::modes;
-
-    #[test]
-    fn factor_solves_and_drops_dependent_unknowns() {
-        // A = B^T B + I on 5 unknowns, then a sixth unknown that copies the first (its row
-        // and column duplicate unknown 0, so A is singular): the factor must drop it and
-        // solve the other five exactly.
-        let n0 = 5;
-        let b: Vec<f64> = (0..25)
-            .map(|k| ((k * 7 + 3) % 11) as f64 / 11.0 - 0.4)
-            .collect();
-        let mut a = vec![0.0; 36];
-        for i in 0..n0 {
-            for j in 0..n0 {
-                let mut s = if i == j { 1.0 } else { 0.0 };
-                for k in 0..n0 {
-                    s += b[k * n0 + i] * b[k * n0 + j];
-                }
-                a[i * 6 + j] = s;
-            }
-        }
-        for j in 0..6 {
-            let v = if j == 5 { a[0] } else { a[j] };
-            a[5 * 6 + j] = v;
-            a[j * 6 + 5] = v;
-        }
-        let f = Factor::new(a.clone(), 6).unwrap();
-        assert_eq!(f.kept, vec![true, true, true, true, true, false]);
-        let x_true = [0.3, -1.2, 0.7, 2.0, -0.5, 0.0];
-        let mut x: Vec<f64> = (0..6)
-            .map(|i| (0..5).map(|j| a[i * 6 + j] * x_true[j]).sum())
-            .collect();
-        f.solve(&mut x);
-        // The system's condition number is below 100, so the solution is exact to about
-        // 100 eps relative.
-        for i in 0..6 {
-            assert!(
-                (x[i] - x_true[i]).abs() < 1e-13,
-                "{i}: {} vs {}",
-                x[i],
-                x_true[i]
-            );
-        }
-    }
-
-    #[test]
-    fn rotation_modes_are_rigid() {
-        // The rotation modes are omega x d: orthogonal to d, the same length as d's part
-        // normal to the axis.
-        let d = [0.3, -0.7, 1.1];
-        for (m, axis) in [(3usize, 0usize), (4, 1), (5, 2)] {
-            let v = modes(&d)[m];
-            assert!(crate::math::dot(&v, &d).abs() < 1e-16);
-            assert_eq!(v[axis], 0.0);
-            let normal: f64 = (0..3).filter(|&i| i != axis).map(|i| d[i] * d[i]).sum();
-            assert!((crate::math::dot(&v, &v) - normal).abs() < 1e-15);
-        }
-    }
 }

@@ -191,3 +191,22 @@ impl Aggregates {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_modes_are_rigid() {
+        // The rotation modes are omega x d: orthogonal to d, the same length as d's part
+        // normal to the axis.
+        let d = [0.3, -0.7, 1.1];
+        for (m, axis) in [(3usize, 0usize), (4, 1), (5, 2)] {
+            let v = modes(&d)[m];
+            assert!(crate::math::dot(&v, &d).abs() < 1e-16);
+            assert_eq!(v[axis], 0.0);
+            let normal: f64 = (0..3).filter(|&i| i != axis).map(|i| d[i] * d[i]).sum();
+            assert!((crate::math::dot(&v, &v) - normal).abs() < 1e-15);
+        }
+    }
+}

@@ -10,7 +10,7 @@ use crate::comm::Comm;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
-use crate::solver::aggregates::Aggregates;
+use crate::precond::aggregates::Aggregates;
 
 /// Mesh neighbours farther apart than this times the shortest distance from either to a
 /// neighbour are weakly coupled and not aggregated together (Graph::strong). Measured on

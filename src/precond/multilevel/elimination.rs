@@ -1,0 +1,73 @@
+//! The elimination tree and the row patterns of a sparse Cholesky factor, and the factor's
+//! columns as both factorisations (`sparse_cholesky`, column by column, and `supernodal`)
+//! produce them.
+
+use super::sparse::Csr;
+
+/// L column by column (rows below the diagonal, in increasing order), its diagonal, and the
+/// permutation (`perm[k]` is the unknown eliminated k-th).
+pub struct Columns {
+    pub perm: Vec<usize>,
+    pub colptr: Vec<usize>,
+    pub rowidx: Vec<u32>,
+    pub val: Vec<f64>,
+    /// The diagonal of L; 0 for an unknown left out.
+    pub diag: Vec<f64>,
+}
+
+/// The elimination tree of P A P^T (parent of each column, usize::MAX at a root), by
+/// Liu's algorithm with path compression.
+pub(super) fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
+    let n = a.rows;
+    let mut parent = vec![usize::MAX; n];
+    let mut ancestor = vec![usize::MAX; n];
+    for k in 0..n {
+        for &q in a.row(perm[k]).0 {
+            let mut i = inv[q as usize];
+            while i < k {
+                let next = ancestor[i];
+                ancestor[i] = k;
+                if next == usize::MAX {
+                    parent[i] = k;
+                    break;
+                }
+                i = next;
+            }
+        }
+    }
+    parent
+}
+
+/// The columns j < k of row k of L in topological order (each column before the columns
+/// its updates reach): the union of the tree paths from the entries of A's row k to k.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn reach(
+    a: &Csr,
+    perm: &[usize],
+    inv: &[usize],
+    parent: &[usize],
+    k: usize,
+    flag: &mut [usize],
+    stack: &mut Vec<usize>,
+    pattern: &mut Vec<usize>,
+) {
+    pattern.clear();
+    flag[k] = k;
+    for &q in a.row(perm[k]).0 {
+        let mut i = inv[q as usize];
+        if i > k {
+            continue;
+        }
+        stack.clear();
+        while flag[i] != k {
+            stack.push(i);
+            flag[i] = k;
+            i = parent[i];
+        }
+        // The path from the entry up to the first column already in the pattern, pushed
+        // so the column nearest the leaf comes first once reversed below.
+        pattern.extend(stack.iter().rev());
+    }
+    // Paths were appended root-side first; a column must come before its ancestors.
+    pattern.sort_unstable();
+}
