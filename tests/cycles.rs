@@ -369,48 +369,6 @@ fn crate_roots(repo: &Path) -> Vec<PathBuf> {
     roots
 }
 
-/// The solver crate's modules that still hold circles among their own files: mostly a
-/// `mod.rs` that re-exports or matches over its children, which use its types. None may
-/// cross two modules, none may appear anywhere else, and there are at most
-/// `SRC_CIRCLES` of them: opening one lowers the number.
-const SRC_MODULES_WITH_CIRCLES: &[&str] = &[];
-const SRC_CIRCLES: usize = 0;
-
-/// The top-level module of the solver crate a file belongs to (`None` outside `src/`).
-fn src_module(rel: &str) -> Option<&str> {
-    let rest = rel.strip_prefix("src/")?;
-    let first = rest.split('/').next()?;
-    Some(first.strip_suffix(".rs").unwrap_or(first))
-}
-
-/// The circles the rules above do not allow, as text.
-fn not_allowed(circles: &[Vec<String>]) -> Vec<String> {
-    let mut bad = Vec::new();
-    let mut in_src = 0;
-    for c in circles {
-        let modules: BTreeSet<Option<&str>> = c.iter().map(|f| src_module(f)).collect();
-        let allowed = match modules.iter().collect::<Vec<_>>()[..] {
-            [Some(m)] => SRC_MODULES_WITH_CIRCLES.contains(m),
-            _ => false,
-        };
-        if allowed {
-            in_src += 1;
-        } else {
-            bad.push(c.join(" <-> "));
-        }
-    }
-    if in_src > SRC_CIRCLES {
-        bad.push(format!(
-            "{in_src} circles inside the solver crate's modules, more than {SRC_CIRCLES}"
-        ));
-    } else if in_src < SRC_CIRCLES {
-        bad.push(format!(
-            "only {in_src} circles inside the solver crate's modules: lower SRC_CIRCLES to it"
-        ));
-    }
-    bad
-}
-
 /// The circles among the files of the crates rooted at `roots`, each as paths relative to
 /// `repo`, with the number of files and arrows.
 fn circles_of(repo: &Path, roots: &[PathBuf]) -> (Vec<Vec<String>>, usize, usize) {
@@ -444,7 +402,7 @@ fn no_files_import_each_other_around_a_circle() {
         println!("  {}", c.join(" <-> "));
     }
     assert!(files > 200, "the module trees hold only {files} files");
-    let bad = not_allowed(&found);
+    let bad: Vec<String> = found.iter().map(|c| c.join(" <-> ")).collect();
     assert!(
         bad.is_empty(),
         "files importing each other around a circle (docs/layout.md):\n{}",
