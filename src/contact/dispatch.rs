@@ -1,21 +1,21 @@
 //! `ContactState` as the stepper's `Enforcement`: each step of the interface runs the
 //! contact set's shared part (release of tensile nodes, Coulomb's law, the rows, the forces
-//! read back: state.rs, coulomb.rs, slip.rs) and each discretisation's part, pair by pair:
-//! node-to-face (node_face/) and mortar (mortar/enforce.rs). The state is made whole on
-//! every rank after each change.
+//! read back: state.rs, coulomb.rs, slip.rs) and each discretisation's part, through its
+//! `PairKind` (discretisation.rs; node_face/, mortar/). The state is made whole on every
+//! rank after each change.
 
 use super::active::{ContactCounts, ContactState, Mode};
 use super::audit::{self, Finding};
+use super::discretisation::Geometry;
 use super::enforcement::{Enforcement, SetEntry, TieSupport};
 use super::ghost;
 use super::mortar::surfaces::Positions;
-use super::node_face;
 use super::project::tangents;
 use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, RowKind, RowSpec};
 use crate::math::{add, scale, sub, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::{Discretization, Problem};
+use crate::problem::Problem;
 use crate::springs::Spring;
 
 impl Enforcement for ContactState {
@@ -155,13 +155,11 @@ impl Enforcement for ContactState {
         u: &[Vec3],
         slide: bool,
     ) -> bool {
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
-        if slide {
-            self.slide_to(problem, mesh, u, &surfaces);
+        let geometry = self.geometry(comm, problem, mesh, (u, u));
+        let mut changed = false;
+        for kind in super::kinds() {
+            changed |= kind.capture(self, problem, mesh, u, &geometry, slide);
         }
-        let mut changed = self.capture_node_face(problem, mesh, u, &surfaces);
-        let positions = self.mortar_positions(comm, problem, mesh, (u, u));
-        changed |= self.mortar_pairs(problem, mesh, positions.as_ref(), false);
         self.share(comm, mesh);
         comm::any(comm, changed)
     }
@@ -183,12 +181,11 @@ impl Enforcement for ContactState {
         force_tol: f64,
     ) -> bool {
         let mut changed = self.release_tensile(problem, force_tol);
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, start);
-        let positions = self.mortar_positions(comm, problem, mesh, (u, start));
-        let pos = positions.as_ref();
-        changed |= self.coulomb(problem, mesh, (u, start), (&surfaces, pos), force_tol);
-        changed |= self.search(problem, mesh, u, &surfaces);
-        changed |= self.mortar_pairs(problem, mesh, pos, true);
+        let geometry = self.geometry(comm, problem, mesh, (u, start));
+        changed |= self.coulomb(problem, mesh, (u, start), &geometry, force_tol);
+        for kind in super::kinds() {
+            changed |= kind.search(self, problem, mesh, u, &geometry);
+        }
         self.share(comm, mesh);
         let changed = comm::any(comm, changed);
         self.steady = !changed;
@@ -209,24 +206,10 @@ impl Enforcement for ContactState {
         mesh: &LocalMesh,
         u: &[Vec3],
     ) -> Vec<(u32, f64)> {
-        let surfaces = ghost::surfaces(comm, problem, mesh, u, u);
+        let geometry = self.geometry(comm, problem, mesh, (u, u));
         let mut out = Vec::new();
-        let positions = self.mortar_positions(comm, problem, mesh, (u, u));
         for (p, pair) in problem.contacts.iter().enumerate() {
-            if let Some(pos) = &positions {
-                if pair.discretization == Discretization::Mortar {
-                    out.extend(pos.ties(problem, p, mesh).iter().map(|t| (t.slave, t.gap)));
-                    continue;
-                }
-            }
-            for &s in &pair.slave_nodes {
-                let Some(l) = mesh.owned_node(s) else {
-                    continue;
-                };
-                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
-                    out.push((s, it.gap));
-                }
-            }
+            super::kind(pair.discretization).gaps(problem, mesh, u, p, &geometry, &mut out);
         }
         out
     }
@@ -306,7 +289,7 @@ impl Enforcement for ContactState {
         let mut tied: Vec<(u32, usize)> = self
             .active
             .iter()
-            .filter(|a| problem.contacts[a.pair].discretization == Discretization::Mortar)
+            .filter(|a| super::kind(problem.contacts[a.pair].discretization).audit_tied())
             .map(|a| (a.slave, a.pair))
             .collect();
         tied.sort_unstable();
@@ -321,15 +304,16 @@ impl Enforcement for ContactState {
         u: &[Vec3],
         findings: &[Finding],
     ) {
-        let (mortar, node_face): (Vec<Finding>, Vec<Finding>) = findings
-            .iter()
-            .partition(|f| problem.contacts[f.pair].discretization == Discretization::Mortar);
-        node_face::recapture(self, problem, &node_face);
-        // Every rank holds the same findings, so every rank takes this branch alike.
-        if !mortar.is_empty() {
-            let positions = Positions::gather(comm, problem, mesh, u, u);
-            self.mortar_recapture(problem, mesh, &positions, &mortar);
-            self.share(comm, mesh);
+        let positions = || Positions::gather(comm, problem, mesh, u, u);
+        for kind in super::kinds() {
+            let mine: Vec<Finding> = findings
+                .iter()
+                .filter(|f| problem.contacts[f.pair].discretization == kind.discretization())
+                .copied()
+                .collect();
+            if kind.recapture(self, problem, mesh, &positions, &mine) {
+                self.share(comm, mesh);
+            }
         }
     }
 
@@ -365,5 +349,22 @@ impl Enforcement for ContactState {
             );
         }
         out + &format!("  released {:?}", self.released())
+    }
+}
+
+impl ContactState {
+    /// The master surfaces of every kind at (current, step-start) displacements: the
+    /// ghosted faces of every pair and the mortar pairs' gathered surfaces. Collective.
+    fn geometry<'p, C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        problem: &'p Problem,
+        mesh: &LocalMesh,
+        (u, start): (&[Vec3], &[Vec3]),
+    ) -> Geometry<'p> {
+        Geometry {
+            surfaces: ghost::surfaces(comm, problem, mesh, u, start),
+            positions: self.mortar_positions(comm, problem, mesh, (u, start)),
+        }
     }
 }

@@ -9,6 +9,7 @@ pub mod area;
 pub mod audit;
 mod codec;
 pub mod coulomb;
+pub mod discretisation;
 mod dispatch;
 pub mod enforcement;
 pub mod ghost;
@@ -21,3 +22,23 @@ pub mod state;
 
 pub use crate::problem::ContactPair;
 pub use enforcement::Enforcement;
+
+use crate::problem::Discretization;
+use discretisation::PairKind;
+
+/// The contact discretisations, one line each, in the order their passes run over the
+/// contact set (node-to-face's before mortar's).
+static KINDS: &[&dyn PairKind] = &[&node_face::NodeFace, &mortar::Mortar];
+
+/// Every registered discretisation.
+fn kinds() -> &'static [&'static dyn PairKind] {
+    KINDS
+}
+
+/// The registered kind of a pair's discretisation.
+fn kind(d: Discretization) -> &'static dyn PairKind {
+    *KINDS
+        .iter()
+        .find(|k| k.discretization() == d)
+        .expect("every discretisation is registered in contact::KINDS")
+}

@@ -6,17 +6,16 @@
 //! constraints and their master points are here too.
 
 use super::active::{Active, ContactState, Mode};
-use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, step_slip, tensile};
-use super::mortar::slip::{mortar_driven_slip, mortar_step_slip};
-use super::mortar::surfaces::Positions;
+use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, tensile};
+use super::discretisation::Geometry;
 use super::mortar::Tie;
 use super::project::tangents;
-use super::slip::{driven_slip, SLIP_NOISE};
+use super::slip::SLIP_NOISE;
 use crate::comm::{message, Comm};
 use crate::constraints::{Row, RowKind, RowSpec};
 use crate::math::{dot, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::problem::{Discretization, Problem};
+use crate::problem::Problem;
 use std::collections::HashSet;
 
 /// Slipping nodes' friction forces count as settled once each is within this fraction of
@@ -30,21 +29,10 @@ impl ContactState {
     }
 
     /// The master nodes and weights of an active constraint's master point: the face's
-    /// shape functions at the contact point (node-to-face) or the tie's weights (mortar).
+    /// shape functions at the contact point (node-to-face) or the tie's weights (mortar):
+    /// its pair's kind's.
     pub fn masters(&self, problem: &Problem, a: &Active) -> Vec<(u32, f64)> {
-        let pair = &problem.contacts[a.pair];
-        if pair.discretization == Discretization::Mortar {
-            return self
-                .tie(a.slave, a.pair)
-                .map(|t| t.masters.clone())
-                .unwrap_or_default();
-        }
-        let w = crate::fem::face::shape(a.s[0], a.s[1]);
-        pair.face_nodes[a.face as usize]
-            .iter()
-            .copied()
-            .zip(w)
-            .collect()
+        super::kind(problem.contacts[a.pair].discretization).masters(self, problem, a)
     }
 
     /// The normal rows (`tangents_pass` false) or the stick rows (true) of `rows`.
@@ -137,14 +125,13 @@ impl ContactState {
 
     /// Coulomb's law for every constraint after a model problem: stick, onset of slip,
     /// driven slip, the reversal of slip, and the friction direction of a slipping node.
-    /// The master points are those of the ghosted `surfaces` (node-to-face) or of the
-    /// gathered `positions` (mortar). Returns whether a constraint changed mode.
+    /// The master points are those of each pair's kind in `geometry`. Returns whether a constraint changed mode.
     pub(super) fn coulomb(
         &mut self,
         problem: &Problem,
         mesh: &LocalMesh,
         (u, start): (&[Vec3], &[Vec3]),
-        (surfaces, positions): (&[super::search::MasterSurface], Option<&Positions>),
+        geometry: &Geometry<'_>,
         force_tol: f64,
     ) -> bool {
         // Coulomb: stick while the tangential force is within mu |f_n|, else slip; a slipping
@@ -162,20 +149,19 @@ impl ContactState {
             .any(|a| a.mode == Mode::Stick && exceeds(a, problem.contacts[a.pair].mu, force_tol));
         let judge_reversal = slipping_settled && !onset;
         // The step's slip and the slip prescribed motion drives, of each node (on the rank
-        // that owns it): along a master face's point, or a mortar tie's master point.
-        let noise = |a: &Active| SLIP_NOISE * problem.contacts[a.pair].face_size;
+        // that owns it), as its pair's kind measures it at its master point.
         let slips: Vec<(Option<Vec3>, Option<Vec3>)> = self
             .active
             .iter()
-            .map(|a| match (a.mode, self.tie(a.slave, a.pair), positions) {
-                (Mode::Free, _, _) => (None, None),
-                (_, Some(t), Some(pos)) => (
-                    mortar_step_slip(a, t, mesh, pos),
-                    mortar_driven_slip(a, t, mesh, pos, noise(a)),
-                ),
-                _ => (
-                    step_slip(a, mesh, u, start, &surfaces[a.pair]),
-                    driven_slip(&surfaces[a.pair], problem, mesh, u, a),
+            .map(|a| match a.mode {
+                Mode::Free => (None, None),
+                _ => super::kind(problem.contacts[a.pair].discretization).slips(
+                    self,
+                    problem,
+                    mesh,
+                    (u, start),
+                    geometry,
+                    a,
                 ),
             })
             .collect();
@@ -225,10 +211,9 @@ impl ContactState {
                 resticks.push(k);
             }
         }
-        if let Some(pos) = positions {
-            for k in resticks {
-                self.restick_mortar(k, mesh, pos);
-            }
+        for k in resticks {
+            let kind = super::kind(problem.contacts[self.active[k].pair].discretization);
+            kind.restick(self, k, mesh, geometry);
         }
         changed
     }

@@ -13,6 +13,20 @@ pub enum Discretization {
     Mortar,
 }
 
+impl Discretization {
+    /// Every discretisation with its scene key (`contacts.NAME.discretization`), the
+    /// default first.
+    pub const KEYS: [(&'static str, Discretization); 2] = [
+        ("node_face", Discretization::NodeFace),
+        ("mortar", Discretization::Mortar),
+    ];
+
+    /// The discretisation a scene key names.
+    pub fn from_key(key: &str) -> Option<Discretization> {
+        Self::KEYS.iter().find(|(k, _)| *k == key).map(|(_, d)| *d)
+    }
+}
+
 /// A validated contact pair.
 #[derive(Clone, Debug)]
 pub struct ContactPair {

@@ -15,7 +15,7 @@ fn tangential(a: &Active, d: &Vec3) -> Vec3 {
 
 /// The slip since the start of the step of a mortar node relative to its master point
 /// (the tie's weights applied to the step's master motion), on the rank that owns it.
-pub(in crate::contact) fn mortar_step_slip(
+pub(super) fn mortar_step_slip(
     a: &Active,
     t: &Tie,
     mesh: &LocalMesh,
@@ -29,7 +29,7 @@ pub(in crate::contact) fn mortar_step_slip(
 
 /// How far a sticking mortar node sits from where its tie holds it along the master,
 /// when more than `noise` (see `driven_slip`), on the rank that owns it.
-pub(in crate::contact) fn mortar_driven_slip(
+pub(super) fn mortar_driven_slip(
     a: &Active,
     t: &Tie,
     mesh: &LocalMesh,

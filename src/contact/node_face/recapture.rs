@@ -9,11 +9,7 @@ use crate::problem::Problem;
 /// nearest master face (an active constraint on another face moves there), sticking where
 /// the pair has friction. Every rank holds the same findings and the same active set, so
 /// every rank changes it alike.
-pub(in crate::contact) fn recapture(
-    state: &mut ContactState,
-    problem: &Problem,
-    findings: &[Finding],
-) {
+pub(super) fn recapture(state: &mut ContactState, problem: &Problem, findings: &[Finding]) {
     for f in findings {
         let it = &f.interaction;
         if let Some(a) = state

@@ -93,22 +93,26 @@ impl Builder {
 
     /// How the pair's constraints are formed: node-to-face (default) or mortar.
     fn discretization(&self, key: &str, c: &ContactDef) -> Result<Discretization, SceneError> {
-        match c.discretization.as_deref() {
-            None | Some("node_face") => Ok(Discretization::NodeFace),
-            Some("mortar") => {
-                if c.smoothing_width.is_some() {
-                    return Err(self.err(
-                        format!("{key}.smoothing_width"),
-                        "normal smoothing is for node_face contact; a mortar pair's normals are the slave surface's averaged nodal normals, which are already continuous",
-                    ));
-                }
-                Ok(Discretization::Mortar)
-            }
-            Some(other) => Err(self.err(
-                format!("{key}.discretization"),
-                format!("expected \"node_face\" or \"mortar\", got \"{other}\""),
-            )),
+        let d = match c.discretization.as_deref() {
+            None => Discretization::default(),
+            Some(name) => Discretization::from_key(name).ok_or_else(|| {
+                let keys: Vec<String> = Discretization::KEYS
+                    .iter()
+                    .map(|(k, _)| format!("\"{k}\""))
+                    .collect();
+                self.err(
+                    format!("{key}.discretization"),
+                    format!("expected {}, got \"{name}\"", keys.join(" or ")),
+                )
+            })?,
+        };
+        if d == Discretization::Mortar && c.smoothing_width.is_some() {
+            return Err(self.err(
+                format!("{key}.smoothing_width"),
+                "normal smoothing is for node_face contact; a mortar pair's normals are the slave surface's averaged nodal normals, which are already continuous",
+            ));
         }
+        Ok(d)
     }
 
     /// Coulomb's coefficient: 0 when frictionless.
