@@ -139,6 +139,7 @@ mod tests {
             friction: false,
             nonlinear: false,
             tangent: false,
+            plastic_point_elements: 0,
         };
         let one = estimate(&c, 1).per_rank();
         assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());

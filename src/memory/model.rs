@@ -34,6 +34,10 @@ pub struct Counts {
     pub nonlinear: bool,
     /// The full tangent preconditioner will be used: its factor on every rank.
     pub tangent: bool,
+    /// Elements of small-kinematics plastic bodies integrated at Gauss points: each may
+    /// hold its elastic matrix (`Assembly::mark_elastic`) where the full tangent is built
+    /// or friction couples a nonlinear body's model problem.
+    pub plastic_point_elements: u64,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -66,6 +70,9 @@ const LOCAL_PER_ELEMENT: f64 = 41.0 + 8.0 + 48.0;
 const SHAPE_PER_ELEMENT: f64 = 304.0;
 /// Gauss-point gradients of a fully integrated element shape (`GaussGeometry`).
 const GAUSS_PER_ELEMENT: f64 = 1600.0;
+/// An elastic element matrix (24 x 24, boxed) and its slot (`ElasticMatrices`), and the
+/// element's two marks.
+const ELASTIC_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0 + 2.0;
 /// The rank's nodes: coordinates, global id, owner (32); the CG vectors (7 x 24) and the
 /// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
@@ -175,8 +182,14 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     } else {
         (c.full_elements as f64 / e, c.shaped_elements as f64 / e)
     };
-    let per_element =
-        LOCAL_PER_ELEMENT + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT);
+    let matrix_share = if c.elements == 0 || !(c.tangent || (c.friction && c.nonlinear)) {
+        0.0
+    } else {
+        c.plastic_point_elements as f64 / e
+    };
+    let per_element = LOCAL_PER_ELEMENT
+        + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT)
+        + matrix_share * ELASTIC_MATRIX_PER_ELEMENT;
     let per_node = LOCAL_PER_NODE
         + if c.friction { FRICTION_PER_NODE } else { 0.0 }
         + if c.nonlinear { NONLINEAR_PER_NODE } else { 0.0 };

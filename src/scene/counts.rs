@@ -115,6 +115,12 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         if !shared {
             counts.shaped_elements = counts.shaped_elements.saturating_add(e);
         }
+        if material.is_plastic()
+            && b.integration == Integration::Full
+            && raw.kinematics == Kinematics::Small
+        {
+            counts.plastic_point_elements = counts.plastic_point_elements.saturating_add(e);
+        }
         plastic |= material.is_plastic();
         counts.nonlinear |= !material.is_linear() || raw.kinematics != Kinematics::Small;
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
@@ -183,6 +189,17 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             friction: p.contacts.iter().any(|c| c.mu > 0.0),
             nonlinear: !crate::problem::linear_models(&p.body_models)
                 || (p.kinematics == Kinematics::Large && !p.pressures.is_empty()),
+            plastic_point_elements: m
+                .bodies
+                .iter()
+                .zip(&p.body_models)
+                .filter(|(_, model)| {
+                    model.material.is_plastic()
+                        && !model.material.is_large()
+                        && !matches!(model.formulation, Formulation::Mean { .. })
+                })
+                .map(|(b, _)| b.num_elements as u64)
+                .sum(),
         },
         preconditioner: pre,
         plastic,

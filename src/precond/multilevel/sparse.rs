@@ -27,9 +27,29 @@ pub struct Csr {
 impl Csr {
     /// Builds a matrix from (row, column, value) triplets; duplicates are summed in the
     /// order given.
-    pub fn from_triplets(rows: usize, cols: usize, mut t: Vec<(u32, u32, f64)>) -> Self {
-        // A stable sort keeps duplicates in the order given, so their sum is fixed.
-        t.sort_by_key(|&(i, j, _)| (i, j));
+    pub fn from_triplets(rows: usize, cols: usize, t: Vec<(u32, u32, f64)>) -> Self {
+        // Ordered as a stable sort by (row, column) orders them, which keeps duplicates in
+        // the order given, so their sum is fixed: a stable bucketing by row (linear time),
+        // then a stable sort of each row by column.
+        let mut start = vec![0usize; rows + 1];
+        for &(i, _, _) in &t {
+            start[i as usize + 1] += 1;
+        }
+        for i in 0..rows {
+            start[i + 1] += start[i];
+        }
+        let mut next = start.clone();
+        let mut sorted = vec![(0u32, 0u32, 0.0f64); t.len()];
+        for e in t {
+            let k = &mut next[e.0 as usize];
+            sorted[*k] = e;
+            *k += 1;
+        }
+        drop(next);
+        for i in 0..rows {
+            sorted[start[i]..start[i + 1]].sort_by_key(|&(_, j, _)| j);
+        }
+        let t = sorted;
         let mut ptr = vec![0usize; rows + 1];
         let mut idx = Vec::with_capacity(t.len());
         let mut val: Vec<f64> = Vec::with_capacity(t.len());

@@ -28,6 +28,7 @@ use super::model::{agree, agree_alloc, max_abs, residual, CgSettings, ModelOutco
 use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
+use crate::solver::assembly::Elastic;
 
 /// The friction forces `scale_k * mu_k * dir_k` of the links added to `f` (slave +, master
 /// nodes -w), in the order of the links.
@@ -136,6 +137,19 @@ impl Cg {
             self.coupled.res.copy_from_slice(&self.r);
             // Nonlinear bodies: the operator is linearised here from now on (Newton).
             self.coupled.base.copy_from_slice(u);
+            if !pb.asm.linear {
+                let w = &mut self.coupled;
+                let marked = pb.asm.mark_elastic(u, &mut self.elastic, &mut w.marks);
+                w.marked = comm::sum_u64(pb.comm, marked as u64);
+                if w.marked > 0 {
+                    w.base_force.resize(u.len(), [0.0; 3]);
+                    let elastic = Elastic {
+                        matrices: &self.elastic,
+                        marks: &w.marks,
+                    };
+                    agree(pb.comm, pb.asm.kernel_force(u, elastic, &mut w.base_force))?;
+                }
+            }
         }
         Ok(pb.measure(&self.r, &self.fi, &self.fe))
     }
@@ -163,20 +177,41 @@ impl Cg {
             agree(comm, pb.asm.internal_force(&self.pu, out))?;
             crate::springs::add_action(pb.springs, &self.pu, out);
         } else {
-            // The tangent at the linearisation point by a finite difference of the
-            // internal forces (with the springs'; the loads do not follow the body).
+            // The tangent at the linearisation point by a forward difference of the
+            // internal forces of the elements that are not elastic there, the elastic
+            // matrices' product for those that are, and the springs' K p (they are
+            // linear; the loads do not follow the body).
             let pmax = max_abs(comm, &self.pu, pb.owned()).max(f64::MIN_POSITIVE);
             let eps = 1e-7 * s.length_scale / pmax;
-            for a in 0..self.pu.len() {
-                for i in 0..3 {
-                    self.trial[a][i] = work.base[a][i] + eps * self.pu[a][i];
+            if work.marked == 0 {
+                // No element elastic at the linearisation point on any rank: the forward
+                // difference of the whole force.
+                for a in 0..self.pu.len() {
+                    for i in 0..3 {
+                        self.trial[a][i] = work.base[a][i] + eps * self.pu[a][i];
+                    }
                 }
-            }
-            pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
-            for a in 0..self.pu.len() {
-                for i in 0..3 {
-                    out[a][i] = (self.fi_trial[a][i] - self.fi[a][i]) / eps;
+                pb.forces(&self.trial, &mut self.fi_trial, &mut self.fe_trial)?;
+                for a in 0..self.pu.len() {
+                    for i in 0..3 {
+                        out[a][i] = (self.fi_trial[a][i] - self.fi[a][i]) / eps;
+                    }
                 }
+            } else {
+                let elastic = Elastic {
+                    matrices: &self.elastic,
+                    marks: &work.marks,
+                };
+                let r = pb.asm.forward_difference(
+                    &work.base,
+                    &self.pu,
+                    eps,
+                    &work.base_force,
+                    elastic,
+                    out,
+                );
+                agree(comm, r)?;
+                crate::springs::add_action(pb.springs, &self.pu, out);
             }
         }
         self.q.copy_from_slice(out);

@@ -66,6 +66,12 @@ pub(super) struct Work {
     /// and that residual's norm.
     pub(super) base: Vec<Vec3>,
     pub(super) base_rnorm: f64,
+    /// Nonlinear bodies: the elements elastic at `base` (`Assembly::mark_elastic`) and the
+    /// internal force there of the others (`Assembly::kernel_force`); how many are marked
+    /// on all ranks (none: the forward difference of the whole force, as for other bodies).
+    pub(super) marks: Vec<bool>,
+    pub(super) marked: u64,
+    pub(super) base_force: Vec<Vec3>,
 }
 
 impl Work {

@@ -33,6 +33,7 @@ macro_rules! fine_op {
             fe_trial: &mut $cg.fe_trial,
             nonzero: &mut $cg.nonzero,
             central: false,
+            elastic: None,
         }
     };
 }

@@ -10,6 +10,7 @@ use crate::comm::Comm;
 use crate::math::Vec3;
 use crate::precond::jacobi;
 use crate::precond::multilevel::FineOperator;
+use crate::solver::assembly::Elastic;
 
 impl Cg {
     /// Block Jacobi is not enough here: from now on the multilevel preconditioner.
@@ -105,6 +106,9 @@ pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     /// responses over the probes; the central one averages the two branches symmetrically
     /// (what the full tangent's factor needs: docs/plasticity-solve.md).
     pub(super) central: bool,
+    /// Elements whose central difference is their elastic matrix's product (marked at
+    /// this state; the full tangent's probes only).
+    pub(super) elastic: Option<Elastic<'b>>,
 }
 
 impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
@@ -121,7 +125,7 @@ impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
         let pb = self.pb;
         let r = pb
             .asm
-            .internal_force_difference(self.u, x, eps, y, self.nonzero);
+            .internal_force_difference(self.u, x, eps, y, self.nonzero, self.elastic);
         agree(pb.comm, r)?;
         crate::springs::add_action(pb.springs, x, y);
         if pb.loads.is_follower() {

@@ -8,6 +8,7 @@ use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
+use crate::solver::assembly::Elastic;
 
 impl Cg {
     /// Measures and factors the coarse operator Q^T A Q when it is out of date: one
@@ -279,8 +280,18 @@ impl Cg {
         self.tangent_increment = false;
         let start = std::time::Instant::now();
         self.tangent = None;
+        let marked = if linear {
+            0
+        } else {
+            pb.asm
+                .mark_elastic(u, &mut self.elastic, &mut self.tangent_marks)
+        };
         let mut op = fine_op!(self, pb, u, linear, s);
         op.central = true;
+        op.elastic = Some(Elastic {
+            matrices: &self.elastic,
+            marks: &self.tangent_marks,
+        });
         let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
             Ok(t) => t,
             Err(limit) => {
@@ -298,7 +309,7 @@ impl Cg {
             self.tangent_builds_here + 1
         };
         let note = format!(
-            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3}, order {:.3}, factor {:.3})",
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3} ({marked} local elements elastic), order {:.3}, factor {:.3})",
             t.unknowns,
             t.nnz,
             self.tangent_builds,

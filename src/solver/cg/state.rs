@@ -13,6 +13,7 @@ use crate::math::{Mat3, Vec3};
 use crate::memory::{try_filled, AllocError};
 use crate::precond::coarse::CoarseSpace;
 use crate::precond::multilevel::Multilevel;
+use crate::solver::assembly::ElasticMatrices;
 
 /// Buffers for the model solve, allocated once per run.
 pub struct Cg {
@@ -63,6 +64,12 @@ pub struct Cg {
     pub(super) tangent: Option<FullTangent>,
     /// The full tangent's order, kept while its pattern does not change.
     pub(super) tangent_order: Option<Order>,
+    /// The elastic matrices that stand in for an element's finite difference where it
+    /// responds elastically (`Assembly::mark_elastic`): in the full tangent's probes
+    /// (marked at the build's state, `tangent_marks`) and in the friction-coupled
+    /// operator (marked at its linearisation point, `Work::marks`).
+    pub(super) elastic: ElasticMatrices,
+    pub(super) tangent_marks: Vec<bool>,
     pub(super) tangent_builds: usize,
     /// Builds in the current model problem.
     pub(super) tangent_builds_here: usize,
@@ -118,6 +125,8 @@ impl Cg {
             use_tangent: false,
             tangent: None,
             tangent_order: None,
+            elastic: ElasticMatrices::default(),
+            tangent_marks: Vec::new(),
             tangent_builds: 0,
             tangent_builds_here: 0,
             tangent_increment: true,

@@ -222,6 +222,7 @@ mod tests {
             friction: false,
             nonlinear: false,
             tangent: false,
+            plastic_point_elements: 0,
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2, Precond::TwoLevel).unwrap();
