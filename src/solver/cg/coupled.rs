@@ -137,19 +137,8 @@ impl Cg {
             self.coupled.res.copy_from_slice(&self.r);
             // Nonlinear bodies: the operator is linearised here from now on (Newton).
             self.coupled.base.copy_from_slice(u);
-            if !pb.asm.linear {
-                let w = &mut self.coupled;
-                let marked = pb.asm.mark_elastic(u, &mut self.elastic, &mut w.marks);
-                w.marked = comm::sum_u64(pb.comm, marked as u64);
-                if w.marked > 0 {
-                    w.base_force.resize(u.len(), [0.0; 3]);
-                    let elastic = Elastic {
-                        matrices: &self.elastic,
-                        marks: &w.marks,
-                    };
-                    agree(pb.comm, pb.asm.kernel_force(u, elastic, &mut w.base_force))?;
-                }
-            }
+            // Its elastic elements are marked when the operator is first applied there.
+            self.coupled.marked = None;
         }
         Ok(pb.measure(&self.r, &self.fi, &self.fe))
     }
@@ -183,7 +172,29 @@ impl Cg {
             // linear; the loads do not follow the body).
             let pmax = max_abs(comm, &self.pu, pb.owned()).max(f64::MIN_POSITIVE);
             let eps = 1e-7 * s.length_scale / pmax;
-            if work.marked == 0 {
+            let marked = match work.marked {
+                Some(m) => m,
+                None => {
+                    let m = pb
+                        .asm
+                        .mark_elastic(&work.base, &mut self.elastic, &mut work.marks);
+                    let m = comm::sum_u64(comm, m as u64);
+                    if m > 0 {
+                        work.base_force.resize(work.base.len(), [0.0; 3]);
+                        let elastic = Elastic {
+                            matrices: &self.elastic,
+                            marks: &work.marks,
+                        };
+                        let r = pb
+                            .asm
+                            .kernel_force(&work.base, elastic, &mut work.base_force);
+                        agree(comm, r)?;
+                    }
+                    work.marked = Some(m);
+                    m
+                }
+            };
+            if marked == 0 {
                 // No element elastic at the linearisation point on any rank: the forward
                 // difference of the whole force.
                 for a in 0..self.pu.len() {

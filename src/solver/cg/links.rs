@@ -68,9 +68,10 @@ pub(super) struct Work {
     pub(super) base_rnorm: f64,
     /// Nonlinear bodies: the elements elastic at `base` (`Assembly::mark_elastic`) and the
     /// internal force there of the others (`Assembly::kernel_force`); how many are marked
-    /// on all ranks (none: the forward difference of the whole force, as for other bodies).
+    /// on all ranks (none: the forward difference of the whole force, as for other
+    /// bodies), None until the operator is first applied at `base`.
     pub(super) marks: Vec<bool>,
-    pub(super) marked: u64,
+    pub(super) marked: Option<u64>,
     pub(super) base_force: Vec<Vec3>,
 }
 
