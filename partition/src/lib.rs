@@ -213,7 +213,10 @@ pub fn partition_elements(
 /// Node owner: lowest part among the node's elements; orphans -> 0.
 fn node_owners(num_nodes: usize, elements: &dyn Cells, element_part: &[u32]) -> Vec<u32> {
     let mut node_owner = vec![u32::MAX; num_nodes];
-    for (conn, &p) in (0..elements.count()).map(|e| elements.nodes(e)).zip(element_part) {
+    for (conn, &p) in (0..elements.count())
+        .map(|e| elements.nodes(e))
+        .zip(element_part)
+    {
         for &n in conn {
             let o = &mut node_owner[n as usize];
             *o = (*o).min(p);

@@ -5,8 +5,8 @@
 //! bitwise the same on any number of ranks.
 
 use super::{Connectivity, GlobalMesh};
-use crate::fem::kind::ElementKind;
 use crate::comm::{Comm, ExchangePlan};
+use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
 use partition::Decomposition;
 
@@ -38,10 +38,11 @@ impl LocalMesh {
             .map(|&g| global.coords[g as usize])
             .collect();
         let element_global = part.local_elements();
-        let elements = global.elements.select(
-            element_global.iter().map(|&e| e as usize),
-            |n| global_to_local[&n],
-        );
+        let elements = global
+            .elements
+            .select(element_global.iter().map(|&e| e as usize), |n| {
+                global_to_local[&n]
+            });
         let element_owned = element_global
             .iter()
             .map(|&e| part.owns_element(e))

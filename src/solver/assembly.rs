@@ -277,7 +277,13 @@ impl<'a> Assembly<'a> {
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             if let Some(nz) = nonzero {
-                if self.mesh.elements.fixed::<8>(e).iter().all(|&n| !nz[n as usize]) {
+                if self
+                    .mesh
+                    .elements
+                    .fixed::<8>(e)
+                    .iter()
+                    .all(|&n| !nz[n as usize])
+                {
                     continue;
                 }
             }
@@ -308,7 +314,13 @@ impl<'a> Assembly<'a> {
         y.iter_mut().for_each(|v| *v = [0.0; 3]);
         let (mut plus, mut minus) = ([[0.0; 3]; 8], [[0.0; 3]; 8]);
         for e in 0..self.mesh.elements.len() {
-            if self.mesh.elements.fixed::<8>(e).iter().all(|&n| !nonzero[n as usize]) {
+            if self
+                .mesh
+                .elements
+                .fixed::<8>(e)
+                .iter()
+                .all(|&n| !nonzero[n as usize])
+            {
                 continue;
             }
             let xe = self.gather(e, x);

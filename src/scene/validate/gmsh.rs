@@ -164,8 +164,10 @@ impl GmshImport {
                     }
                 }
                 None => {
-                    let inner = (0..mesh.num_elements())
-                        .any(|e| (0..mesh.kind(e).faces() as u8).any(|f| sorted(mesh.quad_face_nodes(e as u32, f)) == sorted(k)));
+                    let inner = (0..mesh.num_elements()).any(|e| {
+                        (0..mesh.kind(e).faces() as u8)
+                            .any(|f| sorted(mesh.quad_face_nodes(e as u32, f)) == sorted(k))
+                    });
                     return Err(b.err(
                         &key,
                         format!(
