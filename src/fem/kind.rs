@@ -28,7 +28,7 @@ const QUAD4_FACETS: [[usize; 4]; 1] = [[0, 1, 2, 3]];
 const HEX8_WEIGHTS: [f64; 8] = [1.0; 8];
 
 impl ElementKind {
-    /// Every kind, in the order of their ids in files.
+    /// Every kind.
     pub const ALL: [ElementKind; 1] = [ElementKind::Hex8];
 
     /// The kind's short name (scene files, messages).

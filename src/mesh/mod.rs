@@ -58,15 +58,6 @@ impl GlobalMesh {
         x
     }
 
-    /// The node positions of element `e`, whatever its kind.
-    pub fn element_positions(&self, e: usize) -> Vec<Vec3> {
-        self.elements
-            .element(e)
-            .iter()
-            .map(|&n| self.coords[n as usize])
-            .collect()
-    }
-
     /// Length of the diagonal of the bounding box of all nodes.
     pub fn bounding_diagonal(&self) -> f64 {
         let mut lo = [f64::INFINITY; 3];

@@ -280,7 +280,7 @@ impl<'a> Assembly<'a> {
                 if self
                     .mesh
                     .elements
-                    .fixed::<8>(e)
+                    .element(e)
                     .iter()
                     .all(|&n| !nz[n as usize])
                 {
@@ -317,7 +317,7 @@ impl<'a> Assembly<'a> {
             if self
                 .mesh
                 .elements
-                .fixed::<8>(e)
+                .element(e)
                 .iter()
                 .all(|&n| !nonzero[n as usize])
             {
