@@ -104,7 +104,10 @@ fn pressure_resultant(p: &Problem, body: Option<usize>) -> Vec3 {
                 continue;
             }
             // face_nodes orders the corners with an outward normal.
-            let x = p.mesh.face_nodes(e, f).map(|n| p.mesh.coords[n as usize]);
+            let x = p
+                .mesh
+                .quad_face_nodes(e, f)
+                .map(|n| p.mesh.coords[n as usize]);
             let d1 = [0, 1, 2].map(|i| x[2][i] - x[0][i]);
             let d2 = [0, 1, 2].map(|i| x[3][i] - x[1][i]);
             let area = [

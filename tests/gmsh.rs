@@ -445,7 +445,7 @@ segments = [{{ end = 1.0, steps = 1 }}]
     // The cube's Gmsh node tag t became node 8 + t - 1 (tags in order), so the quadrangle
     // (1, 4, 3, 2) is the cube's -z face, local face 4.
     assert_eq!(p.side_set("cube_bottom").unwrap().faces, vec![(1, 4)]);
-    assert_eq!(p.mesh.elements[1], [8, 9, 10, 11, 12, 13, 14, 15]);
+    assert_eq!(p.mesh.elements.element(1), &[8, 9, 10, 11, 12, 13, 14, 15]);
     // A physical point: the node of tag 1.
     assert_eq!(p.node_set("corner").unwrap().nodes, vec![8]);
     let (_, state) = common::solve(&p);

@@ -1,8 +1,10 @@
 //! The element dual graph (METIS's input) and the node -> elements incidence, both in CSR
 //! form.
 
+use crate::Cells;
+
 /// Element dual graph in CSR form: elements `e` and `f` are adjacent when they
-/// share at least [`DualGraph::NCOMMON`] nodes (a hex face).
+/// share at least [`DualGraph::NCOMMON`] nodes (a hex face; a 6-node triangle's too, never an edge's three).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DualGraph {
     /// Row pointers, length `num_elements + 1`.
@@ -17,15 +19,15 @@ impl DualGraph {
 
     /// Builds the face-adjacency graph. Node ids must be `< num_nodes`
     /// (checked by the public entry points before calling this).
-    pub fn new(num_nodes: usize, elements: &[[u32; 8]]) -> DualGraph {
+    pub fn new(num_nodes: usize, elements: &dyn Cells) -> DualGraph {
         let n2e = NodeElements::new(num_nodes, elements);
-        let ne = elements.len();
+        let ne = elements.count();
         let mut count = vec![0u32; ne];
         let mut touched: Vec<u32> = Vec::new();
         let mut xadj = Vec::with_capacity(ne + 1);
         let mut adjncy = Vec::new();
         xadj.push(0);
-        for (e, conn) in elements.iter().enumerate() {
+        for (e, conn) in (0..elements.count()).map(|e| (e, elements.nodes(e))) {
             for node in distinct_nodes(conn) {
                 for &f in n2e.of(node) {
                     if f as usize != e {
@@ -79,9 +81,9 @@ pub(crate) struct NodeElements {
 }
 
 impl NodeElements {
-    pub(crate) fn new(num_nodes: usize, elements: &[[u32; 8]]) -> NodeElements {
+    pub(crate) fn new(num_nodes: usize, elements: &dyn Cells) -> NodeElements {
         let mut ptr = vec![0usize; num_nodes + 1];
-        for conn in elements {
+        for conn in (0..elements.count()).map(|e| elements.nodes(e)) {
             for node in distinct_nodes(conn) {
                 ptr[node as usize + 1] += 1;
             }
@@ -92,7 +94,7 @@ impl NodeElements {
         let mut fill = ptr.clone();
         let mut elems = vec![0u32; ptr[num_nodes]];
         // Elements are visited in ascending order, so each row is ascending.
-        for (e, conn) in elements.iter().enumerate() {
+        for (e, conn) in (0..elements.count()).map(|e| (e, elements.nodes(e))) {
             for node in distinct_nodes(conn) {
                 elems[fill[node as usize]] = e as u32;
                 fill[node as usize] += 1;
@@ -107,7 +109,7 @@ impl NodeElements {
 }
 
 /// The distinct node ids of an element (degenerate hexes may repeat nodes).
-fn distinct_nodes(conn: &[u32; 8]) -> impl Iterator<Item = u32> + '_ {
+fn distinct_nodes(conn: &[u32]) -> impl Iterator<Item = u32> + '_ {
     conn.iter()
         .enumerate()
         .filter(|(i, n)| !conn[..*i].contains(n))

@@ -1,7 +1,7 @@
 //! Mesh decomposition for the distributed solver (no MPI in here).
 //!
-//! The input is a global hexahedral mesh: `num_nodes`, and `elements[e]` = the
-//! eight global (0-based) node ids of element `e`. The crate
+//! The input is a global mesh of elements of any kind ([`Cells`]): `num_nodes`, and
+//! `elements.nodes(e)` = the global (0-based) node ids of element `e`. The crate
 //!
 //! 1. partitions the elements over `nparts` ranks with METIS
 //!    ([`partition_elements`]), using the face-adjacency dual graph (two
@@ -43,7 +43,9 @@ use std::fmt;
 
 use metis::Idx;
 
+mod cells;
 mod graph;
+pub use cells::Cells;
 pub use graph::DualGraph;
 use graph::NodeElements;
 
@@ -113,11 +115,11 @@ impl fmt::Display for PartitionError {
 
 impl std::error::Error for PartitionError {}
 
-fn check_mesh(num_nodes: usize, elements: &[[u32; 8]]) -> Result<(), PartitionError> {
-    if u32::try_from(elements.len()).is_err() || u32::try_from(num_nodes).is_err() {
+fn check_mesh(num_nodes: usize, elements: &dyn Cells) -> Result<(), PartitionError> {
+    if u32::try_from(elements.count()).is_err() || u32::try_from(num_nodes).is_err() {
         return Err(PartitionError::TooLarge);
     }
-    for (e, conn) in elements.iter().enumerate() {
+    for (e, conn) in (0..elements.count()).map(|e| (e, elements.nodes(e))) {
         if let Some(&node) = conn.iter().find(|&&n| n as usize >= num_nodes) {
             return Err(PartitionError::NodeOutOfRange {
                 element: e,
@@ -157,14 +159,14 @@ const ACCEPTABLE_IMBALANCE: f64 = 1.05;
 /// Errors: `nparts == 0`, node ids out of range, METIS failures.
 pub fn partition_elements(
     num_nodes: usize,
-    elements: &[[u32; 8]],
+    elements: &dyn Cells,
     nparts: usize,
 ) -> Result<Vec<u32>, PartitionError> {
     if nparts == 0 {
         return Err(PartitionError::NoParts);
     }
     check_mesh(num_nodes, elements)?;
-    let ne = elements.len();
+    let ne = elements.count();
     if nparts == 1 {
         return Ok(vec![0; ne]);
     }
@@ -209,9 +211,12 @@ pub fn partition_elements(
 }
 
 /// Node owner: lowest part among the node's elements; orphans -> 0.
-fn node_owners(num_nodes: usize, elements: &[[u32; 8]], element_part: &[u32]) -> Vec<u32> {
+fn node_owners(num_nodes: usize, elements: &dyn Cells, element_part: &[u32]) -> Vec<u32> {
     let mut node_owner = vec![u32::MAX; num_nodes];
-    for (conn, &p) in elements.iter().zip(element_part) {
+    for (conn, &p) in (0..elements.count())
+        .map(|e| elements.nodes(e))
+        .zip(element_part)
+    {
         for &n in conn {
             let o = &mut node_owner[n as usize];
             *o = (*o).min(p);
@@ -227,7 +232,7 @@ fn node_owners(num_nodes: usize, elements: &[[u32; 8]], element_part: &[u32]) ->
 
 /// What finding a rank's ghosts needs: the mesh, the ownership and scratch marks.
 struct Halo<'a> {
-    elements: &'a [[u32; 8]],
+    elements: &'a dyn Cells,
     element_part: &'a [u32],
     node_owner: &'a [u32],
     n2e: NodeElements,
@@ -262,7 +267,7 @@ impl Halo<'_> {
 
         let mut ghost_nodes = Vec::new();
         for &e in owned_elements.iter().chain(&ghost_elements) {
-            for &n in &self.elements[e as usize] {
+            for &n in self.elements.nodes(e as usize) {
                 if node_owner[n as usize] != r && !self.node_mark[n as usize] {
                     self.node_mark[n as usize] = true;
                     ghost_nodes.push(n);
@@ -497,7 +502,7 @@ impl Decomposition {
     /// On invalid input (see [`Decomposition::try_new`] for the conditions).
     pub fn new(
         num_nodes: usize,
-        elements: &[[u32; 8]],
+        elements: &dyn Cells,
         element_part: &[u32],
         nparts: usize,
     ) -> Decomposition {
@@ -511,7 +516,7 @@ impl Decomposition {
     /// (such a rank just has empty lists, plus orphan nodes on rank 0).
     pub fn try_new(
         num_nodes: usize,
-        elements: &[[u32; 8]],
+        elements: &dyn Cells,
         element_part: &[u32],
         nparts: usize,
     ) -> Result<Decomposition, PartitionError> {
@@ -522,10 +527,10 @@ impl Decomposition {
             return Err(PartitionError::TooLarge);
         }
         check_mesh(num_nodes, elements)?;
-        if element_part.len() != elements.len() {
+        if element_part.len() != elements.count() {
             return Err(PartitionError::PartLengthMismatch {
                 element_part_len: element_part.len(),
-                num_elements: elements.len(),
+                num_elements: elements.count(),
             });
         }
         if let Some((e, &p)) = element_part
@@ -555,7 +560,7 @@ impl Decomposition {
             element_part,
             node_owner: &node_owner,
             n2e: NodeElements::new(num_nodes, elements),
-            elem_mark: vec![false; elements.len()],
+            elem_mark: vec![false; elements.count()],
             node_mark: vec![false; num_nodes],
         };
         let mut parts: Vec<RankPart> = owned_elements
@@ -581,7 +586,7 @@ impl Decomposition {
     /// Convenience: [`partition_elements`] followed by [`Decomposition::try_new`].
     pub fn partition(
         num_nodes: usize,
-        elements: &[[u32; 8]],
+        elements: &dyn Cells,
         nparts: usize,
     ) -> Result<Decomposition, PartitionError> {
         let element_part = partition_elements(num_nodes, elements, nparts)?;

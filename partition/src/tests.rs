@@ -255,18 +255,18 @@ fn check_bitwise_nodal_sums(num_nodes: usize, elements: &[[u32; 8]], d: &Decompo
 }
 
 fn full_check(num_nodes: usize, elements: &[[u32; 8]], nparts: usize) -> Decomposition {
-    let p1 = partition_elements(num_nodes, elements, nparts).unwrap();
-    let p2 = partition_elements(num_nodes, elements, nparts).unwrap();
+    let p1 = partition_elements(num_nodes, &elements, nparts).unwrap();
+    let p2 = partition_elements(num_nodes, &elements, nparts).unwrap();
     assert_eq!(p1, p2, "partition not deterministic");
     assert_eq!(p1.len(), elements.len());
     let sizes = part_sizes(&p1, nparts);
     assert!(sizes.iter().all(|&s| s > 0), "empty part: {sizes:?}");
 
-    let d1 = Decomposition::new(num_nodes, elements, &p1, nparts);
-    let d2 = Decomposition::new(num_nodes, elements, &p2, nparts);
+    let d1 = Decomposition::new(num_nodes, &elements, &p1, nparts);
+    let d2 = Decomposition::new(num_nodes, &elements, &p2, nparts);
     assert_eq!(d1, d2, "decomposition not deterministic");
     assert_eq!(
-        Decomposition::partition(num_nodes, elements, nparts).unwrap(),
+        Decomposition::partition(num_nodes, &elements, nparts).unwrap(),
         d1
     );
     check_invariants(num_nodes, elements, &d1);

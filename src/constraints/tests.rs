@@ -1,7 +1,7 @@
 //! Tests of the constraint rows: projections, ties across ranks, the exchange plans.
 use super::*;
 use crate::comm::SerialComm;
-use crate::mesh::GlobalMesh;
+use crate::mesh::{Connectivity, GlobalMesh};
 use partition::Decomposition;
 
 /// One element's eight nodes on one rank (node i is global and local i).
@@ -10,9 +10,16 @@ fn mesh() -> LocalMesh {
         coords: (0..8)
             .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64])
             .collect(),
-        elements: vec![[0, 1, 3, 2, 4, 5, 7, 6]],
+        elements: Connectivity::from_fixed(&[[0, 1, 3, 2, 4, 5, 7, 6]]),
         element_body: vec![0],
-        bodies: Vec::new(),
+        bodies: vec![crate::mesh::Body {
+            name: "b".into(),
+            kind: crate::fem::ElementKind::Hex8,
+            first_node: 0,
+            num_nodes: 8,
+            first_element: 0,
+            num_elements: 1,
+        }],
     };
     let d = Decomposition::partition(8, &g.elements, 1).unwrap();
     LocalMesh::new(&g, &d, 0)

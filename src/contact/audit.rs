@@ -112,8 +112,8 @@ pub fn audit<C: Comm + ?Sized>(
             if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
                 continue;
             }
-            let x: [Vec3; 8] =
-                std::array::from_fn(|a| position(mesh, u, mesh.elements[e][a] as usize));
+            let el = mesh.elements.fixed::<8>(e);
+            let x: [Vec3; 8] = std::array::from_fn(|a| position(mesh, u, el[a] as usize));
             let b = bounding_box(&x);
             if b.intersects(&near) {
                 elements.push(e);
@@ -132,7 +132,9 @@ pub fn audit<C: Comm + ?Sized>(
             let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
             let inside = bvh.intersect_aabb(&probe).any(|k| {
                 let e = elements[k as usize];
-                let own = mesh.elements[e]
+                let own = mesh
+                    .elements
+                    .element(e)
                     .iter()
                     .any(|&l| mesh.node_global[l as usize] == s);
                 !own && contains(&corners[k as usize], x)
@@ -233,7 +235,7 @@ fn gather_other_faces<C: Comm + ?Sized>(
             {
                 continue;
             }
-            let c: [Vec3; 4] = problem.mesh.face_nodes(e, k).map(|n| {
+            let c: [Vec3; 4] = problem.mesh.quad_face_nodes(e, k).map(|n| {
                 let l = mesh
                     .local_node(n)
                     .expect("a face node of an owned element is local");

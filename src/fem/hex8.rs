@@ -27,6 +27,22 @@ pub const FACES: [[usize; 4]; 6] = [
     [4, 5, 6, 7],
 ];
 
+/// The edges, as local node pairs.
+pub const EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
 const G: f64 = 0.577_350_269_189_625_8; // 1/sqrt(3)
 
 /// The 2x2x2 Gauss points (all weights are 1).

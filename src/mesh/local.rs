@@ -4,8 +4,9 @@
 //! its element contributions in the same order as a one-rank run: the nodal forces are
 //! bitwise the same on any number of ranks.
 
-use super::GlobalMesh;
+use super::{Connectivity, GlobalMesh};
 use crate::comm::{Comm, ExchangePlan};
+use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
 use partition::Decomposition;
 
@@ -14,10 +15,12 @@ pub struct LocalMesh {
     pub num_owned_nodes: usize,
     pub node_global: Vec<u32>,
     pub coords: Vec<Vec3>,
-    pub elements: Vec<[u32; 8]>,
+    pub elements: Connectivity,
     pub element_global: Vec<u32>,
     pub element_owned: Vec<bool>,
     pub element_body: Vec<u32>,
+    /// The element kind of every body.
+    pub body_kind: Vec<ElementKind>,
     /// Owned node values (local indices) to the ghost copies (local indices) on other ranks.
     pub halo: ExchangePlan,
     /// Owning rank of every global node (contact constraints reach nodes of any rank).
@@ -35,10 +38,11 @@ impl LocalMesh {
             .map(|&g| global.coords[g as usize])
             .collect();
         let element_global = part.local_elements();
-        let elements = element_global
-            .iter()
-            .map(|&e| global.elements[e as usize].map(|n| global_to_local[&n]))
-            .collect();
+        let elements = global
+            .elements
+            .select(element_global.iter().map(|&e| e as usize), |n| {
+                global_to_local[&n]
+            });
         let element_owned = element_global
             .iter()
             .map(|&e| part.owns_element(e))
@@ -61,6 +65,7 @@ impl LocalMesh {
             element_global,
             element_owned,
             element_body,
+            body_kind: global.bodies.iter().map(|b| b.kind).collect(),
             halo: ExchangePlan {
                 send: map(&part.send),
                 recv: map(&part.recv),
@@ -97,8 +102,15 @@ impl LocalMesh {
         self.global_to_local.get(&global).map(|&l| l as usize)
     }
 
-    pub fn element_coords(&self, e: usize) -> [Vec3; 8] {
-        let el = &self.elements[e];
+    /// The kind of local element `e` (its body's).
+    #[inline]
+    pub fn kind(&self, e: usize) -> ElementKind {
+        self.body_kind[self.element_body[e] as usize]
+    }
+
+    /// The node positions of local element `e`, of `N` nodes (its kind's).
+    pub fn element_coords<const N: usize>(&self, e: usize) -> [Vec3; N] {
+        let el = self.elements.fixed::<N>(e);
         std::array::from_fn(|a| self.coords[el[a] as usize])
     }
 

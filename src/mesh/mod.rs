@@ -2,19 +2,22 @@
 //! generators and its named sets. Rank-local views are built from it by `local`.
 
 pub mod block;
+pub mod connectivity;
 pub mod gmsh;
 pub mod local;
 pub mod msh41;
 pub mod sets;
 
-use crate::fem::hex8::FACES;
+use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
+pub use connectivity::Connectivity;
 use std::collections::HashMap;
 
-/// A body: a contiguous range of nodes and elements with one material.
+/// A body: a contiguous range of nodes and elements of one kind with one material.
 #[derive(Clone, Debug)]
 pub struct Body {
     pub name: String,
+    pub kind: ElementKind,
     pub first_node: usize,
     pub num_nodes: usize,
     pub first_element: usize,
@@ -26,7 +29,7 @@ pub struct Body {
 #[derive(Clone, Debug, Default)]
 pub struct GlobalMesh {
     pub coords: Vec<Vec3>,
-    pub elements: Vec<[u32; 8]>,
+    pub elements: Connectivity,
     pub element_body: Vec<u32>,
     pub bodies: Vec<Body>,
 }
@@ -40,9 +43,16 @@ impl GlobalMesh {
         self.elements.len()
     }
 
-    pub fn element_coords(&self, e: usize) -> [Vec3; 8] {
-        let mut x = [[0.0; 3]; 8];
-        for (a, &n) in self.elements[e].iter().enumerate() {
+    /// The kind of element `e` (its body's).
+    #[inline]
+    pub fn kind(&self, e: usize) -> ElementKind {
+        self.bodies[self.element_body[e] as usize].kind
+    }
+
+    /// The node positions of element `e`, of `N` nodes (its kind's).
+    pub fn element_coords<const N: usize>(&self, e: usize) -> [Vec3; N] {
+        let mut x = [[0.0; 3]; N];
+        for (a, &n) in self.elements.fixed::<N>(e).iter().enumerate() {
             x[a] = self.coords[n as usize];
         }
         x
@@ -65,15 +75,17 @@ impl GlobalMesh {
     /// then face order.
     pub fn boundary_faces(&self) -> Vec<(u32, u8)> {
         let mut count: HashMap<[u32; 4], u32> = HashMap::new();
-        for el in &self.elements {
-            for f in FACES.iter() {
-                *count.entry(face_key(el, f)).or_insert(0) += 1;
+        for e in 0..self.elements.len() {
+            let (kind, el) = (self.kind(e), self.elements.element(e));
+            for k in 0..kind.faces() {
+                *count.entry(face_key(kind, el, k)).or_insert(0) += 1;
             }
         }
         let mut out = Vec::new();
-        for (e, el) in self.elements.iter().enumerate() {
-            for (k, f) in FACES.iter().enumerate() {
-                if count[&face_key(el, f)] == 1 {
+        for e in 0..self.elements.len() {
+            let (kind, el) = (self.kind(e), self.elements.element(e));
+            for k in 0..kind.faces() {
+                if count[&face_key(kind, el, k)] == 1 {
                     out.push((e as u32, k as u8));
                 }
             }
@@ -81,16 +93,34 @@ impl GlobalMesh {
         out
     }
 
-    /// Global node indices of a face, ordered with an outward normal.
-    pub fn face_nodes(&self, element: u32, face: u8) -> [u32; 4] {
-        let el = &self.elements[element as usize];
-        let f = FACES[face as usize];
-        [el[f[0]], el[f[1]], el[f[2]], el[f[3]]]
+    /// Global node indices of a face, ordered with an outward normal (the face kind's
+    /// node order).
+    pub fn face_nodes(&self, element: u32, face: u8) -> impl ExactSizeIterator<Item = u32> + '_ {
+        let el = self.elements.element(element as usize);
+        let kind = self.kind(element as usize);
+        kind.face(face as usize).iter().map(move |&a| el[a])
+    }
+
+    /// Global node indices of a quadrilateral face (what contact, the Gmsh side sets and
+    /// face loads take today), ordered with an outward normal.
+    pub fn quad_face_nodes(&self, element: u32, face: u8) -> [u32; 4] {
+        let el = self.elements.element(element as usize);
+        let f = self
+            .kind(element as usize)
+            .quad_face(face as usize)
+            .expect("a quadrilateral face");
+        f.map(|a| el[a])
     }
 }
 
-fn face_key(el: &[u32; 8], f: &[usize; 4]) -> [u32; 4] {
-    let mut k = [el[f[0]], el[f[1]], el[f[2]], el[f[3]]];
-    k.sort_unstable();
-    k
+/// A face's key: its sorted corner nodes (the same from either element that shares it),
+/// padded for faces of fewer corners.
+fn face_key(kind: ElementKind, el: &[u32], k: usize) -> [u32; 4] {
+    let f = kind.face(k);
+    let mut key = [u32::MAX; 4];
+    for (slot, &a) in key.iter_mut().zip(&f[..kind.face_kind(k).corners()]) {
+        *slot = el[a];
+    }
+    key.sort_unstable();
+    key
 }

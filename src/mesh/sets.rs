@@ -70,8 +70,7 @@ pub fn select_faces(
         .filter(|&(e, _)| body.is_none_or(|b| mesh.element_body[e as usize] as usize == b))
         .filter(|&(e, f)| {
             mesh.face_nodes(e, f)
-                .iter()
-                .all(|&n| sel.contains(&mesh.coords[n as usize]))
+                .all(|n| sel.contains(&mesh.coords[n as usize]))
         })
         .collect()
 }

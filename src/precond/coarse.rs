@@ -205,10 +205,10 @@ fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u3
     let n = g.num_nodes();
     let mut span = 0.0f64;
     for e in 0..g.num_elements() {
-        let x = g.element_coords(e);
+        let x = g.elements.element(e).iter().map(|&n| &g.coords[n as usize]);
         for i in 0..3 {
             let (a, b) = x
-                .iter()
+                .clone()
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                     (a.min(p[i]), b.max(p[i]))
                 });

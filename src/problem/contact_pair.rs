@@ -65,7 +65,7 @@ impl ContactPair {
     ) -> Self {
         self.slave_face_nodes = slave_faces
             .iter()
-            .map(|&(e, f)| mesh.face_nodes(e, f))
+            .map(|&(e, f)| mesh.quad_face_nodes(e, f))
             .collect();
         self.slave_faces = slave_faces;
         self.discretization = discretization;
@@ -87,7 +87,7 @@ impl ContactPair {
     ) -> Self {
         let face_nodes: Vec<[u32; 4]> = master_faces
             .iter()
-            .map(|&(e, f)| mesh.face_nodes(e, f))
+            .map(|&(e, f)| mesh.quad_face_nodes(e, f))
             .collect();
         let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> =
             std::collections::HashMap::new();

@@ -14,9 +14,8 @@ pub fn output_mesh(problem: &Problem) -> OutputMesh {
             .iter()
             .map(|b| OutputBody {
                 name: b.name.clone(),
-                connectivity: m.elements[b.first_element..b.first_element + b.num_elements]
-                    .iter()
-                    .map(|el| el.map(|n| n as u64))
+                connectivity: (b.first_element..b.first_element + b.num_elements)
+                    .map(|e| m.elements.fixed::<8>(e).map(|n| n as u64))
                     .collect(),
                 element_ids: (b.first_element as u64 + 1
                     ..=(b.first_element + b.num_elements) as u64)

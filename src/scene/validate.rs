@@ -4,6 +4,7 @@
 use super::types::*;
 use super::PiecewiseLinear;
 use crate::fem::hex8::min_jacobian_ratio;
+use crate::fem::ElementKind;
 use crate::fem::{Formulation, Stabilization};
 use crate::math::{norm, scale, Vec3};
 use crate::mesh::sets::{select_faces, select_nodes, Selector};
@@ -206,12 +207,14 @@ impl Builder {
             let formulation = self.formulation(&key, b)?;
             let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
-            mesh.elements
-                .extend(elements.iter().map(|el| el.map(|n| n + offset)));
+            for el in &elements {
+                mesh.elements.push(&el.map(|n| n + offset));
+            }
             mesh.element_body
                 .extend(std::iter::repeat_n(bi as u32, elements.len()));
             mesh.bodies.push(Body {
                 name: b.name.clone(),
+                kind: ElementKind::Hex8,
                 first_node,
                 num_nodes: coords.len(),
                 first_element,

@@ -2,7 +2,7 @@
 //! gathered from and scattered to rank-local nodal arrays. Elements are visited in
 //! ascending global order (see `mesh::local`).
 
-use crate::fem::{element, hex8, history, ElementFailure, Formulation};
+use crate::fem::{element, hex8, history, ElementFailure, ElementKind, Formulation};
 use crate::material::PlasticState;
 use crate::math::{Mat3, Vec3, ZERO33};
 use crate::memory::{try_filled, AllocError};
@@ -256,7 +256,7 @@ impl<'a> Assembly<'a> {
 
     #[inline]
     fn gather(&self, e: usize, u: &[Vec3]) -> [Vec3; 8] {
-        let el = &self.mesh.elements[e];
+        let el = self.mesh.elements.fixed::<8>(e);
         std::array::from_fn(|a| u[el[a] as usize])
     }
 
@@ -306,7 +306,13 @@ impl<'a> Assembly<'a> {
         let mut fe = [[0.0; 3]; 8];
         for e in 0..self.mesh.elements.len() {
             if let Some(nz) = nonzero {
-                if self.mesh.elements[e].iter().all(|&n| !nz[n as usize]) {
+                if self
+                    .mesh
+                    .elements
+                    .element(e)
+                    .iter()
+                    .all(|&n| !nz[n as usize])
+                {
                     continue;
                 }
             }
@@ -342,7 +348,13 @@ impl<'a> Assembly<'a> {
         y.iter_mut().for_each(|v| *v = [0.0; 3]);
         let (mut plus, mut minus) = ([[0.0; 3]; 8], [[0.0; 3]; 8]);
         for e in 0..self.mesh.elements.len() {
-            if self.mesh.elements[e].iter().all(|&n| !nonzero[n as usize]) {
+            if self
+                .mesh
+                .elements
+                .element(e)
+                .iter()
+                .all(|&n| !nonzero[n as usize])
+            {
                 continue;
             }
             let xe = self.gather(e, x);
@@ -494,7 +506,7 @@ impl<'a> Assembly<'a> {
     /// Adds element `e`'s nodal forces into `f`.
     #[inline(always)]
     fn scatter(&self, e: usize, fe: &[Vec3; 8], f: &mut [Vec3]) {
-        for (a, &n) in self.mesh.elements[e].iter().enumerate() {
+        for (a, &n) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
             let fa = &mut f[n as usize];
             fa[0] += fe[a][0];
             fa[1] += fe[a][1];
@@ -521,7 +533,7 @@ impl<'a> Assembly<'a> {
                 &mut de,
             )
             .map_err(|k| self.fail(e, k))?;
-            for (a, &n) in self.mesh.elements[e].iter().enumerate() {
+            for (a, &n) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
                 for i in 0..3 {
                     for k in 0..3 {
                         d[n as usize][i][k] += de[a][i][k];
@@ -545,14 +557,18 @@ impl<'a> Assembly<'a> {
             if self.mesh.element_body[e] as usize != body {
                 continue;
             }
-            let x = self.mesh.element_coords(e);
-            for xi in hex8::GAUSS.iter() {
-                let (_, det) = hex8::gradients(&x, xi)
-                    .ok_or_else(|| self.fail(e, ElementFailure::InvertedReference))?;
-                let n = hex8::shape(xi);
-                for (a, &node) in self.mesh.elements[e].iter().enumerate() {
-                    for i in 0..3 {
-                        f[node as usize][i] += scale * n[a] * det * force_density[i];
+            match self.mesh.kind(e) {
+                ElementKind::Hex8 => {
+                    let x = self.mesh.element_coords::<8>(e);
+                    for xi in hex8::GAUSS.iter() {
+                        let (_, det) = hex8::gradients(&x, xi)
+                            .ok_or_else(|| self.fail(e, ElementFailure::InvertedReference))?;
+                        let n = hex8::shape(xi);
+                        for (a, &node) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
+                            for i in 0..3 {
+                                f[node as usize][i] += scale * n[a] * det * force_density[i];
+                            }
+                        }
                     }
                 }
             }

@@ -2,7 +2,7 @@
 //! force, on the rank's local faces and elements.
 
 use super::assembly::{Assembly, ElementError};
-use crate::fem::face;
+use crate::fem::{face, FaceKind};
 use crate::math::{add, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -85,8 +85,10 @@ impl Loads {
                 continue;
             }
             for &(e, k) in &load.faces {
-                let fnodes = crate::fem::hex8::FACES[k as usize];
-                let el = &mesh.elements[e];
+                let (kind, el) = (mesh.kind(e), mesh.elements.element(e));
+                let fnodes = match kind.face_kind(k as usize) {
+                    FaceKind::Quad4 => kind.quad_face(k as usize).expect("a quadrilateral"),
+                };
                 let nodes: [u32; 4] = std::array::from_fn(|a| el[fnodes[a]]);
                 let x: [Vec3; 4] = std::array::from_fn(|a| {
                     let n = nodes[a] as usize;

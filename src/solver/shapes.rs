@@ -285,10 +285,11 @@ mod tests {
         let ne = b.elements.len();
         let mesh = GlobalMesh {
             coords: b.coords,
-            elements: b.elements,
+            elements: crate::mesh::Connectivity::from_fixed(&b.elements),
             element_body: vec![0; ne],
             bodies: vec![Body {
                 name: "block".into(),
+                kind: crate::fem::ElementKind::Hex8,
                 first_node: 0,
                 num_nodes: (n + 1) * (n + 2) * (n + 1),
                 first_element: 0,

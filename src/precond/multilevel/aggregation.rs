@@ -5,7 +5,7 @@
 //! follow any mesh, structured or from Gmsh.
 
 use crate::math::Vec3;
-use crate::mesh::GlobalMesh;
+use crate::mesh::{Connectivity, GlobalMesh};
 
 /// An undirected graph in CSR form (no self loops, neighbours sorted).
 pub struct Graph {
@@ -75,7 +75,7 @@ impl Graph {
     }
 
     /// `of_mesh` from the elements around every node.
-    pub fn around(around: &NodeElements, elements: &[[u32; 8]]) -> Self {
+    pub fn around(around: &NodeElements, elements: &Connectivity) -> Self {
         let n = around.len();
         let mut mark = vec![u32::MAX; n];
         let mut ptr = Vec::with_capacity(n + 1);
@@ -112,7 +112,7 @@ impl NodeElements {
     pub fn of_mesh(mesh: &GlobalMesh) -> Self {
         let n = mesh.num_nodes();
         let mut ptr = vec![0usize; n + 1];
-        for e in &mesh.elements {
+        for e in mesh.elements.iter() {
             for &a in e {
                 ptr[a as usize + 1] += 1;
             }
@@ -141,30 +141,14 @@ impl NodeElements {
     }
 
     /// Calls `f` for every node of every element of node a (a itself and repeats included).
-    pub fn each_neighbour(&self, elements: &[[u32; 8]], a: usize, mut f: impl FnMut(u32)) {
+    pub fn each_neighbour(&self, elements: &Connectivity, a: usize, mut f: impl FnMut(u32)) {
         for &e in &self.elems[self.ptr[a]..self.ptr[a + 1]] {
-            for &b in &elements[e as usize] {
+            for &b in elements.element(e as usize) {
                 f(b);
             }
         }
     }
 }
-
-/// The edges of a hexahedron (local node pairs, the usual hex8 numbering).
-const HEX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (1, 2),
-    (2, 3),
-    (3, 0),
-    (4, 5),
-    (5, 6),
-    (6, 7),
-    (7, 4),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
 
 impl Graph {
     /// The edge graph of a hexahedral mesh: two nodes are neighbours when they share an
@@ -172,8 +156,8 @@ impl Graph {
     /// wide instead of three).
     pub fn of_mesh_edges(mesh: &GlobalMesh) -> Self {
         let mut edges = Vec::with_capacity(mesh.num_elements() * 12);
-        for e in &mesh.elements {
-            for &(a, b) in &HEX_EDGES {
+        for (k, e) in mesh.elements.iter().enumerate() {
+            for &(a, b) in mesh.kind(k).edges() {
                 edges.push((e[a], e[b]));
             }
         }
@@ -347,9 +331,19 @@ mod tests {
     fn mesh_graph_links_the_nodes_of_an_element() {
         let mesh = GlobalMesh {
             coords: vec![[0.0; 3]; 12],
-            elements: vec![[0, 1, 2, 3, 4, 5, 6, 7], [1, 8, 9, 2, 5, 10, 11, 6]],
+            elements: Connectivity::from_fixed(&[
+                [0, 1, 2, 3, 4, 5, 6, 7],
+                [1, 8, 9, 2, 5, 10, 11, 6],
+            ]),
             element_body: vec![0, 0],
-            bodies: Vec::new(),
+            bodies: vec![crate::mesh::Body {
+                name: "b".into(),
+                kind: crate::fem::ElementKind::Hex8,
+                first_node: 0,
+                num_nodes: 12,
+                first_element: 0,
+                num_elements: 2,
+            }],
         };
         let g = Graph::of_mesh(&mesh);
         // The graph of every element's node pairs, as it was built before.

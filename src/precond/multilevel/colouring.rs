@@ -11,6 +11,7 @@ use super::aggregation::{Graph, NodeElements};
 use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::Connectivity;
 
 pub struct Colouring {
     pub colour: Vec<u16>,
@@ -129,7 +130,7 @@ impl Neighbours for Graph {
 /// comes among its neighbours, and some twice).
 pub struct MeshNeighbours<'a> {
     pub around: &'a NodeElements,
-    pub elements: &'a [[u32; 8]],
+    pub elements: &'a Connectivity,
 }
 
 impl Neighbours for MeshNeighbours<'_> {
@@ -311,9 +312,16 @@ mod tests {
         }
         let mesh = crate::mesh::GlobalMesh {
             coords: vec![[0.0; 3]; 16],
-            elements,
+            elements: Connectivity::from_fixed(&elements),
             element_body: vec![0; 3],
-            bodies: Vec::new(),
+            bodies: vec![crate::mesh::Body {
+                name: "b".into(),
+                kind: crate::fem::ElementKind::Hex8,
+                first_node: 0,
+                num_nodes: 16,
+                first_element: 0,
+                num_elements: 3,
+            }],
         };
         let around = NodeElements::of_mesh(&mesh);
         let by_elements = MeshNeighbours {

@@ -259,7 +259,7 @@ fn mean_face_size(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> f64 {
     let total: f64 = faces
         .iter()
         .map(|&(e, f)| {
-            let nodes = mesh.face_nodes(e, f);
+            let nodes = mesh.quad_face_nodes(e, f);
             let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[nodes[a] as usize]);
             crate::fem::face::area(&x).sqrt()
         })

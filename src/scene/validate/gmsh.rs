@@ -148,7 +148,7 @@ impl GmshImport {
         };
         let on_boundary: HashMap<[u32; 4], (u32, u8)> = boundary
             .iter()
-            .map(|&(e, f)| (sorted(mesh.face_nodes(e, f)), (e, f)))
+            .map(|&(e, f)| (sorted(mesh.quad_face_nodes(e, f)), (e, f)))
             .collect();
         let mut faces = Vec::with_capacity(quads.len());
         for (tag, q) in quads {
@@ -164,8 +164,10 @@ impl GmshImport {
                     }
                 }
                 None => {
-                    let inner = (0..mesh.num_elements())
-                        .any(|e| (0..6).any(|f| sorted(mesh.face_nodes(e as u32, f)) == sorted(k)));
+                    let inner = (0..mesh.num_elements()).any(|e| {
+                        (0..mesh.kind(e).faces() as u8)
+                            .any(|f| sorted(mesh.quad_face_nodes(e as u32, f)) == sorted(k))
+                    });
                     return Err(b.err(
                         &key,
                         format!(

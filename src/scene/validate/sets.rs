@@ -192,15 +192,16 @@ impl Builder {
                     let pairs = s.faces.as_ref().expect("one selector is present");
                     let mut faces = Vec::with_capacity(pairs.len());
                     for p in pairs {
-                        if p[0] < 1
-                            || p[0] as usize > mesh.num_elements()
-                            || !(0..6).contains(&p[1])
-                        {
+                        let of_element = (p[0] >= 1 && p[0] as usize <= mesh.num_elements())
+                            .then(|| mesh.kind(p[0] as usize - 1).faces());
+                        if !of_element.is_some_and(|n| (0..n as i64).contains(&p[1])) {
+                            let most = ElementKind::ALL.iter().map(|k| k.faces()).max();
                             return Err(self.err(
                                 format!("{key}.faces"),
                                 format!(
-                                    "expected [element id in 1..={}, face in 0..=5], got {p:?}",
-                                    mesh.num_elements()
+                                    "expected [element id in 1..={}, face in 0..={}], got {p:?}",
+                                    mesh.num_elements(),
+                                    of_element.or(most).unwrap_or(1) - 1
                                 ),
                             ));
                         }

@@ -75,8 +75,8 @@ fn colour_nodes<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mesh = pb.asm.mesh;
     let mut edges = Vec::with_capacity(mesh.elements.len() * 28);
     for e in &mesh.elements {
-        for a in 0..8 {
-            for b in a + 1..8 {
+        for a in 0..e.len() {
+            for b in a + 1..e.len() {
                 edges.push((
                     mesh.node_global[e[a] as usize],
                     mesh.node_global[e[b] as usize],

@@ -269,8 +269,8 @@ const PIVOT_FLOOR: f64 = 1e-2;
 fn colouring<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
     for e in &pb.global.elements {
-        for a in 0..8 {
-            for b in a + 1..8 {
+        for a in 0..e.len() {
+            for b in a + 1..e.len() {
                 edges.push((e[a], e[b]));
             }
         }

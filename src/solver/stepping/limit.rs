@@ -62,7 +62,7 @@ impl<C: Comm + ?Sized, E: Enforcement> Stepper<'_, C, E> {
                 continue;
             }
             count += 1;
-            for &a in &mesh.elements[e] {
+            for &a in mesh.elements.element(e) {
                 let x = mesh.coords[a as usize];
                 for i in 0..3 {
                     lo[i] = lo[i].min(x[i]);

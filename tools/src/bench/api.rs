@@ -7,7 +7,7 @@ pub use partition::Decomposition;
 pub use solver::comm::SerialComm;
 pub use solver::contact::mortar::{ties as mortar_ties, Face, Tie};
 pub use solver::contact::search::{Interaction, MasterSurface};
-pub use solver::fem::Formulation;
+pub use solver::fem::{ElementKind, Formulation};
 pub use solver::material::Material;
 pub use solver::math::{add, dot, norm, scale, sub, Mat3, Vec3, ZERO33};
 pub use solver::mesh::local::LocalMesh;

@@ -15,7 +15,7 @@ use super::deck::{
     name, Boundary, ContactPair, DLoad, Deck, ElementType, Interaction, Material as CcxMaterial,
     MaterialCard, NodePrint, NodeSet, PairType, Solid, Step, Surface,
 };
-use crate::api::{Formulation, Kinematics, Material, PiecewiseLinear, Problem};
+use crate::api::{ElementKind, Formulation, Kinematics, Material, PiecewiseLinear, Problem};
 
 /// ccx's face label of each of our local faces 0 (-y), 1 (+x), 2 (+y), 3 (-x), 4 (-z),
 /// 5 (+z): with our corner order a C3D8's face S1 is 1-2-3-4 (-z), S2 5-8-7-6 (+z), S3
@@ -158,6 +158,9 @@ fn solids(problem: &Problem, element: ElementType) -> Result<Vec<Solid>, String>
     for (b, body) in mesh.bodies.iter().enumerate() {
         let model = &problem.body_models[b];
         let cards = material_cards(&model.material)?;
+        match body.kind {
+            ElementKind::Hex8 => {}
+        }
         match (model.formulation, element) {
             (Formulation::Full, _) | (Formulation::FullBar, ElementType::C3D8I) => {}
             (Formulation::FullBar, ElementType::C3D8) => {
@@ -166,7 +169,7 @@ fn solids(problem: &Problem, element: ElementType) -> Result<Vec<Solid>, String>
             _ => return unsupported("formulations other than \"full\""),
         }
         let elements = (body.first_element..body.first_element + body.num_elements)
-            .map(|k| (k + 1, mesh.elements[k].map(|n| n as usize + 1)))
+            .map(|k| (k + 1, mesh.elements.fixed::<8>(k).map(|n| n as usize + 1)))
             .collect();
         solids.push(Solid {
             elset: name("E_", &body.name),
