@@ -2,6 +2,7 @@
 //! generators and its named sets. Rank-local views are built from it by `local`.
 
 pub mod block;
+pub mod exodus;
 pub mod gmsh;
 pub mod local;
 pub mod msh41;

@@ -14,7 +14,7 @@ mod text;
 mod write;
 
 pub use names::{ELEMENT_VARIABLES, GLOBAL_VARIABLES, NODAL_VARIABLES};
-pub use text::NcChar;
+pub use text::{rows_to_names, NcChar};
 pub use write::{check_exodus_output, write_exodus};
 
 /// Whether `path` names an Exodus file by its extension (`.e`, `.exo`, `.exii`, `.g`).
