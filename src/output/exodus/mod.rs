@@ -9,6 +9,7 @@
 //! variables.
 
 mod names;
+mod shape;
 mod steps;
 mod text;
 mod write;

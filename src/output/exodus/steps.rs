@@ -6,7 +6,7 @@ use std::path::Path;
 use netcdf::FileMut;
 
 use super::names as n;
-use super::write::Shape;
+use super::shape::Shape;
 use crate::output::error::{io_error, OutputError};
 use crate::output::{ResultFile, StepStats};
 
@@ -58,7 +58,7 @@ fn put_row(nc: &mut FileMut, name: &str, step: usize, values: &[f64]) -> Result<
         .variable_mut(name)
         .ok_or(netcdf::Error::NotFound(name.to_string()))?;
     if v.dimensions().len() == 1 {
-        return v.put_values(values, [step..step + 1]);
+        return v.put_values(values, step..step + 1);
     }
     v.put_values(values, [step..step + 1, 0..values.len()])
 }

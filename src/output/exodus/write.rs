@@ -8,6 +8,7 @@ use std::path::Path;
 use netcdf::{FileMut, Options};
 
 use super::names::{self as n, LEN_LINE, LEN_NAME};
+use super::shape::Shape;
 use super::text::name_rows;
 use crate::output::error::{io_error, OutputError};
 use crate::output::{OutputMesh, ResultFile};
@@ -88,47 +89,6 @@ fn write_to(f: &ResultFile, path: &Path) -> Result<(), OutputError> {
     std::fs::File::open(path)
         .and_then(|h| h.sync_all())
         .map_err(|e| io_error(path, "flushing the file to the disk", e))
-}
-
-/// What the file holds besides the mesh: which optional variables, how many steps.
-pub(super) struct Shape {
-    pub nodal: Vec<&'static str>,
-    pub element: Vec<&'static str>,
-    pub steps: usize,
-}
-
-impl Shape {
-    fn of(f: &ResultFile, mesh: &OutputMesh) -> Result<Self, OutputError> {
-        let nodal = n::NODAL_VARIABLES
-            .iter()
-            .copied()
-            .filter(|v| *v != "contact_pressure" || f.has_contact_pressure())
-            .collect();
-        let plastic = f.num_steps() > 0 && f.plastic_strain(0)?.is_some();
-        let element = n::ELEMENT_VARIABLES
-            .iter()
-            .copied()
-            .filter(|v| *v != "eqps" || plastic)
-            .collect();
-        // Ids are written as netCDF `int` (32-bit), which every Exodus reader takes.
-        let too_big = mesh.node_ids.iter().any(|&i| i > i32::MAX as u64)
-            || mesh
-                .bodies
-                .iter()
-                .any(|b| b.element_ids.iter().any(|&i| i > i32::MAX as u64));
-        if too_big {
-            return Err(OutputError::Invalid {
-                file: f.path().to_path_buf(),
-                dataset: "node_num_map".into(),
-                message: "an id beyond 2^31 - 1 does not fit Exodus's 32-bit ids".into(),
-            });
-        }
-        Ok(Shape {
-            nodal,
-            element,
-            steps: f.num_steps(),
-        })
-    }
 }
 
 fn define(
