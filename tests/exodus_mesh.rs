@@ -176,3 +176,49 @@ fn bad_exodus_meshes_are_refused_naming_the_file_and_the_item() {
     let unknown = damaged(&d, "unknown.e", "");
     refused(&d, &unknown, "beam", &["body[0].gmsh_volume", "'beam'"]);
 }
+
+/// Python's netCDF4 (an independent writer) copies bar's Exodus mesh into a netCDF-4 file
+/// (HDF5, zlib-compressed, as Cubit may write it); the bar run from it is bitwise the
+/// generated bar's (tolerance 0).
+const TO_NETCDF4_PY: &str = r#"
+import netCDF4, sys
+src = netCDF4.Dataset(sys.argv[1]); src.set_auto_mask(False)
+dst = netCDF4.Dataset(sys.argv[2], "w", format="NETCDF4")
+for k in src.ncattrs(): dst.setncattr(k, src.getncattr(k))
+for n, d in src.dimensions.items(): dst.createDimension(n, None if d.isunlimited() else len(d))
+for n, v in src.variables.items():
+    w = dst.createVariable(n, v.datatype, v.dimensions, zlib=True)
+    for k in v.ncattrs(): w.setncattr(k, v.getncattr(k))
+    w.set_auto_mask(False)
+    w[...] = v[...]
+dst.close()
+"#;
+
+#[test]
+fn a_netcdf4_exodus_mesh_from_python_gives_the_same_bits() {
+    let d = dir("netcdf4");
+    let e = d.join("bar.e");
+    let o = run(&repo("run/examples/bar.toml"), &e);
+    assert!(o.status.success(), "{}", stderr_text(&o));
+    let o = Command::new("/usr/bin/python3")
+        .args(["-c", TO_NETCDF4_PY])
+        .arg(&e)
+        .arg(d.join("bar4.e"))
+        .output()
+        .expect("/usr/bin/python3 with python3-netcdf4 (run/setup)");
+    assert!(o.status.success(), "{}", stderr_text(&o));
+    let text = std::fs::read_to_string(repo("run/examples/bar.toml")).unwrap();
+    let scene = d.join("bar4.toml");
+    std::fs::write(&scene, exodus_scene(&text, "bar4.e")).unwrap();
+    let h5 = d.join("bar4.h5");
+    let o = run(&scene, &h5);
+    assert!(o.status.success(), "{}", stderr_text(&o));
+    let o = solver()
+        .args(["post", "compare"])
+        .arg(e.with_extension("h5"))
+        .arg(&h5)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("result: bitwise identical"), "{out}");
+}

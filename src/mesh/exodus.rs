@@ -305,7 +305,17 @@ fn read_side_sets(r: &Reader, all: &Elements, mesh: &mut GmshMesh) -> Result<(),
 
 /// A classic netCDF file cut short still opens, and reads past its end as zeros: its
 /// variables' bytes (a lower bound, without the header and padding) must fit in the file.
+/// Only classic files (signature `CDF`): a netCDF-4 file is HDF5, which checks itself, and
+/// may be compressed below this bound.
 fn check_size(r: &Reader, path: &Path) -> Result<(), String> {
+    let mut magic = [0u8; 3];
+    let classic = std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut magic))
+        .is_ok()
+        && &magic == b"CDF";
+    if !classic {
+        return Ok(());
+    }
     let have = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     let mut need = 0u64;
     for v in r.nc.variables() {
