@@ -197,13 +197,20 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         .output
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
+    // `-o NAME.e`: the run writes NAME.h5 (the restart carrier) and then NAME.e from it.
+    let exodus = solver::output::exodus::is_exodus_path(&output).then(|| output.clone());
+    let output = if exodus.is_some() {
+        output.with_extension("h5")
+    } else {
+        output
+    };
     // The output is checked and locked before any work (rank 0 writes it).
     let inputs = RunInputs {
         scene: args.scene,
         problem: &problem,
         restart: args.restart,
     };
-    let claimed = match claim_on_root(comm, &inputs, &output, args.verbosity) {
+    let claimed = match claim_on_root(comm, &inputs, &output, exodus.as_deref(), args.verbosity) {
         Ok(c) => c,
         Err(code) => return code,
     };
@@ -225,11 +232,17 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
             1
         }
         Ok((summary, _)) => {
-            if comm.is_root() && args.verbosity > 0 {
+            let code = match (&exodus, &summary.output) {
+                (Some(e), Some(h5)) if comm.is_root() => write_exodus(h5, e, args.verbosity),
+                _ => 0,
+            };
+            if comm.is_root() && args.verbosity > 0 && code == 0 {
                 eprintln!("{}", done_line(&summary, estimate));
                 earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
             }
-            0
+            solver::comm::first_error(comm, (code != 0).then(|| code.to_string()))
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(0)
         }
         Err(e) => {
             if comm.is_root() {
@@ -415,15 +428,35 @@ struct RunInputs<'a> {
     restart: Option<&'a Path>,
 }
 
+/// Writes the Exodus II file `exodus` from the run's published HDF5 file (rank 0); the exit
+/// code: 0, or the error's.
+fn write_exodus(h5: &Path, exodus: &Path, verbosity: u8) -> u8 {
+    match solver::output::exodus::write_exodus(h5, exodus) {
+        Ok(()) => {
+            if verbosity > 0 {
+                eprintln!("wrote {} from {}", exodus.display(), h5.display());
+            }
+            0
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            e.exit_code()
+        }
+    }
+}
+
 /// Checks and locks the output path on rank 0 (see [`claim`]); every rank learns the error
 /// and its exit code.
 fn claim_on_root(
     comm: &dyn Comm,
     inputs: &RunInputs,
     output: &Path,
+    exodus: Option<&Path>,
     verbosity: u8,
 ) -> Result<Option<OutputClaim>, u8> {
-    let claimed = comm.is_root().then(|| claim(inputs, output, verbosity));
+    let claimed = comm
+        .is_root()
+        .then(|| claim(inputs, output, exodus, verbosity));
     // The exit code travels as the message's first character.
     let err = match &claimed {
         Some(Err(e)) => Some(format!("{}{e}", e.exit_code())),
@@ -442,11 +475,21 @@ fn claim_on_root(
 /// Checks and locks the output path of a run: not the scene, its mesh or the restart file,
 /// a regular file or a new path, no other run writing it. Notes a stale lock taken over and
 /// the temporary files of earlier runs that did not finish.
-fn claim(inputs: &RunInputs, output: &Path, verbosity: u8) -> Result<OutputClaim, OutputError> {
+fn claim(
+    inputs: &RunInputs,
+    output: &Path,
+    exodus: Option<&Path>,
+    verbosity: u8,
+) -> Result<OutputClaim, OutputError> {
     let (problem, restart) = (inputs.problem, inputs.restart);
     let meshes = solver::scene::mesh_files(&problem.file, &problem.text);
     let mut files: Vec<(&Path, &str)> = vec![(inputs.scene, "the scene file")];
     files.extend(meshes.iter().map(|m| (m.as_path(), "the mesh file")));
+    files.extend(restart.map(|r| (r, "the restart file")));
+    if let Some(e) = exodus {
+        solver::output::exodus::check_exodus_output(e, &files)?;
+    }
+    files.truncate(files.len() - usize::from(restart.is_some()));
     let claim = claim_output(output, &files, restart)?;
     if verbosity > 0 {
         if let Some(holder) = claim.stale_lock() {

@@ -3,6 +3,7 @@
 
 pub mod block;
 pub mod connectivity;
+pub mod exodus;
 pub mod gmsh;
 pub mod local;
 pub mod msh41;

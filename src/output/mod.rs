@@ -13,6 +13,7 @@
 mod data;
 mod datasets;
 mod error;
+pub mod exodus;
 pub mod integrity;
 pub mod layout;
 pub mod lock;

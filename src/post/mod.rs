@@ -64,6 +64,15 @@ pub enum PostCommand {
     /// the Hertz line-contact solution: prints the half-width, peak and RMS error, and
     /// plots pressure against position (e.g. run/examples/cylinder_on_block.toml).
     Hertz(hertz::HertzArgs),
+    /// Write a result file (.h5) as an Exodus II file (.e) for Exodus tools (exodiff,
+    /// ParaView's and VisIt's Exodus readers); `solver run -o NAME.e` does this itself.
+    Exodus {
+        /// The result file (.h5).
+        file: PathBuf,
+        /// The Exodus file to write (replaced if it is one already).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
 }
 
 /// Runs a `post` subcommand, printing its report to standard output; returns the exit code.
@@ -92,6 +101,13 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
         }
         PostCommand::Figure(args) => {
             println!("{}", figures::figure_command(args)?);
+            Ok(0)
+        }
+        PostCommand::Exodus { file, output } => {
+            let inputs = [(file.as_path(), "the result file")];
+            crate::output::exodus::check_exodus_output(output, &inputs)?;
+            crate::output::exodus::write_exodus(file, output)?;
+            println!("wrote {}", output.display());
             Ok(0)
         }
         PostCommand::Hertz(args) => {

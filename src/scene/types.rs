@@ -13,6 +13,9 @@ pub struct SceneFile {
     pub kinematics: Kinematics,
     /// The Gmsh mesh file that bodies with `gmsh_volume` come from.
     pub gmsh: Option<GmshDef>,
+    /// The Exodus II mesh file that bodies with `exodus_block` come from (read as a Gmsh
+    /// mesh is: `mesh::exodus`).
+    pub exodus: Option<GmshDef>,
     #[serde(default)]
     pub body: Vec<BodyDef>,
     #[serde(default)]
@@ -55,7 +58,9 @@ pub struct BodyDef {
     pub box_: Option<BoxDef>,
     /// Eight corner points in the hexahedron node order (see the README).
     pub corners: Option<Vec<[f64; 3]>>,
-    /// Name of a physical volume of the `[gmsh]` mesh.
+    /// Name of a physical volume of the `[gmsh]` mesh (`exodus_block`: an element block of
+    /// the `[exodus]` mesh).
+    #[serde(alias = "exodus_block")]
     pub gmsh_volume: Option<String>,
     pub material: MaterialDef,
     #[serde(default)]
@@ -136,8 +141,10 @@ pub struct SetDef {
     /// [element id, local face 0..5] pairs (side sets only).
     pub faces: Option<Vec<[i64; 2]>>,
     /// The nodes of the Gmsh physical groups of this name, any dimension (node sets only).
+    #[serde(alias = "exodus_node_set")]
     pub gmsh_group: Option<String>,
     /// The hexahedron faces under the quadrangles of a Gmsh physical surface (side sets only).
+    #[serde(alias = "exodus_side_set")]
     pub gmsh_surface: Option<String>,
     /// Geometric tolerance, absolute; default 1e-6 times the mesh's bounding-box diagonal.
     pub tolerance: Option<f64>,

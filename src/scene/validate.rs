@@ -181,9 +181,16 @@ impl Builder {
     ) -> Result<(GlobalMesh, Vec<BodyModel>, Option<GmshImport>), SceneError> {
         let mut mesh = GlobalMesh::default();
         let mut models = Vec::new();
-        let mut gmsh = match &raw.gmsh {
-            Some(g) => Some(self.gmsh_file(g)?),
-            None => None,
+        let mut gmsh = match (&raw.gmsh, &raw.exodus) {
+            (Some(_), Some(_)) => {
+                return Err(self.err(
+                    "exodus",
+                    "a scene takes one mesh file: `[gmsh]` or `[exodus]`, not both",
+                ))
+            }
+            (Some(g), None) => Some(self.gmsh_file(g)?),
+            (None, Some(e)) => Some(self.exodus_file(e)?),
+            (None, None) => None,
         };
         for (bi, b) in raw.body.iter().enumerate() {
             let key = format!("body[{bi}]");

@@ -19,7 +19,7 @@ pub(super) struct GmshImport {
 
 /// The message for a Gmsh key in a scene without a `[gmsh]` table.
 pub(super) const NEEDS_GMSH: &str =
-    "needs the mesh file: add `[gmsh]` with `file = \"<mesh>.msh\"`";
+    "needs the mesh file: add `[gmsh]` with `file = \"<mesh>.msh\"` (or `[exodus]` with `file = \"<mesh>.e\"`)";
 
 /// The mesh files a scene reads: its `[gmsh] file`, relative to the scene file `file` (none
 /// when the scene text does not parse or has no `[gmsh]` table).
@@ -27,8 +27,13 @@ pub fn mesh_files(file: &str, text: &str) -> Vec<std::path::PathBuf> {
     let dir = Path::new(file).parent().unwrap_or(Path::new(""));
     toml::from_str::<crate::scene::types::SceneFile>(text)
         .ok()
-        .and_then(|s| s.gmsh)
-        .map(|g| vec![dir.join(g.file)])
+        .map(|s| {
+            s.gmsh
+                .into_iter()
+                .chain(s.exodus)
+                .map(|g| dir.join(g.file))
+                .collect()
+        })
         .unwrap_or_default()
 }
 
@@ -56,6 +61,27 @@ impl Builder {
             ));
         }
         let mesh = GmshMesh::read(&path).map_err(|m| self.err("gmsh.file", m))?;
+        Ok(GmshImport {
+            mesh,
+            nodes: HashMap::new(),
+        })
+    }
+
+    /// Reads the `[exodus]` file, its path taken relative to the scene file.
+    pub(super) fn exodus_file(&self, def: &GmshDef) -> Result<GmshImport, SceneError> {
+        let dir = Path::new(&self.file).parent().unwrap_or(Path::new(""));
+        let path = dir.join(&def.file);
+        if !path.is_file() {
+            return Err(self.err(
+                "exodus.file",
+                format!(
+                    "no mesh file {} (the path is relative to the scene file)",
+                    path.display()
+                ),
+            ));
+        }
+        let mesh =
+            crate::mesh::exodus::read_exodus(&path).map_err(|m| self.err("exodus.file", m))?;
         Ok(GmshImport {
             mesh,
             nodes: HashMap::new(),
