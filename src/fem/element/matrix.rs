@@ -39,6 +39,13 @@ pub fn element_matrix(
     Ok(k)
 }
 
+/// Whether the element's force is linear in u with the material's elastic moduli wherever
+/// no stress point yields: a plastic material under small kinematics, integrated at its
+/// Gauss points (the one-point element's hourglass stiffness follows the plastic state).
+fn elastic_part_is_linear(mat: &Material, form: Formulation) -> bool {
+    mat.is_plastic() && !mat.is_large() && !matches!(form, Formulation::Mean { .. })
+}
+
 /// The stiffness of an element of a small-kinematics plastic body at a state where every
 /// stress point responds elastically (`responds_elastically`): there the return map is the
 /// identity and the stress 2 mu (e - e_p) + kappa tr(eps) I is linear in u with the
@@ -51,7 +58,7 @@ pub fn elastic_matrix(
     mat: &Material,
     form: Formulation,
 ) -> Option<Box<ElementMatrix>> {
-    if !mat.is_plastic() || mat.is_large() || matches!(form, Formulation::Mean { .. }) {
+    if !elastic_part_is_linear(mat, form) {
         return None;
     }
     let (lambda, mu) = mat.lambda_mu();
@@ -70,7 +77,7 @@ pub fn responds_elastically(
     form: Formulation,
     hist: &[PlasticState],
 ) -> bool {
-    if !mat.is_plastic() || mat.is_large() || matches!(form, Formulation::Mean { .. }) {
+    if !elastic_part_is_linear(mat, form) {
         return false;
     }
     let Ok((h, _, points)) = point_gradients(geo, gauss, u, false, form) else {
