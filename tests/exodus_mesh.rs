@@ -83,13 +83,7 @@ fn round_trip(scene: &Path, d: &Path) {
     let h5 = d.join(format!("{stem}_exodus.h5"));
     let o = run(&again, &h5);
     assert!(o.status.success(), "{}", stderr_text(&o));
-    let o = solver()
-        .args(["post", "compare"])
-        .arg(e.with_extension("h5"))
-        .arg(&h5)
-        .output()
-        .unwrap();
-    let out = String::from_utf8_lossy(&o.stdout);
+    let (o, out) = compare(&e.with_extension("h5"), &h5);
     assert!(o.status.success(), "{out}{}", stderr_text(&o));
     assert!(out.contains("result: bitwise identical"), "{out}");
 }
@@ -213,12 +207,18 @@ fn a_netcdf4_exodus_mesh_from_python_gives_the_same_bits() {
     let h5 = d.join("bar4.h5");
     let o = run(&scene, &h5);
     assert!(o.status.success(), "{}", stderr_text(&o));
+    let (_, out) = compare(&e.with_extension("h5"), &h5);
+    assert!(out.contains("result: bitwise identical"), "{out}");
+}
+
+/// `solver post compare a b` (tolerance 0) and its standard output.
+fn compare(a: &Path, b: &Path) -> (std::process::Output, String) {
     let o = solver()
         .args(["post", "compare"])
-        .arg(e.with_extension("h5"))
-        .arg(&h5)
+        .arg(a)
+        .arg(b)
         .output()
         .unwrap();
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains("result: bitwise identical"), "{out}");
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    (o, out)
 }
