@@ -1,4 +1,5 @@
-//! Bilinear quadrilateral faces: geometry, consistent nodal loads of pressure and traction.
+//! Bilinear quadrilateral faces: geometry, consistent nodal loads of pressure and traction;
+//! and the same loads on the linear triangles a 6-node triangular face is made of.
 
 use crate::math::{cross, Vec3};
 
@@ -104,6 +105,37 @@ pub fn nodal_areas(x: &[Vec3; 4]) -> [f64; 4] {
         }
     }
     a
+}
+
+/// Nodal forces of a uniform pressure `p` on the flat triangle `x` (ordered with an
+/// outward normal): a third of the area vector's load at each corner, exact for the
+/// linear triangle.
+pub fn triangle_pressure_forces(x: &[Vec3; 3], p: f64) -> [Vec3; 3] {
+    let an = triangle_area_vector(x);
+    let fa = [-p * an[0] / 3.0, -p * an[1] / 3.0, -p * an[2] / 3.0];
+    [fa; 3]
+}
+
+/// Nodal forces of a uniform traction (force per area) on the triangle `x`: a third of
+/// the total at each corner.
+pub fn triangle_traction_forces(x: &[Vec3; 3], traction: &Vec3) -> [Vec3; 3] {
+    let a = crate::math::norm(&triangle_area_vector(x));
+    let fa = [
+        traction[0] * a / 3.0,
+        traction[1] * a / 3.0,
+        traction[2] * a / 3.0,
+    ];
+    [fa; 3]
+}
+
+/// The triangle's area times its unit normal (right-hand rule on the corner order).
+#[inline]
+fn triangle_area_vector(x: &[Vec3; 3]) -> Vec3 {
+    let n = cross(
+        &crate::math::sub(&x[1], &x[0]),
+        &crate::math::sub(&x[2], &x[0]),
+    );
+    [0.5 * n[0], 0.5 * n[1], 0.5 * n[2]]
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! kind; a scene may mix bodies of different kinds. A new kind is a file of kernels in
 //! `fem/` plus one arm in each match below (docs/layout.md, "Adding an element kind").
 
-use crate::fem::hex8;
+use crate::fem::{hex8, tet10};
 
 /// The kind of a body's elements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -12,6 +12,8 @@ pub enum ElementKind {
     /// The trilinear 8-node hexahedron (`fem::hex8`).
     #[default]
     Hex8,
+    /// The 10-node tetrahedron (`fem::tet10`).
+    Tet10,
 }
 
 /// The kind of an element's face.
@@ -19,22 +21,29 @@ pub enum ElementKind {
 pub enum FaceKind {
     /// The bilinear 4-node quadrilateral (`fem::face`).
     Quad4,
+    /// The 6-node triangle: three corners, then the midpoints of its edges.
+    Tri6,
 }
 
 /// The sub-facets of a quadrilateral face as contact sees them: the face itself.
-const QUAD4_FACETS: [[usize; 4]; 1] = [[0, 1, 2, 3]];
+const QUAD4_FACETS: [&[usize]; 1] = [&[0, 1, 2, 3]];
+
+/// The sub-facets of a 6-node triangle: the corner triangles and the middle one (each
+/// with the face's normal).
+const TRI6_FACETS: [&[usize]; 4] = [&[0, 3, 5], &[3, 1, 4], &[5, 4, 2], &[3, 4, 5]];
 
 /// Unit weights of the 2x2x2 Gauss rule.
 const HEX8_WEIGHTS: [f64; 8] = [1.0; 8];
 
 impl ElementKind {
     /// Every kind.
-    pub const ALL: [ElementKind; 1] = [ElementKind::Hex8];
+    pub const ALL: [ElementKind; 2] = [ElementKind::Hex8, ElementKind::Tet10];
 
     /// The kind's short name (scene files, messages).
     pub const fn name(self) -> &'static str {
         match self {
             ElementKind::Hex8 => "hex8",
+            ElementKind::Tet10 => "tet10",
         }
     }
 
@@ -42,6 +51,7 @@ impl ElementKind {
     pub const fn nodes(self) -> usize {
         match self {
             ElementKind::Hex8 => 8,
+            ElementKind::Tet10 => 10,
         }
     }
 
@@ -49,6 +59,7 @@ impl ElementKind {
     pub const fn faces(self) -> usize {
         match self {
             ElementKind::Hex8 => hex8::FACES.len(),
+            ElementKind::Tet10 => tet10::FACES.len(),
         }
     }
 
@@ -57,6 +68,7 @@ impl ElementKind {
     pub fn face(self, k: usize) -> &'static [usize] {
         match self {
             ElementKind::Hex8 => &hex8::FACES[k],
+            ElementKind::Tet10 => &tet10::FACES[k],
         }
     }
 
@@ -66,6 +78,7 @@ impl ElementKind {
     pub fn quad_face(self, k: usize) -> Option<&'static [usize; 4]> {
         match self {
             ElementKind::Hex8 => Some(&hex8::FACES[k]),
+            ElementKind::Tet10 => None,
         }
     }
 
@@ -73,6 +86,7 @@ impl ElementKind {
     pub fn edges(self) -> &'static [(usize, usize)] {
         match self {
             ElementKind::Hex8 => &hex8::EDGES,
+            ElementKind::Tet10 => &tet10::EDGES,
         }
     }
 
@@ -80,6 +94,7 @@ impl ElementKind {
     pub const fn face_kind(self, _k: usize) -> FaceKind {
         match self {
             ElementKind::Hex8 => FaceKind::Quad4,
+            ElementKind::Tet10 => FaceKind::Tri6,
         }
     }
 
@@ -87,6 +102,7 @@ impl ElementKind {
     pub fn reference_nodes(self) -> &'static [[f64; 3]] {
         match self {
             ElementKind::Hex8 => &hex8::NODE_XI,
+            ElementKind::Tet10 => &tet10::NODE_XI,
         }
     }
 
@@ -94,6 +110,7 @@ impl ElementKind {
     pub fn quadrature(self) -> (&'static [[f64; 3]], &'static [f64]) {
         match self {
             ElementKind::Hex8 => (&hex8::GAUSS, &HEX8_WEIGHTS),
+            ElementKind::Tet10 => (&tet10::QUADRATURE, &tet10::WEIGHTS),
         }
     }
 
@@ -101,6 +118,7 @@ impl ElementKind {
     pub const fn xdmf_topology(self) -> &'static str {
         match self {
             ElementKind::Hex8 => "Hexahedron",
+            ElementKind::Tet10 => "Tetrahedron_10",
         }
     }
 
@@ -111,6 +129,9 @@ impl ElementKind {
             ElementKind::Hex8 => {
                 hex8::min_jacobian_ratio(x.try_into().expect("a hex8 has 8 nodes"))
             }
+            ElementKind::Tet10 => {
+                tet10::min_jacobian_ratio(x.try_into().expect("a tet10 has 10 nodes"))
+            }
         }
     }
 }
@@ -120,6 +141,7 @@ impl FaceKind {
     pub const fn nodes(self) -> usize {
         match self {
             FaceKind::Quad4 => 4,
+            FaceKind::Tri6 => 6,
         }
     }
 
@@ -127,14 +149,17 @@ impl FaceKind {
     pub const fn corners(self) -> usize {
         match self {
             FaceKind::Quad4 => 4,
+            FaceKind::Tri6 => 3,
         }
     }
 
     /// The linear facets contact searches and projects on, as lists of the face's local
-    /// nodes (a quadrilateral is one facet; a 6-node triangle will be four triangles).
-    pub fn contact_facets(self) -> &'static [[usize; 4]] {
+    /// nodes ordered with the face's normal (a quadrilateral is one facet; a 6-node
+    /// triangle is four triangles).
+    pub fn contact_facets(self) -> &'static [&'static [usize]] {
         match self {
             FaceKind::Quad4 => &QUAD4_FACETS,
+            FaceKind::Tri6 => &TRI6_FACETS,
         }
     }
 }

@@ -7,6 +7,7 @@ pub mod face;
 pub mod hex8;
 pub mod history;
 pub mod kind;
+pub mod tet10;
 
 pub use element::{ElementFailure, Formulation, Stabilization};
 pub use kind::{ElementKind, FaceKind};

@@ -571,6 +571,7 @@ impl<'a> Assembly<'a> {
                         }
                     }
                 }
+                ElementKind::Tet10 => unreachable!("no mesh reader makes tet10 bodies yet"),
             }
         }
         Ok(())

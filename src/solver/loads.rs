@@ -86,26 +86,48 @@ impl Loads {
             }
             for &(e, k) in &load.faces {
                 let (kind, el) = (mesh.kind(e), mesh.elements.element(e));
-                let fnodes = match kind.face_kind(k as usize) {
-                    FaceKind::Quad4 => kind.quad_face(k as usize).expect("a quadrilateral"),
-                };
-                let nodes: [u32; 4] = std::array::from_fn(|a| el[fnodes[a]]);
-                let x: [Vec3; 4] = std::array::from_fn(|a| {
-                    let n = nodes[a] as usize;
+                let position = |a: usize| {
+                    let n = el[a] as usize;
                     if self.follower {
                         add(&mesh.coords[n], &u[n])
                     } else {
                         mesh.coords[n]
                     }
-                });
-                let fe = match &load.traction {
-                    None => face::pressure_forces(&x, s),
-                    Some(v) => face::traction_forces(&x, &[v[0] * s, v[1] * s, v[2] * s]),
                 };
-                for a in 0..4 {
-                    let n = nodes[a] as usize;
+                let mut put = |a: usize, fa: &Vec3| {
+                    let n = el[a] as usize;
                     for i in 0..3 {
-                        f[n][i] += fe[a][i];
+                        f[n][i] += fa[i];
+                    }
+                };
+                let fnodes = kind.face(k as usize);
+                match kind.face_kind(k as usize) {
+                    FaceKind::Quad4 => {
+                        let x: [Vec3; 4] = std::array::from_fn(|a| position(fnodes[a]));
+                        let fe = match &load.traction {
+                            None => face::pressure_forces(&x, s),
+                            Some(v) => face::traction_forces(&x, &[v[0] * s, v[1] * s, v[2] * s]),
+                        };
+                        for a in 0..4 {
+                            put(fnodes[a], &fe[a]);
+                        }
+                    }
+                    // The load on each linear sub-triangle (the composite tetrahedron's
+                    // face is piecewise linear on them): every node's share is positive.
+                    FaceKind::Tri6 => {
+                        for facet in FaceKind::Tri6.contact_facets() {
+                            let x: [Vec3; 3] = std::array::from_fn(|a| position(fnodes[facet[a]]));
+                            let fe = match &load.traction {
+                                None => face::triangle_pressure_forces(&x, s),
+                                Some(v) => face::triangle_traction_forces(
+                                    &x,
+                                    &[v[0] * s, v[1] * s, v[2] * s],
+                                ),
+                            };
+                            for a in 0..3 {
+                                put(fnodes[facet[a]], &fe[a]);
+                            }
+                        }
                     }
                 }
             }

@@ -160,6 +160,7 @@ fn solids(problem: &Problem, element: ElementType) -> Result<Vec<Solid>, String>
         let cards = material_cards(&model.material)?;
         match body.kind {
             ElementKind::Hex8 => {}
+            ElementKind::Tet10 => return unsupported("tet10 bodies in the CalculiX deck"),
         }
         match (model.formulation, element) {
             (Formulation::Full, _) | (Formulation::FullBar, ElementType::C3D8I) => {}
