@@ -21,14 +21,16 @@ pub struct Deck {
     pub steps: Vec<Step>,
 }
 
-/// A hexahedron of ccx's.
+/// An element of ccx's.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ElementType {
-    /// 2x2x2 Gauss.
+    /// The hexahedron, 2x2x2 Gauss.
     #[default]
     C3D8,
-    /// 2x2x2 Gauss with incompatible modes (no shear or volumetric locking).
+    /// The hexahedron, 2x2x2 Gauss with incompatible modes (no shear or volumetric locking).
     C3D8I,
+    /// The quadratic 10-node tetrahedron, 4 Gauss points.
+    C3D10,
 }
 
 impl ElementType {
@@ -36,16 +38,18 @@ impl ElementType {
         match self {
             ElementType::C3D8 => "C3D8",
             ElementType::C3D8I => "C3D8I",
+            ElementType::C3D10 => "C3D10",
         }
     }
 }
 
-/// Hexahedra of one material: `*ELEMENT`, `*MATERIAL`, `*SOLID SECTION`.
+/// Elements of one type and material: `*ELEMENT`, `*MATERIAL`, `*SOLID SECTION`.
 pub struct Solid {
     pub elset: String,
     pub element: ElementType,
-    /// (element id, its 8 node ids), 1-based, in ccx's (and our) corner order.
-    pub elements: Vec<(usize, [usize; 8])>,
+    /// (element id, its node ids), 1-based, in ccx's (and our) node order: a C3D8's
+    /// corners, a C3D10's corners and then its edge midpoints 1-2, 2-3, 3-1, 1-4, 2-4, 3-4.
+    pub elements: Vec<(usize, Vec<usize>)>,
     pub material: Material,
 }
 
@@ -405,7 +409,7 @@ RF
             solids: vec![Solid {
                 elset: "E_CUBE".into(),
                 element: ElementType::C3D8,
-                elements: vec![(1, [1, 2, 3, 4, 5, 6, 7, 8])],
+                elements: vec![(1, vec![1, 2, 3, 4, 5, 6, 7, 8])],
                 material: Material {
                     name: "M_CUBE".into(),
                     cards: vec![MaterialCard::Elastic { e: 210e3, nu: 0.3 }],

@@ -22,6 +22,18 @@ use crate::api::{ElementKind, Formulation, Kinematics, Material, PiecewiseLinear
 /// 1-5-6-2 (-y), S4 2-6-7-3 (+x), S5 3-7-8-4 (+y), S6 4-8-5-1 (-x).
 pub const CCX_FACE: [u8; 6] = [3, 4, 5, 6, 1, 2];
 
+/// The same for a tet10's faces 0 (corners 0 1 3), 1 (1 2 3), 2 (0 3 2), 3 (0 2 1): a
+/// C3D10's face S1 is 1-2-3, S2 1-4-2, S3 2-4-3, S4 3-4-1.
+pub const CCX_TET_FACE: [u8; 4] = [2, 3, 4, 1];
+
+/// ccx's label of local face `f` of element `e`.
+fn ccx_face(problem: &Problem, e: u32, f: u8) -> u8 {
+    match problem.mesh.kind(e as usize) {
+        ElementKind::Hex8 => CCX_FACE[f as usize],
+        ElementKind::Tet10 => CCX_TET_FACE[f as usize],
+    }
+}
+
 /// The stick slope of Coulomb friction (shear stress per unit tangential displacement while
 /// sticking) as a fraction of the normal penalty: a sticking point then moves about
 /// 10 mu times the overclosure before it slips, a few overclosures, small against any slide.
@@ -72,12 +84,22 @@ pub fn deck_with(problem: &Problem, options: &Options) -> Result<Deck, String> {
     for step in &mut steps {
         step.direct = options.direct;
     }
-    let element = match options.element {
-        ElementType::C3D8 => "C3D8 (2x2x2 Gauss) as the scene's \"full\"",
+    let mut element = match options.element {
+        ElementType::C3D8 => "C3D8 (2x2x2 Gauss) as the scene's \"full\"".to_string(),
         ElementType::C3D8I => {
             "C3D8I (incompatible modes) for the scene's \"full\" (with or without mean dilatation)"
+                .to_string()
         }
+        ElementType::C3D10 => return unsupported("C3D10 for hexahedra"),
     };
+    if problem
+        .mesh
+        .bodies
+        .iter()
+        .any(|b| b.kind == ElementKind::Tet10)
+    {
+        element.push_str(", C3D10 (4 Gauss points) for the tet10 bodies");
+    }
     let mut deck = Deck {
         comments: vec![
             format!("{} written by the solver's bench: {element},", problem.name),
@@ -158,19 +180,24 @@ fn solids(problem: &Problem, element: ElementType) -> Result<Vec<Solid>, String>
     for (b, body) in mesh.bodies.iter().enumerate() {
         let model = &problem.body_models[b];
         let cards = material_cards(&model.material)?;
-        match body.kind {
-            ElementKind::Hex8 => {}
-            ElementKind::Tet10 => return unsupported("tet10 bodies in the CalculiX deck"),
-        }
-        match (model.formulation, element) {
-            (Formulation::Full, _) | (Formulation::FullBar, ElementType::C3D8I) => {}
-            (Formulation::FullBar, ElementType::C3D8) => {
+        let element = match (body.kind, model.formulation, element) {
+            (ElementKind::Hex8, Formulation::Full, _)
+            | (ElementKind::Hex8, Formulation::FullBar, ElementType::C3D8I) => element,
+            (ElementKind::Hex8, Formulation::FullBar, _) => {
                 return unsupported("mean dilatation with C3D8 (C3D8I instead)")
             }
+            (ElementKind::Tet10, Formulation::Mean { .. }, _) => {
+                return unsupported("one-point tetrahedra")
+            }
+            // ccx's own quadratic tetrahedron beside our composite one, on the same nodes.
+            (ElementKind::Tet10, _, _) => ElementType::C3D10,
             _ => return unsupported("formulations other than \"full\""),
-        }
+        };
         let elements = (body.first_element..body.first_element + body.num_elements)
-            .map(|k| (k + 1, mesh.elements.fixed::<8>(k).map(|n| n as usize + 1)))
+            .map(|k| {
+                let nodes = mesh.elements.element(k).iter();
+                (k + 1, nodes.map(|&n| n as usize + 1).collect())
+            })
             .collect();
         solids.push(Solid {
             elset: name("E_", &body.name),
@@ -252,7 +279,7 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
                         .iter()
                         .map(move |&(e, f)| DLoad {
                             element: e as usize + 1,
-                            face: CCX_FACE[f as usize],
+                            face: ccx_face(problem, e, f),
                             value,
                         })
                 })
@@ -316,7 +343,7 @@ fn contact(problem: &Problem, penalty: f64, deck: &mut Deck) -> Result<(), Strin
         name,
         faces: faces
             .iter()
-            .map(|&(e, f)| (e as usize + 1, CCX_FACE[f as usize]))
+            .map(|&(e, f)| (e as usize + 1, ccx_face(problem, e, f)))
             .collect(),
     };
     let several = problem.contacts.len() > 1;
