@@ -41,6 +41,10 @@ fn within_the_bounds(factor: usize) {
             "--out",
         ])
         .arg(&out)
+        // This test's own build of the solver: a `cargo build` of the solver alone would
+        // resolve the dependencies' features apart from the workspace's and rebuild them.
+        .arg("--solver")
+        .arg(env!("CARGO_BIN_EXE_solver"))
         .status()
         .unwrap();
     assert!(status.success(), "run/hertz_study failed");
