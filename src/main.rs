@@ -238,6 +238,9 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
             };
             if comm.is_root() && args.verbosity > 0 && code == 0 {
                 eprintln!("{}", done_line(&summary, estimate));
+                if comm.size() > 1 {
+                    eprintln!("{}", communication_line(&summary, comm.size()));
+                }
                 earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
             }
             solver::comm::first_error(comm, (code != 0).then(|| code.to_string()))
@@ -314,6 +317,39 @@ fn done_line(summary: &solver::run::RunSummary, estimate: Option<f64>) -> String
             .as_ref()
             .map(|p| p.display().to_string())
             .unwrap_or_default()
+    )
+}
+
+/// What the ranks sent during the steps and in the CG loops alone, per rank (the largest
+/// and the mean over the ranks), and per CG iteration (`bench --scaling` reads it).
+fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String {
+    let counts = |max: &solver::comm::Traffic, sum: &solver::comm::Traffic| {
+        let mean = |v: u64| v as f64 / ranks as f64;
+        format!(
+            "{} messages ({:.0}), {} bytes ({:.0}), {} collectives ({:.0}) of {} bytes ({:.0})",
+            max.messages,
+            mean(sum.messages),
+            max.bytes,
+            mean(sum.bytes),
+            max.collectives,
+            mean(sum.collectives),
+            max.collective_bytes,
+            mean(sum.collective_bytes),
+        )
+    };
+    let cg = &summary.cg_traffic_max;
+    let per = |v: u64| v as f64 / summary.cg_loop_iterations.max(1) as f64;
+    format!(
+        "communication per rank (largest; mean): during the steps {}; in the CG loops ({} \
+         iterations) {}; per CG iteration: {:.2} messages, {:.0} bytes, {:.2} collectives, {:.0} \
+         collective bytes (largest rank)",
+        counts(&summary.traffic_max, &summary.traffic_sum),
+        summary.cg_loop_iterations,
+        counts(cg, &summary.cg_traffic_sum),
+        per(cg.messages),
+        per(cg.bytes),
+        per(cg.collectives),
+        per(cg.collective_bytes),
     )
 }
 

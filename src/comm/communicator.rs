@@ -31,4 +31,8 @@ pub trait Comm {
     /// `all_gather_f64` for blocks of one length on every rank, into `out` (rank r's block
     /// at r * local.len(); out.len() = size * local.len()), allocating nothing.
     fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]);
+    /// What this rank has sent so far (nothing on one rank).
+    fn traffic(&self) -> super::Traffic {
+        super::Traffic::default()
+    }
 }

@@ -7,12 +7,14 @@ pub mod message;
 pub mod mpi_comm;
 pub mod plan;
 mod serial;
+mod traffic;
 
 pub use communicator::Comm;
 pub use exact_sum::ExactSum;
 pub use mpi_comm::MpiComm;
 pub use plan::ExchangePlan;
 pub use serial::SerialComm;
+pub use traffic::Traffic;
 
 use crate::math::Vec3;
 

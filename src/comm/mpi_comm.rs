@@ -1,17 +1,21 @@
 //! The MPI implementation of `Comm` (rsmpi over OpenMPI). The only file that uses `mpi`.
 
 use super::communicator::Comm;
+use super::Traffic;
 use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
+use std::cell::Cell;
 
 const HALO_TAG: i32 = 17;
 
 pub struct MpiComm {
     _universe: mpi::environment::Universe,
     world: SimpleCommunicator,
+    /// What this rank has sent (`Comm::traffic`).
+    sent: Cell<Traffic>,
 }
 
 impl MpiComm {
@@ -31,7 +35,24 @@ impl MpiComm {
         Some(MpiComm {
             _universe: universe,
             world,
+            sent: Cell::new(Traffic::default()),
         })
+    }
+
+    /// Counts `messages` point-to-point messages of `bytes` in all.
+    fn count_messages(&self, messages: usize, bytes: usize) {
+        let mut t = self.sent.get();
+        t.messages += messages as u64;
+        t.bytes += bytes as u64;
+        self.sent.set(t);
+    }
+
+    /// Counts one collective call to which this rank contributes `bytes`.
+    fn count_collective(&self, bytes: usize) {
+        let mut t = self.sent.get();
+        t.collectives += 1;
+        t.collective_bytes += bytes as u64;
+        self.sent.set(t);
     }
 
     /// Ends the job on every rank with `code` (for a failure seen by one rank only).
@@ -97,24 +118,32 @@ impl Comm for MpiComm {
     }
 
     fn sum_i64(&self, values: &mut [i64]) {
+        self.count_collective(std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::sum());
     }
 
     fn max_f64(&self, values: &mut [f64]) {
+        self.count_collective(std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::max());
     }
 
     fn min_i64(&self, values: &mut [i64]) {
+        self.count_collective(std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::min());
     }
 
     fn exchange(&self, send: &[(usize, Vec<f64>)], recv: &mut [(usize, Vec<f64>)]) {
+        let bytes = send
+            .iter()
+            .map(|(_, d)| std::mem::size_of_val(&d[..]))
+            .sum();
+        self.count_messages(send.len(), bytes);
         let world = &self.world;
         mpi::request::scope(|scope| {
             let requests: Vec<_> = send
@@ -139,16 +168,19 @@ impl Comm for MpiComm {
     }
 
     fn gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        self.count_collective(std::mem::size_of_val(local));
         varcount_gather(&self.world, local)
     }
 
     fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>> {
+        self.count_collective(std::mem::size_of_val(local));
         varcount_gather(&self.world, local)
     }
 
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
         let size = self.size();
         assert_eq!(send.len(), size, "one send buffer per rank");
+        self.count_collective(send.iter().map(|b| std::mem::size_of_val(&b[..])).sum());
         let send_counts: Vec<Count> = send.iter().map(|b| b.len() as Count).collect();
         let mut recv_counts = vec![0 as Count; size];
         self.world
@@ -167,6 +199,7 @@ impl Comm for MpiComm {
     }
 
     fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
+        self.count_collective(std::mem::size_of_val(local));
         let size = self.size();
         let n = local.len() as Count;
         let mut counts = vec![0 as Count; size];
@@ -183,17 +216,27 @@ impl Comm for MpiComm {
 
     fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]) {
         debug_assert_eq!(out.len(), local.len() * self.size());
+        self.count_collective(std::mem::size_of_val(local));
         self.world.all_gather_into(local, out);
     }
 
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>) {
         let p = self.world.process_at_rank(root as i32);
+        if self.rank() == root {
+            self.count_collective(data.len());
+        } else {
+            self.count_collective(0);
+        }
         let mut len = data.len() as u64;
         p.broadcast_into(&mut len);
         data.resize(len as usize, 0);
         if len > 0 {
             p.broadcast_into(&mut data[..]);
         }
+    }
+
+    fn traffic(&self) -> Traffic {
+        self.sent.get()
     }
 }
 

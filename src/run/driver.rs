@@ -37,6 +37,9 @@ impl Log {
 /// the rows its result file holds.
 struct Progress {
     records: Vec<StepRecord>,
+    /// This rank's traffic in the CG loops, and those loops' iterations.
+    cg_traffic: comm::Traffic,
+    cg_loop_iterations: u64,
     first_step: usize,
     rows_written: u64,
     started: Instant,
@@ -59,6 +62,8 @@ pub fn run_from<C: Comm + ?Sized>(
         first_step: 0,
         rows_written: 0,
         started: Instant::now(),
+        cg_traffic: comm::Traffic::default(),
+        cg_loop_iterations: 0,
     };
     let (decomposition, local) = partition(comm, problem, &log)?;
     let continued = match restart {
@@ -95,6 +100,7 @@ pub fn run_from<C: Comm + ?Sized>(
             ),
         );
     }
+    let sent_before = comm.traffic();
     let (mut failure, state) = step_through(
         comm,
         problem,
@@ -117,6 +123,8 @@ pub fn run_from<C: Comm + ?Sized>(
             )
         });
     }
+    let (traffic_max, traffic_sum) = over_the_ranks(comm, comm.traffic().since(&sent_before));
+    let (cg_traffic_max, cg_traffic_sum) = over_the_ranks(comm, progress.cg_traffic);
     let wall_time = progress.started.elapsed().as_secs_f64();
     // Closing the file reads it back (rank 0 checks every dataset): the solver's state,
     // preconditioner and work vectors are not needed for it and not held through it.
@@ -132,9 +140,30 @@ pub fn run_from<C: Comm + ?Sized>(
             output,
             failure,
             peak_memory,
+            traffic_max,
+            traffic_sum,
+            cg_traffic_max,
+            cg_traffic_sum,
+            cg_loop_iterations: progress.cg_loop_iterations,
         },
         state,
     ))
+}
+
+/// This rank's counts `sent` over the ranks: each count's largest and its sum.
+fn over_the_ranks<C: Comm + ?Sized>(
+    comm: &C,
+    sent: comm::Traffic,
+) -> (comm::Traffic, comm::Traffic) {
+    let sent = sent.as_array();
+    let mut largest = sent.map(|v| v as f64);
+    comm.max_f64(&mut largest);
+    let mut sum = sent.map(|v| v as i64);
+    comm.sum_i64(&mut sum);
+    (
+        comm::Traffic::from_array(largest.map(|v| v as u64)),
+        comm::Traffic::from_array(sum.map(|v| v as u64)),
+    )
 }
 
 /// The stepper of this rank's part of the mesh, asked for the operator export when the
@@ -338,6 +367,8 @@ fn step_through<C: Comm + ?Sized>(
             log.at(2, &note);
         }
         let trace = stepper.take_cg_trace();
+        progress.cg_traffic += trace.traffic;
+        progress.cg_loop_iterations += trace.iterations as u64;
         if log.root && log.verbosity >= 2 {
             log.at(2, &trace.summary());
         }

@@ -30,6 +30,16 @@ pub struct RunSummary {
     pub failure: Option<String>,
     /// Largest peak resident memory of any rank, bytes (0 where the system does not say).
     pub peak_memory: f64,
+    /// What the ranks sent during the steps (from the first step's start to the last
+    /// step's end: CG, contact updates, preconditioner builds, the step output): each
+    /// count's largest over the ranks, and its sum over them.
+    pub traffic_max: crate::comm::Traffic,
+    pub traffic_sum: crate::comm::Traffic,
+    /// The same for the CG loops alone (each model problem's iterations after its setup),
+    /// and the iterations of those loops.
+    pub cg_traffic_max: crate::comm::Traffic,
+    pub cg_traffic_sum: crate::comm::Traffic,
+    pub cg_loop_iterations: u64,
 }
 
 /// This process's peak resident memory in bytes (Linux: VmHWM), if known.

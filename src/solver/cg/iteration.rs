@@ -55,6 +55,7 @@ impl Cg {
         s: &CgSettings,
     ) -> Result<ModelOutcome, SolveFailure> {
         let outcome = self.solve_model(pb, u, s);
+        self.trace.end_loop(pb.comm.traffic());
         self.record_export(&outcome);
         outcome
     }
@@ -80,7 +81,7 @@ impl Cg {
         self.setup_full_tangent(pb, u, linear, s, MODEL_START)?;
         let mut watch = self.use_tangent.then(|| RateWatch::new(st.rnorm));
 
-        self.trace.start();
+        self.trace.start(pb.comm.traffic());
         let mut window_start = st.rnorm;
         let mut widened = 0;
         for it in 1..=s.max_iterations {

@@ -4,6 +4,7 @@
 //! shows as a rate that worsens within a model problem; one that never fitted, as a poor
 //! rate from the start).
 
+use crate::comm::Traffic;
 use std::fmt::Write;
 
 /// Iterations per window of the reduction rate.
@@ -35,17 +36,29 @@ pub struct CgTrace {
     /// first MAX_PROBLEMS, at most 400 windows each).
     pub rates: Vec<Vec<f64>>,
     recording: bool,
+    /// What this rank sent during the CG loops (after each model problem's setup), and
+    /// the traffic count at the current loop's start.
+    pub traffic: Traffic,
+    loop_start: Option<Traffic>,
 }
 
 impl CgTrace {
-    /// Starts a model problem.
-    pub(super) fn start(&mut self) {
+    /// Starts a model problem's CG loop; `sent` is this rank's traffic count now.
+    pub(super) fn start(&mut self, sent: Traffic) {
         self.model_problems += 1;
+        self.loop_start = Some(sent);
         // Rates of the first model problems only: a stepper nobody takes the trace from
         // (the tests drive it directly) keeps a bounded record.
         self.recording = self.rates.len() < MAX_PROBLEMS;
         if self.recording {
             self.rates.push(Vec::new());
+        }
+    }
+
+    /// Ends the CG loop started last (if any); `sent` is this rank's traffic count now.
+    pub(super) fn end_loop(&mut self, sent: Traffic) {
+        if let Some(start) = self.loop_start.take() {
+            self.traffic += sent.since(&start);
         }
     }
 

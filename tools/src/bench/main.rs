@@ -42,6 +42,11 @@
 //! n = 48), ours on 2 ranks beside CalculiX on 2 threads, into `<out>/plasticity/`
 //! (`peers::calculix::plasticity`).
 //!
+//! `bench --scaling [--out DIR]` runs only the block on block at n = 40 (multilevel) on 1,
+//! 2, 4, 8 and 16 ranks: the peak memory per rank fitted as a + b / P, the messages each
+//! rank sends per CG iteration, and a latency-bandwidth model of strong and weak scaling to
+//! 1024 ranks, into `<out>/scaling/` (`scaling`).
+//!
 //! `bench --pyamg [--out DIR]` exports the first model problem of the block on block
 //! (n = 20, 40) and of the Hertz example x2 (`solver run --export-operator`) and runs
 //! PyAMG's smoothed aggregation on it (`run/pyamg_peer.py`) beside our multilevel
@@ -73,6 +78,7 @@ mod report;
 mod results;
 mod robustness;
 mod runner;
+mod scaling;
 mod search;
 mod stats;
 mod suite;
@@ -89,6 +95,7 @@ const USAGE: &str = concat!(
     "       bench --pyamg [--out DIR]\n",
     "       bench --robustness [--quick] [--out DIR]\n",
     "       bench --plasticity [--quick] [--out DIR]\n",
+    "       bench --scaling [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
@@ -107,6 +114,9 @@ const USAGE: &str = concat!(
     "               through contact at n = 48 and 96 (12 steps); wall times, CG per\n",
     "               increment, Newton iterations, final pressures, in <out>/plasticity/\n",
     "               (with --quick: 40 x 40 and n = 48)\n",
+    "  --scaling    only the block on block at n = 40 (multilevel) on 1, 2, 4, 8, 16 ranks\n",
+    "               (oversubscribed): peak memory per rank fitted as a + b / P, messages\n",
+    "               per CG iteration, a model of scaling to 1024 ranks, in <out>/scaling/\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
     "               two_level (default) or multilevel, for --large (its section replaces an\n",
@@ -123,6 +133,7 @@ enum Mode {
     Pyamg,
     Robustness { quick: bool },
     Plasticity { quick: bool },
+    Scaling,
 }
 
 #[derive(Debug, PartialEq)]
@@ -140,6 +151,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut pyamg = false;
     let mut robustness = false;
     let mut plasticity = false;
+    let mut scaling = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut precond: Option<Precond> = None;
     let mut out = PathBuf::from("out/bench");
@@ -152,6 +164,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--pyamg" => pyamg = true,
             "--robustness" => robustness = true,
             "--plasticity" => plasticity = true,
+            "--scaling" => scaling = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -197,7 +210,12 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if plasticity && (large || ironing || pyamg || robustness) {
         return Err("--plasticity goes with --quick and --out only".into());
     }
-    let mode = if plasticity {
+    if scaling && (quick || large || ironing || pyamg || robustness || plasticity) {
+        return Err("--scaling goes with --out only".into());
+    }
+    let mode = if scaling {
+        Mode::Scaling
+    } else if plasticity {
         Mode::Plasticity { quick }
     } else if pyamg {
         Mode::Pyamg
@@ -235,6 +253,7 @@ fn main() -> ExitCode {
         Mode::Pyamg => pyamg::run(&args.out),
         Mode::Robustness { quick } => robustness::run(&args.out, quick),
         Mode::Plasticity { quick } => peers::calculix::plasticity::run(&args.out, quick),
+        Mode::Scaling => scaling::run(&args.out),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {

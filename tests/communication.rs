@@ -1,0 +1,54 @@
+//! The MPI layer's traffic counts (`comm::Traffic`, the `communication per rank` line of a
+//! parallel run with -v): the block on block (run/scenes/bench/block_on_block.toml, n = 10)
+//! on 2 ranks, where each rank owns nodes next to the other's. Every CG iteration applies
+//! the operator once, which exchanges the halo with the one neighbour (at least one
+//! message per iteration, each holding three values of every shared node), and takes at
+//! least two global reductions (r.z and p.Ap); a one-rank run sends nothing and prints no
+//! such line.
+
+mod common;
+use common::{fresh_dir, repo};
+use std::process::Command;
+
+/// The numbers of the `per CG iteration:` part of the line: messages, bytes, collectives.
+fn per_iteration(log: &str) -> Option<(f64, f64, f64)> {
+    let line = log.lines().find(|l| l.starts_with("communication per rank"))?;
+    let per = &line[line.find("per CG iteration: ")? + "per CG iteration: ".len()..];
+    let nums: Vec<f64> = per
+        .split(|c: char| c == ',' || c.is_whitespace())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    Some((nums[0], nums[1], nums[2]))
+}
+
+fn run(ranks: usize) -> String {
+    let out = fresh_dir(&format!("communication_np{ranks}")).join("bb.h5");
+    let o = Command::new(repo("run/mpirun"))
+        .args(["-np", &ranks.to_string(), env!("CARGO_BIN_EXE_solver")])
+        .arg("-v")
+        .arg("run")
+        .arg(repo("run/scenes/bench/block_on_block.toml"))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("mpirun starts");
+    let log = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "the run failed: {log}");
+    log
+}
+
+#[test]
+fn a_two_rank_run_counts_its_halo_messages_and_reductions() {
+    let (messages, bytes, collectives) =
+        per_iteration(&run(2)).expect("a 2-rank run prints its communication");
+    println!("per CG iteration: {messages} messages, {bytes} bytes, {collectives} collectives");
+    assert!(messages >= 1.0, "{messages} messages per CG iteration");
+    // Both blocks are 10 x 10 elements across: a cut through either shares at least one
+    // 11 x 11 layer of nodes, 3 values of 8 bytes each, in every message.
+    assert!(
+        bytes >= messages * 11.0 * 11.0 * 24.0 * 0.99,
+        "{bytes} bytes per iteration for {messages} messages"
+    );
+    assert!(collectives >= 2.0, "{collectives} collectives per CG iteration");
+    assert!(per_iteration(&run(1)).is_none(), "one rank sends nothing");
+}
