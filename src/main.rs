@@ -238,9 +238,7 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
             };
             if comm.is_root() && args.verbosity > 0 && code == 0 {
                 eprintln!("{}", done_line(&summary, estimate));
-                if comm.size() > 1 {
-                    eprintln!("{}", communication_line(&summary, comm.size()));
-                }
+                eprintln!("{}", communication_line(&summary, comm.size()));
                 earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
             }
             solver::comm::first_error(comm, (code != 0).then(|| code.to_string()))
@@ -341,10 +339,11 @@ fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String
     let per = |v: u64| v as f64 / summary.cg_loop_iterations.max(1) as f64;
     format!(
         "communication per rank (largest; mean): during the steps {}; in the CG loops ({} \
-         iterations) {}; per CG iteration: {:.2} messages, {:.0} bytes, {:.2} collectives, {:.0} \
+         iterations, {:.3} s) {}; per CG iteration: {:.2} messages, {:.0} bytes, {:.2} collectives, {:.0} \
          collective bytes (largest rank)",
         counts(&summary.traffic_max, &summary.traffic_sum),
         summary.cg_loop_iterations,
+        summary.cg_loop_seconds,
         counts(cg, &summary.cg_traffic_sum),
         per(cg.messages),
         per(cg.bytes),

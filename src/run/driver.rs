@@ -40,6 +40,7 @@ struct Progress {
     /// This rank's traffic in the CG loops, and those loops' iterations.
     cg_traffic: comm::Traffic,
     cg_loop_iterations: u64,
+    cg_loop_seconds: f64,
     first_step: usize,
     rows_written: u64,
     started: Instant,
@@ -64,6 +65,7 @@ pub fn run_from<C: Comm + ?Sized>(
         started: Instant::now(),
         cg_traffic: comm::Traffic::default(),
         cg_loop_iterations: 0,
+        cg_loop_seconds: 0.0,
     };
     let (decomposition, local) = partition(comm, problem, &log)?;
     let continued = match restart {
@@ -145,6 +147,7 @@ pub fn run_from<C: Comm + ?Sized>(
             cg_traffic_max,
             cg_traffic_sum,
             cg_loop_iterations: progress.cg_loop_iterations,
+            cg_loop_seconds: comm::max_f64(comm, progress.cg_loop_seconds),
         },
         state,
     ))
@@ -369,6 +372,7 @@ fn step_through<C: Comm + ?Sized>(
         let trace = stepper.take_cg_trace();
         progress.cg_traffic += trace.traffic;
         progress.cg_loop_iterations += trace.iterations as u64;
+        progress.cg_loop_seconds += trace.loop_seconds;
         if log.root && log.verbosity >= 2 {
             log.at(2, &trace.summary());
         }

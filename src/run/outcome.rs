@@ -40,6 +40,8 @@ pub struct RunSummary {
     pub cg_traffic_max: crate::comm::Traffic,
     pub cg_traffic_sum: crate::comm::Traffic,
     pub cg_loop_iterations: u64,
+    /// Wall time in those loops (the largest over the ranks), s.
+    pub cg_loop_seconds: f64,
 }
 
 /// This process's peak resident memory in bytes (Linux: VmHWM), if known.

@@ -39,14 +39,16 @@ pub struct CgTrace {
     /// What this rank sent during the CG loops (after each model problem's setup), and
     /// the traffic count at the current loop's start.
     pub traffic: Traffic,
-    loop_start: Option<Traffic>,
+    loop_start: Option<(Traffic, std::time::Instant)>,
+    /// Wall time in the CG loops (s).
+    pub loop_seconds: f64,
 }
 
 impl CgTrace {
     /// Starts a model problem's CG loop; `sent` is this rank's traffic count now.
     pub(super) fn start(&mut self, sent: Traffic) {
         self.model_problems += 1;
-        self.loop_start = Some(sent);
+        self.loop_start = Some((sent, std::time::Instant::now()));
         // Rates of the first model problems only: a stepper nobody takes the trace from
         // (the tests drive it directly) keeps a bounded record.
         self.recording = self.rates.len() < MAX_PROBLEMS;
@@ -57,8 +59,9 @@ impl CgTrace {
 
     /// Ends the CG loop started last (if any); `sent` is this rank's traffic count now.
     pub(super) fn end_loop(&mut self, sent: Traffic) {
-        if let Some(start) = self.loop_start.take() {
+        if let Some((start, at)) = self.loop_start.take() {
             self.traffic += sent.since(&start);
+            self.loop_seconds += at.elapsed().as_secs_f64();
         }
     }
 

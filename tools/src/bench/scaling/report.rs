@@ -36,9 +36,9 @@ pub fn markdown(s: &Scaling) -> String {
     );
     let _ = writeln!(
         w,
-        "| ranks | peak MiB per rank | CG iterations | wall (s) | messages / CG it. | bytes / CG it. | collectives / CG it. |"
+        "| ranks | peak MiB per rank | CG iterations | wall (s) | ms / CG it. | messages / CG it. | bytes / CG it. | collectives / CG it. |"
     );
-    let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|---:|");
     for p in &s.points {
         let (m, b, c) = p.sent.map_or(("-".into(), "-".into(), "-".into()), |x| {
             (
@@ -49,11 +49,12 @@ pub fn markdown(s: &Scaling) -> String {
         });
         let _ = writeln!(
             w,
-            "| {} | {:.1} | {} | {:.2} | {m} | {b} | {c} |",
+            "| {} | {:.1} | {} | {:.2} | {:.1} | {m} | {b} | {c} |",
             p.ranks(),
             p.peak_mib(),
             p.case.cg_iterations(),
-            p.case.runs.wall.median
+            p.case.runs.wall.median,
+            1e3 * p.seconds_per_iteration()
         );
     }
     let _ = writeln!(w);
@@ -96,7 +97,7 @@ fn model_text(w: &mut String, it: &Iteration) {
     let _ = writeln!(
         w,
         "Model of one CG iteration ([model.rs](../../tools/src/bench/scaling/model.rs)): compute \
-         {:.2} ms on one rank (the 1-rank run's wall time over its iterations, setup included), \
+         {:.2} ms on one rank (the 1-rank run's time in its CG loops over their iterations), \
          of which {:.2} ms is repeated on every rank (from the 2-rank run: t2 = (t1 - r) / 2 + r); \
          {:.2} messages, {:.0} bytes (on {} ranks, scaled with the part's surface) and {:.2} \
          reductions per iteration, on a network of {:.1} us latency and {:.0} GB/s. Predicted \
@@ -136,6 +137,7 @@ fn json(s: &Scaling) -> String {
                 "peak_mib": p.peak_mib(),
                 "cg_iterations": p.case.cg_iterations(),
                 "wall_s": p.case.runs.wall.median,
+                "seconds_per_cg_iteration": p.seconds_per_iteration(),
                 "messages_per_iteration": p.sent.map(|x| x.messages),
                 "bytes_per_iteration": p.sent.map(|x| x.bytes),
                 "collectives_per_iteration": p.sent.map(|x| x.collectives),
