@@ -98,7 +98,7 @@ fn model_text(w: &mut String, it: &Iteration) {
         w,
         "Model of one CG iteration ([model.rs](../../tools/src/bench/scaling/model.rs)): compute \
          {:.2} ms on one rank (the 1-rank run's time in its CG loops over their iterations), \
-         of which {:.2} ms is repeated on every rank (from the 2-rank run: t2 = (t1 - r) / 2 + r); \
+         of which {:.2} ms is repeated on every rank (estimated from the 2-rank run, t2 = (t1 - r) / 2 + r; 0 when that run was not faster); \
          {:.2} messages, {:.0} bytes (on {} ranks, scaled with the part's surface) and {:.2} \
          reductions per iteration, on a network of {:.1} us latency and {:.0} GB/s. Predicted \
          parallel efficiency (`scaling.png`):\n",
