@@ -5,11 +5,13 @@
 //! blocks against central differences of the force, the nodal volumes against their closed
 //! form, and a flipped element refused.
 
+mod common;
+
+use common::tets::{boundary, distorted_cube};
 use solver::fem::tet10;
 use solver::fem::ElementFailure;
 use solver::material::{J2Plastic, LinearElastic, Material, NeoHookean, PlasticState};
 use solver::math::{Mat3, Vec3};
-use std::collections::HashMap;
 
 const E: f64 = 1000.0;
 
@@ -30,111 +32,9 @@ fn materials() -> Vec<(&'static str, Material)> {
         ),
         (
             "J2 large",
-            Material::J2Plastic(J2Plastic::new(E, 0.3, 2.0, 5.0, 3.0, true)),
+            Material::J2Plastic(J2Plastic::new(E, 0.3, 2.0, 5.0, 0.0, true)),
         ),
     ]
-}
-
-/// A mesh of ten-node tetrahedra: node positions and each element's ten node ids.
-struct Mesh {
-    x: Vec<Vec3>,
-    elements: Vec<[usize; 10]>,
-}
-
-/// The unit cube as 2x2x2 cubes of six tetrahedra each (48 elements around the diagonal of
-/// each small cube), every vertex moved by a deterministic wobble (the centre one most),
-/// every midside node moved off its edge's midpoint by up to 0.02 (curved edges: the
-/// composite element's piecewise-linear map reproduces a linear field on them too).
-fn distorted_cube() -> Mesh {
-    let id = |i: usize, j: usize, k: usize| i + 3 * j + 9 * k;
-    let mut x: Vec<Vec3> = Vec::new();
-    for k in 0..3 {
-        for j in 0..3 {
-            for i in 0..3 {
-                let n = x.len() as f64;
-                let w = |c: f64| 0.07 * (1.7 * n + 2.3 * c).sin();
-                let mut p = [
-                    0.5 * i as f64 + w(0.0),
-                    0.5 * j as f64 + w(1.0),
-                    0.5 * k as f64 + w(2.0),
-                ];
-                if (i, j, k) == (1, 1, 1) {
-                    p = [0.62, 0.41, 0.57];
-                }
-                x.push(p);
-            }
-        }
-    }
-    // The six tetrahedra of a cube with corners c(a, b, c) around its diagonal 000-111, each
-    // a path 000 -> one axis -> two axes -> 111.
-    let perms = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
-    let mut corners = Vec::new();
-    for (i, j, k) in (0..8).map(|c| (c % 2, (c / 2) % 2, c / 4)) {
-        for p in perms {
-            let mut o = [i, j, k];
-            let mut t = [id(o[0], o[1], o[2]); 4];
-            for (s, &axis) in p.iter().enumerate() {
-                o[axis] += 1;
-                t[s + 1] = id(o[0], o[1], o[2]);
-            }
-            corners.push(t);
-        }
-    }
-    let mut mids: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut elements = Vec::new();
-    for mut t in corners {
-        let vol = |t: &[usize; 4]| {
-            let e = |a: usize| std::array::from_fn::<f64, 3, _>(|c| x[t[a]][c] - x[t[0]][c]);
-            solver::math::det(&[e(1), e(2), e(3)])
-        };
-        if vol(&t) < 0.0 {
-            t.swap(1, 2);
-        }
-        let mut el = [0; 10];
-        el[..4].copy_from_slice(&t);
-        for (m, &(a, b)) in tet10::MIDSIDE.iter().enumerate() {
-            let key = (t[a].min(t[b]), t[a].max(t[b]));
-            el[4 + m] = *mids.entry(key).or_insert_with(|| {
-                let n = x.len() as f64;
-                let bend = |c: f64| 0.02 * (0.9 * n + 1.3 * c).cos();
-                x.push(std::array::from_fn(|c| {
-                    0.5 * (x[key.0][c] + x[key.1][c]) + bend(c as f64)
-                }));
-                x.len() - 1
-            });
-        }
-        elements.push(el);
-    }
-    Mesh { x, elements }
-}
-
-/// The nodes on the mesh's boundary: those of the faces only one element has.
-fn boundary(mesh: &Mesh) -> Vec<bool> {
-    let mut count: HashMap<[usize; 3], (usize, [usize; 6])> = HashMap::new();
-    for el in &mesh.elements {
-        for f in tet10::FACES {
-            let mut key = [el[f[0]], el[f[1]], el[f[2]]];
-            key.sort_unstable();
-            let e = count.entry(key).or_insert((0, f.map(|a| el[a])));
-            e.0 += 1;
-        }
-    }
-    let mut on = vec![false; mesh.x.len()];
-    for (n, nodes) in count.values() {
-        if *n == 1 {
-            for &a in nodes {
-                on[a] = true;
-            }
-        }
-    }
-    on
 }
 
 fn gather<const N: usize>(v: &[Vec3], el: &[usize; N]) -> [Vec3; N] {
@@ -150,7 +50,7 @@ fn max_abs(m: &Mat3) -> f64 {
 /// vanishes at the interior nodes, relative to the force at the boundary.
 #[test]
 fn a_linear_field_gives_the_exact_stress_and_no_force_inside_a_distorted_mesh() {
-    let mesh = distorted_cube();
+    let mesh = distorted_cube(2);
     let on = boundary(&mesh);
     let interior = on.iter().filter(|&&b| !b).count();
     // Inside: the centre vertex, the midside nodes of its 14 edges, of the 6 small cubes'
@@ -242,7 +142,7 @@ fn rotation(n: Vec3, t: f64) -> Mat3 {
 /// under large kinematics.
 #[test]
 fn a_rigid_rotation_gives_no_stress_under_large_kinematics() {
-    let mesh = distorted_cube();
+    let mesh = distorted_cube(2);
     let n = 1.0 / 14f64.sqrt();
     let r = rotation([n, 2.0 * n, 3.0 * n], 50f64.to_radians());
     let u: Vec<Vec3> = mesh
