@@ -18,6 +18,11 @@ use solver::problem::{Dirichlet, NodeSet, PiecewiseLinear, Problem};
 /// A scene of one body of `material` under `kinematics`, loaded in `steps` equal steps to
 /// t = 1 (its hexahedral mesh and empty boundary conditions are replaced).
 fn scene(kinematics: &str, material: &str, steps: usize) -> String {
+    scene_with(kinematics, material, steps, "")
+}
+
+/// `scene` with more `[solver]` keys.
+fn scene_with(kinematics: &str, material: &str, steps: usize, solver: &str) -> String {
     format!(
         r#"
 kinematics = "{kinematics}"
@@ -30,6 +35,7 @@ material = {material}
 segments = [{{ end = 1.0, steps = {steps} }}]
 [solver]
 tolerance = 1e-13
+{solver}
 "#
     )
 }
@@ -47,18 +53,35 @@ fn on_tets(mut p: Problem, n: usize, g: &Mat3) -> Problem {
         coords: mesh.x.clone(),
         elements,
         element_body: vec![0; mesh.elements.len()],
-        bodies: vec![Body {
-            name: "cube".into(),
-            kind: ElementKind::Tet10,
-            first_node: 0,
-            num_nodes: mesh.x.len(),
-            first_element: 0,
-            num_elements: mesh.elements.len(),
-        }],
+        bodies: vec![tet_body(0, mesh.x.len(), 0, mesh.elements.len())],
     };
     p.node_sets.clear();
     p.dirichlet.clear();
-    for (a, x) in mesh.x.iter().enumerate().filter(|&(a, _)| on[a]) {
+    prescribe(&mut p, (0..on.len()).filter(|&a| on[a]), g);
+    p
+}
+
+/// A tet10 body named "cube" of the given node and element ranges.
+fn tet_body(
+    first_node: usize,
+    num_nodes: usize,
+    first_element: usize,
+    num_elements: usize,
+) -> Body {
+    Body {
+        name: "cube".into(),
+        kind: ElementKind::Tet10,
+        first_node,
+        num_nodes,
+        first_element,
+        num_elements,
+    }
+}
+
+/// Prescribes u = g X (times t) at each of `nodes`, a node set each.
+fn prescribe(p: &mut Problem, nodes: impl Iterator<Item = usize>, g: &Mat3) {
+    for a in nodes {
+        let x = p.mesh.coords[a];
         p.node_sets.push(NodeSet {
             name: format!("node{a}"),
             nodes: vec![a as u32],
@@ -74,7 +97,6 @@ fn on_tets(mut p: Problem, n: usize, g: &Mat3) -> Problem {
             });
         }
     }
-    p
 }
 
 /// Solves `text` on the tetrahedra with u = g X at the boundary and compares every node's
@@ -198,4 +220,129 @@ fn a_body_force_on_tets_is_balanced_by_the_reactions() {
     // share is off by percents. (How the load is shared is tested against the closed form
     // in tests/tet10_kernel.rs.)
     assert!(err < 1e-10 * 1.1 * volume, "{err:e}");
+}
+
+/// A mesh with hexahedra in one body and composite tetrahedra in another (no contact
+/// between them; the connectivity then holds elements of 8 and of 10 nodes): each takes
+/// the linear field exactly. The hexahedral body, linear with one repeated shape, runs on
+/// its shape's element matrix, the tetrahedra on their kernel.
+#[test]
+fn a_mesh_of_hexahedra_and_tetrahedra_takes_the_exact_field_in_both() {
+    let mat = r#"{ model = "linear_elastic", E = 1000.0, nu = 0.3 }"#;
+    let text = format!(
+        r#"
+kinematics = "small"
+[[body]]
+name = "block"
+box = {{ min = [2.0, 0.0, 0.0], max = [3.0, 1.0, 1.0] }}
+divisions = [2, 2, 2]
+material = {mat}
+[[body]]
+name = "cube"
+box = {{ min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
+divisions = [1, 1, 1]
+material = {mat}
+[time]
+segments = [{{ end = 1.0, steps = 1 }}]
+[solver]
+tolerance = 1e-13
+"#
+    );
+    let mut p = common::problem(&text);
+    let hex = p.mesh.bodies[0].clone();
+    let tets = distorted_cube(2);
+    let mut elements = Connectivity::new();
+    for e in 0..hex.num_elements {
+        elements.push(p.mesh.elements.element(e));
+    }
+    let offset = hex.num_nodes;
+    for el in &tets.elements {
+        elements.push(&el.map(|a| (a + offset) as u32));
+    }
+    let mut coords = p.mesh.coords[..hex.num_nodes].to_vec();
+    coords.extend_from_slice(&tets.x);
+    let mut element_body = vec![0; hex.num_elements];
+    element_body.extend(std::iter::repeat_n(1, tets.elements.len()));
+    p.mesh = GlobalMesh {
+        coords,
+        elements,
+        element_body,
+        bodies: vec![
+            hex.clone(),
+            tet_body(offset, tets.x.len(), hex.num_elements, tets.elements.len()),
+        ],
+    };
+    p.node_sets.clear();
+    p.dirichlet.clear();
+    let on_box = |x: &[f64; 3]| {
+        let lo = [2.0, 0.0, 0.0];
+        (0..3).any(|i| x[i] == lo[i] || x[i] == lo[i] + 1.0)
+    };
+    let hex_boundary: Vec<usize> = (0..offset).filter(|&a| on_box(&p.mesh.coords[a])).collect();
+    assert_eq!(
+        hex_boundary.len(),
+        26,
+        "a 2x2x2 block has one interior node"
+    );
+    let on = boundary(&tets);
+    let tet_boundary = (0..on.len()).filter(|&a| on[a]).map(|a| a + offset);
+    prescribe(
+        &mut p,
+        hex_boundary.into_iter().chain(tet_boundary),
+        &GRADIENT,
+    );
+    let plan = solver::solver::shapes::Plan::new(&p.mesh, &p.body_models);
+    assert_eq!(
+        plan.matrices,
+        [true, false],
+        "the block by its matrix, the tets by kernel"
+    );
+    let (_, state) = common::solve(&p);
+    let g = &GRADIENT;
+    let mut du: f64 = 0.0;
+    for (x, u) in p.mesh.coords.iter().zip(&state.displacement) {
+        for i in 0..3 {
+            let want: f64 = (0..3).map(|j| g[i][j] * x[j]).sum();
+            du = du.max((u[i] - want).abs() / 0.013);
+        }
+    }
+    let mat = p.body_models[0].material;
+    let want = solver::math::to_sym6(&mat.stress(g).unwrap());
+    let scale = want.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    let mut ds: f64 = 0.0;
+    for s in &state.stress {
+        for c in 0..6 {
+            ds = ds.max((s[c] - want[c]).abs() / scale);
+        }
+    }
+    assert_eq!(state.stress.len(), 8 + 48);
+    println!("hexahedra and tetrahedra: displacement {du:.2e}, stress {ds:.2e}");
+    // As for the tetrahedra alone (see above).
+    assert!(du < 1e-10 && ds < 1e-10, "{du:e} {ds:e}");
+}
+
+/// Every preconditioner and both nonlinear solvers take the tetrahedra (the exact field
+/// again, linear, plastic and large-strain bodies).
+#[test]
+fn every_preconditioner_and_solver_takes_the_tetrahedra() {
+    let linear = r#"{ model = "linear_elastic", E = 1000.0, nu = 0.3 }"#;
+    let plastic = r#"{ model = "j2_plastic", E = 1000.0, nu = 0.3, yield_stress = 2.0, isotropic_hardening = 50.0 }"#;
+    let rubber = r#"{ model = "neo_hookean", E = 1000.0, nu = 0.45 }"#;
+    for pre in solver::problem::Preconditioner::NAMES {
+        for nonlinear in ["cg", "newton"] {
+            let extra = format!("preconditioner = \"{pre}\"\nnonlinear = \"{nonlinear}\"");
+            for (kin, mat, s) in [
+                ("small", linear, 1.0),
+                ("small", plastic, 1.0),
+                ("large", rubber, 5.0),
+            ] {
+                let (du, ds) = check(&scene_with(kin, mat, 2, &extra), 2, &scaled(s));
+                // As above.
+                assert!(
+                    du < 1e-10 && ds < 1e-10,
+                    "{pre} {nonlinear} {kin}: {du:e} {ds:e}"
+                );
+            }
+        }
+    }
 }
