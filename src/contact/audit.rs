@@ -112,6 +112,11 @@ pub fn audit<C: Comm + ?Sized>(
             if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
                 continue;
             }
+            // The scene refuses contact on tet10 faces (`scene::validate::contacts`), so a
+            // master body is made of hexahedra.
+            if mesh.kind(e) != crate::fem::ElementKind::Hex8 {
+                continue;
+            }
             let el = mesh.elements.fixed::<8>(e);
             let x: [Vec3; 8] = std::array::from_fn(|a| position(mesh, u, el[a] as usize));
             let b = bounding_box(&x);

@@ -258,9 +258,12 @@ fn open_writer<C: Comm + ?Sized>(
             }
         }
         if local_err.is_none() {
-            match ResultWriter::create(path, &info, &output_mesh(problem)) {
+            let created = output_mesh(problem).and_then(|mesh| {
+                ResultWriter::create(path, &info, &mesh).map_err(|e| e.to_string())
+            });
+            match created {
                 Ok(w) => writer = Some(w),
-                Err(e) => local_err = Some(e.to_string()),
+                Err(e) => local_err = Some(e),
             }
         }
     }

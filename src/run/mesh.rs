@@ -1,12 +1,22 @@
 //! The mesh of a result file, from the validated problem.
 
+use crate::fem::ElementKind;
 use crate::output::{OutputBody, OutputMesh};
 use crate::problem::Problem;
 
-/// The whole mesh as the result file records it.
-pub fn output_mesh(problem: &Problem) -> OutputMesh {
+/// The whole mesh as the result file records it. The file's connectivity is hexahedral
+/// (`[elements, 8]`): a body of another kind is refused with a message until the file
+/// records each body with its own node count (issue 41, item 5).
+pub fn output_mesh(problem: &Problem) -> Result<OutputMesh, String> {
     let m = &problem.mesh;
-    OutputMesh {
+    if let Some(b) = m.bodies.iter().find(|b| b.kind != ElementKind::Hex8) {
+        return Err(format!(
+            "body '{}' is made of {} elements: writing them to a result file is not supported              yet (run without -o)",
+            b.name,
+            b.kind.name()
+        ));
+    }
+    Ok(OutputMesh {
         coordinates: m.coords.clone(),
         node_ids: (1..=m.num_nodes() as u64).collect(),
         bodies: m
@@ -42,5 +52,5 @@ pub fn output_mesh(problem: &Problem) -> OutputMesh {
                 )
             })
             .collect(),
-    }
+    })
 }

@@ -15,6 +15,7 @@ use std::path::Path;
 mod contacts;
 mod error;
 mod gmsh;
+mod kinds;
 mod loads;
 mod material;
 mod sets;
@@ -212,6 +213,8 @@ impl Builder {
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
             let formulation = self.formulation(&key, b)?;
+            let kind = ElementKind::Hex8;
+            self.kind_formulation(&key, kind, b)?;
             let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
             for el in &elements {
@@ -221,7 +224,7 @@ impl Builder {
                 .extend(std::iter::repeat_n(bi as u32, elements.len()));
             mesh.bodies.push(Body {
                 name: b.name.clone(),
-                kind: ElementKind::Hex8,
+                kind,
                 first_node,
                 num_nodes: coords.len(),
                 first_element,

@@ -1,8 +1,10 @@
 //! The element loop: internal force, diagonal tangent blocks, body forces and stresses,
 //! gathered from and scattered to rank-local nodal arrays. Elements are visited in
-//! ascending global order (see `mesh::local`).
+//! ascending global order (see `mesh::local`). Each loop dispatches per element on its
+//! kind (`LocalMesh::kind`): a hexahedron takes `fem::element`'s kernels (or its shape's
+//! or its elastic matrix), a composite tetrahedron `fem::tet10`'s, which have no matrix.
 
-use crate::fem::{element, hex8, history, ElementFailure, ElementKind, Formulation};
+use crate::fem::{element, hex8, history, tet10, ElementFailure, ElementKind, Formulation};
 use crate::material::PlasticState;
 use crate::math::{Mat3, Vec3, ZERO33};
 use crate::memory::{try_filled, AllocError};
@@ -86,7 +88,9 @@ impl<'a> Assembly<'a> {
         let shapes = Shapes::new(
             &Elements {
                 count: mesh.elements.len(),
+                kind: &|e| mesh.kind(e),
                 coords: &|e| mesh.element_coords(e),
+                tet_coords: &|e| mesh.element_coords(e),
                 body: &|e| mesh.element_body[e] as usize,
             },
             models,
@@ -100,7 +104,10 @@ impl<'a> Assembly<'a> {
             for &b in &mesh.element_body {
                 let m = &models[b as usize];
                 if m.material.is_plastic() {
-                    n += history::points(m.formulation) as u32;
+                    n += match mesh.body_kind[b as usize] {
+                        ElementKind::Hex8 => history::points(m.formulation),
+                        ElementKind::Tet10 => tet10::STRESS_POINTS,
+                    } as u32;
                 }
                 offset.push(n);
             }
@@ -146,17 +153,18 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
-            let ue = self.gather(e, u);
-            history::update_with(
-                geo,
-                gauss,
-                &ue,
-                &m.material,
-                m.formulation,
-                &self.history[a..b],
-                &mut new[a..b],
-            )
+            let (old, new) = (&self.history[a..b], &mut new[a..b]);
+            match self.mesh.kind(e) {
+                ElementKind::Hex8 => {
+                    let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
+                    let ue = self.gather(e, u);
+                    history::update_with(geo, gauss, &ue, &m.material, m.formulation, old, new)
+                }
+                ElementKind::Tet10 => {
+                    let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
+                    tet10::update_history(geo, &self.gather(e, u), &m.material, old, new)
+                }
+            }
             .map_err(|k| self.fail(e, k))?;
         }
         self.scratch = std::mem::replace(&mut self.history, new);
@@ -175,12 +183,10 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let h = self.hist(e);
-            out.push(match (self.shapes.get(e), h.is_empty()) {
-                (Ok((geo, gauss)), false) => {
-                    let m = &self.models[self.mesh.element_body[e] as usize];
-                    history::mean_eqps(geo, gauss, m.formulation, h)
-                }
-                _ => 0.0,
+            out.push(if h.is_empty() {
+                0.0
+            } else {
+                self.mean_eqps(e, h).unwrap_or(0.0)
             });
         }
         Some(out)
@@ -201,22 +207,22 @@ impl<'a> Assembly<'a> {
             if !self.mesh.element_owned[e] || h.is_empty() {
                 continue;
             }
-            let (geo, gauss) = self.shapes.get(e).ok()?;
             let m = &self.models[self.mesh.element_body[e] as usize];
             new.clear();
             new.extend_from_slice(h);
-            history::update_with(
-                geo,
-                gauss,
-                &self.gather(e, u),
-                &m.material,
-                m.formulation,
-                h,
-                &mut new,
-            )
+            match self.mesh.kind(e) {
+                ElementKind::Hex8 => {
+                    let (geo, gauss) = self.shapes.get(e).ok()?;
+                    let ue = self.gather(e, u);
+                    history::update_with(geo, gauss, &ue, &m.material, m.formulation, h, &mut new)
+                }
+                ElementKind::Tet10 => {
+                    let geo = self.shapes.tet(e).ok()?;
+                    tet10::update_history(geo, &self.gather(e, u), &m.material, h, &mut new)
+                }
+            }
             .ok()?;
-            let grown = history::mean_eqps(geo, gauss, m.formulation, &new)
-                - history::mean_eqps(geo, gauss, m.formulation, h);
+            let grown = self.mean_eqps(e, &new)? - self.mean_eqps(e, h)?;
             out.push((e, grown));
         }
         Some(out)
@@ -254,9 +260,23 @@ impl<'a> Assembly<'a> {
         }
     }
 
+    /// The element-mean equivalent plastic strain of local element `e` in the states `h`
+    /// (`None` when its reference geometry failed).
+    fn mean_eqps(&self, e: usize, h: &[PlasticState]) -> Option<f64> {
+        let m = &self.models[self.mesh.element_body[e] as usize];
+        Some(match self.mesh.kind(e) {
+            ElementKind::Hex8 => {
+                let (geo, gauss) = self.shapes.get(e).ok()?;
+                history::mean_eqps(geo, gauss, m.formulation, h)
+            }
+            ElementKind::Tet10 => tet10::mean_eqps(self.shapes.tet(e).ok()?, h),
+        })
+    }
+
+    /// The values of `u` at element `e`'s `N` nodes (its kind's count).
     #[inline]
-    fn gather(&self, e: usize, u: &[Vec3]) -> [Vec3; 8] {
-        let el = self.mesh.elements.fixed::<8>(e);
+    fn gather<const N: usize>(&self, e: usize, u: &[Vec3]) -> [Vec3; N] {
+        let el = self.mesh.elements.fixed::<N>(e);
         std::array::from_fn(|a| u[el[a] as usize])
     }
 
@@ -304,6 +324,7 @@ impl<'a> Assembly<'a> {
     ) -> Result<(), ElementError> {
         f.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
+        let mut ft = [[0.0; 3]; 10];
         for e in 0..self.mesh.elements.len() {
             if let Some(nz) = nonzero {
                 if self
@@ -316,9 +337,17 @@ impl<'a> Assembly<'a> {
                     continue;
                 }
             }
-            let ue = self.gather(e, u);
-            self.element_force(e, &ue, &mut fe)?;
-            self.scatter(e, &fe, f);
+            match self.mesh.kind(e) {
+                ElementKind::Hex8 => {
+                    let ue = self.gather(e, u);
+                    self.element_force(e, &ue, &mut fe)?;
+                    self.scatter(e, &fe, f);
+                }
+                ElementKind::Tet10 => {
+                    self.tet_force(e, &self.gather(e, u), &mut ft)?;
+                    self.scatter(e, &ft, f);
+                }
+            }
         }
         Ok(())
     }
@@ -357,6 +386,10 @@ impl<'a> Assembly<'a> {
             {
                 continue;
             }
+            if self.mesh.kind(e) == ElementKind::Tet10 {
+                self.tet_difference(e, u, x, h, y)?;
+                continue;
+            }
             let xe = self.gather(e, x);
             let stored = self.shapes.matrix(e);
             if let Some(k) = stored.or_else(|| elastic.and_then(|m| m.get(e))) {
@@ -364,7 +397,7 @@ impl<'a> Assembly<'a> {
                 self.scatter(e, &plus, y);
                 continue;
             }
-            let ue = self.gather(e, u);
+            let ue = self.gather::<8>(e, u);
             let shifted = |s: f64| -> [Vec3; 8] {
                 std::array::from_fn(|a| std::array::from_fn(|i| ue[a][i] + s * xe[a][i]))
             };
@@ -401,6 +434,10 @@ impl<'a> Assembly<'a> {
         marks.resize(n, false);
         let mut marked = 0;
         for e in 0..n {
+            // A composite tetrahedron has no elastic matrix: it keeps its kernel.
+            if self.mesh.kind(e) != ElementKind::Hex8 {
+                continue;
+            }
             let model = &self.models[self.mesh.element_body[e] as usize];
             let (hist, form) = (self.hist(e), model.formulation);
             let Ok((geo, gauss)) = self.shapes.get(e) else {
@@ -437,7 +474,13 @@ impl<'a> Assembly<'a> {
     ) -> Result<(), ElementError> {
         f.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
+        let mut ft = [[0.0; 3]; 10];
         for e in 0..self.mesh.elements.len() {
+            if self.mesh.kind(e) == ElementKind::Tet10 {
+                self.tet_force(e, &self.gather(e, u), &mut ft)?;
+                self.scatter(e, &ft, f);
+                continue;
+            }
             if self.shapes.matrix(e).is_some() || elastic.get(e).is_some() {
                 continue;
             }
@@ -462,11 +505,20 @@ impl<'a> Assembly<'a> {
     ) -> Result<(), ElementError> {
         y.iter_mut().for_each(|v| *v = [0.0; 3]);
         let mut fe = [[0.0; 3]; 8];
+        let mut ft = [[0.0; 3]; 10];
         for e in 0..self.mesh.elements.len() {
+            if self.mesh.kind(e) == ElementKind::Tet10 {
+                let (ue, xe) = (self.gather::<10>(e, base), self.gather::<10>(e, x));
+                let shifted =
+                    std::array::from_fn(|a| std::array::from_fn(|i| ue[a][i] + h * xe[a][i]));
+                self.tet_force(e, &shifted, &mut ft)?;
+                self.scatter(e, &ft, y);
+                continue;
+            }
             if self.shapes.matrix(e).is_some() || elastic.get(e).is_some() {
                 continue;
             }
-            let (ue, xe) = (self.gather(e, base), self.gather(e, x));
+            let (ue, xe) = (self.gather::<8>(e, base), self.gather::<8>(e, x));
             let shifted = std::array::from_fn(|a| std::array::from_fn(|i| ue[a][i] + h * xe[a][i]));
             self.element_force(e, &shifted, &mut fe)?;
             self.scatter(e, &fe, y);
@@ -477,6 +529,9 @@ impl<'a> Assembly<'a> {
             }
         }
         for e in 0..self.mesh.elements.len() {
+            if self.mesh.kind(e) != ElementKind::Hex8 {
+                continue;
+            }
             if let Some(k) = self.shapes.matrix(e).or_else(|| elastic.get(e)) {
                 element::matrix_force(k, &self.gather(e, x), &mut fe);
                 self.scatter(e, &fe, y);
@@ -503,10 +558,50 @@ impl<'a> Assembly<'a> {
             .map_err(|k| self.fail(e, k))
     }
 
-    /// Adds element `e`'s nodal forces into `f`.
+    /// Composite tetrahedron `e`'s nodal internal forces at its displacements `ue`, into
+    /// `fe`.
+    #[inline]
+    fn tet_force(
+        &self,
+        e: usize,
+        ue: &[Vec3; 10],
+        fe: &mut [Vec3; 10],
+    ) -> Result<(), ElementError> {
+        let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
+        let m = &self.models[self.mesh.element_body[e] as usize];
+        tet10::internal_force(geo, ue, &m.material, self.hist(e), fe).map_err(|k| self.fail(e, k))
+    }
+
+    /// Adds composite tetrahedron `e`'s central difference of its force along `x` (at `u`,
+    /// step `h`) into `y`.
+    fn tet_difference(
+        &self,
+        e: usize,
+        u: &[Vec3],
+        x: &[Vec3],
+        h: f64,
+        y: &mut [Vec3],
+    ) -> Result<(), ElementError> {
+        let (ue, xe) = (self.gather::<10>(e, u), self.gather::<10>(e, x));
+        let shifted = |s: f64| -> [Vec3; 10] {
+            std::array::from_fn(|a| std::array::from_fn(|i| ue[a][i] + s * xe[a][i]))
+        };
+        let (mut plus, mut minus) = ([[0.0; 3]; 10], [[0.0; 3]; 10]);
+        self.tet_force(e, &shifted(h), &mut plus)?;
+        self.tet_force(e, &shifted(-h), &mut minus)?;
+        for a in 0..10 {
+            for i in 0..3 {
+                plus[a][i] = (plus[a][i] - minus[a][i]) / (2.0 * h);
+            }
+        }
+        self.scatter(e, &plus, y);
+        Ok(())
+    }
+
+    /// Adds element `e`'s nodal forces (`N` nodes, its kind's) into `f`.
     #[inline(always)]
-    fn scatter(&self, e: usize, fe: &[Vec3; 8], f: &mut [Vec3]) {
-        for (a, &n) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
+    fn scatter<const N: usize>(&self, e: usize, fe: &[Vec3; N], f: &mut [Vec3]) {
+        for (a, &n) in self.mesh.elements.fixed::<N>(e).iter().enumerate() {
             let fa = &mut f[n as usize];
             fa[0] += fe[a][0];
             fa[1] += fe[a][1];
@@ -518,8 +613,17 @@ impl<'a> Assembly<'a> {
     pub fn diagonal(&self, u: &[Vec3], d: &mut [Mat3]) -> Result<(), ElementError> {
         d.iter_mut().for_each(|v| *v = ZERO33);
         let mut de = [ZERO33; 8];
+        let mut dt = [ZERO33; 10];
         for e in 0..self.mesh.elements.len() {
             let m = &self.models[self.mesh.element_body[e] as usize];
+            if self.mesh.kind(e) == ElementKind::Tet10 {
+                let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
+                let ue = self.gather(e, u);
+                tet10::diagonal_blocks(geo, &ue, &m.material, self.hist(e), &mut dt)
+                    .map_err(|k| self.fail(e, k))?;
+                add_blocks(self.mesh.elements.fixed::<10>(e), &dt, d);
+                continue;
+            }
             let ue = self.gather(e, u);
             let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
             let hist = self.hist(e);
@@ -571,7 +675,17 @@ impl<'a> Assembly<'a> {
                         }
                     }
                 }
-                ElementKind::Tet10 => unreachable!("no mesh reader makes tet10 bodies yet"),
+                ElementKind::Tet10 => {
+                    // The consistent force of a uniform density: each node's share is the
+                    // integral of its (piecewise-linear, positive) shape function.
+                    let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
+                    let v = tet10::nodal_volumes(geo);
+                    for (a, &node) in self.mesh.elements.fixed::<10>(e).iter().enumerate() {
+                        for i in 0..3 {
+                            f[node as usize][i] += scale * v[a] * force_density[i];
+                        }
+                    }
+                }
             }
         }
         Ok(())
@@ -594,20 +708,38 @@ impl<'a> Assembly<'a> {
                 continue;
             }
             let m = &self.models[self.mesh.element_body[e] as usize];
-            let ue = self.gather(e, u);
-            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
-            out.push(
-                element::average_cauchy_with(
-                    geo,
-                    gauss,
-                    &ue,
-                    &m.material,
-                    m.formulation,
-                    self.hist(e),
-                )
-                .map_err(|k| self.fail(e, k))?,
-            );
+            let s = match self.mesh.kind(e) {
+                ElementKind::Hex8 => {
+                    let ue = self.gather(e, u);
+                    let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
+                    element::average_cauchy_with(
+                        geo,
+                        gauss,
+                        &ue,
+                        &m.material,
+                        m.formulation,
+                        self.hist(e),
+                    )
+                }
+                ElementKind::Tet10 => {
+                    let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
+                    tet10::average_cauchy(geo, &self.gather(e, u), &m.material, self.hist(e))
+                }
+            };
+            out.push(s.map_err(|k| self.fail(e, k))?);
         }
         Ok(out)
+    }
+}
+
+/// Adds an element's nodal diagonal blocks `de` into `d` at its nodes `el`.
+#[inline]
+fn add_blocks<const N: usize>(el: &[u32; N], de: &[Mat3; N], d: &mut [Mat3]) {
+    for (a, &n) in el.iter().enumerate() {
+        for i in 0..3 {
+            for k in 0..3 {
+                d[n as usize][i][k] += de[a][i][k];
+            }
+        }
     }
 }

@@ -14,8 +14,12 @@
 //! last place of the largest coordinate, and the same for every element that holds it
 //! (the geometry stays conforming). Which elements share a shape is not seen in any
 //! result: each element's geometry is that of its own rounded shape.
+//!
+//! A composite tetrahedron (`fem::tet10`) keeps its own geometry (no two elements of a
+//! tetrahedral mesh share a shape); its index is marked by `TET` so that it can never be
+//! read as a hexahedron's (or a hexahedron's matrix).
 
-use crate::fem::{element, ElementFailure};
+use crate::fem::{element, tet10, ElementFailure, ElementKind};
 use crate::math::Vec3;
 use crate::memory::{try_with_capacity, AllocError};
 use crate::mesh::GlobalMesh;
@@ -60,7 +64,10 @@ impl Plan {
             .iter()
             .zip(models)
             .map(|(b, m)| {
-                if m.material.linear().is_none() || b.num_elements == 0 {
+                if m.material.linear().is_none()
+                    || b.num_elements == 0
+                    || b.kind != ElementKind::Hex8
+                {
                     return 0;
                 }
                 // K u sums the volumetric stiffness's large terms, which cancel for a
@@ -74,7 +81,7 @@ impl Plan {
                 let most = b.num_elements / ELEMENTS_PER_MATRIX;
                 let mut seen = std::collections::HashSet::new();
                 for e in b.first_element..b.first_element + b.num_elements {
-                    let shape = shape_on_grid(&mesh.element_coords(e), grid);
+                    let shape = shape_on_grid(&mesh.element_coords::<8>(e), grid);
                     let mut h = std::hash::DefaultHasher::new();
                     for v in shape[1..].as_flattened() {
                         v.to_bits().hash(&mut h);
@@ -144,8 +151,12 @@ fn shape_on_grid(x: &[Vec3; 8], grid: f64) -> [Vec3; 8] {
     element::reference_shape(&y)
 }
 
+/// The bit that marks an index into the composite tetrahedra's geometry.
+const TET: u32 = 1 << 31;
+
 pub struct Shapes {
-    /// Per local element: its shape's index, or why its reference geometry failed.
+    /// Per local element: its shape's index (a tetrahedron's with `TET` set), or why its
+    /// reference geometry failed.
     index: Vec<Result<u32, ElementFailure>>,
     geometry: Vec<element::Geometry>,
     /// The Gauss-point gradients of each shape (empty when no body needs them).
@@ -153,12 +164,17 @@ pub struct Shapes {
     /// The stiffness matrix of each shape of a body evaluated by matrices (shorter than
     /// the shapes when the last ones have none).
     matrix: Vec<Option<Box<element::ElementMatrix>>>,
+    /// The geometry of each composite tetrahedron.
+    tet: Vec<tet10::Geometry>,
 }
 
-/// The local elements as `Shapes` needs them: coordinates and body of each.
+/// The local elements as `Shapes` needs them: kind, coordinates and body of each (`coords`
+/// of the hexahedra, `tet_coords` of the tetrahedra).
 pub struct Elements<'a> {
     pub count: usize,
+    pub kind: &'a dyn Fn(usize) -> ElementKind,
     pub coords: &'a dyn Fn(usize) -> [Vec3; 8],
+    pub tet_coords: &'a dyn Fn(usize) -> [Vec3; 10],
     pub body: &'a dyn Fn(usize) -> usize,
 }
 
@@ -176,7 +192,13 @@ impl Shapes {
         let mut number: Vec<u32> = try_with_capacity(el.count, "the element geometry")?;
         let mut first = Vec::new();
         let mut seen: HashMap<[u64; 22], u32> = HashMap::new();
+        let mut tets = Vec::new();
         for e in 0..el.count {
+            if (el.kind)(e) == ElementKind::Tet10 {
+                number.push(TET);
+                tets.push(e);
+                continue;
+            }
             let b = (el.body)(e);
             if !plan.matrix(b) {
                 number.push(first.len() as u32);
@@ -233,13 +255,34 @@ impl Shapes {
             }
         }
         let mut index = try_with_capacity(el.count, "the element geometry")?;
-        index.extend(number.iter().map(|&s| kept[s as usize]));
+        index.extend(
+            number
+                .iter()
+                .map(|&s| if s == TET { Ok(TET) } else { kept[s as usize] }),
+        );
+        let mut tet = try_with_capacity(tets.len(), "the tetrahedra's geometry")?;
+        for e in tets {
+            index[e] = tet10::geometry(&(el.tet_coords)(e)).map(|g| {
+                tet.push(g);
+                TET | (tet.len() as u32 - 1)
+            });
+        }
         Ok(Shapes {
             index,
             geometry,
             gauss: gauss_table,
             matrix,
+            tet,
         })
+    }
+
+    /// The reference geometry of local element `e`, a composite tetrahedron, or why it
+    /// failed. Panics if `e` is a hexahedron.
+    #[inline]
+    pub fn tet(&self, e: usize) -> Result<&tet10::Geometry, ElementFailure> {
+        let s = self.index[e]?;
+        assert!(s & TET != 0, "element {e} is not a tetrahedron");
+        Ok(&self.tet[(s & !TET) as usize])
     }
 
     /// The reference geometry of local element `e` and its Gauss-point gradients (when
@@ -260,9 +303,14 @@ impl Shapes {
         self.matrix.get(s)?.as_deref()
     }
 
-    /// How many distinct shapes are kept.
+    /// How many distinct hexahedral shapes are kept.
     pub fn count(&self) -> usize {
         self.geometry.len()
+    }
+
+    /// How many composite tetrahedra keep a geometry.
+    pub fn tets(&self) -> usize {
+        self.tet.len()
     }
 }
 
@@ -304,7 +352,9 @@ mod tests {
         let shapes = |plan: &Plan| {
             let el = Elements {
                 count: ne,
+                kind: &|_| ElementKind::Hex8,
                 coords: &|e| mesh.element_coords(e),
+                tet_coords: &|_| unreachable!("no tetrahedra here"),
                 body: &|_| 0,
             };
             Shapes::new(&el, &models, true, plan).unwrap()

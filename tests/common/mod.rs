@@ -8,6 +8,7 @@ pub mod restart;
 pub mod scenes;
 pub mod stacked;
 pub mod synthetic;
+pub mod tets;
 
 #[allow(unused_imports)]
 pub use paths::{fresh_dir, paper_scene, repo, solver, stderr_text};

@@ -36,3 +36,4 @@ pub(in crate::fem) use geometry::hourglass as hourglass_sums;
 pub(in crate::fem) use geometry::mean_gradient;
 pub(in crate::fem) use hourglass::{centre, dev_sym, forces, SLOTS};
 pub(in crate::fem) use stabilization::Stiffness;
+pub(in crate::fem) use tangent::add_tangent;

@@ -8,6 +8,7 @@ use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::active::{ContactCounts, ContactState};
 use crate::contact::Enforcement;
+use crate::fem::ElementKind;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
@@ -572,7 +573,12 @@ fn stiffness_scale(problem: &Problem) -> f64 {
         .fold(0.0, f64::max);
     let mesh = &problem.mesh;
     let h_min = (0..mesh.num_elements())
-        .filter_map(|e| crate::fem::element::volume(&mesh.element_coords(e)).ok())
+        .filter_map(|e| match mesh.kind(e) {
+            ElementKind::Hex8 => crate::fem::element::volume(&mesh.element_coords(e)).ok(),
+            ElementKind::Tet10 => crate::fem::tet10::geometry(&mesh.element_coords(e))
+                .ok()
+                .map(|g| crate::fem::tet10::volume(&g)),
+        })
         .fold(f64::INFINITY, f64::min)
         .cbrt();
     e_max * if h_min.is_finite() { h_min } else { 0.0 }

@@ -7,6 +7,19 @@
 //! reader maps them.) Faces follow the Exodus side order (0-based), each listed corners
 //! first, so that the corners' normal points out of the element, then the midpoints of its
 //! edges in the same turn (corner 0-1, 1-2, 2-0 of the face).
+//!
+//! The element built on it is the composite tetrahedron: `composite` (its twelve linear
+//! sub-tetrahedra, the projected gradient and the integration weights) and `kernel` (force,
+//! tangent diagonal, stress, history).
+
+mod composite;
+mod kernel;
+
+pub use composite::{geometry, nodal_volumes, volume, Geometry, SUB_TETS};
+pub use kernel::{
+    average_cauchy, diagonal_blocks, internal_force, mean_eqps, point_gradients, update_history,
+    STABILIZATION, STRESS_POINTS,
+};
 
 use crate::math::{det, Mat3, Vec3};
 
