@@ -1,6 +1,6 @@
 //! The mesh of a result file, from the validated problem.
 
-use crate::output::{OutputBody, OutputMesh};
+use crate::output::{ElementNodes, OutputBody, OutputMesh};
 use crate::problem::Problem;
 
 /// The whole mesh as the result file records it.
@@ -14,9 +14,12 @@ pub fn output_mesh(problem: &Problem) -> OutputMesh {
             .iter()
             .map(|b| OutputBody {
                 name: b.name.clone(),
-                connectivity: (b.first_element..b.first_element + b.num_elements)
-                    .map(|e| m.elements.fixed::<8>(e).map(|n| n as u64))
-                    .collect(),
+                connectivity: ElementNodes {
+                    nodes_per_element: b.kind.nodes(),
+                    flat: (b.first_element..b.first_element + b.num_elements)
+                        .flat_map(|e| m.elements.element(e).iter().map(|&n| u64::from(n)))
+                        .collect(),
+                },
                 element_ids: (b.first_element as u64 + 1
                     ..=(b.first_element + b.num_elements) as u64)
                     .collect(),
