@@ -231,9 +231,9 @@ fn triangles_become_the_tetrahedron_faces_under_them() {
     }
 }
 
-#[test]
-fn a_hexahedral_and_a_tetrahedral_volume_make_two_bodies() {
-    let text = format!(
+/// The hexahedral cube as body "h", the tetrahedral one as "t" (its top fixed).
+fn mixed_scene() -> String {
+    format!(
         r#"
 [gmsh]
 file = "{}"
@@ -262,8 +262,12 @@ value = 0.0
 segments = [{{ end = 1.0, steps = 1 }}]
 "#,
         fixture("hex_and_tet.msh")
-    );
-    let p = load(&text);
+    )
+}
+
+#[test]
+fn a_hexahedral_and_a_tetrahedral_volume_make_two_bodies() {
+    let p = load(&mixed_scene());
     let b = &p.mesh.bodies;
     assert_eq!(
         (b[0].kind, b[0].num_elements, b[0].num_nodes),
@@ -393,4 +397,39 @@ fn bad_tetrahedral_meshes_are_refused_by_name() {
             "contact on tet10 faces is not supported yet",
         ],
     );
+}
+
+/// The tet10 and mixed meshes over 1, 2 and 3 ranks: every element owned once, every node
+/// owned once, each rank's elements in their global kind and node order, their nodes local.
+#[test]
+fn tet_and_mixed_meshes_partition_with_ghosts() {
+    let cube = load(&cube_scene(&fixture("tet_cube.msh"), ""));
+    let mixed = load(&mixed_scene());
+    for p in [&cube, &mixed] {
+        let g = &p.mesh;
+        for ranks in 1..=3 {
+            let d = partition::Decomposition::partition(g.num_nodes(), &g.elements, ranks).unwrap();
+            let mut owned_elements = vec![0; g.num_elements()];
+            let mut owned_nodes = vec![0; g.num_nodes()];
+            for r in 0..ranks {
+                let l = solver::mesh::local::LocalMesh::new(g, &d, r);
+                for (k, &e) in l.element_global.iter().enumerate() {
+                    let global: Vec<u32> = l
+                        .elements
+                        .element(k)
+                        .iter()
+                        .map(|&n| l.node_global[n as usize])
+                        .collect();
+                    assert_eq!(global, g.elements.element(e as usize));
+                    assert_eq!(l.kind(k), g.kind(e as usize));
+                    owned_elements[e as usize] += usize::from(l.element_owned[k]);
+                }
+                for &n in &l.node_global[..l.num_owned_nodes] {
+                    owned_nodes[n as usize] += 1;
+                }
+            }
+            assert!(owned_elements.iter().all(|&c| c == 1), "{ranks} ranks");
+            assert!(owned_nodes.iter().all(|&c| c == 1), "{ranks} ranks");
+        }
+    }
 }
