@@ -9,6 +9,7 @@ use std::process::Command;
 
 use solver::output::{ResultFile, ResultWriter, RunInfo, StepOutput, StepStats};
 use solver::problem::Problem;
+use solver::scene::parse_scene;
 
 use super::common::{fresh_dir, repo, solver, stderr_text};
 
@@ -45,6 +46,31 @@ fn write(p: &Problem, dir: &Path, name: &str) -> PathBuf {
     })
     .unwrap();
     w.finish(0.5).unwrap()
+}
+
+/// `text` with its mesh taken from the Exodus file `mesh`: every body its element block,
+/// every Gmsh set the Exodus set of its name.
+fn exodus_scene(text: &str, mesh: &Path) -> String {
+    let mut v: toml::Table = text.parse().unwrap();
+    v.remove("gmsh");
+    let mut e = toml::Table::new();
+    e.insert("file".into(), mesh.display().to_string().into());
+    v.insert("exodus".into(), e.into());
+    for (table, old, new) in [
+        ("body", "gmsh_volume", "exodus_block"),
+        ("node_set", "gmsh_group", "exodus_node_set"),
+        ("side_set", "gmsh_surface", "exodus_side_set"),
+    ] {
+        let items = v.get_mut(table).and_then(|b| b.as_array_mut());
+        for item in items.into_iter().flatten() {
+            let t = item.as_table_mut().unwrap();
+            if t.remove(old).is_some() {
+                let name = t["name"].clone();
+                t.insert(new.into(), name);
+            }
+        }
+    }
+    toml::to_string(&v).unwrap()
 }
 
 /// pvpython: the .xmf through ParaView's Xdmf3 reader: points, cells, VTK cell types, and
@@ -102,6 +128,19 @@ fn reads_everywhere(p: &Problem, name: &str, types: &[u64]) -> PathBuf {
     post(&["compare", &h5s, &h5s]);
     let exo = dir.join(format!("{name}.e"));
     post(&["exodus", &h5s, "-o", &exo.display().to_string()]);
+    let again = parse_scene(&exodus_scene(&p.text, &exo), "exodus.toml", "exodus")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(again.mesh.coords, p.mesh.coords);
+    assert_eq!(again.mesh.elements, p.mesh.elements);
+    assert_eq!(again.mesh.element_body, p.mesh.element_body);
+    let kinds = |q: &Problem| q.mesh.bodies.iter().map(|b| b.kind).collect::<Vec<_>>();
+    assert_eq!(kinds(&again), kinds(p));
+    for (a, b) in again.side_sets.iter().zip(&p.side_sets) {
+        assert_eq!(a.faces, b.faces, "side set {}", a.name);
+    }
+    for (a, b) in again.node_sets.iter().zip(&p.node_sets) {
+        assert_eq!(a.nodes, b.nodes, "node set {}", a.name);
+    }
     let v = paraview(&h5.with_extension("xmf"));
     println!("ParaView: {v}");
     assert_eq!(v["points"], p.mesh.num_nodes() as u64);
