@@ -15,11 +15,8 @@ use crate::math::Vec3;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-mod surface;
-mod volume;
-
-pub use surface::SurfaceFace;
-pub use volume::GmshVolume;
+pub mod surface;
+pub mod volume;
 
 /// Gmsh's element type numbers used here.
 pub const GMSH_LINE2: i32 = 1;

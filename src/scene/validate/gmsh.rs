@@ -5,7 +5,8 @@
 use super::error::{Builder, SceneError};
 use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
-use crate::mesh::gmsh::{GmshMesh, SurfaceFace};
+use crate::mesh::gmsh::surface::SurfaceFace;
+use crate::mesh::gmsh::GmshMesh;
 use crate::mesh::{Connectivity, GlobalMesh};
 use crate::scene::types::GmshDef;
 use std::collections::HashMap;
