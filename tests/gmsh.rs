@@ -215,15 +215,23 @@ fn expect_error(name: &str, text: &str, needles: &[&str]) {
 
 #[test]
 fn unsupported_element_types_are_named_and_counted() {
+    // The cube's five tetrahedra replaced by a 6-node prism: a type no body takes.
+    let text = std::fs::read_to_string(fixture("tetrahedra.msh")).unwrap();
+    let tets = &text[text.find("3 1 4 5\n").unwrap()..text.find("$EndElements").unwrap()];
+    let text = text
+        .replace(tets, "3 1 6 1\n3 1 2 3 5 6 7\n")
+        .replace("2 7 1 7\n", "2 3 1 3\n");
+    let prisms = temp_dir().join("prism.msh");
+    std::fs::write(&prisms, text).unwrap();
     expect_error(
-        "tetrahedra",
-        &scene(&fixture("tetrahedra.msh"), "solid", ""),
+        "prism",
+        &scene(&prisms.display().to_string(), "solid", ""),
         &[
             "body[0].gmsh_volume",
-            "tetrahedra.msh",
+            "prism.msh",
             "physical volume 'solid'",
-            "5 elements of Gmsh type 4 (4-node tetrahedron; the first is element 3)",
-            "only 8-node hexahedra (Gmsh type 5)",
+            "1 element of Gmsh type 6 (6-node prism; the first is element 3)",
+            "only 8-node hexahedra (Gmsh type 5) and 4- or 10-node tetrahedra (types 4, 11)",
         ],
     );
     let side = "[[side_set]]\nname = \"bottom\"\ngmsh_surface = \"bottom\"\n";
@@ -233,9 +241,8 @@ fn unsupported_element_types_are_named_and_counted() {
         &[
             "side_set[0].gmsh_surface",
             "triangles.msh",
-            "physical surface 'bottom'",
-            "2 elements of Gmsh type 2 (3-node triangle",
-            "only 4-node quadrangles (Gmsh type 3)",
+            "triangle 1 of physical surface 'bottom'",
+            "not a face of any body's element",
         ],
     );
 }
@@ -343,7 +350,7 @@ fn other_gmsh_scene_errors() {
         &[
             "side_set[0].gmsh_surface",
             "quadrangle 1 of physical surface 'middle'",
-            "a face between two hexahedra",
+            "a face between two elements, not on a body's boundary",
         ],
     );
     let text = scene(&fixture("cube.msh"), "cube", "").replace("[gmsh]\nfile", "# file");

@@ -4,7 +4,8 @@
 //! kind; a scene may mix bodies of different kinds. A new kind is a file of kernels in
 //! `fem/` plus one arm in each match below (docs/layout.md, "Adding an element kind").
 
-use crate::fem::{hex8, tet10};
+use crate::fem::hex8;
+use crate::fem::tet10;
 
 /// The kind of a body's elements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -7,16 +7,22 @@
 //!
 //! Blocks and sets are found by their names (`eb_names`, `ns_names`, `ss_names`), or
 //! `block_<id>`, `nodelist_<id>` and `surface_<id>` where unnamed (Cubit's and IOSS's
-//! defaults). Only HEX8 blocks (`HEX`, `HEX8`, `HEXAHEDRON`) are read; Exodus's HEX8 node
-//! order and side numbers are those of `fem::hex8` (sides 1-based).
+//! defaults). HEX8 blocks (`HEX`, `HEX8`, `HEXAHEDRON`) and TETRA4 and TETRA10 blocks
+//! (`TETRA`, `TETRA4`, `TETRA10`, `TET4`, `TET10`) are read, the 4-node tetrahedra as 10-node
+//! ones as a Gmsh mesh's are; Exodus's node orders and side numbers are those of `fem::hex8`
+//! and `fem::tet10` (sides 1-based), and a tetrahedron's side becomes the triangle of its
+//! corners.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use netcdf::File;
 
-use super::gmsh::{GmshElement, GmshMesh, PhysicalGroup, GMSH_HEX8, GMSH_QUAD4};
+use super::gmsh::{
+    GmshElement, GmshMesh, PhysicalGroup, GMSH_HEX8, GMSH_QUAD4, GMSH_TET10, GMSH_TET4, GMSH_TRI3,
+};
 use crate::fem::hex8::FACES;
+use crate::fem::tet10;
 use crate::output::exodus::{rows_to_names, NcChar};
 
 /// Gmsh's 1-node point element, which node sets are made of.
@@ -141,10 +147,11 @@ pub fn read_exodus(path: &Path) -> Result<GmshMesh, String> {
     Ok(mesh)
 }
 
-/// Every element of the file in order: its tag and its node tags (HEX8 only).
+/// Every element of the file in order: its tag, Gmsh type and node tags (in Gmsh's order).
 struct Elements {
     tags: Vec<u64>,
-    nodes: Vec<[u64; 8]>,
+    kinds: Vec<i32>,
+    nodes: Vec<Vec<u64>>,
     /// The block name of each element (for messages).
     block: Vec<usize>,
     names: Vec<String>,
@@ -157,6 +164,7 @@ fn read_blocks(r: &Reader, node_tags: &[u64], mesh: &mut GmshMesh) -> Result<Ele
     let elem_tags = r.map("elem_num_map", r.len("num_elem"))?;
     let mut all = Elements {
         tags: Vec::new(),
+        kinds: Vec::new(),
         nodes: Vec::new(),
         block: Vec::new(),
         names: names.clone(),
@@ -173,41 +181,53 @@ fn read_blocks(r: &Reader, node_tags: &[u64], mesh: &mut GmshMesh) -> Result<Ele
                 .and_then(|a| String::try_from(a).ok())
                 .unwrap_or_default();
         let upper = kind.trim().to_ascii_uppercase();
-        if n_el > 0 && (!matches!(upper.as_str(), "HEX" | "HEX8" | "HEXAHEDRON") || per != 8) {
-            return Err(format!(
-                "{}: {label} has element type '{kind}' ({per} nodes); only HEX8 blocks are read",
-                r.file
-            ));
-        }
+        let gmsh_type = match (upper.as_str(), per) {
+            ("HEX" | "HEX8" | "HEXAHEDRON", 8) => GMSH_HEX8,
+            ("TETRA" | "TETRA4" | "TET" | "TET4", 4) => GMSH_TET4,
+            ("TETRA" | "TETRA10" | "TET10", 10) => GMSH_TET10,
+            _ if n_el == 0 => GMSH_HEX8,
+            _ => {
+                return Err(format!(
+                    "{}: {label} has element type '{kind}' ({per} nodes); only HEX8, TETRA4 and TETRA10 blocks are read",
+                    r.file
+                ))
+            }
+        };
         let conn = if n_el > 0 { r.ints(&var)? } else { Vec::new() };
         let mut elements = Vec::with_capacity(n_el);
-        for (e, row) in conn.chunks(8).enumerate() {
+        for (e, row) in conn.chunks(per.max(1)).enumerate() {
             let g = all.tags.len();
             let tag = *elem_tags.get(g).ok_or_else(|| {
                 format!("{}: the blocks hold more elements than num_elem", r.file)
             })?;
-            let mut hex = [0u64; 8];
-            for a in 0..8 {
-                let k = usize::try_from(row[a] - 1)
+            let mut nodes = Vec::with_capacity(per);
+            for &id in row {
+                let k = usize::try_from(id - 1)
                     .ok()
                     .filter(|&k| k < node_tags.len());
-                hex[a] = node_tags[k.ok_or_else(|| {
-                    format!(
-                        "{}: element {} of {label} refers to node {}, but the file has {} nodes",
+                nodes.push(
+                    node_tags[k.ok_or_else(|| {
+                        format!(
+                        "{}: element {} of {label} refers to node {id}, but the file has {} nodes",
                         r.file,
                         e + 1,
-                        row[a],
                         node_tags.len()
                     )
-                })?];
+                    })?],
+                );
+            }
+            if gmsh_type == GMSH_TET10 {
+                // Exodus's TETRA10 order is ours; Gmsh's swaps the last two nodes.
+                nodes.swap(8, 9);
             }
             all.tags.push(tag);
-            all.nodes.push(hex);
+            all.kinds.push(gmsh_type);
+            all.nodes.push(nodes.clone());
             all.block.push(b);
             elements.push(GmshElement {
                 tag,
-                kind: GMSH_HEX8,
-                nodes: hex.to_vec(),
+                kind: gmsh_type,
+                nodes,
             });
         }
         elements.sort_by_key(|e| e.tag);
@@ -285,16 +305,26 @@ fn read_side_sets(r: &Reader, all: &Elements, mesh: &mut GmshMesh) -> Result<(),
                         all.tags.len()
                     )
                 })?;
-            let f = usize::try_from(side - 1).ok().filter(|&f| f < 6).ok_or_else(|| {
+            let hex = all.kinds[k] == GMSH_HEX8;
+            let sides = if hex { 6 } else { 4 };
+            let f = usize::try_from(side - 1).ok().filter(|&f| f < sides).ok_or_else(|| {
                 format!(
-                    "{}: {label} names side {side} of element {e} (block '{}'); a HEX8 has sides 1 to 6",
-                    r.file, all.names[all.block[k]]
+                    "{}: {label} names side {side} of element {e} (block '{}'); a {} has sides 1 to {sides}",
+                    r.file,
+                    all.names[all.block[k]],
+                    if hex { "HEX8" } else { "TETRA" }
                 )
             })?;
+            // A tetrahedron's side as the triangle of its corners (matched by them).
+            let (kind, corners): (i32, &[usize]) = if hex {
+                (GMSH_QUAD4, &FACES[f])
+            } else {
+                (GMSH_TRI3, &tet10::FACES[f][..3])
+            };
             quads.push(GmshElement {
                 tag: next_tag,
-                kind: GMSH_QUAD4,
-                nodes: FACES[f].iter().map(|&a| all.nodes[k][a]).collect(),
+                kind,
+                nodes: corners.iter().map(|&a| all.nodes[k][a]).collect(),
             });
             next_tag += 1;
         }

@@ -1,8 +1,9 @@
 //! Gmsh meshes (MSH format 4.1, ASCII or binary, read by [`super::msh41`]): nodes by their
-//! tags, and the elements of each physical group. Bodies take the 8-node hexahedra of a physical volume,
-//! side sets the 4-node quadrangles of a physical surface, node sets the nodes of any
-//! physical group. Errors are plain messages naming the file and the group or element; the
-//! scene layer adds its own file and key.
+//! tags, and the elements of each physical group. Bodies take the elements of a physical
+//! volume (8-node hexahedra, or 4- or 10-node tetrahedra read as 10-node ones: `volume`),
+//! side sets the quadrangles and triangles of a physical surface (`surface`), node sets the
+//! nodes of any physical group. Errors are plain messages naming the file and the group or
+//! element; the scene layer adds its own file and key.
 //!
 //! Gmsh's 8-node hexahedron (type 5) has its nodes at (u, v, w) = (-1,-1,-1), (1,-1,-1),
 //! (1,1,-1), (-1,1,-1), then the same four at w = +1: the order of `fem::hex8::NODE_XI`, so
@@ -10,14 +11,21 @@
 //! is rejected rather than reordered: Gmsh writes positively oriented elements, so one that
 //! is not points at a broken mesh.
 
-use crate::fem::hex8::min_jacobian_ratio;
 use crate::math::Vec3;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+pub mod surface;
+pub mod volume;
+
 /// Gmsh's element type numbers used here.
+pub const GMSH_LINE2: i32 = 1;
+pub const GMSH_TRI3: i32 = 2;
 pub const GMSH_QUAD4: i32 = 3;
+pub const GMSH_TET4: i32 = 4;
 pub const GMSH_HEX8: i32 = 5;
+pub const GMSH_TRI6: i32 = 9;
+pub const GMSH_TET10: i32 = 11;
 
 /// A physical group: its dimension, tag and (possibly empty) name.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,16 +63,6 @@ pub struct GmshMesh {
     pub groups: Vec<PhysicalGroup>,
     /// Elements of each group (same order as `groups`), in element tag order.
     pub group_elements: Vec<Vec<GmshElement>>,
-}
-
-/// The hexahedra of one physical volume, numbered locally: nodes in node tag order.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GmshVolume {
-    pub node_tags: Vec<u64>,
-    pub coords: Vec<Vec3>,
-    pub element_tags: Vec<u64>,
-    /// Local (0-based) node indices in the solver's hexahedron order.
-    pub elements: Vec<[u32; 8]>,
 }
 
 impl GmshMesh {
@@ -199,55 +197,17 @@ impl GmshMesh {
         }
     }
 
-    /// The 8-node hexahedra of the physical volume `name`, checked: no other element type,
-    /// every node present, a positive Jacobian everywhere.
-    pub fn volume(&self, name: &str) -> Result<GmshVolume, String> {
-        let g = self.find_one(name, 3, "physical volume")?;
-        let elements = &self.group_elements[g];
-        self.only_type(elements, GMSH_HEX8, "physical volume", name)?;
-        if elements.is_empty() {
-            return Err(format!(
-                "physical volume '{name}' of {} has no elements (was the mesh saved after meshing in 3-D?)",
-                self.file
-            ));
-        }
-        let mut node_tags: Vec<u64> = elements.iter().flat_map(|e| e.nodes.clone()).collect();
-        node_tags.sort_unstable();
-        node_tags.dedup();
-        let coords = node_tags
-            .iter()
-            .map(|t| self.node(*t, elements, name))
-            .collect::<Result<Vec<Vec3>, String>>()?;
-        let mut local = Vec::with_capacity(elements.len());
-        for e in elements {
-            let el: [u32; 8] = std::array::from_fn(|a| {
-                node_tags
-                    .binary_search(&e.nodes[a])
-                    .expect("every node tag is listed") as u32
-            });
-            let x: [Vec3; 8] = std::array::from_fn(|a| coords[el[a] as usize]);
-            let r = min_jacobian_ratio(&x);
-            if !(r > 1e-8) {
-                return Err(format!(
-                    "element {} (8-node hexahedron) of physical volume '{name}' in {} is inverted or degenerate (min Jacobian ratio {r:.3e})",
-                    e.tag, self.file
-                ));
-            }
-            local.push(el);
-        }
-        Ok(GmshVolume {
-            node_tags,
-            coords,
-            element_tags: elements.iter().map(|e| e.tag).collect(),
-            elements: local,
-        })
-    }
-
     /// The 4-node quadrangles of the physical surface `name`, as (element tag, node tags).
     pub fn surface_quads(&self, name: &str) -> Result<Vec<(u64, [u64; 4])>, String> {
         let g = self.find_one(name, 2, "physical surface")?;
         let elements = &self.group_elements[g];
-        self.only_type(elements, GMSH_QUAD4, "physical surface", name)?;
+        self.only_types(
+            elements,
+            &[GMSH_QUAD4],
+            "4-node quadrangles (Gmsh type 3)",
+            "physical surface",
+            name,
+        )?;
         if elements.is_empty() {
             return Err(format!(
                 "physical surface '{name}' of {} has no elements",
@@ -290,42 +250,50 @@ impl GmshMesh {
         })
     }
 
-    /// An error counting the elements of any type other than `kind`.
-    fn only_type(
+    /// An error counting the elements of any type other than `kinds` (described by
+    /// `supported`).
+    fn only_types(
         &self,
         elements: &[GmshElement],
-        kind: i32,
+        kinds: &[i32],
+        supported: &str,
         what: &str,
         name: &str,
     ) -> Result<(), String> {
-        let mut other: BTreeMap<i32, (usize, u64)> = BTreeMap::new();
-        for e in elements.iter().filter(|e| e.kind != kind) {
-            other.entry(e.kind).or_insert((0, e.tag)).0 += 1;
-        }
+        let other = count_types(elements.iter().filter(|e| !kinds.contains(&e.kind)));
         if other.is_empty() {
             return Ok(());
         }
-        let counts: Vec<String> = other
-            .iter()
-            .map(|(&t, &(n, first))| {
-                format!(
-                    "{n} element{} of Gmsh type {t} ({}; the first is element {first})",
-                    if n == 1 { "" } else { "s" },
-                    element_type_name(t)
-                )
-            })
-            .collect();
         Err(format!(
-            "{what} '{name}' of {} has {}; only {} (Gmsh type {kind}) are supported",
+            "{what} '{name}' of {} has {}; only {supported} are supported",
             self.file,
-            counts.join(" and "),
-            if kind == GMSH_HEX8 {
-                "8-node hexahedra"
-            } else {
-                "4-node quadrangles"
-            }
+            type_counts(&other)
         ))
     }
+}
+
+/// Elements by type: (count, first tag) of each type.
+fn count_types<'a>(elements: impl Iterator<Item = &'a GmshElement>) -> BTreeMap<i32, (usize, u64)> {
+    let mut out: BTreeMap<i32, (usize, u64)> = BTreeMap::new();
+    for e in elements {
+        out.entry(e.kind).or_insert((0, e.tag)).0 += 1;
+    }
+    out
+}
+
+/// "3 elements of Gmsh type 6 (6-node prism; the first is element 12) and ...".
+fn type_counts(counts: &BTreeMap<i32, (usize, u64)>) -> String {
+    counts
+        .iter()
+        .map(|(&t, &(n, first))| {
+            format!(
+                "{n} element{} of Gmsh type {t} ({}; the first is element {first})",
+                if n == 1 { "" } else { "s" },
+                element_type_name(t)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" and ")
 }
 
 fn dim_word(dim: i32) -> &'static str {
@@ -398,7 +366,7 @@ $Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
         // the identity map scaled by one half: same node order, positive Jacobian.
         let m = GmshMesh::from_bytes(cube("1 2 3 4 5 6 7 8").as_bytes(), "cube.msh").unwrap();
         let v = m.volume("cube").unwrap();
-        assert_eq!(v.elements, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(v.elements.element(0), &[0, 1, 2, 3, 4, 5, 6, 7]);
         for a in 0..8 {
             for i in 0..3 {
                 assert_eq!(v.coords[a][i], 0.5 * (1.0 + NODE_XI[a][i]));
@@ -421,7 +389,7 @@ $Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
         assert_eq!(m.nodes[&70], [1.0, 1.0, 1.0]);
         let v = m.volume("cube").unwrap();
         assert_eq!(v.node_tags, vec![10, 20, 30, 40, 50, 60, 70, 80]);
-        assert_eq!(v.elements, vec![[0, 1, 2, 3, 4, 5, 6, 7]]);
+        assert_eq!(v.elements.element(0), &[0, 1, 2, 3, 4, 5, 6, 7]);
         assert_eq!(m.group_nodes("bottom").unwrap(), vec![10, 20, 30, 40]);
     }
 

@@ -102,6 +102,13 @@ impl GlobalMesh {
         kind.face(face as usize).iter().map(move |&a| el[a])
     }
 
+    /// A face's sorted corner nodes, padded with `u32::MAX` to four (the same from either
+    /// element that shares the face).
+    pub fn face_key(&self, element: u32, face: u8) -> [u32; 4] {
+        let e = element as usize;
+        face_key(self.kind(e), self.elements.element(e), face as usize)
+    }
+
     /// Global node indices of a quadrilateral face (what contact, the Gmsh side sets and
     /// face loads take today), ordered with an outward normal.
     pub fn quad_face_nodes(&self, element: u32, face: u8) -> [u32; 4] {

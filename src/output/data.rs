@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use super::cells::ElementNodes;
 use super::error::OutputError;
 use super::layout;
 
@@ -24,12 +25,13 @@ pub struct OutputMesh {
     pub side_sets: Vec<(String, Vec<(u64, u8)>)>,
 }
 
-/// One body's hexahedra.
+/// One body's elements (of one kind).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OutputBody {
     pub name: String,
-    /// Eight 0-based indices into the global node order per element.
-    pub connectivity: Vec<[u64; 8]>,
+    /// 0-based indices into the global node order: 8 per hexahedron, 10 per 10-node
+    /// tetrahedron.
+    pub connectivity: ElementNodes,
     /// The 1-based global element id of each element.
     pub element_ids: Vec<u64>,
 }
@@ -110,12 +112,11 @@ impl OutputMesh {
         self.bodies.iter().map(|b| b.connectivity.len()).sum()
     }
 
-    /// The connectivity of all bodies concatenated (global element order).
-    pub fn all_connectivity(&self) -> Vec<[u64; 8]> {
-        self.bodies
-            .iter()
-            .flat_map(|b| b.connectivity.iter().copied())
-            .collect()
+    /// The connectivity of all bodies concatenated (global element order): a table while
+    /// every element has the same node count, else (`Err`) XDMF's "Mixed" array
+    /// (`super::cells`).
+    pub fn all_connectivity(&self) -> Result<ElementNodes, Vec<u64>> {
+        super::cells::concatenate(self.bodies.iter().map(|b| &b.connectivity))
     }
 
     /// Checks the mesh is consistent enough to be written and read back.
@@ -172,8 +173,16 @@ impl OutputMesh {
                     ),
                 ));
             }
-            for (e, hex) in body.connectivity.iter().enumerate() {
-                if let Some(&n) = hex.iter().find(|&&n| n as usize >= nodes) {
+            let per = body.connectivity.nodes_per_element;
+            if super::cells::xdmf_topology(per).is_none() {
+                return Err(invalid(
+                    file,
+                    &conn,
+                    format!("{per} nodes per element; expected 8 (hexahedra) or 10 (10-node tetrahedra)"),
+                ));
+            }
+            for (e, el) in body.connectivity.iter().enumerate() {
+                if let Some(&n) = el.iter().find(|&&n| n as usize >= nodes) {
                     return Err(invalid(
                         file,
                         &conn,

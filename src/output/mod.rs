@@ -10,6 +10,7 @@
 //!   ([`integrity`]) that every read checks.
 //! * [`layout`] names every dataset and attribute; the README documents them.
 
+pub mod cells;
 mod data;
 mod datasets;
 mod error;
@@ -29,6 +30,7 @@ mod verify;
 mod writer;
 mod xdmf;
 
+pub use cells::ElementNodes;
 pub use data::{
     contact_status, OutputBody, OutputMesh, RestartState, RunInfo, StepField, StepOutput, StepStats,
 };

@@ -67,6 +67,7 @@ pub(super) struct Closed {
     pub(super) times: Vec<f64>,
     pub(super) nodes: usize,
     pub(super) elements: usize,
+    pub(super) topology: super::xdmf::Topology,
     /// The file has a plastic strain dataset.
     pub(super) plastic: bool,
     /// The file has a contact pressure dataset.
@@ -93,6 +94,7 @@ impl Closed {
             h5_name: &h5_name,
             nodes: self.nodes,
             elements: self.elements,
+            topology: self.topology,
             times: &self.times,
             plastic: self.plastic,
             pressure: self.pressure,

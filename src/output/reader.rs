@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use hdf5::types::{TypeDescriptor, VarLenUnicode};
 use hdf5::H5Type;
 
+use super::cells::ElementNodes;
 use super::data::{OutputBody, OutputMesh, StepStats};
 use super::error::{Hdf5Context, OutputError};
 use super::integrity::{at_step, locate};
@@ -117,15 +118,7 @@ impl ResultFile {
             "[nodes, 3]",
         )?;
         r.nodes = coords[0];
-        let conn = r.shape(layout::ALL_CONNECTIVITY)?;
-        r.expect_shape(
-            layout::ALL_CONNECTIVITY,
-            &conn,
-            2,
-            &[None, Some(8)],
-            "[elements, 8]",
-        )?;
-        r.elements = conn[0];
+        r.elements = r.all_connectivity_elements()?;
         let time = r.shape(layout::TIME)?;
         r.expect_shape(layout::TIME, &time, 1, &[None], "[steps]")?;
         r.steps = time[0];
@@ -222,6 +215,26 @@ impl ResultFile {
             }
         }
         Ok(())
+    }
+
+    /// The number of elements `/mesh/all_connectivity` holds: `[elements, 8 or 10]`, or
+    /// XDMF's "Mixed" array (bodies of several node counts; `super::cells`).
+    fn all_connectivity_elements(&self) -> Result<usize, OutputError> {
+        let name = layout::ALL_CONNECTIVITY;
+        let shape = self.shape(name)?;
+        let expected = "[elements, 8 or 10] (or a 1-D XDMF Mixed array)";
+        match shape[..] {
+            [e, k] if super::cells::xdmf_topology(k).is_some() => Ok(e),
+            [_] => {
+                let mixed = self.read_all::<u64>(name)?;
+                super::cells::count_mixed(&mixed).map_err(|message| OutputError::Invalid {
+                    file: self.path.clone(),
+                    dataset: name.into(),
+                    message,
+                })
+            }
+            _ => Err(self.shape_error(name, &shape, expected)),
+        }
     }
 
     fn shape_error(&self, name: &str, found: &[usize], expected: &str) -> OutputError {
@@ -469,7 +482,16 @@ impl ResultFile {
                 continue;
             }
             let index = self.num_attr::<u64>(&g, layout::BODY_INDEX_ATTR)?;
-            let connectivity = to_rows(&self.read_all::<u64>(&layout::body_connectivity(&name))?);
+            let conn = layout::body_connectivity(&name);
+            let shape = self.shape(&conn)?;
+            let nodes_per_element = match shape[..] {
+                [_, k] if super::cells::xdmf_topology(k).is_some() => k,
+                _ => return Err(self.shape_error(&conn, &shape, "[elements, 8 or 10]")),
+            };
+            let connectivity = ElementNodes {
+                nodes_per_element,
+                flat: self.read_all::<u64>(&conn)?,
+            };
             let element_ids = self.read_all::<u64>(&layout::body_element_ids(&name))?;
             bodies.push((
                 index,

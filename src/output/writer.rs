@@ -6,12 +6,13 @@ use super::data::{
     check_finite, check_stats, check_time, NodeIds, OutputMesh, RestartState, RunInfo, StepField,
     StepOutput, StepStats,
 };
-use super::datasets::{set_attr, set_str_attr, write_rows, write_vec, StepDatasets};
+use super::datasets::{set_attr, set_str_attr, write_rows, write_table, write_vec, StepDatasets};
 use super::error::{Hdf5Context, OutputError};
 use super::layout::{self, ResultPaths};
 use super::lock::OutputLock;
 use super::publish::Closed;
 use super::restart::RestartSlots;
+use super::xdmf::Topology;
 
 /// Writes a result file: created with the mesh and run metadata, one [`StepOutput`] appended
 /// per finished step (flushed each time), then [`finish`](Self::finish)ed or
@@ -33,6 +34,7 @@ pub struct ResultWriter {
     /// Nodes of the mesh (their ids are the file's `/mesh/node_ids`, read for a message).
     nodes: usize,
     elements: usize,
+    topology: Topology,
     times: Vec<f64>,
     restart: RestartSlots,
     /// The first write that failed: nothing is written or published after it.
@@ -93,7 +95,7 @@ fn write_header(
     let mut first = 0u64;
     for (i, body) in mesh.bodies.iter().enumerate() {
         let conn = layout::body_connectivity(&body.name);
-        write_rows(file, tmp, &conn, &body.connectivity)?;
+        write_table(file, tmp, &conn, &body.connectivity)?;
         let ids = layout::body_element_ids(&body.name);
         write_vec(file, tmp, &ids, &body.element_ids)?;
         let gname = layout::body_group(&body.name);
@@ -102,8 +104,10 @@ fn write_header(
         set_attr(tmp, &group, layout::FIRST_ELEMENT_ATTR, first)?;
         first += body.connectivity.len() as u64;
     }
-    let all = mesh.all_connectivity();
-    write_rows(file, tmp, layout::ALL_CONNECTIVITY, &all)?;
+    match mesh.all_connectivity() {
+        Ok(all) => write_table(file, tmp, layout::ALL_CONNECTIVITY, &all)?,
+        Err(mixed) => write_vec(file, tmp, layout::ALL_CONNECTIVITY, &mixed)?,
+    };
     for name in [layout::NODE_SETS, layout::SIDE_SETS] {
         file.create_group(name).at(tmp, name)?;
     }
@@ -184,6 +188,14 @@ impl ResultWriter {
             datasets,
             nodes: mesh.node_ids.len(),
             elements,
+            topology: match mesh.all_connectivity() {
+                Ok(t) => Topology::Uniform {
+                    nodes_per_element: t.nodes_per_element,
+                },
+                Err(mixed) => Topology::Mixed {
+                    length: mixed.len(),
+                },
+            },
             times: Vec::new(),
             restart: RestartSlots::default(),
             broken: None,
@@ -427,6 +439,7 @@ impl ResultWriter {
             datasets,
             times,
             elements,
+            topology,
             nodes,
             restart,
             _lock,
@@ -446,6 +459,7 @@ impl ResultWriter {
             times,
             nodes,
             elements,
+            topology,
             plastic,
             pressure,
             _lock,

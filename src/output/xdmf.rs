@@ -1,5 +1,6 @@
-//! The XDMF 3 companion file: a temporal collection of uniform hexahedral grids whose data
-//! items point into the HDF5 result file (hyperslabs of the per-step datasets).
+//! The XDMF 3 companion file: a temporal collection of uniform grids (hexahedra, 10-node
+//! tetrahedra, or both as XDMF's "Mixed" topology) whose data items point into the HDF5
+//! result file (hyperslabs of the per-step datasets).
 //!
 //! Checked with ParaView 5.11 (Debian 12): the Xdmf3 readers (Xdmf3ReaderS/T) read every
 //! grid, attribute and value, and keep `stress` as a 6-component tensor in the stored order
@@ -8,12 +9,22 @@
 
 use super::layout;
 
+/// The form of `/mesh/all_connectivity` (`super::cells`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Topology {
+    /// Every element has `nodes_per_element` nodes: `[elements, nodes_per_element]`.
+    Uniform { nodes_per_element: usize },
+    /// Elements of several node counts: XDMF's "Mixed" array of `length` entries.
+    Mixed { length: usize },
+}
+
 /// What the XDMF text needs to know about the result file.
 pub struct XdmfDescription<'a> {
     /// The HDF5 file's name relative to the `.xmf` file (they sit side by side).
     pub h5_name: &'a str,
     pub nodes: usize,
     pub elements: usize,
+    pub topology: Topology,
     pub times: &'a [f64],
     /// The file has `/results/plastic_strain`.
     pub plastic: bool,
@@ -204,9 +215,32 @@ impl XdmfDescription<'_> {
         s
     }
 
+    /// The grid's `Topology` element.
+    fn topology(&self) -> String {
+        let e = self.elements;
+        let (head, dims) = match self.topology {
+            Topology::Uniform {
+                nodes_per_element: k,
+            } => (
+                format!(
+                    "      <Topology TopologyType=\"{}\" NumberOfElements=\"{e}\" \
+                     NodesPerElement=\"{k}\">\n",
+                    super::cells::xdmf_topology(k).expect("a known cell type")
+                ),
+                vec![e, k],
+            ),
+            Topology::Mixed { length } => (
+                format!("      <Topology TopologyType=\"Mixed\" NumberOfElements=\"{e}\">\n"),
+                vec![length],
+            ),
+        };
+        head + &self.hdf_item("        ", &dims, Number::U64, layout::ALL_CONNECTIVITY)
+            + "      </Topology>\n"
+    }
+
     /// The complete `.xmf` text.
     pub fn render(&self) -> String {
-        let (n, e) = (self.nodes, self.elements);
+        let n = self.nodes;
         let mut s = String::from(
             "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n\
              <!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n\
@@ -217,12 +251,7 @@ impl XdmfDescription<'_> {
         for (step, time) in self.times.iter().enumerate() {
             s += &format!("    <Grid Name=\"step {step}\" GridType=\"Uniform\">\n");
             s += &format!("      <Time Value=\"{time:e}\"/>\n");
-            s += &format!(
-                "      <Topology TopologyType=\"Hexahedron\" NumberOfElements=\"{e}\" \
-                 NodesPerElement=\"8\">\n"
-            );
-            s += &self.hdf_item("        ", &[e, 8], Number::U64, layout::ALL_CONNECTIVITY);
-            s += "      </Topology>\n";
+            s += &self.topology();
             s += "      <Geometry GeometryType=\"XYZ\">\n";
             s += &self.hdf_item("        ", &[n, 3], Number::F64, layout::COORDINATES);
             s += "      </Geometry>\n";

@@ -431,7 +431,7 @@ fn elastic_constants(scene: &SceneFile, body: &str) -> Option<(f64, f64)> {
 /// Each slave node's tributary area: a quarter of each of its faces.
 fn tributary_areas(
     mesh: &OutputMesh,
-    elements: &HashMap<u64, (&str, [u64; 8])>,
+    elements: &HashMap<u64, (&str, &[u64])>,
     faces: &[(u64, u8)],
 ) -> Result<HashMap<usize, f64>, String> {
     let mut area: HashMap<usize, f64> = HashMap::new();
@@ -440,6 +440,12 @@ fn tributary_areas(
             .get(&id)
             .ok_or_else(|| format!("side set names element {id}, which the mesh lacks"))?
             .1;
+        if conn.len() != 8 {
+            return Err(format!(
+                "side set names element {id} of {} nodes; the Hertz comparison reads faces of hexahedra only",
+                conn.len()
+            ));
+        }
         let nodes = FACES[face as usize].map(|a| conn[a] as usize);
         let x: [Vec3; 4] = nodes.map(|n| mesh.coordinates[n]);
         let quarter = crate::fem::face::area(&x) / 4.0;
@@ -525,11 +531,11 @@ fn edge_spacing(nodes: &[(f64, f64)], radius: f64, a: f64) -> f64 {
 }
 
 /// Element id -> (body name, connectivity).
-fn element_table(mesh: &OutputMesh) -> HashMap<u64, (&str, [u64; 8])> {
+fn element_table(mesh: &OutputMesh) -> HashMap<u64, (&str, &[u64])> {
     let mut out = HashMap::new();
     for b in &mesh.bodies {
         for (id, conn) in b.element_ids.iter().zip(&b.connectivity) {
-            out.insert(*id, (b.name.as_str(), *conn));
+            out.insert(*id, (b.name.as_str(), conn));
         }
     }
     out
@@ -537,7 +543,7 @@ fn element_table(mesh: &OutputMesh) -> HashMap<u64, (&str, [u64; 8])> {
 
 /// The one body all faces of a side set belong to.
 fn side_set_body<'a>(
-    elements: &HashMap<u64, (&'a str, [u64; 8])>,
+    elements: &HashMap<u64, (&'a str, &'a [u64])>,
     faces: &[(u64, u8)],
 ) -> Option<&'a str> {
     let mut body = None;

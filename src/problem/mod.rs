@@ -258,8 +258,9 @@ pub fn summary(p: &Problem) -> String {
     for (b, model) in m.bodies.iter().zip(&p.body_models) {
         let _ = writeln!(
             s,
-            "  body '{}': elements {}..{}, nodes {}..{}, {:?}, {:?}",
+            "  body '{}': {} elements {}..{}, nodes {}..{}, {:?}, {:?}",
             b.name,
+            b.kind.name(),
             b.first_element + 1,
             b.first_element + b.num_elements,
             b.first_node + 1,

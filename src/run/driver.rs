@@ -258,12 +258,9 @@ fn open_writer<C: Comm + ?Sized>(
             }
         }
         if local_err.is_none() {
-            let created = output_mesh(problem).and_then(|mesh| {
-                ResultWriter::create(path, &info, &mesh).map_err(|e| e.to_string())
-            });
-            match created {
+            match ResultWriter::create(path, &info, &output_mesh(problem)) {
                 Ok(w) => writer = Some(w),
-                Err(e) => local_err = Some(e),
+                Err(e) => local_err = Some(e.to_string()),
             }
         }
     }

@@ -1,22 +1,12 @@
 //! The mesh of a result file, from the validated problem.
 
-use crate::fem::ElementKind;
-use crate::output::{OutputBody, OutputMesh};
+use crate::output::{ElementNodes, OutputBody, OutputMesh};
 use crate::problem::Problem;
 
-/// The whole mesh as the result file records it. The file's connectivity is hexahedral
-/// (`[elements, 8]`): a body of another kind is refused with a message until the file
-/// records each body with its own node count (issue 41, item 5).
-pub fn output_mesh(problem: &Problem) -> Result<OutputMesh, String> {
+/// The whole mesh as the result file records it.
+pub fn output_mesh(problem: &Problem) -> OutputMesh {
     let m = &problem.mesh;
-    if let Some(b) = m.bodies.iter().find(|b| b.kind != ElementKind::Hex8) {
-        return Err(format!(
-            "body '{}' is made of {} elements: writing them to a result file is not supported              yet (run without -o)",
-            b.name,
-            b.kind.name()
-        ));
-    }
-    Ok(OutputMesh {
+    OutputMesh {
         coordinates: m.coords.clone(),
         node_ids: (1..=m.num_nodes() as u64).collect(),
         bodies: m
@@ -24,9 +14,12 @@ pub fn output_mesh(problem: &Problem) -> Result<OutputMesh, String> {
             .iter()
             .map(|b| OutputBody {
                 name: b.name.clone(),
-                connectivity: (b.first_element..b.first_element + b.num_elements)
-                    .map(|e| m.elements.fixed::<8>(e).map(|n| n as u64))
-                    .collect(),
+                connectivity: ElementNodes {
+                    nodes_per_element: b.kind.nodes(),
+                    flat: (b.first_element..b.first_element + b.num_elements)
+                        .flat_map(|e| m.elements.element(e).iter().map(|&n| u64::from(n)))
+                        .collect(),
+                },
                 element_ids: (b.first_element as u64 + 1
                     ..=(b.first_element + b.num_elements) as u64)
                     .collect(),
@@ -52,5 +45,5 @@ pub fn output_mesh(problem: &Problem) -> Result<OutputMesh, String> {
                 )
             })
             .collect(),
-    })
+    }
 }

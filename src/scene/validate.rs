@@ -198,7 +198,8 @@ impl Builder {
             self.body_name(raw, bi, &key)?;
             let first_node = mesh.coords.len();
             let first_element = mesh.elements.len();
-            let (coords, elements) = match &b.gmsh_volume {
+            let offset = first_node as u32;
+            let (coords, kind) = match &b.gmsh_volume {
                 Some(volume) => {
                     if b.box_.is_some() || b.corners.is_some() || b.divisions.is_some() {
                         return Err(self.err(&key, "a body takes either `gmsh_volume` or `box`/`corners` with `divisions`, not both"));
@@ -206,29 +207,34 @@ impl Builder {
                     let Some(g) = gmsh.as_mut() else {
                         return Err(self.err(format!("{key}.gmsh_volume"), NEEDS_GMSH));
                     };
-                    g.add_body(self, &key, volume, bi, first_node)?
+                    let (coords, kind, elements) =
+                        g.add_body(self, &key, volume, bi, first_node)?;
+                    mesh.elements.extend_mapped(&elements, |n| n + offset);
+                    (coords, kind)
                 }
-                None => self.block_geometry(&key, b, first_element)?,
+                None => {
+                    let (coords, elements) = self.block_geometry(&key, b, first_element)?;
+                    for el in &elements {
+                        mesh.elements.push(&el.map(|n| n + offset));
+                    }
+                    (coords, ElementKind::Hex8)
+                }
             };
+            let num_elements = mesh.elements.len() - first_element;
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
             let formulation = self.formulation(&key, b)?;
-            let kind = ElementKind::Hex8;
             self.kind_formulation(&key, kind, b)?;
-            let offset = first_node as u32;
             mesh.coords.extend_from_slice(&coords);
-            for el in &elements {
-                mesh.elements.push(&el.map(|n| n + offset));
-            }
             mesh.element_body
-                .extend(std::iter::repeat_n(bi as u32, elements.len()));
+                .extend(std::iter::repeat_n(bi as u32, num_elements));
             mesh.bodies.push(Body {
                 name: b.name.clone(),
                 kind,
                 first_node,
                 num_nodes: coords.len(),
                 first_element,
-                num_elements: elements.len(),
+                num_elements,
             });
             models.push(BodyModel {
                 material,

@@ -3,7 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use solver::output::{OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats};
+use solver::output::{
+    ElementNodes, OutputBody, OutputMesh, ResultWriter, RunInfo, StepOutput, StepStats,
+};
 
 /// A fresh, empty directory for one test.
 pub fn test_dir(name: &str) -> PathBuf {
@@ -70,12 +72,12 @@ pub fn synthetic_mesh() -> OutputMesh {
         bodies: vec![
             OutputBody {
                 name: "base".into(),
-                connectivity: base,
+                connectivity: ElementNodes::from_rows(&base),
                 element_ids: vec![1],
             },
             OutputBody {
                 name: "lid".into(),
-                connectivity: lid,
+                connectivity: ElementNodes::from_rows(&lid),
                 element_ids: vec![2, 3],
             },
         ],

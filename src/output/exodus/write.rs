@@ -143,12 +143,15 @@ fn define_blocks(nc: &mut FileMut, mesh: &OutputMesh) -> Result<(), netcdf::Erro
     define_entity_list(nc, "eb", "num_el_blk")?;
     for (b, body) in mesh.bodies.iter().enumerate() {
         nc.add_dimension(&n::num_el_in_blk(b), body.connectivity.len())?;
-        nc.add_dimension(&n::num_nod_per_el(b), 8)?;
+        let per = body.connectivity.nodes_per_element;
+        nc.add_dimension(&n::num_nod_per_el(b), per)?;
         let mut v = nc.add_variable::<i32>(
             &n::connect(b),
             &[&n::num_el_in_blk(b), &n::num_nod_per_el(b)],
         )?;
-        v.put_attribute("elem_type", "HEX8")?;
+        // The mesh was checked when the result was read: 8 or 10 nodes per element.
+        let kind = crate::output::cells::exodus_type(per).expect("a known cell type");
+        v.put_attribute("elem_type", kind)?;
     }
     Ok(())
 }

@@ -62,6 +62,9 @@ impl Builder {
                 format!("master and slave are the same side set '{}'", c.master),
             ));
         }
+        for (role, set) in [("master", master), ("slave", slave)] {
+            self.contact_faces_supported(&format!("{key}.{role}"), mesh, &side_sets[set])?;
+        }
         let mu = self.friction_coefficient(key, c)?;
         let master_faces: Vec<(u32, u8)> = side_sets[master].faces.clone();
         let slave_nodes = surface_nodes(mesh, &side_sets[slave].faces);
@@ -92,6 +95,33 @@ impl Builder {
             face_size,
         )
         .with_slave_faces(mesh, side_sets[slave].faces.clone(), discretization))
+    }
+
+    /// Contact takes quadrilateral faces only (a tet10 body's triangles are not yet).
+    fn contact_faces_supported(
+        &self,
+        key: &str,
+        mesh: &GlobalMesh,
+        set: &SideSet,
+    ) -> Result<(), SceneError> {
+        let Some(&(e, _)) = set
+            .faces
+            .iter()
+            .find(|&&(e, f)| mesh.kind(e as usize).quad_face(f as usize).is_none())
+        else {
+            return Ok(());
+        };
+        let body = &mesh.bodies[mesh.element_body[e as usize] as usize];
+        Err(self.err(
+            key,
+            format!(
+                "side set '{}' has faces of body '{}', whose elements are {}: contact on {} faces is not supported yet (only hexahedral bodies' faces can be in contact)",
+                set.name,
+                body.name,
+                body.kind.name(),
+                body.kind.name()
+            ),
+        ))
     }
 
     /// How the pair's constraints are formed: node-to-face (default) or mortar.

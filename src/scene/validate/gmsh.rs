@@ -3,9 +3,11 @@
 //! nowhere else.
 
 use super::error::{Builder, SceneError};
+use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
+use crate::mesh::gmsh::surface::SurfaceFace;
 use crate::mesh::gmsh::GmshMesh;
-use crate::mesh::GlobalMesh;
+use crate::mesh::{Connectivity, GlobalMesh};
 use crate::scene::types::GmshDef;
 use std::collections::HashMap;
 use std::path::Path;
@@ -15,6 +17,9 @@ pub(super) struct GmshImport {
     mesh: GmshMesh,
     /// Gmsh node tag -> (global node index, body index, physical volume name).
     nodes: HashMap<u64, (u32, usize, String)>,
+    /// The corner tags (smaller first) of an edge whose midside node was inserted (a body
+    /// of 4-node tetrahedra) -> (global node index, body index).
+    midsides: HashMap<(u64, u64), (u32, usize)>,
 }
 
 /// The message for a Gmsh key in a scene without a `[gmsh]` table.
@@ -64,6 +69,7 @@ impl Builder {
         Ok(GmshImport {
             mesh,
             nodes: HashMap::new(),
+            midsides: HashMap::new(),
         })
     }
 
@@ -85,13 +91,15 @@ impl Builder {
         Ok(GmshImport {
             mesh,
             nodes: HashMap::new(),
+            midsides: HashMap::new(),
         })
     }
 }
 
 impl GmshImport {
-    /// The nodes (in node tag order) and hexahedra (0-based, local) of body `body`, the
-    /// physical volume `volume`, whose first node will be global node `first_node`.
+    /// The nodes (in node tag order, then the inserted midside nodes), element kind and
+    /// elements (0-based, local) of body `body`, the physical volume `volume`, whose first
+    /// node will be global node `first_node`.
     pub(super) fn add_body(
         &mut self,
         b: &Builder,
@@ -99,7 +107,7 @@ impl GmshImport {
         volume: &str,
         body: usize,
         first_node: usize,
-    ) -> Result<(Vec<Vec3>, Vec<[u32; 8]>), SceneError> {
+    ) -> Result<(Vec<Vec3>, ElementKind, Connectivity), SceneError> {
         let key = format!("{key}.gmsh_volume");
         let v = self.mesh.volume(volume).map_err(|m| b.err(&key, m))?;
         for (i, tag) in v.node_tags.iter().enumerate() {
@@ -115,7 +123,12 @@ impl GmshImport {
             self.nodes
                 .insert(*tag, ((first_node + i) as u32, body, volume.to_string()));
         }
-        Ok((v.coords, v.elements))
+        let first_midside = first_node + v.node_tags.len();
+        for (i, &pair) in v.midsides.iter().enumerate() {
+            self.midsides
+                .insert(pair, ((first_midside + i) as u32, body));
+        }
+        Ok((v.coords, v.kind, v.elements))
     }
 
     fn global_node(&self, b: &Builder, key: &str, tag: u64, what: &str) -> Result<u32, SceneError> {
@@ -148,12 +161,24 @@ impl GmshImport {
                 nodes.push(n);
             }
         }
+        if !self.midsides.is_empty() {
+            let edges = self.mesh.group_edges(group).map_err(|m| b.err(&key, m))?;
+            for pair in edges {
+                if let Some(&(n, bi)) = self.midsides.get(&pair) {
+                    if body.is_none_or(|only| only == bi) {
+                        nodes.push(n);
+                    }
+                }
+            }
+        }
         nodes.sort_unstable();
         Ok(nodes)
     }
 
-    /// The (element, local face) under each quadrangle of the physical surface `surface`,
-    /// optionally only faces of `body`. Every quadrangle must be a boundary face of a body.
+    /// The (element, local face) under each quadrangle or triangle of the physical
+    /// surface `surface` (matched by its corners; a 6-node triangle's midside nodes must be
+    /// the face's), optionally only faces of `body`. Every one must be a boundary face of a
+    /// body.
     pub(super) fn side_set(
         &self,
         b: &Builder,
@@ -164,53 +189,101 @@ impl GmshImport {
         body: Option<usize>,
     ) -> Result<Vec<(u32, u8)>, SceneError> {
         let key = format!("{key}.gmsh_surface");
-        let quads = self
+        let elements = self
             .mesh
-            .surface_quads(surface)
+            .surface_faces(surface)
             .map_err(|m| b.err(&key, m))?;
-        let sorted = |mut k: [u32; 4]| {
-            k.sort_unstable();
-            k
-        };
         let on_boundary: HashMap<[u32; 4], (u32, u8)> = boundary
             .iter()
-            .map(|&(e, f)| (sorted(mesh.quad_face_nodes(e, f)), (e, f)))
+            .map(|&(e, f)| (mesh.face_key(e, f), (e, f)))
             .collect();
-        let mut faces = Vec::with_capacity(quads.len());
-        for (tag, q) in quads {
-            let what = format!("quadrangle {tag} of physical surface '{surface}'");
-            let mut k = [0u32; 4];
-            for a in 0..4 {
-                k[a] = self.global_node(b, &key, q[a], &what)?;
+        let mut faces = Vec::with_capacity(elements.len());
+        for s in elements {
+            let what = format!(
+                "{} {} of physical surface '{surface}'",
+                if s.corners.len() == 4 {
+                    "quadrangle"
+                } else {
+                    "triangle"
+                },
+                s.tag
+            );
+            let mut k = [u32::MAX; 4];
+            for (slot, &tag) in k.iter_mut().zip(&s.corners) {
+                *slot = self.global_node(b, &key, tag, &what)?;
             }
-            match on_boundary.get(&sorted(k)) {
-                Some(&(e, f)) => {
-                    if body.is_none_or(|bi| mesh.element_body[e as usize] as usize == bi) {
-                        faces.push((e, f));
-                    }
-                }
-                None => {
-                    let inner = (0..mesh.num_elements()).any(|e| {
-                        (0..mesh.kind(e).faces() as u8)
-                            .any(|f| sorted(mesh.quad_face_nodes(e as u32, f)) == sorted(k))
-                    });
-                    return Err(b.err(
-                        &key,
-                        format!(
-                            "{what} in {} is {}",
-                            self.mesh.file,
-                            if inner {
-                                "a face between two hexahedra, not on a body's boundary"
-                            } else {
-                                "not a face of any body's hexahedron"
-                            }
-                        ),
-                    ));
-                }
+            k.sort_unstable();
+            let Some(&(e, f)) = on_boundary.get(&k) else {
+                return Err(self.unmatched(b, &key, &what, mesh, k));
+            };
+            self.check_midsides(b, &key, &what, mesh, (e, f), &s)?;
+            if body.is_none_or(|bi| mesh.element_body[e as usize] as usize == bi) {
+                faces.push((e, f));
             }
         }
         faces.sort_unstable();
         faces.dedup();
         Ok(faces)
+    }
+
+    /// The error for a surface element whose corners `k` (sorted) are no boundary face.
+    fn unmatched(
+        &self,
+        b: &Builder,
+        key: &str,
+        what: &str,
+        mesh: &GlobalMesh,
+        k: [u32; 4],
+    ) -> SceneError {
+        let inner = (0..mesh.num_elements())
+            .any(|e| (0..mesh.kind(e).faces() as u8).any(|f| mesh.face_key(e as u32, f) == k));
+        b.err(
+            key,
+            format!(
+                "{what} in {} is {}",
+                self.mesh.file,
+                if inner {
+                    "a face between two elements, not on a body's boundary"
+                } else {
+                    "not a face of any body's element (its corners are no hexahedron's or tetrahedron's face)"
+                }
+            ),
+        )
+    }
+
+    /// A 6-node triangle's midside nodes are those of the face its corners matched.
+    fn check_midsides(
+        &self,
+        b: &Builder,
+        key: &str,
+        what: &str,
+        mesh: &GlobalMesh,
+        (e, f): (u32, u8),
+        s: &SurfaceFace,
+    ) -> Result<(), SceneError> {
+        if s.midsides.is_empty() {
+            return Ok(());
+        }
+        let corners = mesh.kind(e as usize).face_kind(f as usize).corners();
+        let mut want: Vec<u32> = mesh.face_nodes(e, f).skip(corners).collect();
+        let mut have: Vec<u32> = s
+            .midsides
+            .iter()
+            .map(|t| self.nodes.get(t).map_or(u32::MAX, |n| n.0))
+            .collect();
+        want.sort_unstable();
+        have.sort_unstable();
+        if want == have {
+            return Ok(());
+        }
+        Err(b.err(
+            key,
+            format!(
+                "{what} in {} has the corners of a face of element {} but not its midside nodes (tags {:?}); is the surface meshed at another order than the volume?",
+                self.mesh.file,
+                e + 1,
+                s.midsides
+            ),
+        ))
     }
 }

@@ -40,8 +40,14 @@ impl Res {
         let mut element_body = Vec::new();
         let mut node_body = vec![0; mesh.coordinates.len()];
         for (i, b) in mesh.bodies.iter().enumerate() {
+            if b.connectivity.nodes_per_element != 8 {
+                return Err(format!(
+                    "body '{}' has elements of {} nodes; the suite reads hexahedral meshes only",
+                    b.name, b.connectivity.nodes_per_element
+                ));
+            }
             for c in &b.connectivity {
-                let c = c.map(|n| n as usize);
+                let c: [usize; 8] = std::array::from_fn(|a| c[a] as usize);
                 conn.push(c);
                 element_body.push(i);
                 for n in c {
