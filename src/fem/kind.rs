@@ -5,7 +5,7 @@
 //! `fem/` plus one arm in each match below (docs/layout.md, "Adding an element kind").
 
 use crate::fem::hex8;
-use crate::fem::tet10;
+use crate::fem::tet10::reference as tet10;
 
 /// The kind of a body's elements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

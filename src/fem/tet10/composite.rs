@@ -27,7 +27,7 @@
 //!   midside nodes are off the edges' midpoints. On a straight-sided element every weight
 //!   is V/4.
 
-use super::{A, B};
+use super::reference::{A, B};
 use crate::fem::ElementFailure;
 use crate::math::{det, inverse, Mat3, Vec3};
 

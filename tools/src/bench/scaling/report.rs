@@ -1,7 +1,7 @@
 //! `--scaling`'s report: report.md, results.json and scaling.png.
 
+use super::measured::{Scaling, RUNTIME_RANKS, RUNTIME_SCENE};
 use super::model::{Iteration, BANDWIDTH, LATENCY_S};
-use super::{Scaling, RUNTIME_RANKS, RUNTIME_SCENE};
 use crate::machine::load_average;
 use plotters::prelude::*;
 use std::fmt::Write;
