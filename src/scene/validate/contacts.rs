@@ -53,9 +53,6 @@ impl Builder {
         };
         let master = find("master", &c.master)?;
         let slave = find("slave", &c.slave)?;
-        for (role, set) in [("master", master), ("slave", slave)] {
-            self.check_hexahedral(&format!("{key}.{role}"), mesh, &side_sets[set])?;
-        }
         if master == slave {
             return Err(self.err(
                 key,

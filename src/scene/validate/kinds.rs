@@ -1,6 +1,6 @@
 //! What a body's element kind allows in the scene: a tet10 body is the composite
 //! tetrahedron, its own formulation (the hexahedra's integration keys are refused, not
-//! ignored), and contact does not take its 6-node faces yet (issue 41, item 4).
+//! ignored). (Contact on its 6-node faces is refused by `contacts.rs`.)
 
 use super::*;
 
@@ -38,35 +38,6 @@ impl Builder {
             ));
         }
         Ok(())
-    }
-
-    /// Contact searches and projects on quadrilateral faces: a side set `set` (a contact
-    /// pair's `key`) on a body of another kind is refused until contact takes 6-node
-    /// triangles.
-    pub(super) fn check_hexahedral(
-        &self,
-        key: &str,
-        mesh: &GlobalMesh,
-        set: &SideSet,
-    ) -> Result<(), SceneError> {
-        let other = set
-            .faces
-            .iter()
-            .map(|&(e, _)| &mesh.bodies[mesh.element_body[e as usize] as usize])
-            .find(|b| b.kind != ElementKind::Hex8);
-        match other {
-            Some(body) => Err(self.err(
-                key,
-                format!(
-                    "side set '{}' lies on body '{}' of {} elements: contact on tet10 faces is \
-                     not supported yet",
-                    set.name,
-                    body.name,
-                    body.kind.name()
-                ),
-            )),
-            None => Ok(()),
-        }
     }
 }
 
@@ -107,38 +78,5 @@ mod tests {
                 .kind_formulation("body[0]", ElementKind::Hex8, &body(extra))
                 .is_ok());
         }
-    }
-
-    #[test]
-    fn contact_on_a_tet10_side_set_is_refused_with_its_body() {
-        let mut mesh = GlobalMesh::default();
-        for (name, kind) in [("block", ElementKind::Hex8), ("part", ElementKind::Tet10)] {
-            mesh.element_body.push(mesh.bodies.len() as u32);
-            mesh.bodies.push(Body {
-                name: name.into(),
-                kind,
-                first_node: 0,
-                num_nodes: 0,
-                first_element: mesh.bodies.len(),
-                num_elements: 1,
-            });
-        }
-        let set = |e: u32| SideSet {
-            name: "surface".into(),
-            faces: vec![(e, 0)],
-        };
-        let b = builder();
-        assert!(b
-            .check_hexahedral("contact[0].master", &mesh, &set(0))
-            .is_ok());
-        let e = b
-            .check_hexahedral("contact[0].slave", &mesh, &set(1))
-            .expect_err("a tet10 side set");
-        assert_eq!(e.key, "contact[0].slave");
-        assert!(
-            e.to_string()
-                .contains("side set 'surface' lies on body 'part' of tet10 elements: contact on tet10 faces is not supported yet"),
-            "{e}"
-        );
     }
 }
