@@ -3,7 +3,8 @@
 //! By name: that one, or a refusal with the reason and block Jacobi instead. Under `auto`
 //! (the default), by what makes one-level block Jacobi stall and what each choice costs:
 //! - below TANGENT_NODES nodes with a plastic body: the full tangent (its factor follows
-//!   the softened tangent where the body yields; `problem::uses_full_tangent`);
+//!   the softened tangent where the body yields; `problem::uses_full_tangent`), unless its
+//!   factorization would cost more than FACTOR_WORK_LIMIT (a 3-D mesh: then as below);
 //! - at most SINGLETON_NODES nodes: block Jacobi (an iteration costs little), unless a
 //!   body is nearly incompressible (Jacobi's iterations grow with K/G): multilevel;
 //! - below TWO_LEVEL_NODES: multilevel from the start when a body is held by contact alone
@@ -15,6 +16,7 @@
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
 use crate::precond::coarse::CoarseSpace;
+use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
 use crate::precond::multilevel::transfer::SINGLETON_NODES;
 use crate::precond::multilevel::{Multilevel, FINE_DEGREE};
 use crate::problem::{
@@ -70,35 +72,101 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(
             "preconditioner: full tangent (the model problem's tangent assembled and factored)"
                 .into(),
         ),
-        Preconditioner::Auto if full_tangent(problem) => {
-            let plastic: Vec<String> = problem
-                .mesh
-                .bodies
-                .iter()
-                .zip(&problem.body_models)
-                .filter(|(_, model)| model.material.is_plastic())
-                .map(|(body, _)| body.name.clone())
-                .collect();
-            let note = format!(
-                "preconditioner: full tangent (plastic: {}; {nodes} nodes, below {TANGENT_NODES})",
-                named(&plastic)
-            );
-            (None, None, note)
+        Preconditioner::Auto => {
+            let decision = tangent_decision(problem);
+            if let Some(Ok(fill)) = &decision {
+                return (None, None, tangent_note(problem, fill.unwrap_or(0.0)));
+            }
+            let (coarse, ml, mut note) = if nodes <= SINGLETON_NODES {
+                small_mesh(comm, problem, mesh)
+            } else if nodes < TWO_LEVEL_NODES {
+                medium_mesh(comm, problem, mesh)
+            } else {
+                two_level(comm, problem, mesh, false)
+            };
+            if let Some(Err(why)) = decision {
+                note.push_str(&format!("; not the full tangent: {why}"));
+            }
+            (coarse, ml, note)
         }
-        Preconditioner::Auto if nodes <= SINGLETON_NODES => small_mesh(comm, problem, mesh),
-        Preconditioner::Auto if nodes < TWO_LEVEL_NODES => medium_mesh(comm, problem, mesh),
-        Preconditioner::Auto => two_level(comm, problem, mesh, false),
     }
 }
 
-/// Whether the run uses the full tangent preconditioner (`problem::uses_full_tangent`).
-pub fn full_tangent(problem: &Problem) -> bool {
-    let plastic = problem.body_models.iter().any(|m| m.material.is_plastic());
-    uses_full_tangent(
-        problem.solver.preconditioner,
-        plastic,
-        problem.mesh.num_nodes() as u64,
+/// The line of a run under `auto` that factors the full tangent (`work`: its
+/// factorization's, see FACTOR_WORK_LIMIT).
+fn tangent_note(problem: &Problem, work: f64) -> String {
+    let plastic: Vec<String> = problem
+        .mesh
+        .bodies
+        .iter()
+        .zip(&problem.body_models)
+        .filter(|(_, model)| model.material.is_plastic())
+        .map(|(body, _)| body.name.clone())
+        .collect();
+    format!(
+        "preconditioner: full tangent (plastic: {}; {} nodes, below {TANGENT_NODES}; \
+         factorization work {work:.1e}, at most {FACTOR_WORK_LIMIT:.0e})",
+        named(&plastic),
+        problem.mesh.num_nodes()
     )
+}
+
+/// The factorization work (the sum of the squares of the node graph factor's column
+/// counts) above which `auto` does not factor the full tangent: about 8 s a factorization.
+/// Measured: the plane-strain punch at 80 x 80 and the contact punch at n = 96 count 1.3e8
+/// and 2.3e8 (their factors build in seconds); a cube of tetrahedra of 4679 nodes 2.5e9, 41 s
+/// a factorization (where the multilevel preconditioner solved the run in 29 s against the
+/// full tangent's 185 s): a 3-D mesh's nested dissection fills in far more than a
+/// plane-strain slab's.
+const FACTOR_WORK_LIMIT: f64 = 5e8;
+
+/// Whether `auto` factors the full tangent: its factor's work (see FACTOR_WORK_LIMIT),
+/// counted on the whole mesh's node graph in the factor's own order without factoring, or
+/// Err saying why not.
+fn factor_fits(problem: &Problem) -> Result<f64, String> {
+    let mesh = &problem.mesh;
+    let mut edges = Vec::new();
+    for e in mesh.elements.iter() {
+        for (k, &a) in e.iter().enumerate() {
+            edges.extend(e[k + 1..].iter().map(|&b| (a.min(b), a.max(b))));
+        }
+    }
+    let g = crate::precond::multilevel::aggregation::Graph::from_edges(mesh.num_nodes(), &edges);
+    drop(edges);
+    // Entries E over n columns cost at least E^2 / n: beyond this many the work exceeds the
+    // limit whatever their spread, and counting stops.
+    let budget = (FACTOR_WORK_LIMIT * g.len() as f64).sqrt() as usize;
+    let refused = || {
+        format!(
+            "its factorization would take more than {FACTOR_WORK_LIMIT:e} units of work (a 3-D \
+             mesh's fill; about 8 s a factorization): it costs more than the iterations it saves"
+        )
+    };
+    match SparseCholesky::graph_factor_entries(&g, budget) {
+        Some((_, work)) if work <= FACTOR_WORK_LIMIT => Ok(work),
+        _ => Err(refused()),
+    }
+}
+
+/// Whether the run uses the full tangent preconditioner: by name, or under `auto` where a
+/// body is plastic on fewer than TANGENT_NODES nodes (`problem::uses_full_tangent`) and
+/// its factor fits (`factor_fits`).
+pub fn full_tangent(problem: &Problem) -> bool {
+    matches!(tangent_decision(problem), Some(Ok(_)))
+}
+
+/// None where the full tangent is not considered; else whether it is used (with its
+/// factorization's work under `auto`), or why not.
+fn tangent_decision(problem: &Problem) -> Option<Result<Option<f64>, String>> {
+    let plastic = problem.body_models.iter().any(|m| m.material.is_plastic());
+    let p = problem.solver.preconditioner;
+    if !uses_full_tangent(p, plastic, problem.mesh.num_nodes() as u64) {
+        return None;
+    }
+    Some(match p {
+        Preconditioner::Auto => factor_fits(problem).map(Some),
+        _ => Ok(None),
+    })
 }
 
 /// The coarse space, the multilevel preconditioner (with `true` when on standby) and the

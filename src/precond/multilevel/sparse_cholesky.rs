@@ -146,6 +146,27 @@ impl SparseCholesky {
         Some((perm, counts))
     }
 
+    /// The entries below the diagonal of the factor of a matrix with one unknown per node
+    /// of `g` and its pattern (every node coupled to itself and its neighbours), in this
+    /// factor's nested-dissection order, without factoring (what `analyse` would count for
+    /// a matrix of 1 x 1 node blocks), and the sum of the squares of its column counts (the
+    /// factorization's work, up to a constant). None as soon as the entries exceed
+    /// `budget`.
+    pub fn graph_factor_entries(g: &Graph, budget: usize) -> Option<(usize, f64)> {
+        let n = g.len();
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i as u32, i as u32, 1.0));
+            t.extend(g.neighbours(i).iter().map(|&j| (i as u32, j, 1.0)));
+        }
+        let a = Csr::from_triplets(n, n, t);
+        let perm = dissection_order(g);
+        column_counts(&a, &perm, budget).map(|c| {
+            let flops = c.iter().map(|&k| (k * k) as f64).sum();
+            (c.iter().sum(), flops)
+        })
+    }
+
     /// Factors `a` in the order `perm` (from `analyse`, with its column counts).
     pub fn new(a: &Csr, perm: Vec<usize>, counts: &[usize]) -> Self {
         Self::factor(a, perm, counts, None)
