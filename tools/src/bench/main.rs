@@ -47,6 +47,10 @@
 //! rank sends per CG iteration, and a latency-bandwidth model of strong and weak scaling to
 //! 1024 ranks, into `<out>/scaling/` (`scaling`).
 //!
+//! `bench --tet [--quick] [--out DIR]` runs only Cook's membrane and the J2 punch on Gmsh
+//! tetrahedral meshes, ours (composite tet10) beside CalculiX's C3D10 on the same nodes and
+//! our hex8 at its finest mesh, into `<out>/tet/` (`peers::calculix::tet`).
+//!
 //! `bench --pyamg [--out DIR]` exports the first model problem of the block on block
 //! (n = 20, 40) and of the Hertz example x2 (`solver run --export-operator`) and runs
 //! PyAMG's smoothed aggregation on it (`run/pyamg_peer.py`) beside our multilevel
@@ -96,6 +100,7 @@ const USAGE: &str = concat!(
     "       bench --robustness [--quick] [--out DIR]\n",
     "       bench --plasticity [--quick] [--out DIR]\n",
     "       bench --scaling [--out DIR]\n",
+    "       bench --tet [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
@@ -117,6 +122,9 @@ const USAGE: &str = concat!(
     "  --scaling    only the block on block at n = 40 (multilevel) on 1, 2, 4, 8, 16 ranks\n",
     "               (oversubscribed): peak memory per rank fitted as a + b / P, messages\n",
     "               per CG iteration, a model of scaling to 1024 ranks, in <out>/scaling/\n",
+    "  --tet        only tetrahedra: Cook's membrane (nu = 0.4999) and the J2 punch on three\n",
+    "               Gmsh tet meshes, ours (tet10) and CalculiX C3D10 on the same nodes,\n",
+    "               against our hex8 at its finest mesh, in <out>/tet/ (with --quick: two)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
     "               two_level (default) or multilevel, for --large (its section replaces an\n",
@@ -134,6 +142,7 @@ enum Mode {
     Robustness { quick: bool },
     Plasticity { quick: bool },
     Scaling,
+    Tet { quick: bool },
 }
 
 #[derive(Debug, PartialEq)]
@@ -152,6 +161,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut robustness = false;
     let mut plasticity = false;
     let mut scaling = false;
+    let mut tet = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut precond: Option<Precond> = None;
     let mut out = PathBuf::from("out/bench");
@@ -165,6 +175,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--robustness" => robustness = true,
             "--plasticity" => plasticity = true,
             "--scaling" => scaling = true,
+            "--tet" => tet = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -213,7 +224,12 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if scaling && (quick || large || ironing || pyamg || robustness || plasticity) {
         return Err("--scaling goes with --out only".into());
     }
-    let mode = if scaling {
+    if tet && (large || ironing || pyamg || robustness || plasticity || scaling) {
+        return Err("--tet goes with --quick and --out only".into());
+    }
+    let mode = if tet {
+        Mode::Tet { quick }
+    } else if scaling {
         Mode::Scaling
     } else if plasticity {
         Mode::Plasticity { quick }
@@ -254,6 +270,7 @@ fn main() -> ExitCode {
         Mode::Robustness { quick } => robustness::run(&args.out, quick),
         Mode::Plasticity { quick } => peers::calculix::plasticity::run(&args.out, quick),
         Mode::Scaling => scaling::run(&args.out),
+        Mode::Tet { quick } => peers::calculix::tet::run(&args.out, quick),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
@@ -346,6 +363,17 @@ mod tests {
         assert_eq!(
             parse(&["--plasticity", "--large"]),
             Err("--plasticity goes with --quick and --out only".into())
+        );
+        assert_eq!(
+            parse(&["--tet", "--quick"]),
+            Ok(Some(Args {
+                mode: Mode::Tet { quick: true },
+                out: PathBuf::from("out/bench"),
+            }))
+        );
+        assert_eq!(
+            parse(&["--tet", "--scaling"]),
+            Err("--tet goes with --quick and --out only".into())
         );
         assert_eq!(parse(&["--help", "--bogus"]), Ok(None));
         assert_eq!(parse(&["-h"]), Ok(None));

@@ -116,6 +116,8 @@ pub struct Step {
     /// `*DLOAD` pressures on element faces, at the step's end (ccx ramps them over the
     /// step from the previous step's values).
     pub dloads: Vec<DLoad>,
+    /// `*CLOAD` nodal forces, at the step's end (ramped as the pressures are).
+    pub cloads: Vec<CLoad>,
     pub node_prints: Vec<NodePrint>,
 }
 
@@ -126,6 +128,15 @@ pub struct DLoad {
     pub element: usize,
     /// ccx face label 1..6.
     pub face: u8,
+    pub value: f64,
+}
+
+/// A force on one degree of freedom of a node (`<node>, <dof>, <value>`).
+pub struct CLoad {
+    /// 1-based node id.
+    pub node: usize,
+    /// 1..3: x, y, z.
+    pub dof: u8,
     pub value: f64,
 }
 
@@ -317,6 +328,12 @@ impl Step {
         for d in &self.dloads {
             let _ = writeln!(w, "{}, P{}, {}", d.element, d.face, real(d.value));
         }
+        if !self.cloads.is_empty() {
+            let _ = writeln!(w, "*CLOAD");
+        }
+        for c in &self.cloads {
+            let _ = writeln!(w, "{}, {}, {}", c.node, c.dof, real(c.value));
+        }
         for p in &self.node_prints {
             let totals = if p.totals_only { ", TOTALS=ONLY" } else { "" };
             let _ = writeln!(
@@ -384,6 +401,8 @@ S_TOP, S_TOP
 N_TOP, 2, 2, -0.01
 *DLOAD
 1, P2, 5.0
+*CLOAD
+7, 1, 0.25
 *NODE PRINT, NSET=N_TOP, TOTALS=ONLY
 RF
 *END STEP
@@ -449,6 +468,11 @@ RF
                     element: 1,
                     face: 2,
                     value: 5.0,
+                }],
+                cloads: vec![CLoad {
+                    node: 7,
+                    dof: 1,
+                    value: 0.25,
                 }],
                 node_prints: vec![NodePrint {
                     node_set: "N_TOP".into(),

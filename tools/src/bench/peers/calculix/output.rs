@@ -77,6 +77,29 @@ pub fn max_displacement(dat: &str, set: &str) -> Option<f64> {
     max
 }
 
+/// The last "displacements (vx,vy,vz) for set NAME and time T" block of a .dat file:
+/// T and every node's (1-based id, u).
+pub fn last_displacements(dat: &str, set: &str) -> Option<(f64, Vec<(usize, Vec3)>)> {
+    let key = format!("displacements (vx,vy,vz) for set {set} and time");
+    let lines: Vec<&str> = dat.lines().collect();
+    let i = lines.iter().rposition(|l| l.contains(&key))?;
+    let t: f64 = lines[i].split(&key).nth(1)?.trim().parse().ok()?;
+    let rows = lines[i + 1..]
+        .iter()
+        .skip_while(|r| r.trim().is_empty())
+        .take_while(|r| !r.trim().is_empty());
+    let mut out = Vec::new();
+    for row in rows {
+        let v: Vec<&str> = row.split_whitespace().collect();
+        let [n, x, y, z] = v[..] else { return None };
+        out.push((
+            n.parse().ok()?,
+            [x.parse().ok()?, y.parse().ok()?, z.parse().ok()?],
+        ));
+    }
+    Some((t, out))
+}
+
 /// The first `*ERROR` line of the log: ccx exits with 0 after an input error too, so a
 /// run is judged by its output.
 pub fn error_line(log: &str) -> Option<&str> {
@@ -196,6 +219,26 @@ ________________________________________
 ";
         assert_eq!(max_displacement(dat, "N_AXIS"), Some(0.05));
         assert_eq!(max_displacement(dat, "N_OTHER"), None);
+    }
+
+    /// The last block of node-by-node displacements, with its time.
+    #[test]
+    fn last_displacements_are_read() {
+        let dat = "
+ displacements (vx,vy,vz) for set N_TIP and time  0.5000000E+00
+
+         3  0.000000E+00 -1.000000E-02  0.000000E+00
+
+ displacements (vx,vy,vz) for set N_TIP and time  0.1000000E+01
+
+         3  1.000000E-02 -2.000000E-02  0.000000E+00
+        12  0.000000E+00  7.500000E+00  2.000000E-03
+";
+        assert_eq!(
+            last_displacements(dat, "N_TIP"),
+            Some((1.0, vec![(3, [0.01, -0.02, 0.0]), (12, [0.0, 7.5, 0.002])]))
+        );
+        assert_eq!(last_displacements(dat, "N_OTHER"), None);
     }
 
     #[test]

@@ -12,10 +12,12 @@
 //! here.
 
 use super::deck::{
-    name, Boundary, ContactPair, DLoad, Deck, ElementType, Interaction, Material as CcxMaterial,
-    MaterialCard, NodePrint, NodeSet, PairType, Solid, Step, Surface,
+    name, Boundary, CLoad, ContactPair, DLoad, Deck, ElementType, Interaction,
+    Material as CcxMaterial, MaterialCard, NodePrint, NodeSet, PairType, Solid, Step, Surface,
 };
-use crate::api::{ElementKind, Formulation, Kinematics, Material, PiecewiseLinear, Problem};
+use super::face_loads::shape_integrals;
+use crate::api::{ElementKind, Formulation, Kinematics, Material, PiecewiseLinear, Problem, Vec3};
+use std::collections::BTreeMap;
 
 /// ccx's face label of each of our local faces 0 (-y), 1 (+x), 2 (+y), 3 (-x), 4 (-z),
 /// 5 (+z): with our corner order a C3D8's face S1 is 1-2-3-4 (-z), S2 5-8-7-6 (+z), S3
@@ -71,8 +73,8 @@ pub fn deck(problem: &Problem, penalty: f64) -> Result<Deck, String> {
 
 /// The deck of `problem` as `options` ask.
 pub fn deck_with(problem: &Problem, options: &Options) -> Result<Deck, String> {
-    if !problem.tractions.is_empty() || !problem.body_forces.is_empty() {
-        return unsupported("tractions or body forces");
+    if !problem.body_forces.is_empty() {
+        return unsupported("body forces");
     }
     if problem.contacts.is_empty() && !options.without_contact {
         return unsupported("scenes without contact");
@@ -253,48 +255,80 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
         .collect();
     let steps = segments(problem)?
         .into_iter()
-        .map(|(start, end, dt)| Step {
-            nlgeom: large,
-            direct: false,
-            max_increments: 10_000,
-            increments: [dt, end - start, 1.0e-5 * (end - start), dt],
-            boundaries: problem
-                .dirichlet
-                .iter()
-                .zip(&axes)
-                .map(|(dc, &i)| Boundary {
-                    node_set: name("N_", &problem.node_sets[dc.node_set].name),
-                    first: i as u8 + 1,
-                    last: i as u8 + 1,
-                    value: dc.function.eval(end) / dc.direction[i],
-                })
-                .collect(),
-            dloads: problem
-                .pressures
-                .iter()
-                .flat_map(|p| {
-                    let value = p.function.eval(end);
-                    problem.side_sets[p.side_set]
-                        .faces
-                        .iter()
-                        .map(move |&(e, f)| DLoad {
-                            element: e as usize + 1,
-                            face: ccx_face(problem, e, f),
-                            value,
-                        })
-                })
-                .collect(),
-            node_prints: node_prints
-                .iter()
-                .map(|p| NodePrint {
-                    node_set: p.node_set.clone(),
-                    variables: p.variables.clone(),
-                    totals_only: p.totals_only,
-                })
-                .collect(),
+        .map(|(start, end, dt)| {
+            Ok(Step {
+                nlgeom: large,
+                direct: false,
+                max_increments: 10_000,
+                increments: [dt, end - start, 1.0e-5 * (end - start), dt],
+                boundaries: problem
+                    .dirichlet
+                    .iter()
+                    .zip(&axes)
+                    .map(|(dc, &i)| Boundary {
+                        node_set: name("N_", &problem.node_sets[dc.node_set].name),
+                        first: i as u8 + 1,
+                        last: i as u8 + 1,
+                        value: dc.function.eval(end) / dc.direction[i],
+                    })
+                    .collect(),
+                dloads: problem
+                    .pressures
+                    .iter()
+                    .flat_map(|p| {
+                        let value = p.function.eval(end);
+                        problem.side_sets[p.side_set]
+                            .faces
+                            .iter()
+                            .map(move |&(e, f)| DLoad {
+                                element: e as usize + 1,
+                                face: ccx_face(problem, e, f),
+                                value,
+                            })
+                    })
+                    .collect(),
+                cloads: traction_forces(problem, end)?,
+                node_prints: node_prints
+                    .iter()
+                    .map(|p| NodePrint {
+                        node_set: p.node_set.clone(),
+                        variables: p.variables.clone(),
+                        totals_only: p.totals_only,
+                    })
+                    .collect(),
+            })
         })
-        .collect();
+        .collect::<Result<_, String>>()?;
     Ok((node_sets, steps))
+}
+
+/// Every traction at time `t` as the nodal forces ccx's element takes from it
+/// (`face_loads`), summed per node and direction, in node order.
+fn traction_forces(problem: &Problem, t: f64) -> Result<Vec<CLoad>, String> {
+    let mut forces: BTreeMap<(usize, u8), f64> = BTreeMap::new();
+    for traction in &problem.tractions {
+        let scale = traction.function.eval(t);
+        for &(e, f) in &problem.side_sets[traction.side_set].faces {
+            let nodes: Vec<u32> = problem.mesh.face_nodes(e, f).collect();
+            let x: Vec<Vec3> = nodes
+                .iter()
+                .map(|&n| problem.mesh.coords[n as usize])
+                .collect();
+            let Some(shares) = shape_integrals(&x) else {
+                return unsupported(&format!("tractions on faces of {} nodes", x.len()));
+            };
+            for (&n, share) in nodes.iter().zip(shares) {
+                for (i, t) in traction.vector.iter().enumerate() {
+                    *forces.entry((n as usize + 1, i as u8 + 1)).or_default() += scale * t * share;
+                }
+            }
+        }
+    }
+    Ok(forces
+        .into_iter()
+        .filter(|&(_, v)| v != 0.0)
+        .map(|((node, dof), value)| CLoad { node, dof, value })
+        .collect())
 }
 
 /// The load steps as segments of equal steps over which every load function (prescribed
@@ -308,6 +342,7 @@ fn segments(problem: &Problem) -> Result<Vec<(f64, f64, f64)>, String> {
         .iter()
         .map(|d| &d.function)
         .chain(problem.pressures.iter().map(|p| &p.function))
+        .chain(problem.tractions.iter().map(|t| &t.function))
         .collect();
     let increments =
         |a: f64, b: f64| -> Vec<f64> { functions.iter().map(|f| f.eval(b) - f.eval(a)).collect() };
@@ -483,6 +518,59 @@ mod tests {
             deck(&problem, 1e7).err().unwrap(),
             "the CalculiX deck does not support scenes without contact"
         );
+    }
+
+    /// A traction becomes *CLOAD: the consistent nodal forces of ccx's element (a quarter
+    /// of the force at each corner of a flat square face; `face_loads` tests the 6-node
+    /// triangle), scaled by the traction's function at each step's end (to 1e-12: a few
+    /// roundings).
+    #[test]
+    fn a_traction_becomes_nodal_forces() {
+        let text = r#"
+name = "traction"
+kinematics = "small"
+[[body]]
+name = "bar"
+box = { min = [0.0, 0.0, 0.0], max = [2.0, 1.0, 1.0] }
+divisions = [2, 1, 1]
+material = { model = "linear_elastic", E = 1000.0, nu = 0.3 }
+[[node_set]]
+name = "fixed"
+plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+[[side_set]]
+name = "end"
+body = "bar"
+plane = { point = [2.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+[[displacement]]
+node_set = "fixed"
+components = ["x", "y", "z"]
+value = 0.0
+[[traction]]
+side_set = "end"
+vector = [0.0, 3.0, 0.0]
+function = [[0.0, 0.0], [1.0, 1.0], [2.0, 0.5]]
+[time]
+segments = [{ end = 1.0, steps = 2 }, { end = 2.0, steps = 1 }]
+"#;
+        let problem = crate::api::parse(text).unwrap();
+        let options = Options {
+            penalty: 0.0,
+            element: ElementType::C3D8,
+            direct: false,
+            without_contact: true,
+        };
+        let deck = deck_with(&problem, &options).unwrap();
+        // The traction's slope changes at t = 1: two steps, loads at 1.0 and 0.5.
+        assert_eq!(deck.steps.len(), 2);
+        for (step, scale) in deck.steps.iter().zip([1.0, 0.5]) {
+            assert_eq!(step.cloads.len(), 4);
+            for c in &step.cloads {
+                assert_eq!(c.dof, 2);
+                assert!((c.value - 0.75 * scale).abs() < 1e-12, "{}", c.value);
+                assert!((problem.mesh.coords[c.node - 1][0] - 2.0).abs() < 1e-12);
+            }
+        }
+        assert!(deck.text().contains("*CLOAD\n"));
     }
 
     /// The ironing example: NLGEOM, the slab's neo-Hookean solid as NEO HOOKE, two steps

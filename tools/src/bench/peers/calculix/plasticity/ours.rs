@@ -8,7 +8,7 @@ use crate::api::ResultFile;
 use crate::runner::log::{last_line, number_after, number_before};
 use crate::runner::process::{run_limited, Limits};
 use crate::runner::solver::{repo_root, solver_exe};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// What `solver -v run` printed on standard error (rank 0), read back.
@@ -76,6 +76,22 @@ pub fn run(
     area: f64,
     timeout_s: f64,
 ) -> Result<Ours, String> {
+    let (wall, log, h5) = solve(scene, dir, timeout_s)?;
+    Ok(Ours {
+        wall,
+        solver_wall: log.solver_wall,
+        cg_total: log.cg_total,
+        cg_per_step: log.cg_per_step,
+        contact_updates: log.contact_updates,
+        preconditioner: log.preconditioner.unwrap_or_else(|| "(no line)".into()),
+        pressure: pressure(&h5, punch_set, area)?,
+    })
+}
+
+/// `solver -v run scene` on `RANKS` ranks into `dir` (`ours.h5`, `ours.log`, `ours.out`),
+/// stopped after `timeout_s`: the process's wall time, its log read back (checked against
+/// the result file's CG counts) and the result file's path.
+pub fn solve(scene: &Path, dir: &Path, timeout_s: f64) -> Result<(f64, RunLog, PathBuf), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let h5 = dir.join("ours.h5");
     let log_path = dir.join("ours.log");
@@ -118,15 +134,7 @@ pub fn run(
             stored.len()
         ));
     }
-    Ok(Ours {
-        wall: f.wall,
-        solver_wall: log.solver_wall,
-        cg_total: log.cg_total,
-        cg_per_step: log.cg_per_step,
-        contact_updates: log.contact_updates,
-        preconditioner: log.preconditioner.unwrap_or_else(|| "(no line)".into()),
-        pressure: pressure(&h5, punch_set, area)?,
-    })
+    Ok((f.wall, log, h5))
 }
 
 /// The CG iterations of every step the result file stores.
