@@ -9,7 +9,7 @@ mod common;
 
 use common::tets::{boundary, distorted_cube};
 use solver::fem::tet10;
-use solver::fem::ElementFailure;
+use solver::fem::{ElementFailure, Formulation};
 use solver::material::{J2Plastic, LinearElastic, Material, NeoHookean, PlasticState};
 use solver::math::{Mat3, Vec3};
 
@@ -70,7 +70,11 @@ fn a_linear_field_gives_the_exact_stress_and_no_force_inside_a_distorted_mesh() 
             })
         })
         .collect();
-    for (name, mat) in materials() {
+    // Both volumetric treatments: a linear field has the same dilatation at every point, so
+    // the mean dilatation changes nothing (small kinematics only in a scene; the kernel's
+    // patch test holds for every material).
+    let forms = [Formulation::Full, Formulation::FullBar];
+    for ((name, mat), form) in materials().into_iter().flat_map(|m| forms.map(|f| (m, f))) {
         let mut f = vec![[0.0; 3]; mesh.x.len()];
         let virgin = vec![PlasticState::default(); tet10::STRESS_POINTS];
         let hist: &[PlasticState] = if mat.is_plastic() { &virgin } else { &[] };
@@ -80,26 +84,27 @@ fn a_linear_field_gives_the_exact_stress_and_no_force_inside_a_distorted_mesh() 
         for el in &mesh.elements {
             let geo = tet10::geometry(&gather(&mesh.x, el)).expect("a valid element");
             let ue = gather(&u, el);
-            for h in tet10::point_gradients(&geo, &ue) {
+            for h in tet10::point_gradients(&geo, &ue, form) {
                 for i in 0..3 {
                     for j in 0..3 {
                         worst_stress = worst_stress.max((h[i][j] - g[i][j]).abs() / 0.013);
                     }
                 }
             }
-            let s = tet10::average_cauchy(&geo, &ue, &mat, hist).unwrap();
+            let s = tet10::average_cauchy(&geo, &ue, &mat, form, hist).unwrap();
             let want = solver::math::to_sym6(&expected);
             for c in 0..6 {
                 worst_stress = worst_stress.max((s[c] - want[c]).abs() / scale);
             }
             let mut fe = [[0.0; 3]; 10];
-            tet10::internal_force(&geo, &ue, &mat, hist, &mut fe).unwrap();
+            tet10::internal_force(&geo, &ue, &mat, form, hist, &mut fe).unwrap();
             for (a, &n) in el.iter().enumerate() {
                 for i in 0..3 {
                     f[n][i] += fe[a][i];
                 }
             }
         }
+        let name = format!("{name} {form:?}");
         let fmax = f.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs()));
         let inside = f
             .iter()
@@ -157,9 +162,9 @@ fn a_rigid_rotation_gives_no_stress_under_large_kinematics() {
         for el in &mesh.elements {
             let geo = tet10::geometry(&gather(&mesh.x, el)).unwrap();
             let ue = gather(&u, el);
-            let s = tet10::average_cauchy(&geo, &ue, &mat, hist).unwrap();
+            let s = tet10::average_cauchy(&geo, &ue, &mat, Formulation::Full, hist).unwrap();
             let mut fe = [[0.0; 3]; 10];
-            tet10::internal_force(&geo, &ue, &mat, hist, &mut fe).unwrap();
+            tet10::internal_force(&geo, &ue, &mat, Formulation::Full, hist, &mut fe).unwrap();
             let fscale = E * tet10::volume(&geo).powf(2.0 / 3.0);
             worst = worst.max(s.iter().fold(0.0f64, |a, &b| a.max(b.abs())) / E);
             worst = worst.max(fe.iter().flatten().fold(0.0f64, |a, &b| a.max(b.abs())) / fscale);
@@ -206,13 +211,13 @@ fn the_diagonal_blocks_match_central_differences_of_the_force() {
         if mat.is_plastic() {
             let half = u.map(|v| v.map(|c| 0.5 * c));
             let old = hist.clone();
-            tet10::update_history(&geo, &half, &mat, &old, &mut hist).unwrap();
+            tet10::update_history(&geo, &half, &mat, Formulation::Full, &old, &mut hist).unwrap();
             assert!(hist.iter().all(|s| s.eqps > 0.0), "the points flowed");
         } else {
             hist.clear();
         }
         let mut d = [[[0.0; 3]; 3]; 10];
-        tet10::diagonal_blocks(&geo, &u, &mat, &hist, &mut d).unwrap();
+        tet10::diagonal_blocks(&geo, &u, &mat, Formulation::Full, &hist, &mut d).unwrap();
         let scale = d.iter().map(max_abs).fold(0.0, f64::max);
         let eps = 1e-6;
         let mut worst: f64 = 0.0;
@@ -222,7 +227,8 @@ fn the_diagonal_blocks_match_central_differences_of_the_force() {
                     let mut up = u;
                     up[a][k] += s;
                     let mut f = [[0.0; 3]; 10];
-                    tet10::internal_force(&geo, &up, &mat, &hist, &mut f).unwrap();
+                    tet10::internal_force(&geo, &up, &mat, Formulation::Full, &hist, &mut f)
+                        .unwrap();
                     f[a]
                 };
                 let (fp, fm) = (force(eps), force(-eps));
@@ -339,7 +345,7 @@ fn the_element_has_no_zero_energy_mode_besides_the_rigid_ones() {
         let mut u = [[0.0; 3]; 10];
         u[col / 3][col % 3] = 1.0;
         let mut f = [[0.0; 3]; 10];
-        tet10::internal_force(&geo, &u, &mat, &[], &mut f).unwrap();
+        tet10::internal_force(&geo, &u, &mat, Formulation::Full, &[], &mut f).unwrap();
         for row in 0..30 {
             k[row][col] = f[row / 3][row % 3];
         }
@@ -347,4 +353,60 @@ fn the_element_has_no_zero_energy_mode_besides_the_rigid_ones() {
     // Rigid modes give pivots at round-off (~1e-13 of the largest); the softest deformation
     // mode is well above 1e-8 of it (the stabilization alone is 1e-2 mu).
     assert_eq!(rank(k, 1e-8), 24);
+}
+
+/// The stiffness of one element of a linear material, column by column (the force is
+/// linear in u).
+fn element_stiffness(geo: &tet10::Geometry, mat: &Material, form: Formulation) -> Vec<Vec<f64>> {
+    let mut k = vec![vec![0.0; 30]; 30];
+    for col in 0..30 {
+        let mut u = [[0.0; 3]; 10];
+        u[col / 3][col % 3] = 1.0;
+        let mut f = [[0.0; 3]; 10];
+        tet10::internal_force(geo, &u, mat, form, &[], &mut f).unwrap();
+        for row in 0..30 {
+            k[row][col] = f[row / 3][row % 3];
+        }
+    }
+    k
+}
+
+/// Volumetric constraints per element near incompressibility: the composite element's
+/// dilatation is linear over it (four constraints, as a discontinuous linear pressure:
+/// too many against a quadratic tetrahedron's unknowns, it locks), the mean dilatation
+/// one (a constant pressure per element). Counted as the eigenvalues of the element's
+/// stiffness at nu = 0.4999 (lambda = 5000 mu) above 50 times the largest at lambda = 0
+/// (the same mu): the volumetric ones are about lambda / mu = 5000 times the shear scale,
+/// the shear ones at most 1 times it, so the gap is wide on either side of 50. Both
+/// stiffnesses are symmetric.
+#[test]
+fn the_mean_dilatation_leaves_one_volumetric_constraint() {
+    let geo = tet10::geometry(&curved_element()).unwrap();
+    let mu = E / (2.0 * 1.4999);
+    let shear = Material::LinearElastic(LinearElastic { lambda: 0.0, mu });
+    let nearly = Material::LinearElastic(LinearElastic::new(E, 0.4999));
+    let eig = |k: Vec<Vec<f64>>| -> Vec<f64> {
+        let m = nalgebra::DMatrix::from_fn(30, 30, |i, j| 0.5 * (k[i][j] + k[j][i]));
+        m.symmetric_eigenvalues().iter().copied().collect()
+    };
+    for (form, constraints) in [(Formulation::Full, 4), (Formulation::FullBar, 1)] {
+        // The force is the gradient of an energy in either form (the mean dilatation's
+        // pressure handed back through its own variation): a symmetric stiffness, to
+        // round-off of sums of order-one products (1e-12 of the largest entry).
+        let k = element_stiffness(&geo, &nearly, form);
+        let big = k.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..30 {
+            for j in 0..i {
+                assert!((k[i][j] - k[j][i]).abs() < 1e-12 * big, "{form:?} {i} {j}");
+            }
+        }
+        let top = eig(element_stiffness(&geo, &shear, form))
+            .into_iter()
+            .fold(0.0f64, f64::max);
+        let stiff = eig(element_stiffness(&geo, &nearly, form))
+            .into_iter()
+            .filter(|&e| e > 50.0 * top)
+            .count();
+        assert_eq!(stiff, constraints, "{form:?}");
+    }
 }

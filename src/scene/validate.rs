@@ -224,7 +224,8 @@ impl Builder {
             let (material, density) =
                 self.material(&format!("{key}.material"), &b.material, raw.kinematics)?;
             let formulation = self.formulation(&key, b)?;
-            self.kind_formulation(&key, kind, b)?;
+            let large = raw.kinematics == Kinematics::Large;
+            self.kind_formulation(&key, kind, b, large)?;
             mesh.coords.extend_from_slice(&coords);
             mesh.element_body
                 .extend(std::iter::repeat_n(bi as u32, num_elements));

@@ -162,7 +162,14 @@ impl<'a> Assembly<'a> {
                 }
                 ElementKind::Tet10 => {
                     let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
-                    tet10::update_history(geo, &self.gather(e, u), &m.material, old, new)
+                    tet10::update_history(
+                        geo,
+                        &self.gather(e, u),
+                        &m.material,
+                        m.formulation,
+                        old,
+                        new,
+                    )
                 }
             }
             .map_err(|k| self.fail(e, k))?;
@@ -218,7 +225,14 @@ impl<'a> Assembly<'a> {
                 }
                 ElementKind::Tet10 => {
                     let geo = self.shapes.tet(e).ok()?;
-                    tet10::update_history(geo, &self.gather(e, u), &m.material, h, &mut new)
+                    tet10::update_history(
+                        geo,
+                        &self.gather(e, u),
+                        &m.material,
+                        m.formulation,
+                        h,
+                        &mut new,
+                    )
                 }
             }
             .ok()?;
@@ -569,7 +583,8 @@ impl<'a> Assembly<'a> {
     ) -> Result<(), ElementError> {
         let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
         let m = &self.models[self.mesh.element_body[e] as usize];
-        tet10::internal_force(geo, ue, &m.material, self.hist(e), fe).map_err(|k| self.fail(e, k))
+        tet10::internal_force(geo, ue, &m.material, m.formulation, self.hist(e), fe)
+            .map_err(|k| self.fail(e, k))
     }
 
     /// Adds composite tetrahedron `e`'s central difference of its force along `x` (at `u`,
@@ -619,7 +634,7 @@ impl<'a> Assembly<'a> {
             if self.mesh.kind(e) == ElementKind::Tet10 {
                 let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
                 let ue = self.gather(e, u);
-                tet10::diagonal_blocks(geo, &ue, &m.material, self.hist(e), &mut dt)
+                tet10::diagonal_blocks(geo, &ue, &m.material, m.formulation, self.hist(e), &mut dt)
                     .map_err(|k| self.fail(e, k))?;
                 add_blocks(self.mesh.elements.fixed::<10>(e), &dt, d);
                 continue;
@@ -723,7 +738,13 @@ impl<'a> Assembly<'a> {
                 }
                 ElementKind::Tet10 => {
                     let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
-                    tet10::average_cauchy(geo, &self.gather(e, u), &m.material, self.hist(e))
+                    tet10::average_cauchy(
+                        geo,
+                        &self.gather(e, u),
+                        &m.material,
+                        m.formulation,
+                        self.hist(e),
+                    )
                 }
             };
             out.push(s.map_err(|k| self.fail(e, k))?);

@@ -24,7 +24,7 @@
 
 use super::composite::{point_lambda, shape_gradients, Geometry, MEAN_LAMBDA, SUB_TETS};
 use crate::fem::element::add_tangent;
-use crate::fem::ElementFailure;
+use crate::fem::{ElementFailure, Formulation};
 use crate::material::{Material, PlasticState};
 use crate::math::{det, Mat3, Vec3, ZERO33};
 
@@ -54,7 +54,7 @@ fn axpy(y: &mut Mat3, a: f64, x: &Mat3) {
 }
 
 #[inline]
-fn gradients(geo: &Geometry, u: &[Vec3; 10]) -> Gradients {
+fn gradients(geo: &Geometry, u: &[Vec3; 10], form: Formulation) -> Gradients {
     let uc = {
         let mut c = [0.0; 3];
         for p in &u[4..] {
@@ -91,7 +91,30 @@ fn gradients(geo: &Geometry, u: &[Vec3; 10]) -> Gradients {
             axpy(hq, point_lambda(q, k), ck);
         }
     }
+    if mean_dilatation(form) {
+        // h_q + (theta_bar - tr h_q) / 3 I, theta_bar the weighted mean of tr h_q.
+        let v: f64 = geo.w.iter().sum();
+        let mean = (0..4).map(|q| geo.w[q] * trace(&point[q])).sum::<f64>() / v;
+        for hq in point.iter_mut() {
+            let d = (mean - trace(hq)) / 3.0;
+            for (i, row) in hq.iter_mut().enumerate() {
+                row[i] += d;
+            }
+        }
+    }
     Gradients { sub, corner, point }
+}
+
+/// Whether the element takes the mean dilatation: `FullBar` (the scene's
+/// `volumetric = "mean_dilatation"`, small kinematics only: see the module comment).
+#[inline(always)]
+fn mean_dilatation(form: Formulation) -> bool {
+    matches!(form, Formulation::FullBar)
+}
+
+#[inline(always)]
+fn trace(m: &Mat3) -> f64 {
+    m[0][0] + m[1][1] + m[2][2]
 }
 
 /// Stress at point `q`: from the committed state when the element has a history (`hist`
@@ -116,16 +139,32 @@ pub fn internal_force(
     geo: &Geometry,
     u: &[Vec3; 10],
     mat: &Material,
+    form: Formulation,
     hist: &[PlasticState],
     f: &mut [Vec3; 10],
 ) -> Result<(), ElementFailure> {
-    let g = gradients(geo, u);
+    let g = gradients(geo, u, form);
+    let mut p = [ZERO33; 4];
+    for (q, pq) in p.iter_mut().enumerate() {
+        *pq = point_stress(mat, &g.point[q], hist, q).ok_or(ElementFailure::InvertedCurrent)?;
+    }
+    if mean_dilatation(form) {
+        // The variation of the mean dilatation hands every point the element's mean
+        // pressure: P_q - tr P_q / 3 I + p_bar I, p_bar = sum_r w_r tr P_r / (3 V).
+        let v: f64 = geo.w.iter().sum();
+        let mean = (0..4).map(|q| geo.w[q] * trace(&p[q])).sum::<f64>() / (3.0 * v);
+        for pq in p.iter_mut() {
+            let d = mean - trace(pq) / 3.0;
+            for (i, row) in pq.iter_mut().enumerate() {
+                row[i] += d;
+            }
+        }
+    }
     // The stresses carried back to the parent's corners: R_k = sum_q lambda_k(q) w_q P_q.
     let mut r = [ZERO33; 4];
-    for q in 0..4 {
-        let p = point_stress(mat, &g.point[q], hist, q).ok_or(ElementFailure::InvertedCurrent)?;
+    for (q, pq) in p.iter().enumerate() {
         for (k, rk) in r.iter_mut().enumerate() {
-            axpy(rk, point_lambda(q, k) * geo.w[q], &p);
+            axpy(rk, point_lambda(q, k) * geo.w[q], pq);
         }
     }
     // Stabilization: T_s += k V_s D_s and R_k -= sum_s k V_s m_sk D_s (the projection's
@@ -191,10 +230,11 @@ pub fn diagonal_blocks(
     geo: &Geometry,
     u: &[Vec3; 10],
     mat: &Material,
+    form: Formulation,
     hist: &[PlasticState],
     d: &mut [Mat3; 10],
 ) -> Result<(), ElementFailure> {
-    let g = gradients(geo, u);
+    let g = gradients(geo, u, form);
     let gs = shape_gradients(geo);
     // grad_bar N_a at the parent's corners: sum_s c_ks grad N_a|_s.
     let mut bk = [[[0.0; 3]; 10]; 4];
@@ -244,9 +284,10 @@ pub fn average_cauchy(
     geo: &Geometry,
     u: &[Vec3; 10],
     mat: &Material,
+    form: Formulation,
     hist: &[PlasticState],
 ) -> Result<[f64; 6], ElementFailure> {
-    let g = gradients(geo, u);
+    let g = gradients(geo, u, form);
     let virgin = PlasticState::default();
     let mut sum = ZERO33;
     let mut vol = 0.0;
@@ -287,10 +328,11 @@ pub fn update_history(
     geo: &Geometry,
     u: &[Vec3; 10],
     mat: &Material,
+    form: Formulation,
     old: &[PlasticState],
     new: &mut [PlasticState],
 ) -> Result<(), ElementFailure> {
-    let g = gradients(geo, u);
+    let g = gradients(geo, u, form);
     for q in 0..STRESS_POINTS {
         new[q] = mat
             .update(&g.point[q], &old[q])
@@ -307,6 +349,6 @@ pub fn mean_eqps(geo: &Geometry, hist: &[PlasticState]) -> f64 {
 }
 
 /// The projected displacement gradient at each integration point (for tests and output).
-pub fn point_gradients(geo: &Geometry, u: &[Vec3; 10]) -> [Mat3; 4] {
-    gradients(geo, u).point
+pub fn point_gradients(geo: &Geometry, u: &[Vec3; 10], form: Formulation) -> [Mat3; 4] {
+    gradients(geo, u, form).point
 }

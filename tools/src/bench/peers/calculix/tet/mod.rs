@@ -1,7 +1,7 @@
 //! Tetrahedra beside hexahedra and CalculiX (issue 41's acceptance): Cook's membrane at
 //! nu = 0.4999 and the flat punch in an elastic-perfectly plastic block, each on three
-//! Gmsh tetrahedral meshes (4-node tetrahedra the solver completes to its composite tet10)
-//! beside ccx's C3D10 on the same nodes (the scene's deck, `scene::deck_with`; Cook's
+//! Gmsh tetrahedral meshes (4-node tetrahedra the solver completes to its composite tet10,
+//! as it is and with the mean dilatation) beside ccx's C3D10 on the same nodes (the scene's deck, `scene::deck_with`; Cook's
 //! shear traction as ccx's own consistent nodal forces, `face_loads`), against our hex8
 //! with mean dilatation at its finest mesh (Cook at n = 64; the punch at 80 x 80,
 //! `run/scenes/plasticity/punch_80.toml`). Ours on 2 ranks (`auto`), ccx on 2 threads, one
@@ -44,28 +44,37 @@ pub struct Row {
     pub ccx: Option<Result<Measured, String>>,
 }
 
-/// The cases: per problem the hexahedral reference first, then the tetrahedral meshes.
+/// The cases: per problem the hexahedral reference first, then every tetrahedral mesh
+/// without and with the mean dilatation.
 fn cases(quick: bool) -> Vec<Case> {
-    let case = |problem, tet, n| Case { problem, tet, n };
-    if quick {
-        return vec![
-            case(Problem::Cook, false, 16),
-            case(Problem::Cook, true, 4),
-            case(Problem::Cook, true, 8),
-            case(Problem::Punch, true, 5),
-            case(Problem::Punch, true, 10),
-        ];
+    let (cook, punch): (&[usize], &[usize]) = if quick {
+        (&[4, 8], &[5, 10])
+    } else {
+        (&[4, 8, 16], &[5, 10, 15])
+    };
+    let mut out = Vec::new();
+    for (problem, reference, meshes) in [
+        (Problem::Cook, if quick { 16 } else { 64 }, cook),
+        (Problem::Punch, if quick { 40 } else { 80 }, punch),
+    ] {
+        out.push(Case {
+            problem,
+            tet: false,
+            n: reference,
+            bar: true,
+        });
+        for &n in meshes {
+            for bar in [false, true] {
+                out.push(Case {
+                    problem,
+                    tet: true,
+                    n,
+                    bar,
+                });
+            }
+        }
     }
-    vec![
-        case(Problem::Cook, false, 64),
-        case(Problem::Cook, true, 4),
-        case(Problem::Cook, true, 8),
-        case(Problem::Cook, true, 16),
-        case(Problem::Punch, false, 80),
-        case(Problem::Punch, true, 5),
-        case(Problem::Punch, true, 10),
-        case(Problem::Punch, true, 15),
-    ]
+    out
 }
 
 /// Runs the cases and writes the report (after every case: a long run leaves what it has).
@@ -107,7 +116,8 @@ fn run_case(case: Case, dir: &Path, ccx: bool) -> Result<Row, String> {
         ),
         Err(e) => eprintln!("bench:   failed: {e}"),
     }
-    let ccx = (case.tet).then(|| {
+    // ccx's C3D10 once per tetrahedral mesh, beside our plain composite element.
+    let ccx = (case.tet && !case.bar).then(|| {
         if !ccx {
             return Err("CalculiX not available (no ccx on PATH; `run/setup --calculix`)".into());
         }

@@ -117,6 +117,7 @@ fn json(rows: &[Row], ccx_version: Option<&str>) -> String {
                 "case": r.case.name(),
                 "tet": r.case.tet,
                 "n": r.case.n,
+                "mean_dilatation": r.case.bar,
                 "nodes": r.nodes,
                 "ours": m(&r.ours),
                 "ccx": r.ccx.as_ref().map(m),

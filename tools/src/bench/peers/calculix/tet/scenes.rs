@@ -24,6 +24,9 @@ pub struct Case {
     pub tet: bool,
     /// Cook: elements per side; punch: element size 6/n away from the punch's edge.
     pub n: usize,
+    /// A tet10 body with the mean dilatation (`volumetric = "mean_dilatation"`); the
+    /// hexahedra always have it.
+    pub bar: bool,
 }
 
 /// The punch meshes' refinement towards the punch's edge (`punch.geo`'s r).
@@ -35,7 +38,12 @@ impl Case {
             Problem::Cook => "cook",
             Problem::Punch => "punch",
         };
-        format!("{p}_{}{}", if self.tet { "tet" } else { "hex" }, self.n)
+        let bar = if self.bar && self.tet { "_bar" } else { "" };
+        format!(
+            "{p}_{}{}{bar}",
+            if self.tet { "tet" } else { "hex" },
+            self.n
+        )
     }
 
     /// The slab's thickness in z (every node held in z: plane strain).
@@ -86,12 +94,17 @@ impl Case {
         Ok(scene)
     }
 
-    fn cook_scene(&self) -> String {
-        let volumetric = if self.tet {
+    /// The body's volumetric key.
+    fn volumetric(&self) -> &'static str {
+        if self.tet && !self.bar {
             ""
         } else {
             "volumetric = \"mean_dilatation\"\n"
-        };
+        }
+    }
+
+    fn cook_scene(&self) -> String {
+        let volumetric = self.volumetric();
         format!(
             r#"# Cook's membrane ({}), written by the bench.
 name = "{}"
@@ -158,7 +171,7 @@ file = "mesh.msh"
 name = "block"
 gmsh_volume = "block"
 material = {{ model = "j2_plastic", E = 200e3, nu = 0.3, yield_stress = 100.0 }}
-[[node_set]]
+{}[[node_set]]
 name = "all"
 box = {{ min = [-1.0, -1.0, -1.0], max = [7.0, 7.0, 7.0] }}
 [[node_set]]
@@ -196,7 +209,8 @@ function = [[0.0, 0.0], [1.0, -0.1]]
 [time]
 segments = [{{ end = 1.0, steps = 50 }}]
 "#,
-            self.name()
+            self.name(),
+            self.volumetric()
         )
     }
 }
