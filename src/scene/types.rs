@@ -237,6 +237,9 @@ pub struct GeneralContactDef {
     /// "node_face" (default) or "mortar": the discretisation of the primary pass.
     #[serde(alias = "method")]
     pub discretization: Option<String>,
+    /// The second pass of every body pair (the master body's nodes audited against the
+    /// slave body, tied back when found inside): on by default.
+    pub symmetric: Option<bool>,
     #[serde(default)]
     pub exclude: Vec<Vec<String>>,
     #[serde(default)]

@@ -60,7 +60,7 @@ impl Builder {
                 let ids = (slave, master);
                 let skin = |i: usize| if i == a { sa } else { sb };
                 pairs.push(self.pass(key, mesh, &def, ids, (skin(slave), skin(master)), false)?);
-                if !skin(master).rigid {
+                if !skin(master).rigid && g.symmetric.unwrap_or(true) {
                     let mut second = def.clone();
                     second.discretization = None;
                     let s = (skin(master), skin(slave));
