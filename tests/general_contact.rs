@@ -20,7 +20,10 @@ fn run_file(rel: &str) -> (solver::run::RunSummary, solver::run::GlobalState) {
 /// The stack of 8 blocks of different materials and non-matching meshes pressed together:
 /// general contact finds the 7 touching pairs with the finer block as slave, as the explicit
 /// pairs name them, so the answers agree to 1e-8 of the largest displacement (measured:
-/// bitwise), and no slave node ends deeper than its capture tolerance.
+/// bitwise), and no slave node ends deeper than its capture tolerance. The second passes
+/// audit the coarser blocks' nodes, which node-to-face lets into the finer block by up to
+/// 4.3e-4 where the finer block's nodes hold the zone: left out there (`partner`), or the
+/// two passes tie each other's nodes in a circle.
 #[test]
 fn stack_of_eight_blocks_general_contact_matches_seven_explicit_pairs() {
     let (_, pairs) = run_file("run/scenes/general/stack8_pairs.toml");
@@ -39,8 +42,8 @@ fn stack_of_eight_blocks_general_contact_matches_seven_explicit_pairs() {
         );
     }
     let p = load_scene(&repo("run/scenes/general/stack8.toml")).unwrap();
-    // 8 bodies: 28 body pairs, one pass each (`symmetric = false` there).
-    assert_eq!(p.contacts.len(), 28);
+    // 8 bodies: 28 body pairs, two passes each (no body is prescribed in every node).
+    assert_eq!(p.contacts.len(), 56);
 }
 
 /// A matching-mesh scene (the paper's block on a wedge with Coulomb friction): the general

@@ -363,6 +363,7 @@ mod tests {
             smoothing_width: None,
             face_size: h,
             secondary: false,
+            partner: None,
             slave_normals: None,
         };
         (pair, coords)

@@ -60,6 +60,11 @@ pub struct ContactPair {
     /// of the master body by more than the capture tolerance. Where the first pass holds
     /// the contact zone, the two passes then never tie the same points to each other.
     pub secondary: bool,
+    /// A second pass's primary pass (index in the problem's pairs): the audit leaves out
+    /// the second pass's nodes on a master face the primary pass ties a node to, where the
+    /// primary pass already holds the zone (tying them too would make each pass's slave the
+    /// other's master: a circular dependency on non-matching meshes).
+    pub partner: Option<usize>,
     /// General contact: each slave node's outward normal (the mean of its slave faces'
     /// unit normals in the reference configuration), by position in `slave_nodes`; a
     /// master face is found for a node only if its normal opposes this. None for
@@ -141,6 +146,7 @@ impl ContactPair {
             smoothing_width,
             face_size,
             secondary: false,
+            partner: None,
             slave_normals: None,
         }
     }

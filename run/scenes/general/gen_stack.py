@@ -33,7 +33,7 @@ def scene(general):
           "[[displacement]]", 'node_set = "z0"', 'components = ["z"]', "value = 0.0", "",
           "[[pressure]]", 'side_set = "b7_top"', "value = 1.0e4", ""]
     if general:
-        s += ["[general_contact]", 'friction = "frictionless"', "symmetric = false", ""]
+        s += ["[general_contact]", 'friction = "frictionless"', ""]
     else:
         for i in range(7):
             fine, coarse = (i, i + 1) if DIVS[i] > DIVS[i + 1] else (i + 1, i)

@@ -64,7 +64,9 @@ impl Builder {
                     let mut second = def.clone();
                     second.discretization = None;
                     let s = (skin(master), skin(slave));
-                    pairs.push(self.pass(key, mesh, &second, (master, slave), s, true)?);
+                    let mut pass = self.pass(key, mesh, &second, (master, slave), s, true)?;
+                    pass.partner = Some(explicit.len() + pairs.len() - 1);
+                    pairs.push(pass);
                 }
             }
         }
@@ -263,7 +265,11 @@ fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) -> ContactD
         master: String::new(),
         slave: String::new(),
         friction: o.and_then(|p| p.friction.clone()).or(g.friction.clone()),
-        mu: pick(o.and_then(|p| p.mu), g.mu),
+        // A pair that sets its friction sets its own mu (or none, frictionless).
+        mu: match o.filter(|p| p.friction.is_some()) {
+            Some(p) => p.mu,
+            None => pick(o.and_then(|p| p.mu), g.mu),
+        },
         normal_tolerance: pick(o.and_then(|p| p.normal_tolerance), g.normal_tolerance),
         tangential_tolerance: pick(
             o.and_then(|p| p.tangential_tolerance),
