@@ -126,6 +126,7 @@ fn compare_the_same_data(dir: &Path, a: &Path) {
         a: a.clone(),
         b: b.clone(),
         tol: 0.0,
+        only: Vec::new(),
     };
     assert_eq!(post::run_post(&cmd).unwrap(), 0);
 }
@@ -162,6 +163,7 @@ fn compare_one_value_off(dir: &Path, a: &Path) {
         a: a.clone(),
         b: c.clone(),
         tol: 1e-8,
+        only: Vec::new(),
     };
     assert_eq!(post::run_post(&cmd).unwrap(), 1);
     let report = post::compare_files(&a, &c, 1e-5).unwrap();
@@ -236,7 +238,8 @@ fn compare_mismatched_meshes_and_step_counts(dir: &Path, a: &Path) {
     assert!(post::run_post(&PostCommand::Compare {
         a: a.clone(),
         b: e,
-        tol: 0.0
+        tol: 0.0,
+        only: Vec::new(),
     })
     .is_err());
 

@@ -292,6 +292,7 @@ impl Enforcement for ContactState {
             .filter(|a| super::kind(problem.contacts[a.pair].discretization).audit_tied())
             .map(|a| (a.slave, a.pair))
             .collect();
+        tied.extend(held_by_partner(self, problem));
         tied.sort_unstable();
         audit::audit(comm, problem, mesh, u, &tied)
     }
@@ -367,4 +368,38 @@ impl ContactState {
             positions: self.mortar_positions(comm, problem, mesh, (u, start)),
         }
     }
+}
+
+/// The (slave node, pair) of the general contact second passes whose node is on a master
+/// face its primary pass ties a node to (`ContactPair::partner`): left out of the audit.
+/// Empty without second passes.
+fn held_by_partner(state: &ContactState, problem: &Problem) -> Vec<(u32, usize)> {
+    let seconds: Vec<(usize, usize)> = (problem.contacts.iter().enumerate())
+        .filter_map(|(p, c)| c.partner.map(|q| (p, q)))
+        .collect();
+    if seconds.is_empty() {
+        return Vec::new();
+    }
+    let mut held: Vec<(usize, u32)> = state
+        .active
+        .iter()
+        .filter(|a| seconds.iter().any(|&(_, q)| q == a.pair))
+        .flat_map(|a| {
+            super::kind(problem.contacts[a.pair].discretization)
+                .masters(state, problem, a)
+                .into_iter()
+                .map(move |(n, _)| (a.pair, n))
+        })
+        .collect();
+    held.sort_unstable();
+    held.dedup();
+    let mut out = Vec::new();
+    for (p, q) in seconds {
+        for &s in &problem.contacts[p].slave_nodes {
+            if held.binary_search(&(q, s)).is_ok() {
+                out.push((s, p));
+            }
+        }
+    }
+    out
 }

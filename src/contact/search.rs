@@ -138,11 +138,20 @@ impl<'a> MasterSurface<'a> {
 
     /// The interaction of a slave node at `x`, if it is within the search tolerances.
     pub fn search(&self, x: &Vec3) -> Option<Interaction> {
+        self.search_facing(x, None)
+    }
+
+    /// `search` among the faces whose normal at the found point opposes `facing` (a
+    /// general contact slave node's outward normal; every face when None): a node on the
+    /// edge of a contact zone is as near to the master body's side faces as to the face it
+    /// lies on, and only the one it faces may take it.
+    pub fn search_facing(&self, x: &Vec3, facing: Option<&Vec3>) -> Option<Interaction> {
         let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
         let candidates: Vec<(f64, Interaction)> = self
             .bvh
             .intersect_aabb(&probe)
             .filter_map(|k| self.project_on(k, x))
+            .filter(|c| facing.is_none_or(|n| crate::math::dot(&c.1.normal, n) < 0.0))
             .collect();
         // The nearest face; faces within round-off of it go to the lowest index, so the
         // choice depends neither on traversal order nor on which other faces are held.
@@ -353,6 +362,9 @@ mod tests {
             capture_tolerance: 1e-7,
             smoothing_width: None,
             face_size: h,
+            secondary: false,
+            partner: None,
+            slave_normals: None,
         };
         (pair, coords)
     }

@@ -214,6 +214,17 @@ fn is_topology(name: &str, data: &NumericData) -> bool {
 /// different shapes or number kinds in the two files, or the meshes' ids, connectivity or
 /// sets differ.
 pub fn compare_files(a: &Path, b: &Path, tol: f64) -> Result<CompareReport, OutputError> {
+    compare_files_only(a, b, tol, &[])
+}
+
+/// `compare_files` over the datasets whose path starts with one of `only` (every dataset
+/// when `only` is empty).
+pub fn compare_files_only(
+    a: &Path,
+    b: &Path,
+    tol: f64,
+    only: &[String],
+) -> Result<CompareReport, OutputError> {
     if !(tol.is_finite() && tol >= 0.0) {
         return Err(OutputError::Usage {
             file: a.to_path_buf(),
@@ -222,8 +233,9 @@ pub fn compare_files(a: &Path, b: &Path, tol: f64) -> Result<CompareReport, Outp
     }
     let fa = ResultFile::open(a)?;
     let fb = ResultFile::open(b)?;
-    let names_a: BTreeSet<String> = fa.dataset_names().into_iter().collect();
-    let names_b: BTreeSet<String> = fb.dataset_names().into_iter().collect();
+    let kept = |n: &String| only.is_empty() || only.iter().any(|p| n.starts_with(p.as_str()));
+    let names_a: BTreeSet<String> = fa.dataset_names().into_iter().filter(kept).collect();
+    let names_b: BTreeSet<String> = fb.dataset_names().into_iter().filter(kept).collect();
     let mismatch = |message: String| OutputError::Mismatch {
         a: a.to_path_buf(),
         b: b.to_path_buf(),

@@ -44,6 +44,10 @@ pub enum PostCommand {
         /// 0 demands bitwise equality.
         #[arg(long, default_value_t = 0.0)]
         tol: f64,
+        /// Compare only the datasets whose path starts with this (repeatable), e.g.
+        /// `--only /results/displacement` for two runs whose contact pairs differ.
+        #[arg(long)]
+        only: Vec<String>,
     },
     /// Plot a nodal quantity along a node set (one line per step), or with --history
     /// through time.
@@ -82,8 +86,8 @@ pub fn run_post(cmd: &PostCommand) -> Result<i32, OutputError> {
             print!("{}", info_text(file)?);
             Ok(0)
         }
-        PostCommand::Compare { a, b, tol } => {
-            let report = compare_files(a, b, *tol)?;
+        PostCommand::Compare { a, b, tol, only } => {
+            let report = compare::compare_files_only(a, b, *tol, only)?;
             print!("{}", report.render());
             Ok(report.exit_code())
         }

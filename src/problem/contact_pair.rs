@@ -53,6 +53,23 @@ pub struct ContactPair {
     pub smoothing_width: Option<f64>,
     /// Mean sqrt(area) of the master faces: the length the defaults scale with.
     pub face_size: f64,
+    /// The second pass of a general contact body pair (`scene::validate::general`): its
+    /// slave nodes are never captured by the search (whose gap, measured along a face's
+    /// normal within the tangential tolerance, is negative for a node beside an edge, not
+    /// inside the body), only by the penetration audit, when a node is inside an element
+    /// of the master body by more than the capture tolerance. Where the first pass holds
+    /// the contact zone, the two passes then never tie the same points to each other.
+    pub secondary: bool,
+    /// A second pass's primary pass (index in the problem's pairs): the audit leaves out
+    /// the second pass's nodes on a master face the primary pass ties a node to, where the
+    /// primary pass already holds the zone (tying them too would make each pass's slave the
+    /// other's master: a circular dependency on non-matching meshes).
+    pub partner: Option<usize>,
+    /// General contact: each slave node's outward normal (the mean of its slave faces'
+    /// unit normals in the reference configuration), by position in `slave_nodes`; a
+    /// master face is found for a node only if its normal opposes this. None for
+    /// `[[contact]]` pairs, whose side sets already say which faces meet.
+    pub slave_normals: Option<Vec<crate::math::Vec3>>,
 }
 
 impl ContactPair {
@@ -128,6 +145,23 @@ impl ContactPair {
             capture_tolerance,
             smoothing_width,
             face_size,
+            secondary: false,
+            partner: None,
+            slave_normals: None,
         }
+    }
+
+    /// The outward normal slave node `i` (its position in `slave_nodes`) must oppose.
+    pub fn facing(&self, i: usize) -> Option<&crate::math::Vec3> {
+        self.slave_normals.as_ref().map(|n| &n[i])
+    }
+
+    /// Whether a slave node not in contact at `gap` from the master surface is captured
+    /// (`released`: it was released in this step, when only a clear penetration is).
+    pub fn captures(&self, gap: f64, noise: f64, released: bool) -> bool {
+        if self.secondary {
+            return false;
+        }
+        gap < -noise * self.face_size || (gap <= self.capture_tolerance && !released)
     }
 }

@@ -32,6 +32,8 @@ pub struct SceneFile {
     pub body_force: Vec<BodyForceDef>,
     #[serde(default)]
     pub contact: Vec<ContactDef>,
+    /// Contact between the exterior faces of every pair of bodies (`scene::validate::general`).
+    pub general_contact: Option<GeneralContactDef>,
     pub time: TimeDef,
     #[serde(default)]
     pub solver: SolverDef,
@@ -217,6 +219,48 @@ pub struct ContactDef {
     pub smoothing_width: Option<f64>,
     /// "node_face" (default: each slave node tied to one master point) or "mortar"
     /// (each slave node's gap weighted over the slave surface against the master faces).
+    pub discretization: Option<String>,
+}
+
+/// `[general_contact]`: every body's exterior faces against every other body's, with one
+/// default interaction; `[[general_contact.pair]]` overrides it for two bodies, `exclude`
+/// leaves out a body (`["a"]`) or a pair of bodies (`["a", "b"]`).
+#[derive(Deserialize, Debug, Clone, Default)]
+#[serde(deny_unknown_fields)]
+pub struct GeneralContactDef {
+    pub friction: Option<String>,
+    pub mu: Option<f64>,
+    pub normal_tolerance: Option<f64>,
+    pub tangential_tolerance: Option<f64>,
+    pub capture_tolerance: Option<f64>,
+    pub smoothing_width: Option<f64>,
+    /// "node_face" (default) or "mortar": the discretisation of the primary pass.
+    #[serde(alias = "method")]
+    pub discretization: Option<String>,
+    /// The second pass of every body pair (the master body's nodes audited against the
+    /// slave body, tied back when found inside): on by default.
+    pub symmetric: Option<bool>,
+    #[serde(default)]
+    pub exclude: Vec<Vec<String>>,
+    #[serde(default)]
+    pub pair: Vec<GeneralPairDef>,
+}
+
+/// `[[general_contact.pair]]`: the interaction of two bodies, each key unset taking the
+/// general default; `slave` chooses the body whose nodes the primary pass ties.
+#[derive(Deserialize, Debug, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct GeneralPairDef {
+    pub bodies: [String; 2],
+    pub slave: Option<String>,
+    pub friction: Option<String>,
+    pub mu: Option<f64>,
+    pub normal_tolerance: Option<f64>,
+    pub tangential_tolerance: Option<f64>,
+    pub capture_tolerance: Option<f64>,
+    pub smoothing_width: Option<f64>,
+    /// "node_face" (default) or "mortar": the discretisation of the primary pass.
+    #[serde(alias = "method")]
     pub discretization: Option<String>,
 }
 

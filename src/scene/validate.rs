@@ -14,6 +14,7 @@ use std::path::Path;
 
 mod contacts;
 mod error;
+mod general;
 mod gmsh;
 mod kinds;
 mod loads;

@@ -36,18 +36,16 @@ impl ContactState {
             if pair.discretization != Discretization::NodeFace {
                 continue;
             }
-            for &s in &pair.slave_nodes {
+            for (i, &s) in pair.slave_nodes.iter().enumerate() {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
                 };
                 if existing.contains(&(s, p)) {
                     continue;
                 }
-                if let Some(it) = surfaces[p].search(&ghost::position(mesh, u, l)) {
-                    let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                    if penetrates
-                        || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
-                    {
+                let x = ghost::position(mesh, u, l);
+                if let Some(it) = surfaces[p].search_facing(&x, pair.facing(i)) {
+                    if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p))) {
                         self.active.push(new_active(p, s, &it, pair.mu));
                         changed = true;
                     }
@@ -83,7 +81,7 @@ impl ContactState {
             if pair.discretization != Discretization::NodeFace {
                 continue;
             }
-            for &s in &pair.slave_nodes {
+            for (i, &s) in pair.slave_nodes.iter().enumerate() {
                 let Some(l) = mesh.owned_node(s) else {
                     continue;
                 };
@@ -91,7 +89,7 @@ impl ContactState {
                 let current = index.get(&(s, p)).map(|&k| self.active[k].face);
                 let found = current
                     .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
-                    .or_else(|| surfaces[p].search(&x));
+                    .or_else(|| surfaces[p].search_facing(&x, pair.facing(i)));
                 match (index.get(&(s, p)), found) {
                     (Some(&k), found) => {
                         if self.follow(k, found, (s, p), &released, pair.face_size) {
@@ -102,10 +100,7 @@ impl ContactState {
                     (None, Some(it)) => {
                         // A node released in this step is only pushed back if it clearly
                         // penetrates; at zero gap it is just leaving.
-                        let penetrates = it.gap < -PENETRATION_NOISE * pair.face_size;
-                        if penetrates
-                            || (it.gap <= pair.capture_tolerance && !released.contains(&(s, p)))
-                        {
+                        if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p))) {
                             added.push(new_active(p, s, &it, pair.mu));
                             changed = true;
                         }
@@ -146,9 +141,15 @@ impl ContactState {
             };
             let x = ghost::position(mesh, u, l);
             let surface = &surfaces[a.pair];
+            let pair = &problem.contacts[a.pair];
+            let facing = pair
+                .slave_nodes
+                .binary_search(&a.slave)
+                .ok()
+                .and_then(|i| pair.facing(i));
             if let Some(it) = surface
                 .stay_on(a.face, &x, EDGE_HYSTERESIS)
-                .or_else(|| surface.search(&x))
+                .or_else(|| surface.search_facing(&x, facing))
             {
                 a.face = it.face;
                 a.s = it.s;

@@ -17,13 +17,17 @@ impl Builder {
         dirichlet: &[Dirichlet],
     ) -> Result<Vec<ContactPair>, SceneError> {
         let fixed_dirs = fixed_directions(mesh, node_sets, dirichlet);
-        raw.contact
+        let mut pairs = raw
+            .contact
             .iter()
             .enumerate()
             .map(|(i, c)| {
                 self.contact_pair(&format!("contact[{i}]"), c, mesh, side_sets, &fixed_dirs)
             })
-            .collect()
+            .collect::<Result<Vec<_>, _>>()?;
+        let general = self.general_contacts(raw, mesh, &pairs, node_sets, dirichlet)?;
+        pairs.extend(general);
+        Ok(pairs)
     }
 
     /// One `[[contact]]`: its side sets (distinct, not overlapping, the slave on a body
@@ -122,7 +126,11 @@ impl Builder {
     }
 
     /// How the pair's constraints are formed: node-to-face (default) or mortar.
-    fn discretization(&self, key: &str, c: &ContactDef) -> Result<Discretization, SceneError> {
+    pub(super) fn discretization(
+        &self,
+        key: &str,
+        c: &ContactDef,
+    ) -> Result<Discretization, SceneError> {
         let d = match c.discretization.as_deref() {
             None => Discretization::default(),
             Some(name) => Discretization::from_key(name).ok_or_else(|| {
@@ -146,7 +154,11 @@ impl Builder {
     }
 
     /// Coulomb's coefficient: 0 when frictionless.
-    fn friction_coefficient(&self, key: &str, c: &ContactDef) -> Result<f64, SceneError> {
+    pub(super) fn friction_coefficient(
+        &self,
+        key: &str,
+        c: &ContactDef,
+    ) -> Result<f64, SceneError> {
         match (c.friction.as_deref(), c.mu) {
             (None | Some("frictionless"), None) => Ok(0.0),
             (None | Some("frictionless"), Some(_)) => {
@@ -198,7 +210,7 @@ impl Builder {
 
     /// The search tolerances (defaults from the mean master face size) and the normal
     /// smoothing width.
-    fn tolerances(
+    pub(super) fn tolerances(
         &self,
         key: &str,
         c: &ContactDef,
@@ -248,7 +260,7 @@ impl Builder {
 
 /// Independent directions fixed by Dirichlet conditions, per node (a node in two sets
 /// fixing the same component counts it once), to find slave bodies that cannot move.
-fn fixed_directions(
+pub(super) fn fixed_directions(
     mesh: &GlobalMesh,
     node_sets: &[NodeSet],
     dirichlet: &[Dirichlet],
@@ -274,7 +286,7 @@ fn fixed_directions(
 }
 
 /// The nodes of a set of faces, ascending.
-fn surface_nodes(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> Vec<u32> {
+pub(super) fn surface_nodes(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> Vec<u32> {
     let mut nodes: Vec<u32> = faces
         .iter()
         .flat_map(|&(e, f)| mesh.face_nodes(e, f))
@@ -285,7 +297,7 @@ fn surface_nodes(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> Vec<u32> {
 }
 
 /// Mean sqrt(area) of the faces: the length the tolerance defaults scale with.
-fn mean_face_size(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> f64 {
+pub(super) fn mean_face_size(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> f64 {
     let total: f64 = faces
         .iter()
         .map(|&(e, f)| {

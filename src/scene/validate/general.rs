@@ -1,0 +1,341 @@
+//! `[general_contact]`: the exterior faces of every body (faces of one element only)
+//! against every other body's, resolved into contact pairs once, here. Each body pair not
+//! excluded and not named by a `[[contact]]` pair (those win) gets two passes: the primary
+//! one ties the slave body's exterior nodes to the master body's exterior faces, with the
+//! interaction's discretisation; the second (node-to-face, `ContactPair::secondary`) ties
+//! the master body's nodes to the slave body's faces only when they are inside it by more
+//! than the capture tolerance, and its nodes are in the penetration audit, so no node of
+//! either body ends inside the other. The slave of the primary pass is the body set by the
+//! pair's `slave`, else the one that can move when the other is prescribed in every node,
+//! else the finer (smaller mean exterior face), else the one declared later.
+
+use super::contacts::{fixed_directions, mean_face_size, surface_nodes};
+use super::*;
+use crate::problem::ContactPair;
+
+/// A body of the general contact: its exterior faces, their mean size, and whether every
+/// node of it is prescribed.
+struct Skin {
+    faces: Vec<(u32, u8)>,
+    size: f64,
+    rigid: bool,
+}
+
+impl Builder {
+    /// The pairs of `[general_contact]` (none without it), after the explicit ones.
+    pub(super) fn general_contacts(
+        &self,
+        raw: &SceneFile,
+        mesh: &GlobalMesh,
+        explicit: &[ContactPair],
+        node_sets: &[NodeSet],
+        dirichlet: &[Dirichlet],
+    ) -> Result<Vec<ContactPair>, SceneError> {
+        let Some(g) = &raw.general_contact else {
+            return Ok(Vec::new());
+        };
+        let key = "general_contact";
+        let nb = mesh.bodies.len();
+        let (left_out, excluded) = self.exclusions(g, mesh)?;
+        let overrides = self.overrides(g, mesh)?;
+        let fixed_dirs = fixed_directions(mesh, node_sets, dirichlet);
+        let skins = self.skins(mesh, &left_out, &fixed_dirs)?;
+        let named = explicit_body_pairs(mesh, explicit);
+        let mut pairs = Vec::new();
+        for a in 0..nb {
+            for b in a + 1..nb {
+                let (Some(sa), Some(sb)) = (&skins[a], &skins[b]) else {
+                    continue;
+                };
+                if excluded.contains(&(a, b)) || named.contains(&(a, b)) || (sa.rigid && sb.rigid) {
+                    continue;
+                }
+                let over = overrides
+                    .iter()
+                    .find(|(p, _)| *p == (a, b))
+                    .map(|(_, d)| *d);
+                let slave = self.primary_slave(key, mesh, (a, b), (sa, sb), over)?;
+                let master = a + b - slave;
+                let def = interaction(g, over);
+                let ids = (slave, master);
+                let skin = |i: usize| if i == a { sa } else { sb };
+                pairs.push(self.pass(key, mesh, &def, ids, (skin(slave), skin(master)), false)?);
+                if !skin(master).rigid && g.symmetric.unwrap_or(true) {
+                    let mut second = def.clone();
+                    second.discretization = None;
+                    let s = (skin(master), skin(slave));
+                    let mut pass = self.pass(key, mesh, &second, (master, slave), s, true)?;
+                    pass.partner = Some(explicit.len() + pairs.len() - 1);
+                    pairs.push(pass);
+                }
+            }
+        }
+        Ok(pairs)
+    }
+
+    /// One pass: the slave body's exterior nodes against the master body's exterior faces.
+    fn pass(
+        &self,
+        key: &str,
+        mesh: &GlobalMesh,
+        def: &ContactDef,
+        (slave, master): (usize, usize),
+        (s, m): (&Skin, &Skin),
+        secondary: bool,
+    ) -> Result<ContactPair, SceneError> {
+        let (sn, mn) = (&mesh.bodies[slave].name, &mesh.bodies[master].name);
+        let key = format!("{key} ({sn}, {mn})");
+        let mu = self.friction_coefficient(&key, def)?;
+        let (normal, tangential, capture, smoothing) = self.tolerances(&key, def, m.size)?;
+        let discretization = self.discretization(&key, def)?;
+        let suffix = if secondary { " (second pass)" } else { "" };
+        let mut pair = ContactPair::new(
+            format!("general:{mn}/{sn}{suffix}"),
+            mesh,
+            m.faces.clone(),
+            surface_nodes(mesh, &s.faces),
+            mu,
+            normal,
+            tangential,
+            capture,
+            smoothing,
+            m.size,
+        )
+        .with_slave_faces(mesh, s.faces.clone(), discretization);
+        pair.secondary = secondary;
+        pair.slave_normals = Some(node_normals(mesh, &pair.slave_nodes, &s.faces));
+        Ok(pair)
+    }
+
+    /// Which body of `(a, b)` is the primary pass's slave.
+    fn primary_slave(
+        &self,
+        key: &str,
+        mesh: &GlobalMesh,
+        (a, b): (usize, usize),
+        (sa, sb): (&Skin, &Skin),
+        over: Option<&GeneralPairDef>,
+    ) -> Result<usize, SceneError> {
+        if let Some(name) = over.and_then(|d| d.slave.as_ref()) {
+            let k = format!(
+                "{key}.pair ({}, {}).slave",
+                mesh.bodies[a].name, mesh.bodies[b].name
+            );
+            let s = [a, b]
+                .into_iter()
+                .find(|&i| mesh.bodies[i].name == *name)
+                .ok_or_else(|| self.err(&k, format!("'{name}' is not one of the pair's bodies")))?;
+            if (if s == a { sa } else { sb }).rigid {
+                return Err(self.err(
+                    &k,
+                    format!("body '{name}' has every node prescribed: it cannot be the slave"),
+                ));
+            }
+            return Ok(s);
+        }
+        Ok(if sb.rigid {
+            a
+        } else if sa.rigid || sb.size < sa.size * (1.0 - 1e-9) {
+            b
+        } else if sa.size < sb.size * (1.0 - 1e-9) {
+            a
+        } else {
+            b
+        })
+    }
+
+    /// Each body's exterior faces (None for a body left out), refusing a body whose faces
+    /// contact does not take.
+    fn skins(
+        &self,
+        mesh: &GlobalMesh,
+        left_out: &[bool],
+        fixed_dirs: &[usize],
+    ) -> Result<Vec<Option<Skin>>, SceneError> {
+        let mut faces: Vec<Vec<(u32, u8)>> = vec![Vec::new(); mesh.bodies.len()];
+        for (e, f) in mesh.boundary_faces() {
+            faces[mesh.element_body[e as usize] as usize].push((e, f));
+        }
+        let mut out = Vec::new();
+        for (i, body) in mesh.bodies.iter().enumerate() {
+            if left_out[i] {
+                out.push(None);
+                continue;
+            }
+            if body.kind.quad_face(0).is_none() {
+                return Err(self.err(
+                    "general_contact",
+                    format!(
+                        "body '{}' is made of {} elements: contact on its {} faces is not supported yet; leave it out with exclude = [[\"{}\"]]",
+                        body.name,
+                        body.kind.name(),
+                        body.kind.name(),
+                        body.name
+                    ),
+                ));
+            }
+            let fs = std::mem::take(&mut faces[i]);
+            let rigid =
+                (body.first_node..body.first_node + body.num_nodes).all(|n| fixed_dirs[n] >= 3);
+            out.push(Some(Skin {
+                size: mean_face_size(mesh, &fs),
+                faces: fs,
+                rigid,
+            }));
+        }
+        Ok(out)
+    }
+
+    /// `exclude`: bodies left out (one name) and body pairs left out (two names).
+    #[allow(clippy::type_complexity)]
+    fn exclusions(
+        &self,
+        g: &GeneralContactDef,
+        mesh: &GlobalMesh,
+    ) -> Result<(Vec<bool>, Vec<(usize, usize)>), SceneError> {
+        let mut left_out = vec![false; mesh.bodies.len()];
+        let mut pairs = Vec::new();
+        for (i, names) in g.exclude.iter().enumerate() {
+            let k = format!("general_contact.exclude[{i}]");
+            let ids = names
+                .iter()
+                .map(|n| self.body_index(&k, mesh, n))
+                .collect::<Result<Vec<_>, _>>()?;
+            match ids[..] {
+                [a] => left_out[a] = true,
+                [a, b] if a != b => pairs.push((a.min(b), a.max(b))),
+                _ => {
+                    return Err(self.err(
+                        &k,
+                        "expected one body name (the body left out) or two different ones (the pair left out)",
+                    ))
+                }
+            }
+        }
+        Ok((left_out, pairs))
+    }
+
+    /// `[[general_contact.pair]]`: the body pair each overrides, at most one each.
+    #[allow(clippy::type_complexity)]
+    fn overrides<'g>(
+        &self,
+        g: &'g GeneralContactDef,
+        mesh: &GlobalMesh,
+    ) -> Result<Vec<((usize, usize), &'g GeneralPairDef)>, SceneError> {
+        let mut out: Vec<((usize, usize), &GeneralPairDef)> = Vec::new();
+        for (i, d) in g.pair.iter().enumerate() {
+            let k = format!("general_contact.pair[{i}].bodies");
+            let a = self.body_index(&k, mesh, &d.bodies[0])?;
+            let b = self.body_index(&k, mesh, &d.bodies[1])?;
+            if a == b {
+                return Err(self.err(&k, "expected two different bodies"));
+            }
+            let p = (a.min(b), a.max(b));
+            if out.iter().any(|(q, _)| *q == p) {
+                return Err(self.err(&k, "this body pair already has a [[general_contact.pair]]"));
+            }
+            out.push((p, d));
+        }
+        Ok(out)
+    }
+
+    fn body_index(&self, key: &str, mesh: &GlobalMesh, name: &str) -> Result<usize, SceneError> {
+        mesh.bodies
+            .iter()
+            .position(|b| b.name == name)
+            .ok_or_else(|| {
+                self.err(
+                    key,
+                    format!(
+                        "no body named '{name}' (defined: {})",
+                        list(mesh.bodies.iter().map(|b| &b.name))
+                    ),
+                )
+            })
+    }
+}
+
+/// The interaction of one body pair: the pair's keys where set, the general ones elsewhere.
+fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) -> ContactDef {
+    let pick = |o: Option<f64>, d: Option<f64>| o.or(d);
+    let o = over.cloned();
+    let o = o.as_ref();
+    ContactDef {
+        name: None,
+        master: String::new(),
+        slave: String::new(),
+        friction: o.and_then(|p| p.friction.clone()).or(g.friction.clone()),
+        // A pair that sets its friction sets its own mu (or none, frictionless).
+        mu: match o.filter(|p| p.friction.is_some()) {
+            Some(p) => p.mu,
+            None => pick(o.and_then(|p| p.mu), g.mu),
+        },
+        normal_tolerance: pick(o.and_then(|p| p.normal_tolerance), g.normal_tolerance),
+        tangential_tolerance: pick(
+            o.and_then(|p| p.tangential_tolerance),
+            g.tangential_tolerance,
+        ),
+        capture_tolerance: pick(o.and_then(|p| p.capture_tolerance), g.capture_tolerance),
+        smoothing_width: pick(o.and_then(|p| p.smoothing_width), g.smoothing_width),
+        discretization: o
+            .and_then(|p| p.discretization.clone())
+            .or(g.discretization.clone()),
+    }
+}
+
+/// The body pairs (lower index first) an explicit `[[contact]]` pair names: its master
+/// faces' bodies with its slave nodes' bodies.
+fn explicit_body_pairs(mesh: &GlobalMesh, explicit: &[ContactPair]) -> Vec<(usize, usize)> {
+    let node_body = |n: u32| {
+        mesh.bodies
+            .iter()
+            .position(|b| (b.first_node..b.first_node + b.num_nodes).contains(&(n as usize)))
+            .unwrap_or(usize::MAX)
+    };
+    let mut out = Vec::new();
+    for p in explicit {
+        let mut masters: Vec<usize> = p
+            .master_faces
+            .iter()
+            .map(|&(e, _)| mesh.element_body[e as usize] as usize)
+            .collect();
+        masters.sort_unstable();
+        masters.dedup();
+        let mut slaves: Vec<usize> = p.slave_nodes.iter().map(|&n| node_body(n)).collect();
+        slaves.sort_unstable();
+        slaves.dedup();
+        for &m in &masters {
+            for &s in &slaves {
+                out.push((m.min(s), m.max(s)));
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Each node's outward normal: the mean of the unit normals of the faces around it (in the
+/// reference configuration), by position in `nodes` (ascending).
+fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Vec<Vec3> {
+    let mut sum = vec![[0.0; 3]; nodes.len()];
+    for &(e, f) in faces {
+        let q = mesh.quad_face_nodes(e, f);
+        let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[q[a] as usize]);
+        let d1 = crate::math::sub(&x[2], &x[0]);
+        let d2 = crate::math::sub(&x[3], &x[1]);
+        let n = crate::math::cross(&d1, &d2);
+        let n = scale(&n, 1.0 / norm(&n));
+        for a in q {
+            let i = nodes
+                .binary_search(&a)
+                .expect("a face's node is a surface node");
+            for k in 0..3 {
+                sum[i][k] += n[k];
+            }
+        }
+    }
+    sum.into_iter()
+        .map(|v| scale(&v, 1.0 / norm(&v).max(f64::MIN_POSITIVE)))
+        .collect()
+}
