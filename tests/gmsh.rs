@@ -74,9 +74,9 @@ fn example_mesh_is_read_with_its_counts() {
     // one layer; block: (21 + 2 x 8) x 10.
     assert_eq!((cylinder.elements.len(), cylinder.coords.len()), (360, 794));
     assert_eq!((block.elements.len(), block.coords.len()), (370, 836));
-    assert_eq!(m.surface_quads("cylinder_top").unwrap().len(), 36);
-    assert_eq!(m.surface_quads("cylinder_arc").unwrap().len(), 36);
-    assert_eq!(m.surface_quads("block_top").unwrap().len(), 37);
+    assert_eq!(m.surface_faces("cylinder_top").unwrap().len(), 36);
+    assert_eq!(m.surface_faces("cylinder_arc").unwrap().len(), 36);
+    assert_eq!(m.surface_faces("block_top").unwrap().len(), 37);
     assert_eq!(m.group_nodes("block_bottom").unwrap().len(), 76);
 
     let p = load_scene(&repo(EXAMPLE_SCENE)).unwrap_or_else(|e| panic!("{e}"));

@@ -197,29 +197,6 @@ impl GmshMesh {
         }
     }
 
-    /// The 4-node quadrangles of the physical surface `name`, as (element tag, node tags).
-    pub fn surface_quads(&self, name: &str) -> Result<Vec<(u64, [u64; 4])>, String> {
-        let g = self.find_one(name, 2, "physical surface")?;
-        let elements = &self.group_elements[g];
-        self.only_types(
-            elements,
-            &[GMSH_QUAD4],
-            "4-node quadrangles (Gmsh type 3)",
-            "physical surface",
-            name,
-        )?;
-        if elements.is_empty() {
-            return Err(format!(
-                "physical surface '{name}' of {} has no elements",
-                self.file
-            ));
-        }
-        Ok(elements
-            .iter()
-            .map(|e| (e.tag, [e.nodes[0], e.nodes[1], e.nodes[2], e.nodes[3]]))
-            .collect())
-    }
-
     /// The node tags of every physical group named `name` (of any dimension), sorted.
     pub fn group_nodes(&self, name: &str) -> Result<Vec<u64>, String> {
         let mut tags: Vec<u64> = Vec::new();
@@ -372,7 +349,12 @@ $Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
                 assert_eq!(v.coords[a][i], 0.5 * (1.0 + NODE_XI[a][i]));
             }
         }
-        assert_eq!(m.surface_quads("bottom").unwrap(), vec![(1, [1, 2, 3, 4])]);
+        let bottom = m.surface_faces("bottom").unwrap();
+        assert_eq!(bottom.len(), 1);
+        assert_eq!(
+            (bottom[0].tag, &bottom[0].corners[..]),
+            (1, &[1, 2, 3, 4][..])
+        );
         assert_eq!(m.group_nodes("bottom").unwrap(), vec![1, 2, 3, 4]);
     }
 
@@ -408,7 +390,7 @@ $Elements\n2 2 1 2\n2 1 3 1\n1 1 2 3 4\n3 1 5 1\n2 {hex_nodes}\n$EndElements\n"
             e.contains("no physical volume named 'block'") && e.contains("'cube'"),
             "{e}"
         );
-        let e = m.surface_quads("cube").unwrap_err();
+        let e = m.surface_faces("cube").unwrap_err();
         assert!(e.contains("'bottom'"), "{e}");
     }
 
