@@ -142,7 +142,11 @@ fn patch(case: &str, lower_tet: bool, master: &str, slave: &str, disc: &str) -> 
         let q = state.contact_pressure[s as usize];
         (lo.min(q), hi.max(q))
     });
-    let force = state.constraints.iter().map(|c| c.normal_force).sum::<f64>();
+    let force = state
+        .constraints
+        .iter()
+        .map(|c| c.normal_force)
+        .sum::<f64>();
     let out = Patch {
         deviation,
         pressure,
@@ -174,16 +178,34 @@ fn assert_exact(case: &str, r: &Patch) {
 #[test]
 fn mortar_tet_on_hex_either_role_is_exact() {
     // (Measured: deviations 2.3e-14 and 1.7e-14, pressures within 1.3e-12 of p.)
-    let r = patch("mortar_hex_master", false, "lower_top", "upper_bottom", "mortar");
+    let r = patch(
+        "mortar_hex_master",
+        false,
+        "lower_top",
+        "upper_bottom",
+        "mortar",
+    );
     assert_exact("hex master, tet slave", &r);
-    let r = patch("mortar_tet_master", false, "upper_bottom", "lower_top", "mortar");
+    let r = patch(
+        "mortar_tet_master",
+        false,
+        "upper_bottom",
+        "lower_top",
+        "mortar",
+    );
     assert_exact("tet master, hex slave", &r);
 }
 
 #[test]
 fn mortar_tet_on_tet_is_exact() {
     // (Measured: deviation 1.8e-14.)
-    let r = patch("mortar_tet_tet", true, "lower_top", "upper_bottom", "mortar");
+    let r = patch(
+        "mortar_tet_tet",
+        true,
+        "lower_top",
+        "upper_bottom",
+        "mortar",
+    );
     assert_exact("tet on tet", &r);
 }
 
@@ -205,7 +227,10 @@ fn node_to_face_on_tet_faces_balances_the_load() {
     ] {
         let r = patch(case, lower_tet, master, slave, "node_face");
         assert!((r.force - P).abs() < 1e-11 * P, "{case}: {r:?}");
-        assert_eq!(r.constraints, r.slave_nodes, "{case}: every slave node in contact");
+        assert_eq!(
+            r.constraints, r.slave_nodes,
+            "{case}: every slave node in contact"
+        );
     }
     // The hex cube's 5 x 5 top nodes are the slave nodes when it is the slave.
     assert_eq!(

@@ -270,7 +270,13 @@ fn gather_other_faces<C: Comm + ?Sized>(
             // A tet10's face by its corner triangle (the fourth corner repeating the
             // third, as a contact facet's).
             let nodes: Vec<u32> = problem.mesh.face_nodes(e, k).collect();
-            let corner = |a: usize| if nodes.len() == 4 { nodes[a] } else { nodes[a.min(2)] };
+            let corner = |a: usize| {
+                if nodes.len() == 4 {
+                    nodes[a]
+                } else {
+                    nodes[a.min(2)]
+                }
+            };
             let c: [Vec3; 4] = [0, 1, 2, 3].map(corner).map(|n| {
                 let l = mesh
                     .local_node(n)

@@ -119,7 +119,12 @@ mod tests {
 
     #[test]
     fn triangle_projection_interpolates_and_clamps() {
-        let x = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 1.0, 0.5], [0.0, 1.0, 0.5]];
+        let x = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 1.0, 0.5],
+            [0.0, 1.0, 0.5],
+        ];
         assert!(is_triangle(&x));
         // A point above (s, t) = (0.25, 0.5) along the normal projects back onto it.
         let n = normal(&x, &[0.0; 2]);

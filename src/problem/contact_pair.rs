@@ -90,7 +90,11 @@ impl ContactPair {
     ) -> Self {
         let (master_faces, face_nodes): (Vec<(u32, u8)>, Vec<[u32; 4]>) = master_faces
             .iter()
-            .flat_map(|&(e, f)| mesh.contact_facets(e, f).into_iter().map(move |n| ((e, f), n)))
+            .flat_map(|&(e, f)| {
+                mesh.contact_facets(e, f)
+                    .into_iter()
+                    .map(move |n| ((e, f), n))
+            })
             .unzip();
         let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> =
             std::collections::HashMap::new();

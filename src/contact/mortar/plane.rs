@@ -135,7 +135,10 @@ pub fn local(c: &[P2; 4], triangle: bool, p: &P2) -> Option<P2> {
     if !triangle {
         return inverse_bilinear(c, p);
     }
-    let (e1, e2) = ([c[1][0] - c[0][0], c[1][1] - c[0][1]], [c[2][0] - c[0][0], c[2][1] - c[0][1]]);
+    let (e1, e2) = (
+        [c[1][0] - c[0][0], c[1][1] - c[0][1]],
+        [c[2][0] - c[0][0], c[2][1] - c[0][1]],
+    );
     let det = e1[0] * e2[1] - e1[1] * e2[0];
     if det.abs() <= 1e-300 || !det.is_finite() {
         return None;

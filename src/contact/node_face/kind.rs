@@ -24,11 +24,7 @@ impl PairKind for NodeFace {
     fn masters(&self, _state: &ContactState, problem: &Problem, a: &Active) -> Vec<(u32, f64)> {
         let nodes = &problem.contacts[a.pair].face_nodes[a.face as usize];
         let w = crate::contact::facet::shape_of(nodes, &a.s);
-        nodes
-            .iter()
-            .copied()
-            .zip(w)
-            .collect()
+        nodes.iter().copied().zip(w).collect()
     }
 
     fn slips(
