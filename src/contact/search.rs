@@ -423,4 +423,54 @@ mod tests {
             assert_eq!(near, every(&p), "at {p:?}");
         }
     }
+
+    /// Normal smoothing on triangles (two sub-triangles meeting at a crease, as across the
+    /// edge of two tet10 faces): on the shared edge the normal is the average of the two
+    /// facets' normals; at a facet's centroid, farther from every edge than the width
+    /// (barycentric 1/3 > 0.3), it is the facet's own.
+    #[test]
+    fn smoothing_on_triangles_blends_across_the_shared_edge() {
+        let coords: Vec<Vec3> = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.2],
+        ];
+        // Facet 0's edge 1 (corner 1 to 2) is facet 1's edge 2 (corner 2 to 0).
+        let pair = ContactPair {
+            name: "crease".into(),
+            master_faces: vec![(0, 0), (1, 0)],
+            face_nodes: vec![[0, 1, 2, 2], [1, 3, 2, 2]],
+            neighbours: vec![
+                [None, Some((1, 2)), None, None],
+                [None, None, Some((0, 1)), None],
+            ],
+            slave_nodes: Vec::new(),
+            slave_faces: Vec::new(),
+            slave_face_nodes: Vec::new(),
+            discretization: Discretization::NodeFace,
+            mu: 0.0,
+            normal_tolerance: 0.05,
+            tangential_tolerance: 0.02,
+            capture_tolerance: 1e-7,
+            smoothing_width: Some(0.3),
+            face_size: 0.7,
+        };
+        let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
+        let nb = scale(&[-0.2, -0.2, 1.0], 1.0 / 1.08f64.sqrt());
+        let avg = add(&[0.0, 0.0, 1.0], &nb);
+        let avg = scale(&avg, 1.0 / norm(&avg));
+        let (_, on_edge) = surface
+            .project_within(0, &[0.5, 0.5, 0.01], 1.0, 1.0)
+            .unwrap();
+        // Round-off of a few products of order 1.
+        assert!(
+            norm(&sub(&on_edge.normal, &avg)) < 1e-15,
+            "{:?}",
+            on_edge.normal
+        );
+        let c = [1.0 / 3.0, 1.0 / 3.0, 0.01];
+        let (_, inside) = surface.project_within(0, &c, 1.0, 1.0).unwrap();
+        assert_eq!(inside.normal, [0.0, 0.0, 1.0]);
+    }
 }
