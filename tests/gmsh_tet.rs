@@ -387,16 +387,6 @@ fn bad_tetrahedral_meshes_are_refused_by_name() {
             "a body is of one element kind",
         ],
     );
-    let contact = "[[contact]]\nmaster = \"bottom\"\nslave = \"top\"\n";
-    expect_error(
-        "tet_contact",
-        &cube_scene(&fixture("tet_cube.msh"), contact),
-        &[
-            "contact[0].master",
-            "body 'cube', whose elements are tet10",
-            "contact on tet10 faces is not supported yet",
-        ],
-    );
 }
 
 /// The tet10 and mixed meshes over 1, 2 and 3 ranks: every element owned once, every node

@@ -18,7 +18,7 @@ pub fn slave_areas(pair: &ContactPair, position: impl Fn(u32) -> Vec3) -> Vec<f6
     let mut area = vec![0.0; pair.slave_nodes.len()];
     for nodes in &pair.slave_face_nodes {
         let x: [Vec3; 4] = std::array::from_fn(|a| position(nodes[a]));
-        let a = crate::fem::face::nodal_areas(&x);
+        let a = super::facet::nodal_areas(&x);
         for (k, &n) in nodes.iter().enumerate() {
             if let Ok(i) = pair.slave_nodes.binary_search(&n) {
                 area[i] += a[k];

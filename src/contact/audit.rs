@@ -79,6 +79,29 @@ pub fn contains(x: &[Vec3; 8], p: &Vec3) -> bool {
     xi.iter().all(|v| v.abs() <= 1.0)
 }
 
+/// Whether `p` lies inside the element with nodes `x`: a hexahedron (8 nodes) by
+/// [`contains`], a tet10 (10 nodes, its corners first) by the tetrahedron of its corners
+/// (its region when its edges are straight, as Gmsh's and the reader's are; a curved
+/// tet10 is audited by its straight-sided approximation).
+fn contains_any(x: &[Vec3], p: &Vec3) -> bool {
+    match x.len() {
+        8 => contains(x.try_into().expect("eight nodes"), p),
+        _ => contains_tetrahedron(&[x[0], x[1], x[2], x[3]], p),
+    }
+}
+
+/// Whether `p` lies inside the tetrahedron with corners `x`, its surface included (to
+/// 1e-12 of a barycentric coordinate: round-off of a point on a face).
+pub fn contains_tetrahedron(x: &[Vec3; 4], p: &Vec3) -> bool {
+    let j = [0, 1, 2].map(|i| [0, 1, 2].map(|k| x[k + 1][i] - x[0][i]));
+    let (jinv, det) = inverse(&j);
+    if !(det.abs() > 0.0) || !det.is_finite() {
+        return false;
+    }
+    let l = matvec(&jinv, &[p[0] - x[0][0], p[1] - x[0][1], p[2] - x[0][2]]);
+    l.iter().all(|&v| v >= -1e-12) && l.iter().sum::<f64>() <= 1.0 + 1e-12
+}
+
 /// Every slave node inside a master body, with its depth, except the nodes in `tied`
 /// (slave node, pair; ascending): the caller's, the mortar pairs' tied nodes. A mortar tie
 /// constrains a weighted gap, not
@@ -106,19 +129,18 @@ pub fn audit<C: Comm + ?Sized>(
         // largest transient at 10^6 elements).
         let near = bounding_box_of(slaves[p].values());
         let mut elements: Vec<usize> = Vec::new();
-        let mut corners: Vec<[Vec3; 8]> = Vec::new();
+        let mut corners: Vec<Vec<Vec3>> = Vec::new();
         let mut aabbs: Vec<Aabb> = Vec::new();
         for e in 0..mesh.elements.len() {
             if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
                 continue;
             }
-            // The scene refuses contact on tet10 faces (`scene::validate::contacts`), so a
-            // master body is made of hexahedra.
-            if mesh.kind(e) != crate::fem::ElementKind::Hex8 {
-                continue;
-            }
-            let el = mesh.elements.fixed::<8>(e);
-            let x: [Vec3; 8] = std::array::from_fn(|a| position(mesh, u, el[a] as usize));
+            let x: Vec<Vec3> = mesh
+                .elements
+                .element(e)
+                .iter()
+                .map(|&n| position(mesh, u, n as usize))
+                .collect();
             let b = bounding_box(&x);
             if b.intersects(&near) {
                 elements.push(e);
@@ -142,7 +164,7 @@ pub fn audit<C: Comm + ?Sized>(
                     .element(e)
                     .iter()
                     .any(|&l| mesh.node_global[l as usize] == s);
-                !own && contains(&corners[k as usize], x)
+                !own && contains_any(&corners[k as usize], x)
             });
             if inside {
                 found.push((p, s));
@@ -199,7 +221,12 @@ fn nearest_entry(faces: &[(u32, u8, [Vec3; 4])], x: &Vec3) -> Option<Entry> {
     let mut best: Option<Entry> = None;
     for (e, k, c) in faces {
         let v = c.map(|q| Point::new(q[0], q[1], q[2]));
-        let d = [[0, 1, 2], [0, 2, 3]]
+        let halves: &[[usize; 3]] = if c[3] == c[2] {
+            &[[0, 1, 2]]
+        } else {
+            &[[0, 1, 2], [0, 2, 3]]
+        };
+        let d = halves
             .iter()
             .map(|t| Triangle::new(v[t[0]], v[t[1]], v[t[2]]).distance_to_local_point(&p, true))
             .fold(f64::INFINITY, f64::min);
@@ -240,7 +267,17 @@ fn gather_other_faces<C: Comm + ?Sized>(
             {
                 continue;
             }
-            let c: [Vec3; 4] = problem.mesh.quad_face_nodes(e, k).map(|n| {
+            // A tet10's face by its corner triangle (the fourth corner repeating the
+            // third, as a contact facet's).
+            let nodes: Vec<u32> = problem.mesh.face_nodes(e, k).collect();
+            let corner = |a: usize| {
+                if nodes.len() == 4 {
+                    nodes[a]
+                } else {
+                    nodes[a.min(2)]
+                }
+            };
+            let c: [Vec3; 4] = [0, 1, 2, 3].map(corner).map(|n| {
                 let l = mesh
                     .local_node(n)
                     .expect("a face node of an owned element is local");
@@ -286,7 +323,7 @@ fn master_bodies(problem: &Problem, p: usize) -> Vec<u32> {
     bodies
 }
 
-fn bounding_box(x: &[Vec3; 8]) -> Aabb {
+fn bounding_box(x: &[Vec3]) -> Aabb {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in x {

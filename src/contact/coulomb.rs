@@ -43,7 +43,7 @@ pub(super) fn step_slip(
 ) -> Option<Vec3> {
     let l = mesh.owned_node(a.slave)?;
     let (now, then) = surface.face_corners(a.face)?;
-    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let w = surface.shape(a.face, &a.s);
     let mut d = sub(&u[l], &start[l]);
     for j in 0..4 {
         d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));

@@ -12,6 +12,7 @@ pub mod coulomb;
 pub mod discretisation;
 mod dispatch;
 pub mod enforcement;
+pub mod facet;
 pub mod ghost;
 pub mod mortar;
 mod node_face;

@@ -3,9 +3,9 @@
 //! the closest-point projection of each slave node. Ties between faces go to the lowest
 //! face index, so the result does not depend on traversal order.
 
-use super::project::{closest_point, interpolate, normal};
+use super::facet::{self, closest_point, normal};
+use super::project::interpolate;
 use super::ContactPair;
-use crate::fem::face;
 use crate::math::{add, dot, norm, scale, sub, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Point;
@@ -170,8 +170,9 @@ impl<'a> MasterSurface<'a> {
     /// instead of flipping between the two with the solver's round-off.
     pub fn stay_on(&self, face: u32, x: &Vec3, margin: f64) -> Option<Interaction> {
         let &k = self.index.get(&face)?;
-        let (s, ok) = closest_point(&self.corners[k as usize], x);
-        if !ok || s.iter().any(|v| v.abs() > 1.0 + margin) {
+        let c = &self.corners[k as usize];
+        let (s, ok) = closest_point(c, x);
+        if !ok || facet::beyond(facet::is_triangle(c), &s, margin) {
             return None;
         }
         self.project_on(k, x).map(|(_, it)| it)
@@ -239,8 +240,9 @@ impl<'a> MasterSurface<'a> {
         if !ok {
             return None;
         }
-        let clamped = [s[0].clamp(-1.0, 1.0), s[1].clamp(-1.0, 1.0)];
-        let xc = interpolate(c, &face::shape(clamped[0], clamped[1]));
+        let triangle = facet::is_triangle(c);
+        let clamped = facet::clamp(triangle, &s);
+        let xc = interpolate(c, &facet::shape(triangle, &clamped));
         let n_face = normal(self.normal_corners(k as usize), &clamped);
         let d = sub(x, &xc);
         let gap = dot(&d, &n_face);
@@ -269,15 +271,16 @@ impl<'a> MasterSurface<'a> {
 
     /// Within `w` (fraction of the face size) of an edge shared with another master face,
     /// the normal blends continuously from this face's to the average of the two at the
-    /// edge; near a corner the two edges are blended in turn.
+    /// edge; near a corner the two edges are blended in turn. On a triangle the distance to
+    /// an edge is the barycentric coordinate of the opposite corner (the fraction of the
+    /// height), and its three edges are blended in turn; the sub-triangles of one flat
+    /// 6-node face share its normal, so the blend changes nothing inside a face.
     fn smoothed_normal(&self, k: u32, s: &[f64; 2], n_face: &Vec3, w: f64) -> Vec3 {
         let f = self.faces[k as usize];
+        let c = &self.corners[k as usize];
+        let triangle = facet::is_triangle(c);
         let mut n = *n_face;
-        // (local coordinate index, sign) -> edge index: t=-1: 0, s=+1: 1, t=+1: 2, s=-1: 3.
-        for (i, edge_pos, edge_neg) in [(0usize, 1usize, 3usize), (1, 2, 0)] {
-            let v = s[i];
-            let edge = if v >= 0.0 { edge_pos } else { edge_neg };
-            let dist = (1.0 - v.abs()) / 2.0;
+        for (edge, dist) in edge_distances(triangle, s) {
             if dist >= w {
                 continue;
             }
@@ -291,9 +294,9 @@ impl<'a> MasterSurface<'a> {
                 continue;
             };
             let cg = &self.corners[kg as usize];
-            let xe = interpolate(&self.corners[k as usize], &face::shape(s[0], s[1]));
+            let xe = interpolate(c, &facet::shape(triangle, s));
             let (sg, _) = closest_point(cg, &xe);
-            let sg = [sg[0].clamp(-1.0, 1.0), sg[1].clamp(-1.0, 1.0)];
+            let sg = facet::clamp(facet::is_triangle(cg), &sg);
             let ng = normal(self.normal_corners(kg as usize), &sg);
             let avg = add(n_face, &ng);
             let la = norm(&avg);
@@ -310,17 +313,37 @@ impl<'a> MasterSurface<'a> {
 
     /// Weights (face shape functions) of the contact point and the face's nodes.
     pub fn weights(&self, it: &Interaction) -> ([u32; 4], [f64; 4]) {
-        (
-            self.pair.face_nodes[it.face as usize],
-            face::shape(it.s[0], it.s[1]),
-        )
+        let nodes = self.pair.face_nodes[it.face as usize];
+        (nodes, facet::shape_of(&nodes, &it.s))
+    }
+
+    /// The shape functions of a face of the pair (index in the pair) at `s`.
+    pub fn shape(&self, face: u32, s: &[f64; 2]) -> [f64; 4] {
+        facet::shape_of(&self.pair.face_nodes[face as usize], s)
     }
 
     /// Current position of a contact point.
     pub fn point(&self, face: u32, s: &[f64; 2]) -> Option<Vec3> {
         self.face_corners(face)
-            .map(|(c, _)| interpolate(c, &face::shape(s[0], s[1])))
+            .map(|(c, _)| interpolate(c, &facet::shape_of(c, s)))
     }
+}
+
+/// The edges a smoothed normal blends toward, in turn, with the distance of `s` from each
+/// (a fraction of the face across it). A quadrilateral's nearer edge along each local
+/// coordinate (t = -1: 0, s = +1: 1, t = +1: 2, s = -1: 3); a triangle's three edges.
+fn edge_distances(triangle: bool, s: &[f64; 2]) -> Vec<(usize, f64)> {
+    if triangle {
+        return vec![(0, s[1]), (1, 1.0 - s[0] - s[1]), (2, s[0])];
+    }
+    [(0usize, 1usize, 3usize), (1, 2, 0)]
+        .iter()
+        .map(|&(i, edge_pos, edge_neg)| {
+            let v = s[i];
+            let edge = if v >= 0.0 { edge_pos } else { edge_neg };
+            (edge, (1.0 - v.abs()) / 2.0)
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -411,5 +434,55 @@ mod tests {
             let near = surface.nearest(&p);
             assert_eq!(near, every(&p), "at {p:?}");
         }
+    }
+
+    /// Normal smoothing on triangles (two sub-triangles meeting at a crease, as across the
+    /// edge of two tet10 faces): on the shared edge the normal is the average of the two
+    /// facets' normals; at a facet's centroid, farther from every edge than the width
+    /// (barycentric 1/3 > 0.3), it is the facet's own.
+    #[test]
+    fn smoothing_on_triangles_blends_across_the_shared_edge() {
+        let coords: Vec<Vec3> = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.2],
+        ];
+        // Facet 0's edge 1 (corner 1 to 2) is facet 1's edge 2 (corner 2 to 0).
+        let pair = ContactPair {
+            name: "crease".into(),
+            master_faces: vec![(0, 0), (1, 0)],
+            face_nodes: vec![[0, 1, 2, 2], [1, 3, 2, 2]],
+            neighbours: vec![
+                [None, Some((1, 2)), None, None],
+                [None, None, Some((0, 1)), None],
+            ],
+            slave_nodes: Vec::new(),
+            slave_faces: Vec::new(),
+            slave_face_nodes: Vec::new(),
+            discretization: Discretization::NodeFace,
+            mu: 0.0,
+            normal_tolerance: 0.05,
+            tangential_tolerance: 0.02,
+            capture_tolerance: 1e-7,
+            smoothing_width: Some(0.3),
+            face_size: 0.7,
+        };
+        let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
+        let nb = scale(&[-0.2, -0.2, 1.0], 1.0 / 1.08f64.sqrt());
+        let avg = add(&[0.0, 0.0, 1.0], &nb);
+        let avg = scale(&avg, 1.0 / norm(&avg));
+        let (_, on_edge) = surface
+            .project_within(0, &[0.5, 0.5, 0.01], 1.0, 1.0)
+            .unwrap();
+        // Round-off of a few products of order 1.
+        assert!(
+            norm(&sub(&on_edge.normal, &avg)) < 1e-15,
+            "{:?}",
+            on_edge.normal
+        );
+        let c = [1.0 / 3.0, 1.0 / 3.0, 0.01];
+        let (_, inside) = surface.project_within(0, &c, 1.0, 1.0).unwrap();
+        assert_eq!(inside.normal, [0.0, 0.0, 1.0]);
     }
 }

@@ -33,7 +33,7 @@ pub(super) fn driven_slip(
 ) -> Option<Vec3> {
     let l = mesh.owned_node(a.slave)?;
     let (now, _) = surface.face_corners(a.face)?;
-    let w = crate::fem::face::shape(a.s[0], a.s[1]);
+    let w = surface.shape(a.face, &a.s);
     let mut d = ghost::position(mesh, u, l);
     for j in 0..4 {
         d = sub(&d, &scale(&now[j], w[j]));
@@ -308,7 +308,7 @@ impl ContactState {
             let Some((now, then)) = surfaces[a.pair].face_corners(a.face) else {
                 continue;
             };
-            let w = crate::fem::face::shape(a.s[0], a.s[1]);
+            let w = surfaces[a.pair].shape(a.face, &a.s);
             let mut d = u[l];
             for j in 0..4 {
                 d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));

@@ -128,6 +128,11 @@ pub fn triangle_traction_forces(x: &[Vec3; 3], traction: &Vec3) -> [Vec3; 3] {
     [fa; 3]
 }
 
+/// Area of the flat triangle `x`.
+pub fn triangle_area(x: &[Vec3; 3]) -> f64 {
+    crate::math::norm(&triangle_area_vector(x))
+}
+
 /// The triangle's area times its unit normal (right-hand rule on the corner order).
 #[inline]
 fn triangle_area_vector(x: &[Vec3; 3]) -> Vec3 {

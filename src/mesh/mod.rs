@@ -109,6 +109,21 @@ impl GlobalMesh {
         face_key(self.kind(e), self.elements.element(e), face as usize)
     }
 
+    /// The linear facets contact takes a face as (`FaceKind::contact_facets`), each as four
+    /// global node ids ordered with the face's outward normal: a quadrilateral face is one,
+    /// a 6-node triangle four sub-triangles, whose fourth node repeats the third
+    /// (`contact::facet`).
+    pub fn contact_facets(&self, element: u32, face: u8) -> Vec<[u32; 4]> {
+        let e = element as usize;
+        let (kind, el) = (self.kind(e), self.elements.element(e));
+        let local = kind.face(face as usize);
+        kind.face_kind(face as usize)
+            .contact_facets()
+            .iter()
+            .map(|f| std::array::from_fn(|a| el[local[f[a.min(f.len() - 1)]]]))
+            .collect()
+    }
+
     /// Global node indices of a quadrilateral face (what contact, the Gmsh side sets and
     /// face loads take today), ordered with an outward normal.
     pub fn quad_face_nodes(&self, element: u32, face: u8) -> [u32; 4] {

@@ -428,7 +428,9 @@ fn elastic_constants(scene: &SceneFile, body: &str) -> Option<(f64, f64)> {
     Some(def.material.params().young_poisson())
 }
 
-/// Each slave node's tributary area: a quarter of each of its faces.
+/// Each slave node's tributary area: a quarter of each of its faces of hexahedra; on a
+/// tet10's 6-node face, a third of each of the face's four sub-triangles the node is a
+/// corner of (the facets contact takes, `FaceKind::contact_facets`).
 fn tributary_areas(
     mesh: &OutputMesh,
     elements: &HashMap<u64, (&str, &[u64])>,
@@ -440,9 +442,21 @@ fn tributary_areas(
             .get(&id)
             .ok_or_else(|| format!("side set names element {id}, which the mesh lacks"))?
             .1;
+        if conn.len() == 10 {
+            let local = crate::fem::tet10::FACES[face as usize];
+            for f in crate::fem::FaceKind::Tri6.contact_facets() {
+                let nodes: [usize; 3] = std::array::from_fn(|a| conn[local[f[a]]] as usize);
+                let x = nodes.map(|n| mesh.coordinates[n]);
+                let third = crate::fem::face::triangle_area(&x) / 3.0;
+                for n in nodes {
+                    *area.entry(n).or_insert(0.0) += third;
+                }
+            }
+            continue;
+        }
         if conn.len() != 8 {
             return Err(format!(
-                "side set names element {id} of {} nodes; the Hertz comparison reads faces of hexahedra only",
+                "side set names element {id} of {} nodes; the Hertz comparison reads faces of hexahedra and tet10s only",
                 conn.len()
             ));
         }

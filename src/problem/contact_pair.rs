@@ -31,18 +31,21 @@ impl Discretization {
 #[derive(Clone, Debug)]
 pub struct ContactPair {
     pub name: String,
-    /// (element, local face) of each master face, ascending.
+    /// (element, local face) of each master facet, ascending: a "face" of the pair is a
+    /// contact facet (`contact::facet`), a hexahedron's face or one of the four
+    /// sub-triangles of a tet10's face (which then appears four times here).
     pub master_faces: Vec<(u32, u8)>,
-    /// Global node ids of each master face, ordered with an outward normal.
+    /// Global node ids of each master facet, ordered with an outward normal (a triangle's
+    /// fourth repeats its third).
     pub face_nodes: Vec<[u32; 4]>,
     /// For each master face and edge k (between corners k and k+1), the master face across
     /// it and that face's edge index, if any.
     pub neighbours: Vec<[Option<(u32, u8)>; 4]>,
     /// Slave nodes, ascending global ids.
     pub slave_nodes: Vec<u32>,
-    /// (element, local face) of each slave face, ascending.
+    /// (element, local face) of each slave face, ascending (as given: not per facet).
     pub slave_faces: Vec<(u32, u8)>,
-    /// Global node ids of each slave face, ordered with an outward normal.
+    /// Global node ids of each slave facet, ordered with an outward normal.
     pub slave_face_nodes: Vec<[u32; 4]>,
     pub discretization: Discretization,
     /// Coulomb coefficient; 0 is frictionless.
@@ -82,7 +85,7 @@ impl ContactPair {
     ) -> Self {
         self.slave_face_nodes = slave_faces
             .iter()
-            .map(|&(e, f)| mesh.quad_face_nodes(e, f))
+            .flat_map(|&(e, f)| mesh.contact_facets(e, f))
             .collect();
         self.slave_faces = slave_faces;
         self.discretization = discretization;
@@ -102,15 +105,22 @@ impl ContactPair {
         smoothing_width: Option<f64>,
         face_size: f64,
     ) -> Self {
-        let face_nodes: Vec<[u32; 4]> = master_faces
+        let (master_faces, face_nodes): (Vec<(u32, u8)>, Vec<[u32; 4]>) = master_faces
             .iter()
-            .map(|&(e, f)| mesh.quad_face_nodes(e, f))
-            .collect();
+            .flat_map(|&(e, f)| {
+                mesh.contact_facets(e, f)
+                    .into_iter()
+                    .map(move |n| ((e, f), n))
+            })
+            .unzip();
         let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, u8)>> =
             std::collections::HashMap::new();
+        // Edges per facet: a triangle's fourth node repeats its third (`contact::facet`).
+        let sides = |nodes: &[u32; 4]| if nodes[3] == nodes[2] { 3 } else { 4 };
         for (fi, nodes) in face_nodes.iter().enumerate() {
-            for k in 0..4 {
-                let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
+            let m = sides(nodes);
+            for k in 0..m {
+                let (a, b) = (nodes[k], nodes[(k + 1) % m]);
                 edges
                     .entry((a.min(b), a.max(b)))
                     .or_default()
@@ -121,8 +131,12 @@ impl ContactPair {
             .iter()
             .enumerate()
             .map(|(fi, nodes)| {
+                let m = sides(nodes);
                 std::array::from_fn(|k| {
-                    let (a, b) = (nodes[k], nodes[(k + 1) % 4]);
+                    if k >= m {
+                        return None;
+                    }
+                    let (a, b) = (nodes[k], nodes[(k + 1) % m]);
                     edges[&(a.min(b), a.max(b))]
                         .iter()
                         .copied()

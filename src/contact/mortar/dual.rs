@@ -1,7 +1,9 @@
 //! The dual (biorthogonal) basis of a bilinear slave face: Phi_a = sum_b A_ab N_b with
 //! A = D M^-1, M_ab = int N_a N_b, D = diag(int N_a), so that int Phi_a N_b = delta_ab
 //! int N_a. A slave node's multiplier then couples to no other slave node, and its
-//! constraint is one kinematic row: the node tied to master nodes with weights.
+//! constraint is one kinematic row: the node tied to master nodes with weights. On a
+//! linear triangle (a sub-triangle of a tet10's face) the same condition gives the
+//! closed form Phi_a = 3 L_a - L_b - L_c (the fourth, repeated corner has none).
 
 use super::plane::{jacobian, P2};
 use crate::fem::face::shape;
@@ -43,9 +45,31 @@ pub fn coefficients(c: &[P2; 4]) -> Option<([[f64; 4]; 4], [f64; 4])> {
     Some((a, d))
 }
 
-/// The dual shape functions at local coordinates `s`.
-pub fn dual_shape(a: &[[f64; 4]; 4], s: &P2) -> [f64; 4] {
-    let n = shape(s[0], s[1]);
+/// The dual basis of the linear triangle with in-plane corners `c` (the first three; a
+/// triangle's fourth repeats its third) and the nodes' areas (a third of the area each).
+/// None for a degenerate triangle.
+pub fn triangle_coefficients(c: &[P2; 4]) -> Option<([[f64; 4]; 4], [f64; 4])> {
+    let area = 0.5 * super::plane::orient(&c[0], &c[1], &c[2]).abs();
+    if !(area > 0.0) {
+        return None;
+    }
+    let a = [
+        [3.0, -1.0, -1.0, 0.0],
+        [-1.0, 3.0, -1.0, 0.0],
+        [-1.0, -1.0, 3.0, 0.0],
+        [0.0; 4],
+    ];
+    Some((a, [area / 3.0, area / 3.0, area / 3.0, 0.0]))
+}
+
+/// The dual shape functions at local coordinates `s` of a quadrilateral or, when
+/// `triangle`, a triangle (`contact::facet`).
+pub fn dual_shape(a: &[[f64; 4]; 4], triangle: bool, s: &P2) -> [f64; 4] {
+    let n = if triangle {
+        crate::contact::facet::shape(true, s)
+    } else {
+        shape(s[0], s[1])
+    };
     std::array::from_fn(|i| (0..4).map(|j| a[i][j] * n[j]).sum())
 }
 
@@ -61,7 +85,7 @@ mod tests {
                 let mut q = 0.0;
                 for (s, ws) in G3 {
                     for (t, wt) in G3 {
-                        let phi = dual_shape(&a, &[s, t]);
+                        let phi = dual_shape(&a, false, &[s, t]);
                         q += ws * wt * jacobian(c, &[s, t]) * phi[i] * shape(s, t)[j];
                     }
                 }
@@ -84,5 +108,27 @@ mod tests {
         let q = [[0.0, 0.0], [2.0, 0.1], [2.3, 1.7], [-0.2, 1.2]];
         assert!(biorthogonality(&sq) < 1e-14);
         assert!(biorthogonality(&q) < 1e-13);
+    }
+
+    #[test]
+    fn triangle_dual_basis_is_biorthogonal() {
+        // int Phi_a L_b over a triangle by the degree-5 rule (exact for these quadratics):
+        // delta_ab times int L_a = area / 3.
+        let c = [[0.1, 0.0], [1.3, 0.2], [0.4, 0.9], [0.4, 0.9]];
+        let (a, d) = triangle_coefficients(&c).unwrap();
+        let area = 0.5 * super::super::plane::orient(&c[0], &c[1], &c[2]);
+        for i in 0..3 {
+            for j in 0..3 {
+                let mut q = 0.0;
+                for (l, w) in super::super::plane::TRIANGLE_RULE {
+                    let s = [l[1], l[2]];
+                    let phi = dual_shape(&a, true, &s);
+                    q += w * area * phi[i] * crate::contact::facet::shape(true, &s)[j];
+                }
+                let exact = if i == j { d[i] } else { 0.0 };
+                // Round-off of a few sums of order 1.
+                assert!((q - exact).abs() < 1e-15, "{i} {j} {q}");
+            }
+        }
     }
 }

@@ -128,6 +128,28 @@ pub fn inverse_bilinear(c: &[P2; 4], p: &P2) -> Option<P2> {
     None
 }
 
+/// The local coordinates of the point `p` of the facet with in-plane corners `c`: the
+/// inverse bilinear map of a quadrilateral, the barycentric coordinates (of the second
+/// and third corners) of a triangle (`contact::facet`). None for a degenerate facet.
+pub fn local(c: &[P2; 4], triangle: bool, p: &P2) -> Option<P2> {
+    if !triangle {
+        return inverse_bilinear(c, p);
+    }
+    let (e1, e2) = (
+        [c[1][0] - c[0][0], c[1][1] - c[0][1]],
+        [c[2][0] - c[0][0], c[2][1] - c[0][1]],
+    );
+    let det = e1[0] * e2[1] - e1[1] * e2[0];
+    if det.abs() <= 1e-300 || !det.is_finite() {
+        return None;
+    }
+    let d = [p[0] - c[0][0], p[1] - c[0][1]];
+    Some([
+        (d[0] * e2[1] - d[1] * e2[0]) / det,
+        (e1[0] * d[1] - e1[1] * d[0]) / det,
+    ])
+}
+
 /// The Jacobian determinant of the in-plane bilinear map at `s`.
 pub fn jacobian(c: &[P2; 4], s: &P2) -> f64 {
     let d = shape_derivatives(s[0], s[1]);

@@ -4,8 +4,8 @@
 //! (exact for the degree-4 integrands of faces that are parallelograms).
 
 use super::dual::dual_shape;
-use super::plane::{clip, inverse_bilinear, polygon_area, Plane, P2, TRIANGLE_RULE};
-use crate::fem::face::shape;
+use super::plane::{clip, local, polygon_area, Plane, P2, TRIANGLE_RULE};
+use crate::contact::facet::{self, shape};
 use crate::math::{cross, dot, Vec3};
 
 /// A master face is overlapped only when its normal opposes the slave face's within this
@@ -17,8 +17,11 @@ const FACING: f64 = -0.2;
 /// of faces that only touch along an edge.
 const SLIVER: f64 = 1e-12;
 
-/// A slave face prepared for integration: its plane, in-plane corners and dual basis.
+/// A slave face prepared for integration: its plane, in-plane corners and dual basis. A
+/// face is a contact facet (`contact::facet`): a quadrilateral or a triangle, on either
+/// side.
 pub struct SlaveFace {
+    pub triangle: bool,
     pub plane: Plane,
     pub corners: [P2; 4],
     pub dual: [[f64; 4]; 4],
@@ -32,8 +35,14 @@ impl SlaveFace {
     pub fn new(x: &[Vec3; 4]) -> Option<SlaveFace> {
         let plane = Plane::of_face(x)?;
         let corners = x.map(|c| plane.project(&c));
-        let (dual, areas) = super::dual::coefficients(&corners)?;
+        let triangle = facet::is_triangle(x);
+        let (dual, areas) = if triangle {
+            super::dual::triangle_coefficients(&corners)?
+        } else {
+            super::dual::coefficients(&corners)?
+        };
         Some(SlaveFace {
+            triangle,
             plane,
             corners,
             dual,
@@ -66,8 +75,11 @@ pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overla
     }
     let cm: [P2; 4] = xm.map(|c| slave.plane.project(&c));
     let hm: [f64; 4] = xm.map(|c| slave.plane.height(&c));
-    let piece = clip(&cm, &slave.corners);
-    let area = polygon_area(&slave.corners);
+    let triangle = facet::is_triangle(xm);
+    let corners = |t: bool| facet::edges(t);
+    let own = &slave.corners[..corners(slave.triangle)];
+    let piece = clip(&cm[..corners(triangle)], own);
+    let area = polygon_area(own);
     if piece.len() < 3 || polygon_area(&piece).abs() <= SLIVER * area {
         return None;
     }
@@ -75,9 +87,9 @@ pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overla
     let centre = [0, 1].map(|i| piece.iter().map(|p| p[i]).sum::<f64>() / n);
     // The gap along the normal at the overlap's centre decides whether the faces are
     // within reach of each other.
-    let sc = inverse_bilinear(&slave.corners, &centre)?;
-    let mc = inverse_bilinear(&cm, &centre)?;
-    let gap = interpolate(&hm, &mc) - interpolate(&slave.heights, &sc);
+    let sc = local(&slave.corners, slave.triangle, &centre)?;
+    let mc = local(&cm, triangle, &centre)?;
+    let gap = interpolate(&hm, triangle, &mc) - interpolate(&slave.heights, slave.triangle, &sc);
     if gap.abs() > reach {
         return None;
     }
@@ -87,11 +99,11 @@ pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overla
         let tri = 0.5 * super::plane::orient(&centre, &p, &q).abs();
         for (l, w) in TRIANGLE_RULE {
             let x = [0, 1].map(|i| l[0] * centre[i] + l[1] * p[i] + l[2] * q[i]);
-            let s = inverse_bilinear(&slave.corners, &x)?;
-            let t = inverse_bilinear(&cm, &x)?;
-            let phi = dual_shape(&slave.dual, &s);
-            let ns = shape(s[0], s[1]);
-            let nm = shape(t[0], t[1]);
+            let s = local(&slave.corners, slave.triangle, &x)?;
+            let t = local(&cm, triangle, &x)?;
+            let phi = dual_shape(&slave.dual, slave.triangle, &s);
+            let ns = shape(slave.triangle, &s);
+            let nm = shape(triangle, &t);
             for a in 0..4 {
                 let f = tri * w * phi[a];
                 out.d[a] += f;
@@ -105,8 +117,8 @@ pub fn integrate(slave: &SlaveFace, xm: &[Vec3; 4], reach: f64) -> Option<Overla
     Some(out)
 }
 
-fn interpolate(v: &[f64; 4], s: &P2) -> f64 {
-    let n = shape(s[0], s[1]);
+fn interpolate(v: &[f64; 4], triangle: bool, s: &P2) -> f64 {
+    let n = shape(triangle, s);
     (0..4).map(|a| n[a] * v[a]).sum()
 }
 

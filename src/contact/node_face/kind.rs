@@ -22,12 +22,9 @@ impl PairKind for NodeFace {
 
     /// The face's shape functions at the contact point.
     fn masters(&self, _state: &ContactState, problem: &Problem, a: &Active) -> Vec<(u32, f64)> {
-        let w = crate::fem::face::shape(a.s[0], a.s[1]);
-        problem.contacts[a.pair].face_nodes[a.face as usize]
-            .iter()
-            .copied()
-            .zip(w)
-            .collect()
+        let nodes = &problem.contacts[a.pair].face_nodes[a.face as usize];
+        let w = crate::contact::facet::shape_of(nodes, &a.s);
+        nodes.iter().copied().zip(w).collect()
     }
 
     fn slips(

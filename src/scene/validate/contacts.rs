@@ -63,9 +63,6 @@ impl Builder {
                 format!("master and slave are the same side set '{}'", c.master),
             ));
         }
-        for (role, set) in [("master", master), ("slave", slave)] {
-            self.contact_faces_supported(&format!("{key}.{role}"), mesh, &side_sets[set])?;
-        }
         let mu = self.friction_coefficient(key, c)?;
         let master_faces: Vec<(u32, u8)> = side_sets[master].faces.clone();
         let slave_nodes = surface_nodes(mesh, &side_sets[slave].faces);
@@ -96,33 +93,6 @@ impl Builder {
             face_size,
         )
         .with_slave_faces(mesh, side_sets[slave].faces.clone(), discretization))
-    }
-
-    /// Contact takes quadrilateral faces only (a tet10 body's triangles are not yet).
-    fn contact_faces_supported(
-        &self,
-        key: &str,
-        mesh: &GlobalMesh,
-        set: &SideSet,
-    ) -> Result<(), SceneError> {
-        let Some(&(e, _)) = set
-            .faces
-            .iter()
-            .find(|&&(e, f)| mesh.kind(e as usize).quad_face(f as usize).is_none())
-        else {
-            return Ok(());
-        };
-        let body = &mesh.bodies[mesh.element_body[e as usize] as usize];
-        Err(self.err(
-            key,
-            format!(
-                "side set '{}' has faces of body '{}', whose elements are {}: contact on {} faces is not supported yet (only hexahedral bodies' faces can be in contact)",
-                set.name,
-                body.name,
-                body.kind.name(),
-                body.kind.name()
-            ),
-        ))
     }
 
     /// How the pair's constraints are formed: node-to-face (default) or mortar.
@@ -296,15 +266,24 @@ pub(super) fn surface_nodes(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> Vec<u32> 
     nodes
 }
 
-/// Mean sqrt(area) of the faces: the length the tolerance defaults scale with.
+/// Mean sqrt(area) of the faces' contact facets (a hexahedron's face, or each of the four
+/// sub-triangles of a tet10's face): the length the tolerance defaults scale with.
 pub(super) fn mean_face_size(mesh: &GlobalMesh, faces: &[(u32, u8)]) -> f64 {
-    let total: f64 = faces
+    let facets: Vec<[u32; 4]> = faces
         .iter()
-        .map(|&(e, f)| {
-            let nodes = mesh.quad_face_nodes(e, f);
+        .flat_map(|&(e, f)| mesh.contact_facets(e, f))
+        .collect();
+    let total: f64 = facets
+        .iter()
+        .map(|nodes| {
             let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[nodes[a] as usize]);
-            crate::fem::face::area(&x).sqrt()
+            // A triangle's fourth node repeats its third (`contact::facet`).
+            if nodes[3] == nodes[2] {
+                crate::fem::face::triangle_area(&[x[0], x[1], x[2]]).sqrt()
+            } else {
+                crate::fem::face::area(&x).sqrt()
+            }
         })
         .sum();
-    total / faces.len() as f64
+    total / facets.len() as f64
 }

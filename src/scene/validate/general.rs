@@ -166,9 +166,8 @@ impl Builder {
                 return Err(self.err(
                     "general_contact",
                     format!(
-                        "body '{}' is made of {} elements: contact on its {} faces is not supported yet; leave it out with exclude = [[\"{}\"]]",
+                        "body '{}' is made of {} elements: general contact does not take them yet (an explicit [[contact]] pair does); leave it out with exclude = [[\"{}\"]]",
                         body.name,
-                        body.kind.name(),
                         body.kind.name(),
                         body.name
                     ),
