@@ -467,6 +467,9 @@ mod tests {
             capture_tolerance: 1e-7,
             smoothing_width: Some(0.3),
             face_size: 0.7,
+            secondary: false,
+            partner: None,
+            slave_normals: None,
         };
         let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
         let nb = scale(&[-0.2, -0.2, 1.0], 1.0 / 1.08f64.sqrt());
