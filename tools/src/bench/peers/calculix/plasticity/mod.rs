@@ -99,7 +99,7 @@ fn run_case(case: &'static Case, dir: &Path, timeout: f64, ccx: bool) -> Result<
 }
 
 /// The block's thickness (the mesh's extent in z).
-fn thickness(problem: &Problem) -> f64 {
+pub fn thickness(problem: &Problem) -> f64 {
     let z = problem.mesh.coords.iter().map(|x| x[2]);
     z.clone().fold(f64::MIN, f64::max) - z.fold(f64::MAX, f64::min)
 }

@@ -13,7 +13,7 @@ pub mod scenes;
 
 use super::deck::{name, ElementType, NodePrint, NodeSet};
 use super::output::{last_displacements, total_forces};
-use super::plasticity::{ours, PUNCH_HALF_WIDTH, PUNCH_SET};
+use super::plasticity::{ours, thickness, PUNCH_HALF_WIDTH, PUNCH_SET};
 use super::run::{Job, Outcome};
 use super::scene::{deck_with, Options};
 use crate::api::{load_scene_refined, ResultFile};
@@ -108,7 +108,9 @@ fn run_case(case: Case, dir: &Path, ccx: bool) -> Result<Row, String> {
         "bench: tet: {} ({nodes} nodes): ours on 2 ranks",
         case.name()
     );
-    let ours = ours_run(&case, &scene, dir);
+    // The punch's pressure acts on its half-width times the slab's thickness.
+    let area = PUNCH_HALF_WIDTH * thickness(&problem);
+    let ours = ours_run(&case, &scene, dir, area);
     match &ours {
         Ok(m) => eprintln!(
             "bench:   {:.1} s, {} CG iterations, {:.4}",
@@ -140,10 +142,9 @@ fn run_case(case: Case, dir: &Path, ccx: bool) -> Result<Row, String> {
     })
 }
 
-fn ours_run(case: &Case, scene: &Path, dir: &Path) -> Result<Measured, String> {
+fn ours_run(case: &Case, scene: &Path, dir: &Path, area: f64) -> Result<Measured, String> {
     match case.problem {
         Problem::Punch => {
-            let area = PUNCH_HALF_WIDTH * case.thickness();
             let o = ours::run(scene, dir, PUNCH_SET, area, TIMEOUT_S)?;
             Ok(Measured {
                 wall: o.wall,
@@ -214,7 +215,7 @@ fn calculix(case: &Case, problem: &crate::api::Problem, dir: &Path) -> Result<Me
     };
     job.write_deck(&deck)?;
     let punch = name("N_", PUNCH_SET);
-    let area = PUNCH_HALF_WIDTH * case.thickness();
+    let area = PUNCH_HALF_WIDTH * thickness(problem);
     let end = |t: f64| (t - 1.0).abs() < 1e-6;
     let read = |o: &super::run::Output| -> Result<f64, String> {
         match case.problem {

@@ -74,10 +74,10 @@ pub fn markdown(rows: &[Row], ccx_version: Option<&str>) -> String {
             "### {title}\n\n| mesh | nodes | ours {what} | error | CG | s | ccx {what} | error | Newton | s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in rows.iter().filter(|r| r.case.problem == problem) {
-            let kind = if r.case.tet {
-                "tet10"
-            } else {
-                "hex8 (reference)"
+            let kind = match (r.case.tet, r.case.bar) {
+                (true, false) => "tet10",
+                (true, true) => "tet10 + mean dilatation",
+                (false, _) => "hex8 + mean dilatation (reference)",
             };
             let ccx = match &r.ccx {
                 Some(c) => cells(c, reference),

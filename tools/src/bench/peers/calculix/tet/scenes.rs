@@ -46,15 +46,6 @@ impl Case {
         )
     }
 
-    /// The slab's thickness in z (every node held in z: plane strain).
-    pub fn thickness(&self) -> f64 {
-        match (self.problem, self.tet) {
-            (Problem::Cook, true) => 16.0 / self.n as f64,
-            (Problem::Cook, false) => 1.0,
-            (Problem::Punch, _) => 6.0 / (self.n * PUNCH_REFINEMENT) as f64,
-        }
-    }
-
     /// Meshes the case with Gmsh into `dir/mesh.msh` and writes `dir/scene.toml`; returns
     /// the scene's path.
     pub fn write(&self, root: &Path, dir: &Path) -> Result<PathBuf, String> {
@@ -156,7 +147,8 @@ tolerance = 1e-10
                 "hex8 with mean dilatation"
             },
             self.name(),
-            t = self.thickness(),
+            // The slab's thickness (run/tet/cook.geo's T).
+            t = if self.tet { 16.0 / self.n as f64 } else { 1.0 },
         )
     }
 
