@@ -115,10 +115,22 @@ struct Patch {
 }
 
 fn patch(case: &str, lower_tet: bool, master: &str, slave: &str, disc: &str) -> Patch {
+    patch_edited(case, lower_tet, master, slave, disc, |text| text)
+}
+
+/// `patch` on the scene as `edit` changes it.
+fn patch_edited(
+    case: &str,
+    lower_tet: bool,
+    master: &str,
+    slave: &str,
+    disc: &str,
+    edit: impl Fn(String) -> String,
+) -> Patch {
     let dir = fresh_dir(&format!("tet_contact_{case}"));
     let mesh = stack_mesh(&dir, lower_tet);
     let path = dir.join("stack.toml");
-    std::fs::write(&path, scene(&mesh, master, slave, disc)).unwrap();
+    std::fs::write(&path, edit(scene(&mesh, master, slave, disc))).unwrap();
     let p = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
     let kinds: Vec<_> = p.mesh.bodies.iter().map(|b| b.kind).collect();
     let tet = solver::fem::ElementKind::Tet10;
@@ -237,4 +249,39 @@ fn node_to_face_on_tet_faces_balances_the_load() {
         patch("ntf_count", false, "upper_bottom", "lower_top", "node_face").slave_nodes,
         25
     );
+}
+
+/// General contact takes tet10 bodies: the stacked cubes with `[general_contact]` in place
+/// of the pair (the upper, tet10 cube the primary pass's slave, mortar; the second pass's
+/// node-to-face ties nothing, no node being inside the other cube) give the exact field
+/// and the total force, as the explicit pair does (tet on hex and tet on tet).
+#[test]
+fn general_contact_takes_tet10_bodies() {
+    let general = |text: String| {
+        let pair = "[[contact]]\nname = \"interface\"\nmaster = \"lower_top\"\nslave = \"upper_bottom\"\ndiscretization = \"mortar\"\n";
+        assert!(text.contains(pair), "the scene's pair");
+        text.replace(
+            pair,
+            "[general_contact]\ndiscretization = \"mortar\"\n[[general_contact.pair]]\nbodies = [\"lower\", \"upper\"]\nslave = \"upper\"\n",
+        )
+    };
+    for lower_tet in [false, true] {
+        let case = format!("general_{lower_tet}");
+        let r = patch_edited(
+            &case,
+            lower_tet,
+            "lower_top",
+            "upper_bottom",
+            "mortar",
+            general,
+        );
+        // The field and the total force as the pair's (`assert_exact`'s bounds). The
+        // pressure is exact inside the interface; at its rim a node's pressure is its force
+        // over the area of every exterior face it has, the cube's sides' too (the slave
+        // surface is the whole exterior), so only the largest is p.
+        assert!(r.deviation < LINEAR_FIELD, "{case}: {r:?}");
+        assert!((r.force - P).abs() < LINEAR_FIELD * P, "{case}: {r:?}");
+        assert!((r.pressure.1 - P).abs() < LINEAR_FIELD * P, "{case}: {r:?}");
+        assert!(r.pressure.0 > 0.0, "{case}: {r:?}");
+    }
 }

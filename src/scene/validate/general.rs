@@ -144,8 +144,8 @@ impl Builder {
         })
     }
 
-    /// Each body's exterior faces (None for a body left out), refusing a body whose faces
-    /// contact does not take.
+    /// Each body's exterior faces (None for a body left out): a hexahedron's quadrilaterals,
+    /// a tet10's 6-node triangles.
     fn skins(
         &self,
         mesh: &GlobalMesh,
@@ -161,17 +161,6 @@ impl Builder {
             if left_out[i] {
                 out.push(None);
                 continue;
-            }
-            if body.kind.quad_face(0).is_none() {
-                return Err(self.err(
-                    "general_contact",
-                    format!(
-                        "body '{}' is made of {} elements: general contact does not take them yet (an explicit [[contact]] pair does); leave it out with exclude = [[\"{}\"]]",
-                        body.name,
-                        body.kind.name(),
-                        body.name
-                    ),
-                ));
             }
             let fs = std::mem::take(&mut faces[i]);
             let rigid =
@@ -318,14 +307,17 @@ fn explicit_body_pairs(mesh: &GlobalMesh, explicit: &[ContactPair]) -> Vec<(usiz
 /// reference configuration), by position in `nodes` (ascending).
 fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Vec<Vec3> {
     let mut sum = vec![[0.0; 3]; nodes.len()];
-    for &(e, f) in faces {
-        let q = mesh.quad_face_nodes(e, f);
-        let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[q[a] as usize]);
+    // Per contact facet: a hexahedron's face, or each of a tet10 face's sub-triangles,
+    // whose fourth node repeats its third (the diagonals' cross product is then the
+    // triangle's normal; its repeated node counts once).
+    for facet in faces.iter().flat_map(|&(e, f)| mesh.contact_facets(e, f)) {
+        let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[facet[a] as usize]);
         let d1 = crate::math::sub(&x[2], &x[0]);
         let d2 = crate::math::sub(&x[3], &x[1]);
         let n = crate::math::cross(&d1, &d2);
         let n = scale(&n, 1.0 / norm(&n));
-        for a in q {
+        let corners = if facet[3] == facet[2] { 3 } else { 4 };
+        for &a in &facet[..corners] {
             let i = nodes
                 .binary_search(&a)
                 .expect("a face's node is a surface node");

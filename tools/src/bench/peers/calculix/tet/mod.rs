@@ -9,6 +9,7 @@
 //! `results.json` and each case's directory (mesh, scene, logs, result file, deck).
 
 mod report;
+pub mod results;
 pub mod scenes;
 
 use super::deck::{name, ElementType, NodePrint, NodeSet};
@@ -18,6 +19,7 @@ use super::run::{Job, Outcome};
 use super::scene::{deck_with, Options};
 use crate::api::{load_scene_refined, ResultFile};
 use crate::runner::solver::repo_root;
+use results::{Measured, Row};
 use scenes::{Case, Problem};
 use std::path::Path;
 
@@ -25,24 +27,6 @@ use std::path::Path;
 const TIMEOUT_S: f64 = 1200.0;
 /// The node set whose mean u_y is Cook's answer.
 const TIP_SET: &str = "tip";
-
-/// What one code measured on one mesh.
-#[derive(Clone, Debug)]
-pub struct Measured {
-    pub wall: f64,
-    /// Our CG iterations, or ccx's Newton iterations.
-    pub iterations: u64,
-    /// Cook: the tip's mean u_y; punch: the mean pressure at the end.
-    pub value: f64,
-}
-
-/// One mesh: ours and ccx's (tetrahedral meshes only).
-pub struct Row {
-    pub case: Case,
-    pub nodes: usize,
-    pub ours: Result<Measured, String>,
-    pub ccx: Option<Result<Measured, String>>,
-}
 
 /// The cases: per problem the hexahedral reference first, then every tetrahedral mesh
 /// without and with the mean dilatation.

@@ -1,8 +1,8 @@
 //! The tetrahedra section as Markdown (a table per problem, errors against our hexahedral
 //! reference) and JSON.
 
+use super::results::{Measured, Row};
 use super::scenes::Problem;
-use super::{Measured, Row};
 use std::fmt::Write as _;
 use std::path::Path;
 
