@@ -2,6 +2,7 @@
 //! the 8-node hexahedron, its faces, and the element force and diagonal-tangent
 //! kernels. Everything here is pure: fixed-size arrays in, arrays out.
 
+pub mod consistent;
 pub mod element;
 pub mod face;
 pub mod hex8;

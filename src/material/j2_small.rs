@@ -16,7 +16,7 @@
 use super::parameters::{check_elastic, ParamError, Parameters};
 use super::point::{lame, PointModel, Update};
 use super::state::PlasticState;
-use super::tangent::PointTangent;
+use super::tangent::{Moduli, PointTangent};
 use crate::math::{Mat3, Vec3, ZERO33};
 use serde::Deserialize;
 
@@ -255,7 +255,64 @@ impl J2Plastic {
         }
         k
     }
+
+    /// The consistent moduli at `h` from the committed state `old` (small kinematics) for
+    /// an assembled tangent: elastic inside the yield surface, the return map's algorithmic
+    /// moduli (`moduli`) outside it, and at a point on the surface, where the return map
+    /// has a kink (|f| <= `ON_SURFACE` of its radius: a point the last step returned to
+    /// the surface and this state has not moved), the mean of its elastic and its loading
+    /// branch, which is what a central difference of the forces about the state measures
+    /// there. The mean keeps the point's tangent symmetric and positive semi-definite,
+    /// and it does not take the loading branch's softness along n for a point that the
+    /// next step may unload.
+    pub fn surface_moduli(&self, h: &Mat3, old: &PlasticState) -> Moduli {
+        let elastic = Moduli {
+            kappa: self.bulk(),
+            mu_t: self.mu,
+            cn: 0.0,
+            n: ZERO33,
+        };
+        let (_, _, ret) = self.update_small(h, old);
+        let radius = SQRT_2_3 * (self.yield_stress + self.isotropic * old.eqps);
+        let f = ret.xi_norm - radius;
+        if f.abs() > ON_SURFACE * radius || ret.xi_norm == 0.0 {
+            let (kappa, mu_t, cn) = self.moduli(&ret);
+            return Moduli {
+                kappa,
+                mu_t,
+                cn,
+                n: ret.n,
+            };
+        }
+        // On the surface: n from the trial state (the return data holds it only when it
+        // loads), the loading branch's moduli at gamma = 0 (theta = 1).
+        let mut eps = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                eps[i][j] = 0.5 * (h[i][j] + h[j][i]);
+            }
+        }
+        let (e, _) = dev(&eps);
+        let (ep, back) = (from_sym6(&old.strain), from_sym6(&old.back));
+        let mut n = ZERO33;
+        for i in 0..3 {
+            for j in 0..3 {
+                n[i][j] = (2.0 * self.mu * (e[i][j] - ep[i][j]) - back[i][j]) / ret.xi_norm;
+            }
+        }
+        let theta_bar = 1.0 / (1.0 + (self.isotropic + self.kinematic) / (3.0 * self.mu));
+        Moduli {
+            cn: self.mu * theta_bar,
+            n,
+            ..elastic
+        }
+    }
 }
+
+/// How close to its yield surface, relative to the surface's radius, a point counts as on
+/// it (`J2Plastic::surface_moduli`): a return lands on the surface to rounding (1e-16 of
+/// the radius), and a point a step has moved is off it by the step's strain, orders above.
+pub const ON_SURFACE: f64 = 1e-9;
 
 impl PointModel for J2Plastic {
     fn name(&self) -> &'static str {

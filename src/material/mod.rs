@@ -23,7 +23,7 @@ pub use neo_hookean::{NeoHookean, NeoHookeanParams};
 pub use parameters::{check_elastic, ParamError, Parameters};
 pub use point::{lame, PointModel, Update};
 pub use state::{PlasticState, STATE_LEN};
-pub use tangent::PointTangent;
+pub use tangent::{Moduli, PointTangent};
 
 use crate::math::Mat3;
 

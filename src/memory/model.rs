@@ -73,6 +73,9 @@ const GAUSS_PER_ELEMENT: f64 = 1600.0;
 /// An elastic element matrix (24 x 24, boxed) and its slot (`ElasticMatrices`), and the
 /// element's two marks.
 const ELASTIC_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0 + 2.0;
+/// The consistent tangent of such an element while the full tangent is built
+/// (`assembly::Tangents`: 24 x 24 and its offset; a tet10's 30 x 30 is 7200).
+const TANGENT_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0;
 /// The rank's nodes: coordinates, global id, owner (32); the CG vectors (7 x 24) and the
 /// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
@@ -189,7 +192,12 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     };
     let per_element = LOCAL_PER_ELEMENT
         + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT)
-        + matrix_share * ELASTIC_MATRIX_PER_ELEMENT;
+        + matrix_share * ELASTIC_MATRIX_PER_ELEMENT
+        + if c.tangent {
+            matrix_share * TANGENT_MATRIX_PER_ELEMENT
+        } else {
+            0.0
+        };
     let per_node = LOCAL_PER_NODE
         + if c.friction { FRICTION_PER_NODE } else { 0.0 }
         + if c.nonlinear { NONLINEAR_PER_NODE } else { 0.0 };

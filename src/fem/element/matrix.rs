@@ -5,6 +5,7 @@
 use super::force::internal_force_with;
 use super::kinematics::point_gradients;
 use super::{ElementFailure, Formulation, GaussGeometry, Geometry};
+use crate::fem::consistent::{add_products, point_moduli, small_j2};
 use crate::material::{Material, PlasticState};
 use crate::math::Vec3;
 
@@ -85,6 +86,39 @@ pub fn responds_elastically(
     };
     hist.len() >= points
         && (0..points).all(|q| mat.update(&h[q], &hist[q]).is_some_and(|r| !r.yielded))
+}
+
+/// The consistent tangent of an element of a small-kinematics J2 body at `u` from its
+/// committed history `hist` (`fem::consistent`), fully integrated or B-bar; None for other
+/// materials and for the one-point element (its hourglass stiffness follows the plastic
+/// state).
+pub fn consistent_matrix(
+    geo: &Geometry,
+    gauss: Option<&GaussGeometry>,
+    u: &[Vec3; 8],
+    mat: &Material,
+    form: Formulation,
+    hist: &[PlasticState],
+) -> Option<Box<ElementMatrix>> {
+    let m = small_j2(mat)?;
+    if matches!(form, Formulation::Mean { .. }) {
+        return None;
+    }
+    let (h, w, points) = point_gradients(geo, gauss, u, false, form).ok()?;
+    if hist.len() < points {
+        return None;
+    }
+    let moduli = point_moduli(m, &h[..points], &hist[..points]);
+    let mut dh = Vec::with_capacity(24 * points);
+    for j in 0..24 {
+        let mut e = [[0.0; 3]; 8];
+        e[j / 3][j % 3] = 1.0;
+        let (g, _, _) = point_gradients(geo, gauss, &e, false, form).ok()?;
+        dh.extend_from_slice(&g[..points]);
+    }
+    let mut k = Box::new([0.0; 576]);
+    add_products(&dh, &w[..points], |q, d| moduli[q].apply(d), &mut k[..]);
+    Some(k)
 }
 
 /// f = K (u - u_1): K annihilates the element's translations, so the first node's

@@ -26,7 +26,8 @@ pub use geometry::{geometry, reference_shape, volume, GaussGeometry, Geometry};
 pub use hourglass::Hourglass;
 pub use kinematics::point_gradients;
 pub use matrix::{
-    elastic_matrix, element_matrix, matrix_force, responds_elastically, ElementMatrix,
+    consistent_matrix, elastic_matrix, element_matrix, matrix_force, responds_elastically,
+    ElementMatrix,
 };
 pub use stress::{average_cauchy, average_cauchy_with};
 pub use tangent::{diagonal_blocks, diagonal_blocks_with};

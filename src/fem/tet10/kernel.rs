@@ -129,7 +129,7 @@ fn point_stress(mat: &Material, h: &Mat3, hist: &[PlasticState], q: usize) -> Op
 
 /// The stabilization stiffness k of `mat`.
 #[inline]
-fn stiffness(mat: &Material) -> f64 {
+pub(super) fn stiffness(mat: &Material) -> f64 {
     2.0 * STABILIZATION * mat.lambda_mu().1
 }
 
@@ -172,10 +172,7 @@ pub fn internal_force(
     let k = stiffness(mat);
     let mut t = [ZERO33; 12];
     for s in 0..12 {
-        let mut d = g.sub[s];
-        for (kk, ck) in g.corner.iter().enumerate() {
-            axpy(&mut d, -MEAN_LAMBDA[s][kk], ck);
-        }
+        let d = discarded(&g, s);
         let kv = k * geo.vol[s];
         axpy(&mut t[s], kv, &d);
         for (kk, rk) in r.iter_mut().enumerate() {
@@ -193,6 +190,27 @@ pub fn internal_force(
     } else {
         Err(ElementFailure::NonFinite)
     }
+}
+
+/// D_s = H_s - H̄(centroid of s), what the projection discards in sub-tetrahedron s.
+#[inline(always)]
+fn discarded(g: &Gradients, s: usize) -> Mat3 {
+    let mut d = g.sub[s];
+    for (kk, ck) in g.corner.iter().enumerate() {
+        axpy(&mut d, -MEAN_LAMBDA[s][kk], ck);
+    }
+    d
+}
+
+/// The projected gradient at each point and the stabilization's D_s of a displacement,
+/// both linear in it (the assembled tangent, `tangent.rs`).
+pub(super) fn linear_parts(
+    geo: &Geometry,
+    u: &[Vec3; 10],
+    form: Formulation,
+) -> ([Mat3; 4], [Mat3; 12]) {
+    let g = gradients(geo, u, form);
+    (g.point, std::array::from_fn(|s| discarded(&g, s)))
 }
 
 /// f_a = sum_s T_s grad N_a|_s, the auxiliary node's share handed to the midside nodes.

@@ -15,6 +15,7 @@
 mod composite;
 mod kernel;
 pub mod reference;
+mod tangent;
 
 pub use reference::{
     jacobian, min_jacobian_ratio, shape, shape_derivatives, EDGES, FACES, MIDSIDE, NODE_XI,
@@ -26,3 +27,4 @@ pub use kernel::{
     average_cauchy, diagonal_blocks, internal_force, mean_eqps, point_gradients, update_history,
     STABILIZATION, STRESS_POINTS,
 };
+pub use tangent::consistent_matrix;

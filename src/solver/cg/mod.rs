@@ -34,6 +34,7 @@ macro_rules! fine_op {
             nonzero: &mut $cg.nonzero,
             central: false,
             elastic: None,
+            tangents: None,
         }
     };
 }

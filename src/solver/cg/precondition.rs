@@ -10,7 +10,7 @@ use crate::comm::Comm;
 use crate::math::Vec3;
 use crate::precond::jacobi;
 use crate::precond::multilevel::FineOperator;
-use crate::solver::assembly::Elastic;
+use crate::solver::assembly::{Elastic, Tangents};
 
 impl Cg {
     /// Block Jacobi is not enough here: from now on the multilevel preconditioner.
@@ -109,6 +109,9 @@ pub(super) struct FineOp<'b, 'a, C: Comm + ?Sized> {
     /// Elements whose central difference is their elastic matrix's product (marked at
     /// this state; the full tangent's probes only).
     pub(super) elastic: Option<Elastic<'b>>,
+    /// The consistent tangents of the elements that have one at u (the full tangent's
+    /// probes only): their products replace the central difference.
+    pub(super) tangents: Option<&'b Tangents>,
 }
 
 impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
@@ -123,9 +126,15 @@ impl<C: Comm + ?Sized> FineOp<'_, '_, C> {
         eps: f64,
     ) -> Result<(), SolveFailure> {
         let pb = self.pb;
-        let r = pb
-            .asm
-            .internal_force_difference(self.u, x, eps, y, self.nonzero, self.elastic);
+        let r = pb.asm.internal_force_difference(
+            self.u,
+            x,
+            eps,
+            y,
+            self.nonzero,
+            self.elastic,
+            self.tangents,
+        );
         agree(pb.comm, r)?;
         crate::springs::add_action(pb.springs, x, y);
         if pb.loads.is_follower() {

@@ -8,7 +8,7 @@ use super::state::Cg;
 use crate::comm::{self, Comm};
 use crate::math::Vec3;
 use crate::memory::try_filled;
-use crate::solver::assembly::Elastic;
+use crate::solver::assembly::{Elastic, Tangents};
 
 impl Cg {
     /// Measures and factors the coarse operator Q^T A Q when it is out of date: one
@@ -286,12 +286,20 @@ impl Cg {
             pb.asm
                 .mark_elastic(u, &mut self.elastic, &mut self.tangent_marks)
         };
-        let mut op = fine_op!(self, pb, u, linear, s);
-        op.central = true;
-        op.elastic = Some(Elastic {
+        let elastic = Elastic {
             matrices: &self.elastic,
             marks: &self.tangent_marks,
-        });
+        };
+        let mut tangents = Tangents::default();
+        let assembled = if linear {
+            0
+        } else {
+            pb.asm.consistent_tangents(u, Some(elastic), &mut tangents)
+        };
+        let mut op = fine_op!(self, pb, u, linear, s);
+        op.central = true;
+        op.elastic = Some(elastic);
+        op.tangents = Some(&tangents);
         let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
             Ok(t) => t,
             Err(limit) => {
@@ -309,7 +317,7 @@ impl Cg {
             self.tangent_builds_here + 1
         };
         let note = format!(
-            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3} ({marked} local elements elastic), order {:.3}, factor {:.3})",
+            "full tangent: {} unknowns, factor {} entries (build {}: {why}; {:.3} s: colour {:.3}, probe {:.3} ({marked} local elements elastic, {assembled} assembled), order {:.3}, factor {:.3})",
             t.unknowns,
             t.nnz,
             self.tangent_builds,

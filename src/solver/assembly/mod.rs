@@ -12,6 +12,9 @@ use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
 use crate::solver::shapes::{Elements, Plan, Shapes};
 
+mod tangents;
+pub use tangents::Tangents;
+
 /// A failure inside one element, with its global (1-based) id.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ElementError {
@@ -375,7 +378,9 @@ impl<'a> Assembly<'a> {
     ///
     /// An element `elastic` marks (`mark_elastic`, every stress point elastic at u) gives
     /// its elastic matrix's K_e x_e instead: the same derivative, for a 24 x 24 product in
-    /// place of two evaluations of its stress points.
+    /// place of two evaluations of its stress points; an element with a consistent
+    /// tangent in `tangents` (`consistent_tangents` at u) gives that matrix's product.
+    #[allow(clippy::too_many_arguments)]
     pub fn internal_force_difference(
         &self,
         u: &[Vec3],
@@ -384,6 +389,7 @@ impl<'a> Assembly<'a> {
         y: &mut [Vec3],
         nonzero: &mut [bool],
         elastic: Option<Elastic>,
+        tangents: Option<&Tangents>,
     ) -> Result<(), ElementError> {
         for (z, v) in nonzero.iter_mut().zip(x) {
             *z = v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0;
@@ -400,13 +406,24 @@ impl<'a> Assembly<'a> {
             {
                 continue;
             }
+            let consistent = tangents.and_then(|t| t.get(e));
             if self.mesh.kind(e) == ElementKind::Tet10 {
-                self.tet_difference(e, u, x, h, y)?;
+                match consistent {
+                    Some(k) => {
+                        let mut ft = [[0.0; 3]; 10];
+                        tangents::product(k, &self.gather::<10>(e, x), &mut ft);
+                        self.scatter(e, &ft, y);
+                    }
+                    None => self.tet_difference(e, u, x, h, y)?,
+                }
                 continue;
             }
             let xe = self.gather(e, x);
             let stored = self.shapes.matrix(e);
-            if let Some(k) = stored.or_else(|| elastic.and_then(|m| m.get(e))) {
+            let matrix = stored
+                .or_else(|| elastic.and_then(|m| m.get(e)))
+                .or_else(|| consistent.and_then(|k| k.try_into().ok()));
+            if let Some(k) = matrix {
                 element::matrix_force(k, &xe, &mut plus);
                 self.scatter(e, &plus, y);
                 continue;
