@@ -66,3 +66,15 @@ fn bolted_clamp_killed_while_slipping_restarts_bitwise() {
     // most of the contact nodes slipping.
     killed_and_restarted_is_identical("run/examples/bolted_clamp.toml", 2);
 }
+
+#[test]
+fn a_plastic_tet10_cube_restarts_bitwise() {
+    // Composite tetrahedra, small kinematics, the full tangent from their assembled
+    // consistent tangents: the history of their four points per element is committed.
+    killed_and_restarted_is_identical("mpi-tests/tet_punch.toml", 3);
+}
+
+#[test]
+fn a_tet10_cube_under_large_kinematics_restarts_bitwise() {
+    killed_and_restarted_is_identical("mpi-tests/tet_cube.toml", 2);
+}

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 mod common;
-use common::{fresh_dir, paper_scene, restart, solver};
+use common::{fresh_dir, paper_scene, repo, restart, solver};
 
 fn dir(name: &str) -> PathBuf {
     fresh_dir(&format!("restart-{name}"))
@@ -214,4 +214,14 @@ fn a_run_that_kept_its_multilevel_hierarchy_restarts_bitwise() {
     // would fail here).
     let d = dir("kept_hierarchy_slipping");
     restart::killed_and_restarted_is_identical(scene.to_str().unwrap(), &d, 30);
+}
+
+/// A mixed mesh: a tet10 cube on a hex8 cube through mortar contact under large kinematics
+/// (the tet faces' sub-triangles the slave), killed after its first of two steps.
+#[test]
+fn a_tet_on_hex_contact_run_restarts_bitwise() {
+    let scene = repo("mpi-tests/tet_on_hex_mortar.toml")
+        .display()
+        .to_string();
+    restart::killed_and_restarted_is_identical(&scene, &dir("tet_on_hex_mortar"), 1);
 }

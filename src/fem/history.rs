@@ -22,6 +22,16 @@ pub fn points(form: Formulation) -> usize {
     }
 }
 
+/// History states of a plastic element of `kind`: `points` for a hexahedron, one per
+/// stress point of a composite tetrahedron.
+#[inline]
+pub fn points_of(kind: crate::fem::ElementKind, form: Formulation) -> usize {
+    match kind {
+        crate::fem::ElementKind::Hex8 => points(form),
+        crate::fem::ElementKind::Tet10 => crate::fem::tet10::STRESS_POINTS,
+    }
+}
+
 /// The states a converged step commits: `new[q]` from `old[q]` at the displacements `u`.
 pub fn update_with(
     geo: &Geometry,

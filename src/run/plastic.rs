@@ -18,7 +18,7 @@ pub(super) fn history_len(problem: &Problem) -> usize {
         .map(|&b| {
             let m = &problem.body_models[b as usize];
             if m.material.is_plastic() {
-                history::points(m.formulation) * STATE_LEN
+                history::points_of(problem.mesh.bodies[b as usize].kind, m.formulation) * STATE_LEN
             } else {
                 0
             }
@@ -62,7 +62,8 @@ pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Prob
         let m = &problem.body_models[b as usize];
         if m.material.is_plastic() {
             start[e] = at;
-            at += history::points(m.formulation) * STATE_LEN;
+            at +=
+                history::points_of(problem.mesh.bodies[b as usize].kind, m.formulation) * STATE_LEN;
         }
     }
     stepper.assembly_mut().set_history(|g| {
@@ -72,7 +73,10 @@ pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Prob
             return None;
         }
         let b = problem.mesh.element_body[e] as usize;
-        let n = history::points(problem.body_models[b].formulation);
+        let n = history::points_of(
+            problem.mesh.bodies[b].kind,
+            problem.body_models[b].formulation,
+        );
         Some(
             (0..n)
                 .map(|q| PlasticState::from_slice(&flat[s + q * STATE_LEN..]))

@@ -107,10 +107,7 @@ impl<'a> Assembly<'a> {
             for &b in &mesh.element_body {
                 let m = &models[b as usize];
                 if m.material.is_plastic() {
-                    n += match mesh.body_kind[b as usize] {
-                        ElementKind::Hex8 => history::points(m.formulation),
-                        ElementKind::Tet10 => tet10::STRESS_POINTS,
-                    } as u32;
+                    n += history::points_of(mesh.body_kind[b as usize], m.formulation) as u32;
                 }
                 offset.push(n);
             }
