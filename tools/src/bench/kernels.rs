@@ -1,5 +1,6 @@
 //! The element kernels (`Assembly::internal_force` and `Assembly::diagonal`) on one core
-//! for every integration / material combination on a structured cube mesh, with a
+//! for every integration / material combination on a structured cube mesh of hexahedra,
+//! and the composite tet10's on the same cube split into tetrahedra (`tet_cube`), with a
 //! memory-traffic model.
 
 use crate::api::{local_mesh, parse, Assembly, LocalMesh, Mat3, Vec3, ZERO33};
@@ -8,11 +9,16 @@ use crate::stats::{time_it, Stat, Timing};
 use std::hint::black_box;
 use std::time::Instant;
 
-/// Bytes per element the memory-traffic model charges, with no reuse of shared nodes:
+/// Bytes per hexahedron the memory-traffic model charges, with no reuse of shared nodes:
 /// coordinates 8 x 3 x 8 B, displacements 8 x 3 x 8 B read, result 8 x k x 8 B read and
 /// written (k = 3 for the force, 9 for the 3x3 diagonal blocks), connectivity 8 x 4 B.
 pub fn model_bytes(result_width: usize) -> f64 {
-    (8 * 3 * 8 + 8 * 3 * 8 + 2 * 8 * result_width * 8 + 8 * 4) as f64
+    model_bytes_of(8, result_width)
+}
+
+/// `model_bytes` for an element of `nodes` nodes (10 for the tetrahedron).
+pub fn model_bytes_of(nodes: usize, result_width: usize) -> f64 {
+    (nodes * 3 * 8 + nodes * 3 * 8 + 2 * nodes * result_width * 8 + nodes * 4) as f64
 }
 
 #[derive(Clone, Copy)]
@@ -21,6 +27,8 @@ pub struct Case {
     pub integration: &'static str,
     pub volumetric: &'static str,
     pub large: bool,
+    /// The composite tet10 on the cube split into tetrahedra.
+    pub tet: bool,
 }
 
 impl Case {
@@ -41,44 +49,97 @@ impl Case {
     }
 }
 
-const CASES: [Case; 6] = [
+const CASES: [Case; 9] = [
     Case {
         label: "full, linear elastic (small)",
         integration: "full",
         volumetric: "standard",
         large: false,
+        tet: false,
     },
     Case {
         label: "full + B-bar, linear elastic (small)",
         integration: "full",
         volumetric: "mean_dilatation",
         large: false,
+        tet: false,
     },
     Case {
         label: "mean + hourglass, linear elastic (small)",
         integration: "mean",
         volumetric: "standard",
         large: false,
+        tet: false,
     },
     Case {
         label: "full, neo-Hookean (large)",
         integration: "full",
         volumetric: "standard",
         large: true,
+        tet: false,
     },
     Case {
         label: "full + F-bar, neo-Hookean (large)",
         integration: "full",
         volumetric: "mean_dilatation",
         large: true,
+        tet: false,
     },
     Case {
         label: "mean + hourglass, neo-Hookean (large)",
         integration: "mean",
         volumetric: "standard",
         large: true,
+        tet: false,
+    },
+    Case {
+        label: "tet10 composite, linear elastic (small)",
+        integration: "full",
+        volumetric: "standard",
+        large: false,
+        tet: true,
+    },
+    Case {
+        label: "tet10 + mean dilatation, linear elastic (small)",
+        integration: "full",
+        volumetric: "mean_dilatation",
+        large: false,
+        tet: true,
+    },
+    Case {
+        label: "tet10 composite, neo-Hookean (large)",
+        integration: "full",
+        volumetric: "standard",
+        large: true,
+        tet: true,
     },
 ];
+
+/// The tetrahedral cases' scene: the cube of `tet_cube` (its file `msh`), whose n / 2 cells
+/// a side give 0.75 as many elements as the hexahedral cube of n.
+fn tet_scene(msh: &std::path::Path, case: &Case) -> String {
+    format!(
+        r#"name = "bench_kernel_tet"
+kinematics = "{kinematics}"
+
+[gmsh]
+file = "{msh}"
+
+[[body]]
+name = "cube"
+gmsh_volume = "cube"
+material = {{ model = "{model}", E = 1.0e6, nu = 0.3 }}
+volumetric = "{volumetric}"
+
+[time]
+segments = [{{ end = 1.0, steps = 1 }}]
+"#,
+        kinematics = case.kinematics(),
+        model = case.material(),
+        volumetric = case.volumetric,
+        msh = msh.display(),
+    )
+}
 
 fn kernel_scene(n: usize, case: &Case) -> String {
     format!(
@@ -143,7 +204,10 @@ impl KernelResult {
             nodes: local.num_nodes(),
             seconds: t.wall,
             cpu_share: t.cpu_share,
-            model_bytes: model_bytes(if operation == "diagonal" { 9 } else { 3 }),
+            model_bytes: model_bytes_of(
+                if case.tet { 10 } else { 8 },
+                if operation == "diagonal" { 9 } else { 3 },
+            ),
             checksum: 0.0,
         }
     }
@@ -173,15 +237,24 @@ pub fn run(cfg: &Config) -> Result<Vec<KernelResult>, String> {
         n = cfg.kernel_n
     );
     let mut out = Vec::new();
-    let mut local: Option<LocalMesh> = None;
+    let (mut hex, mut tet): (Option<LocalMesh>, Option<LocalMesh>) = (None, None);
+    let msh = crate::tet_cube::write(
+        &std::env::temp_dir().join("solver-bench-kernels"),
+        (cfg.kernel_n / 2).max(1),
+    )?;
     for case in CASES.iter() {
         let t = Instant::now();
-        let problem = parse(&kernel_scene(cfg.kernel_n, case))?;
-        // Every case has the same mesh: decompose it once.
-        if local.is_none() {
-            local = Some(local_mesh(&problem)?);
+        let problem = if case.tet {
+            parse(&tet_scene(&msh, case))?
+        } else {
+            parse(&kernel_scene(cfg.kernel_n, case))?
+        };
+        // Every case of a kind has the same mesh: decompose it once.
+        let slot = if case.tet { &mut tet } else { &mut hex };
+        if slot.is_none() {
+            *slot = Some(local_mesh(&problem)?);
         }
-        let local = local.as_ref().expect("built above");
+        let local = slot.as_ref().expect("built above");
         let setup = t.elapsed().as_secs_f64();
         // The Gauss-point kernels themselves: no body evaluated by element matrices.
         let asm = Assembly::new(local, &problem.body_models, &Default::default())?;
@@ -247,12 +320,21 @@ mod tests {
         assert_eq!(model_bytes(9), 1568.0);
     }
 
-    /// Every case's scene is accepted by the solver's parser.
+    /// Every case's scene is accepted by the solver's parser; the tetrahedral ones read
+    /// six tet10 elements per cell.
     #[test]
     fn every_case_scene_parses() {
+        let msh =
+            crate::tet_cube::write(&std::env::temp_dir().join("solver-bench-kernels-test"), 2)
+                .unwrap();
         for case in &CASES {
-            let p = parse(&kernel_scene(2, case)).unwrap();
-            assert_eq!(p.mesh.num_elements(), 8, "{}", case.label);
+            let p = if case.tet {
+                parse(&tet_scene(&msh, case)).unwrap()
+            } else {
+                parse(&kernel_scene(2, case)).unwrap()
+            };
+            let want = if case.tet { 48 } else { 8 };
+            assert_eq!(p.mesh.num_elements(), want, "{}", case.label);
         }
     }
 }

@@ -86,6 +86,7 @@ mod scaling;
 mod search;
 mod stats;
 mod suite;
+mod tet_cube;
 
 use config::Config;
 use runner::solver::Precond;

@@ -189,6 +189,7 @@ fn kernels() -> Vec<KernelResult> {
         integration: "full",
         volumetric: "standard",
         large: false,
+        tet: false,
     };
     ["internal_force", "diagonal"]
         .iter()

@@ -49,7 +49,10 @@ pub fn markdown(r: &Results, w: &mut String) {
          `internal_force`, {} B/element for `diagonal`. \"% of triad\" is the model's \
          bandwidth at the median rate over the one-core triad bandwidth{}. With perfect \
          cache reuse on this structured mesh each element brings only about one new node \
-         (about 130 B), so the real DRAM traffic is lower still.\n",
+         (about 130 B), so the real DRAM traffic is lower still. The tet10 rows run on the \
+         same cube cut into n/2 cells a side, each split into six tetrahedra (the Kuhn \
+         split; 0.75 times as many elements, the same node count once the edges' \
+         midpoints are added), their model with 10 nodes per element.\n",
         model_bytes(3),
         model_bytes(9),
         triad.map_or(String::new(), |t| format!(" ({t:.2} GB/s)"))
