@@ -264,3 +264,35 @@ fn self_contact_pass_skips_rigid_bodies_and_the_faces_around_a_node() {
             .any(|&n| p.mesh.coords[n as usize][0] > 0.0)
     }));
 }
+
+/// The self contact's set (one side of the zone, its ties' normals) carries across a
+/// restart: the U killed after step 7 (8 nodes in contact) and continued ends bitwise
+/// identical to the uninterrupted run.
+#[test]
+fn u_squeezed_shut_killed_after_step_7_restarts_bitwise() {
+    let scene = repo("run/scenes/self/u_full.toml").display().to_string();
+    common::restart::killed_and_restarted_is_identical(
+        &scene,
+        &fresh_dir("self-contact/restart"),
+        7,
+    );
+}
+
+/// Self contact on bodies that do not fold ties nothing: the 8-block stack of
+/// tests/general_contact.rs with `self = true` (8 more passes, each block's nodes against
+/// its own faces) gives bitwise the answer without, step by step the same nodes in
+/// contact. A node is never tied to the faces around it, nor to its block's faces on the
+/// same side (not facing it), and the opposite sides are a block's height away.
+#[test]
+fn self_contact_on_blocks_that_do_not_fold_ties_nothing() {
+    let text = std::fs::read_to_string(repo("run/scenes/general/stack8.toml")).unwrap();
+    let with = text.replace("[general_contact]\n", "[general_contact]\nself = true\n");
+    let (p, q) = (common::problem(&text), common::problem(&with));
+    assert_eq!(q.contacts.len(), p.contacts.len() + 8);
+    let (a_summary, a) = common::solve(&p);
+    let (b_summary, b) = common::solve(&q);
+    assert_eq!(a.displacement, b.displacement);
+    for (x, y) in a_summary.steps.iter().zip(&b_summary.steps) {
+        assert_eq!(x.contact.active, y.contact.active);
+    }
+}
