@@ -16,7 +16,7 @@ use solver::problem::Problem;
 use solver::run::RunSummary;
 use solver::scene::load_scene;
 
-/// Loads and runs a scene of the repository to a result file; the run must complete.
+/// Loads and runs a scene to a result file; the run must complete.
 fn run_file(rel: &str, dir: &std::path::Path) -> (Problem, RunSummary, ResultFile) {
     let p = load_scene(&repo(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"));
     let out = dir.join(format!("{}.h5", p.name));
@@ -43,9 +43,24 @@ fn node_at(coords: &[Vec3], x: &Vec3) -> usize {
 /// force, and no node of the whole U ends inside one of its elements.
 #[test]
 fn a_u_squeezed_shut_matches_its_half_model_on_a_rigid_wall() {
-    let dir = fresh_dir("self-contact/u");
-    let (full, full_summary, ff) = run_file("run/scenes/self/u_full.toml", &dir);
-    let (half, half_summary, hf) = run_file("run/scenes/self/u_half.toml", &dir);
+    full_against_half("run/scenes/self/u_full.toml", "run/scenes/self/u_half.toml");
+}
+
+/// The same under small kinematics, pushed 0.5 (the half model's wall takes 20 nodes).
+#[test]
+fn a_u_squeezed_shut_under_small_kinematics_matches_its_half_model() {
+    full_against_half(
+        "run/scenes/self/u_full_small.toml",
+        "run/scenes/self/u_half_small.toml",
+    );
+}
+
+/// The test of the whole U (a scene file) against its half: see
+/// `a_u_squeezed_shut_matches_its_half_model_on_a_rigid_wall`.
+fn full_against_half(full: &str, half: &str) {
+    let dir = fresh_dir(&format!("self-contact/{}", full.replace('/', "_")));
+    let (full, full_summary, ff) = run_file(full, &dir);
+    let (half, half_summary, hf) = run_file(half, &dir);
     // One self contact pass: the U is the only body.
     assert_eq!(full.contacts.len(), 1);
     assert!(full.contacts[0].is_self());
