@@ -183,7 +183,14 @@ pub fn audit<C: Comm + ?Sized>(
         .filter_map(|(p, s)| {
             let x = slaves[p][&s];
             let surface = surfaces[p].as_ref()?;
-            let it = surface.nearest(&x)?;
+            // A self contact node's nearest face is one facing it, not around it.
+            let pair = &problem.contacts[p];
+            let it = match pair.slave_nodes.binary_search(&s) {
+                Ok(i) if pair.is_self() => surface
+                    .nearest_among(&x, pair.facing(i), pair.skipped(i))
+                    .map(|it| surface.symmetrise(it, &x, s)),
+                _ => surface.nearest(&x),
+            }?;
             let xc = surface.point(it.face, &it.s)?;
             let depth = norm(&sub(&x, &xc));
             Some(Finding {

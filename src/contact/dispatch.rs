@@ -11,6 +11,7 @@ use super::enforcement::{Enforcement, SetEntry, TieSupport};
 use super::ghost;
 use super::mortar::surfaces::Positions;
 use super::project::tangents;
+use super::self_contact;
 use crate::comm::{self, message, Comm};
 use crate::constraints::{Constraints, RowKind, RowSpec};
 use crate::math::{add, scale, sub, Mat3, Vec3};
@@ -156,12 +157,15 @@ impl Enforcement for ContactState {
         slide: bool,
     ) -> bool {
         let geometry = self.geometry(comm, problem, mesh, (u, u));
+        let before = self_contact::keys(self);
         let mut changed = false;
         for kind in super::kinds() {
             changed |= kind.capture(self, problem, mesh, u, &geometry, slide);
         }
         self.share(comm, mesh);
-        comm::any(comm, changed)
+        // Alike on every rank (the shared set): no collective needed for its answer.
+        let released = self_contact::one_side(self, problem, &before);
+        comm::any(comm, changed) || released
     }
 
     /// One contact update at the current displacement `u` (`start`: at the start of the
@@ -183,11 +187,13 @@ impl Enforcement for ContactState {
         let mut changed = self.release_tensile(problem, force_tol);
         let geometry = self.geometry(comm, problem, mesh, (u, start));
         changed |= self.coulomb(problem, mesh, (u, start), &geometry, force_tol);
+        let before = self_contact::keys(self);
         for kind in super::kinds() {
             changed |= kind.search(self, problem, mesh, u, &geometry);
         }
         self.share(comm, mesh);
-        let changed = comm::any(comm, changed);
+        let released = self_contact::one_side(self, problem, &before);
+        let changed = comm::any(comm, changed) || released;
         self.steady = !changed;
         if changed {
             // Newton's turns are compared between updates of one constraint set only.
@@ -293,6 +299,7 @@ impl Enforcement for ContactState {
             .map(|a| (a.slave, a.pair))
             .collect();
         tied.extend(held_by_partner(self, problem));
+        tied.extend(self_contact::held_masters(self, problem));
         tied.sort_unstable();
         audit::audit(comm, problem, mesh, u, &tied)
     }
@@ -306,6 +313,7 @@ impl Enforcement for ContactState {
         findings: &[Finding],
     ) {
         let positions = || Positions::gather(comm, problem, mesh, u, u);
+        let before = self_contact::keys(self);
         for kind in super::kinds() {
             let mine: Vec<Finding> = findings
                 .iter()
@@ -316,6 +324,8 @@ impl Enforcement for ContactState {
                 self.share(comm, mesh);
             }
         }
+        // The findings and the set are alike on every rank.
+        self_contact::one_side(self, problem, &before);
     }
 
     fn supports(&self, problem: &Problem) -> Vec<TieSupport> {

@@ -18,6 +18,7 @@ pub mod mortar;
 mod node_face;
 pub mod project;
 pub mod search;
+mod self_contact;
 pub mod slip;
 pub mod state;
 

@@ -73,6 +73,11 @@ pub struct ContactPair {
     /// master face is found for a node only if its normal opposes this. None for
     /// `[[contact]]` pairs, whose side sets already say which faces meet.
     pub slave_normals: Option<Vec<crate::math::Vec3>>,
+    /// Self contact (`scene::validate::general`, a body's exterior nodes against its own
+    /// exterior faces): per slave node (by position in `slave_nodes`), the master facets
+    /// (ascending indices in the pair) it is never tied to, the faces around it: those
+    /// that share a node with a face that holds the node. None for every other pair.
+    pub neighbourhood: Option<Vec<Vec<u32>>>,
 }
 
 impl ContactPair {
@@ -162,7 +167,19 @@ impl ContactPair {
             secondary: false,
             partner: None,
             slave_normals: None,
+            neighbourhood: None,
         }
+    }
+
+    /// Whether the pair is a self contact (its slave nodes are on its own master faces).
+    pub fn is_self(&self) -> bool {
+        self.neighbourhood.is_some()
+    }
+
+    /// The master facets slave node `i` (its position in `slave_nodes`) is never tied to,
+    /// ascending: the faces around it in a self contact, none otherwise.
+    pub fn skipped(&self, i: usize) -> &[u32] {
+        self.neighbourhood.as_ref().map_or(&[], |n| &n[i])
     }
 
     /// The outward normal slave node `i` (its position in `slave_nodes`) must oppose.

@@ -244,6 +244,10 @@ pub struct GeneralContactDef {
     pub exclude: Vec<Vec<String>>,
     #[serde(default)]
     pub pair: Vec<GeneralPairDef>,
+    /// Self contact: `true` (every body), `false` (none, the default) or a list of body
+    /// names (`scene::validate::self_contact` reads it).
+    #[serde(rename = "self")]
+    pub self_contact: Option<toml::Value>,
 }
 
 /// `[[general_contact.pair]]`: the interaction of two bodies, each key unset taking the

@@ -78,11 +78,17 @@ impl PairKind for NodeFace {
         geometry: &Geometry<'_>,
         out: &mut Vec<(u32, f64)>,
     ) {
-        for &s in &problem.contacts[p].slave_nodes {
+        let pair = &problem.contacts[p];
+        for (i, &s) in pair.slave_nodes.iter().enumerate() {
             let Some(l) = mesh.owned_node(s) else {
                 continue;
             };
-            if let Some(it) = geometry.surfaces[p].search(&ghost::position(mesh, u, l)) {
+            let x = ghost::position(mesh, u, l);
+            // A self contact node's gap is to a face facing it, not to its own.
+            let facing = pair.is_self().then(|| pair.facing(i)).flatten();
+            let surface = &geometry.surfaces[p];
+            let found = surface.search_near(&x, facing, pair.skipped(i));
+            if let Some(it) = found.map(|it| surface.symmetrise(it, &x, s)) {
                 out.push((s, it.gap));
             }
         }

@@ -7,6 +7,7 @@
 use crate::contact::active::{new_active, ContactState, Mode, PENETRATION_NOISE};
 use crate::contact::ghost;
 use crate::contact::search::{Interaction, MasterSurface};
+use crate::contact::self_contact::Sides;
 use crate::math::{norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::{Discretization, Problem};
@@ -31,6 +32,7 @@ impl ContactState {
         let released = self.released_set();
         let existing: HashSet<(u32, usize)> =
             self.active.iter().map(|a| (a.slave, a.pair)).collect();
+        let sides = Sides::of(self, problem);
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
             if pair.discretization != Discretization::NodeFace {
@@ -44,8 +46,11 @@ impl ContactState {
                     continue;
                 }
                 let x = ghost::position(mesh, u, l);
-                if let Some(it) = surfaces[p].search_facing(&x, pair.facing(i)) {
-                    if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p))) {
+                let found = surfaces[p].search_near(&x, pair.facing(i), pair.skipped(i));
+                if let Some(it) = found.map(|it| surfaces[p].symmetrise(it, &x, s)) {
+                    if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p)))
+                        && sides.admits(problem, p, s, it.face)
+                    {
                         self.active.push(new_active(p, s, &it, pair.mu));
                         changed = true;
                     }
@@ -75,6 +80,7 @@ impl ContactState {
             }
         }
         let released = self.released_set();
+        let sides = Sides::of(self, problem);
         let mut gone = vec![false; self.active.len()];
         let mut added = Vec::new();
         for (p, pair) in problem.contacts.iter().enumerate() {
@@ -89,8 +95,13 @@ impl ContactState {
                 let current = index.get(&(s, p)).map(|&k| self.active[k].face);
                 let found = current
                     .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
-                    .or_else(|| surfaces[p].search_facing(&x, pair.facing(i)));
+                    .or_else(|| surfaces[p].search_near(&x, pair.facing(i), pair.skipped(i)))
+                    .map(|it| surfaces[p].symmetrise(it, &x, s));
+                // A self contact keeps one side of a zone (self_contact.rs): a node is not
+                // captured, nor moved, onto a face that breaks it.
+                let admitted = found.is_none_or(|it| sides.admits(problem, p, s, it.face));
                 match (index.get(&(s, p)), found) {
+                    (Some(_), _) if !admitted => {}
                     (Some(&k), found) => {
                         if self.follow(k, found, (s, p), &released, pair.face_size) {
                             gone[k] = true;
@@ -100,7 +111,9 @@ impl ContactState {
                     (None, Some(it)) => {
                         // A node released in this step is only pushed back if it clearly
                         // penetrates; at zero gap it is just leaving.
-                        if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p))) {
+                        if admitted
+                            && pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p)))
+                        {
                             added.push(new_active(p, s, &it, pair.mu));
                             changed = true;
                         }
@@ -130,6 +143,7 @@ impl ContactState {
         u: &[Vec3],
         surfaces: &[MasterSurface],
     ) {
+        let sides = Sides::of(self, problem);
         for a in &mut self.active {
             if !matches!(a.mode, Mode::Slip { .. })
                 || problem.contacts[a.pair].discretization != Discretization::NodeFace
@@ -142,14 +156,14 @@ impl ContactState {
             let x = ghost::position(mesh, u, l);
             let surface = &surfaces[a.pair];
             let pair = &problem.contacts[a.pair];
-            let facing = pair
-                .slave_nodes
-                .binary_search(&a.slave)
-                .ok()
-                .and_then(|i| pair.facing(i));
+            let i = pair.slave_nodes.binary_search(&a.slave).ok();
+            let facing = i.and_then(|i| pair.facing(i));
+            let skip = i.map_or(&[][..], |i| pair.skipped(i));
             if let Some(it) = surface
                 .stay_on(a.face, &x, EDGE_HYSTERESIS)
-                .or_else(|| surface.search_facing(&x, facing))
+                .or_else(|| surface.search_near(&x, facing, skip))
+                .map(|it| surface.symmetrise(it, &x, a.slave))
+                .filter(|it| sides.admits(problem, a.pair, a.slave, it.face))
             {
                 a.face = it.face;
                 a.s = it.s;

@@ -7,7 +7,8 @@
 //! than the capture tolerance, and its nodes are in the penetration audit, so no node of
 //! either body ends inside the other. The slave of the primary pass is the body set by the
 //! pair's `slave`, else the one that can move when the other is prescribed in every node,
-//! else the finer (smaller mean exterior face), else the one declared later.
+//! else the finer (smaller mean exterior face), else the one declared later. `self` adds a
+//! body's exterior nodes against its own faces (self_contact.rs).
 
 use super::contacts::{fixed_directions, mean_face_size, surface_nodes};
 use super::*;
@@ -15,10 +16,10 @@ use crate::problem::ContactPair;
 
 /// A body of the general contact: its exterior faces, their mean size, and whether every
 /// node of it is prescribed.
-struct Skin {
-    faces: Vec<(u32, u8)>,
-    size: f64,
-    rigid: bool,
+pub(super) struct Skin {
+    pub(super) faces: Vec<(u32, u8)>,
+    pub(super) size: f64,
+    pub(super) rigid: bool,
 }
 
 impl Builder {
@@ -70,6 +71,7 @@ impl Builder {
                 }
             }
         }
+        pairs.extend(self.self_contacts(g, mesh, &left_out, &skins)?);
         Ok(pairs)
     }
 
@@ -244,7 +246,7 @@ impl Builder {
 }
 
 /// The interaction of one body pair: the pair's keys where set, the general ones elsewhere.
-fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) -> ContactDef {
+pub(super) fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) -> ContactDef {
     let pick = |o: Option<f64>, d: Option<f64>| o.or(d);
     let o = over.cloned();
     let o = o.as_ref();
@@ -305,7 +307,7 @@ fn explicit_body_pairs(mesh: &GlobalMesh, explicit: &[ContactPair]) -> Vec<(usiz
 
 /// Each node's outward normal: the mean of the unit normals of the faces around it (in the
 /// reference configuration), by position in `nodes` (ascending).
-fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Vec<Vec3> {
+pub(super) fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Vec<Vec3> {
     let mut sum = vec![[0.0; 3]; nodes.len()];
     // Per contact facet: a hexahedron's face, or each of a tet10 face's sub-triangles,
     // whose fourth node repeats its third (the diagonals' cross product is then the
