@@ -78,6 +78,38 @@ fn poisson_ratio_at_half() {
     );
 }
 
+/// Two entries prescribing one direction of the same nodes with other values: the second
+/// would be dropped silently (a node's rows in the span of its earlier ones are), so the
+/// scene is refused naming both entries, the node and the values; the same values twice
+/// (an edge node in two held faces) and a skew direction in the span of held components
+/// with consistent values are accepted.
+#[test]
+fn contradicting_prescribed_displacements() {
+    let side = "[[node_set]]\nname = \"left\"\nplane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }\n";
+    let pulled = format!(
+        "{side}[[displacement]]\nnode_set = \"left\"\ncomponents = [\"x\"]\nfunction = [[0.0, 0.0], [1.0, -0.1]]\n"
+    );
+    let text = GOOD.replace("[time]", &format!("{pulled}[time]"));
+    expect_error(
+        "contradicting",
+        &text,
+        &[
+            "displacement[1]",
+            "displacement[0]",
+            "node 1 ",
+            "as 0 at t = 1, and here as -0.1",
+        ],
+    );
+    let same = format!(
+        "{side}[[displacement]]\nnode_set = \"left\"\ncomponents = [\"x\"]\nvalue = 0.0\n[[displacement]]\nnode_set = \"left\"\ndirection = [1.0, 1.0, 0.0]\nvalue = 0.0\n"
+    );
+    let (code, err) = run_bad(
+        "same_twice",
+        &GOOD.replace("[time]", &format!("{same}[time]")),
+    );
+    assert_eq!(code, 0, "{err}");
+}
+
 #[test]
 fn inverted_element() {
     // Top and bottom corners swapped: every Jacobian is negative.

@@ -39,6 +39,11 @@ impl PiecewiseLinear {
         p[p.len() - 1].1
     }
 
+    /// The times of the points (where the function may change slope).
+    pub fn times(&self) -> impl Iterator<Item = f64> + '_ {
+        self.points.iter().map(|p| p.0)
+    }
+
     pub fn max_abs(&self) -> f64 {
         self.points.iter().fold(0.0, |m, &(_, v)| m.max(v.abs()))
     }

@@ -19,6 +19,7 @@ mod gmsh;
 mod kinds;
 mod loads;
 mod material;
+mod prescribed;
 mod self_contact;
 mod sets;
 use error::Builder;

@@ -36,7 +36,7 @@ impl Builder {
         raw: &SceneFile,
         node_sets: &[NodeSet],
     ) -> Result<Vec<Dirichlet>, SceneError> {
-        let mut dirichlet = Vec::new();
+        let (mut dirichlet, mut origin) = (Vec::new(), Vec::new());
         for (i, d) in raw.displacement.iter().enumerate() {
             let key = format!("displacement[{i}]");
             let set = self.node_set_index(node_sets, &format!("{key}.node_set"), &d.node_set)?;
@@ -47,8 +47,10 @@ impl Builder {
                     direction,
                     function: function.clone(),
                 });
+                origin.push(i);
             }
         }
+        self.consistent_displacements(&dirichlet, &origin, node_sets)?;
         Ok(dirichlet)
     }
 
