@@ -1,107 +1,41 @@
-//! Hill's thick-walled sphere under internal pressure, elastic-perfectly plastic (Hill, The
-//! Mathematical Theory of Plasticity, 1950, ch. V): with the plastic front at radius c,
-//!
-//!   p(c)  = 2 sigma_y ln(c/a) + (2 sigma_y / 3) (1 - c^3/b^3),
-//!   u(b)  = sigma_y (1 - nu) c^3 / (E b^2),
-//!
-//! and the limit pressure 2 sigma_y ln(b/a) when the front reaches b. The sphere is a thin
-//! sector around the x axis (a gnomonic patch |y/x|, |z/x| <= W) whose flat sides pass
-//! through the centre and carry u . n = 0, which the exact (radial) solution satisfies.
+//! Hill's thick-walled sphere under internal pressure (`common::hill`: the closed form and
+//! the thin sector whose flat sides carry u . n = 0) on hexahedra: a box of n elements along
+//! the radius, mapped onto the sector.
 
 mod common;
 
+use common::hill::{material, p_of_c, sides_and_load, to_sector, ub_of_c, A, B, FRONTS, SY};
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;
 use solver::problem::Problem;
 use solver::solver::Stepper;
 
-const E: f64 = 200e3;
-const NU: f64 = 0.3;
-const SY: f64 = 250.0;
-const A: f64 = 1.0;
-const B: f64 = 2.0;
-const W: f64 = 0.05;
 const BAR: &str = "volumetric = \"mean_dilatation\"";
 const MEAN: &str = "integration = \"mean\"";
 
-fn p_of_c(c: f64) -> f64 {
-    2.0 * SY * (c / A).ln() + 2.0 * SY / 3.0 * (1.0 - (c / B).powi(3))
-}
-
-fn ub_of_c(c: f64) -> f64 {
-    SY * (1.0 - NU) * c.powi(3) / (E * B * B)
-}
-
 /// The sector scene with the pressure reaching each of `pressures` at t = 1, 2, ...
 fn scene(n: usize, pressures: &[f64], element: &str) -> Problem {
-    let k = 1.0 / (1.0 + W * W).sqrt();
-    let mut func = String::from("[0.0, 0.0]");
-    let mut segs = Vec::new();
-    for (i, p) in pressures.iter().enumerate() {
-        func += &format!(", [{}.0, {p}]", i + 1);
-        segs.push(format!("{{ end = {}.0, steps = 2 }}", i + 1));
-    }
+    let w = common::hill::W;
     let text = format!(
         r#"
 kinematics = "small"
 [[body]]
 name = "sphere"
-box = {{ min = [{A}, {mw}, {mw}], max = [{B}, {W}, {W}] }}
+box = {{ min = [{A}, {mw}, {mw}], max = [{B}, {w}, {w}] }}
 divisions = [{n}, 1, 1]
-material = {{ model = "j2_plastic", E = {E}, nu = {NU}, yield_stress = {SY} }}
+{material}
 {element}
-[[node_set]]
-name = "ym"
-plane = {{ point = [0.0, {mw}, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "yp"
-plane = {{ point = [0.0, {W}, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "zm"
-plane = {{ point = [0.0, 0.0, {mw}], normal = [0.0, 0.0, 1.0] }}
-[[node_set]]
-name = "zp"
-plane = {{ point = [0.0, 0.0, {W}], normal = [0.0, 0.0, 1.0] }}
-[[side_set]]
-name = "inner"
-plane = {{ point = [{A}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[displacement]]
-node_set = "ym"
-direction = [{wk}, {k}, 0.0]
-value = 0.0
-[[displacement]]
-node_set = "yp"
-direction = [{mwk}, {k}, 0.0]
-value = 0.0
-[[displacement]]
-node_set = "zm"
-direction = [{wk}, 0.0, {k}]
-value = 0.0
-[[displacement]]
-node_set = "zp"
-direction = [{mwk}, 0.0, {k}]
-value = 0.0
-[[pressure]]
-side_set = "inner"
-function = [{func}]
-[time]
-segments = [{segs}]
-[solver]
+{sides}[solver]
 tolerance = 1e-9
 max_iterations = 200000
 "#,
-        mw = -W,
-        wk = W * k,
-        mwk = -W * k,
-        segs = segs.join(", "),
+        mw = -w,
+        material = material(),
+        sides = sides_and_load(pressures),
     );
     let mut p = common::problem(&text);
-    // The box [a, b] x [-W, W]^2 onto the sector: (x, y, z) -> x (1, y, z) / |(1, y, z)|.
-    for c in p.mesh.coords.iter_mut() {
-        let s = c[0] / (1.0 + c[1] * c[1] + c[2] * c[2]).sqrt();
-        *c = [s, s * c[1], s * c[2]];
-    }
+    to_sector(&mut p.mesh.coords);
     p
 }
 
@@ -151,9 +85,6 @@ fn solve_with(
     }
     Ok((out, cg))
 }
-
-/// Front radii the pressures are chosen for.
-const FRONTS: [f64; 3] = [1.25, 1.5, 1.75];
 
 #[test]
 fn hill_sphere_converges_under_refinement() {

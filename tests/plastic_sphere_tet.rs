@@ -1,13 +1,14 @@
-//! Hill's thick-walled sphere under internal pressure (tests/plastic_sphere.rs has the
-//! closed form and the hexahedral sector) on composite tetrahedra: the same thin sector
-//! |y/x|, |z/x| <= W around the x axis, meshed with 4-node tetrahedra by Gmsh as a box
-//! [a, b] x [-W, W]^2 (completed to 10 nodes by the reader) and mapped onto the sector
-//! node by node, midside nodes included, so the elements follow the spheres. Flat sides
-//! carry u . n = 0, the inner sphere the pressure on its 6-node faces.
+//! Hill's thick-walled sphere under internal pressure (`common::hill`: the closed form and
+//! the thin sector, as in tests/plastic_sphere.rs for hexahedra) on composite tetrahedra:
+//! the box [a, b] x [-W, W]^2 meshed with 4-node tetrahedra by Gmsh (completed to 10
+//! nodes by the reader) and mapped onto the sector node by node, midside nodes included,
+//! so the elements follow the spheres. Flat sides carry u . n = 0, the inner sphere the
+//! pressure on its 6-node faces.
 
 mod common;
 
 use common::fresh_dir;
+use common::hill::{material, p_of_c, sides_and_load, to_sector, ub_of_c, A, B, FRONTS, W};
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;
@@ -15,24 +16,6 @@ use solver::scene::load_scene;
 use solver::solver::Stepper;
 use std::path::Path;
 use std::process::Command;
-
-const E: f64 = 200e3;
-const NU: f64 = 0.3;
-const SY: f64 = 250.0;
-const A: f64 = 1.0;
-const B: f64 = 2.0;
-const W: f64 = 0.05;
-
-fn p_of_c(c: f64) -> f64 {
-    2.0 * SY * (c / A).ln() + 2.0 * SY / 3.0 * (1.0 - (c / B).powi(3))
-}
-
-fn ub_of_c(c: f64) -> f64 {
-    SY * (1.0 - NU) * c.powi(3) / (E * B * B)
-}
-
-/// Front radii the pressures are chosen for (as for the hexahedra).
-const FRONTS: [f64; 3] = [1.25, 1.5, 1.75];
 
 /// The box [a, b] x [-W, W]^2 meshed by Gmsh (OpenCASCADE) with tetrahedra of size h.
 fn mesh(dir: &Path, h: f64) -> std::path::PathBuf {
@@ -65,13 +48,7 @@ fn mesh(dir: &Path, h: f64) -> std::path::PathBuf {
 }
 
 fn scene(msh: &Path, element: &str) -> String {
-    let k = 1.0 / (1.0 + W * W).sqrt();
-    let mut func = String::from("[0.0, 0.0]");
-    let mut segs = Vec::new();
-    for (i, c) in FRONTS.iter().enumerate() {
-        func += &format!(", [{}.0, {}]", i + 1, p_of_c(*c));
-        segs.push(format!("{{ end = {}.0, steps = 2 }}", i + 1));
-    }
+    let pressures: Vec<f64> = FRONTS.iter().map(|&c| p_of_c(c)).collect();
     format!(
         r#"
 kinematics = "small"
@@ -80,52 +57,14 @@ file = "{msh}"
 [[body]]
 name = "sphere"
 gmsh_volume = "sphere"
-material = {{ model = "j2_plastic", E = {E}, nu = {NU}, yield_stress = {SY} }}
+{material}
 {element}
-[[node_set]]
-name = "ym"
-plane = {{ point = [0.0, {mw}, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "yp"
-plane = {{ point = [0.0, {W}, 0.0], normal = [0.0, 1.0, 0.0] }}
-[[node_set]]
-name = "zm"
-plane = {{ point = [0.0, 0.0, {mw}], normal = [0.0, 0.0, 1.0] }}
-[[node_set]]
-name = "zp"
-plane = {{ point = [0.0, 0.0, {W}], normal = [0.0, 0.0, 1.0] }}
-[[side_set]]
-name = "inner"
-plane = {{ point = [{A}, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-[[displacement]]
-node_set = "ym"
-direction = [{wk}, {k}, 0.0]
-value = 0.0
-[[displacement]]
-node_set = "yp"
-direction = [{mwk}, {k}, 0.0]
-value = 0.0
-[[displacement]]
-node_set = "zm"
-direction = [{wk}, 0.0, {k}]
-value = 0.0
-[[displacement]]
-node_set = "zp"
-direction = [{mwk}, 0.0, {k}]
-value = 0.0
-[[pressure]]
-side_set = "inner"
-function = [{func}]
-[time]
-segments = [{segs}]
-[solver]
+{sides}[solver]
 tolerance = 1e-9
 "#,
         msh = msh.display(),
-        mw = -W,
-        wk = W * k,
-        mwk = -W * k,
-        segs = segs.join(", "),
+        material = material(),
+        sides = sides_and_load(&pressures),
     )
 }
 
@@ -137,11 +76,7 @@ fn solve(n: usize, element: &str, tag: &str) -> (Vec<(f64, f64)>, u64, usize) {
     let path = dir.join("sector.toml");
     std::fs::write(&path, scene(&msh, element)).unwrap();
     let mut p = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
-    // The box onto the sector: (x, y, z) -> x (1, y, z) / |(1, y, z)|.
-    for c in p.mesh.coords.iter_mut() {
-        let s = c[0] / (1.0 + c[1] * c[1] + c[2] * c[2]).sqrt();
-        *c = [s, s * c[1], s * c[2]];
-    }
+    to_sector(&mut p.mesh.coords);
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod bad_scene;
+pub mod hill;
 pub mod paths;
 pub mod punch;
 pub mod restart;
