@@ -132,7 +132,9 @@ fn master_and_slave_sets_sharing_nodes() {
 fn slave_on_a_fully_prescribed_body() {
     let text = with_keys("").replace(
         "[[contact]]",
-        "[[displacement]]\nnode_set = \"upper_all\"\ncomponents = [\"x\", \"y\", \"z\"]\nvalue = 0.0\n[[contact]]",
+        "[[displacement]]\nnode_set = \"upper_all\"\ncomponents = [\"x\", \"z\"]\nvalue = 0.0\n\
+         [[displacement]]\nnode_set = \"upper_all\"\ncomponents = [\"y\"]\n\
+         function = [[0.0, 0.0], [1.0, -0.01]]\n[[contact]]",
     );
     expect_error(
         "contact_slave_prescribed",

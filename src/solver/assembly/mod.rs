@@ -12,7 +12,9 @@ use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
 use crate::solver::shapes::{Elements, Plan, Shapes};
 
+mod elastic;
 mod tangents;
+pub use elastic::{Elastic, ElasticMatrices};
 pub use tangents::Tangents;
 
 /// A failure inside one element, with its global (1-based) id.
@@ -25,35 +27,6 @@ pub struct ElementError {
 impl std::fmt::Display for ElementError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "element {}: {}", self.element, self.failure)
-    }
-}
-
-/// The elastic matrices of the local elements of small-kinematics plastic bodies, each
-/// computed when its element is first marked (`Assembly::mark_elastic`) and kept for the
-/// run: a function of the element's geometry and material only.
-#[derive(Default)]
-pub struct ElasticMatrices {
-    matrix: Vec<Option<Box<element::ElementMatrix>>>,
-}
-
-/// The elastic matrices and which elements they stand for at one state (`marks`, one flag
-/// per local element): an element marked there has every stress point elastic, so its
-/// internal force's derivative is its elastic matrix.
-#[derive(Clone, Copy)]
-pub struct Elastic<'a> {
-    pub matrices: &'a ElasticMatrices,
-    pub marks: &'a [bool],
-}
-
-impl<'a> Elastic<'a> {
-    /// Element `e`'s elastic matrix when it is marked.
-    #[inline]
-    pub fn get(&self, e: usize) -> Option<&'a element::ElementMatrix> {
-        if *self.marks.get(e)? {
-            self.matrices.matrix.get(e)?.as_deref()
-        } else {
-            None
-        }
     }
 }
 
@@ -490,6 +463,40 @@ impl<'a> Assembly<'a> {
             marked += marks[e] as usize;
         }
         marked
+    }
+
+    /// The consistent tangents at u (from the committed history) of the local elements of
+    /// small-kinematics J2 bodies that `elastic` does not mark, into `t` (overwritten);
+    /// returns how many elements have one.
+    pub fn consistent_tangents(
+        &self,
+        u: &[Vec3],
+        elastic: Option<Elastic>,
+        t: &mut Tangents,
+    ) -> usize {
+        t.clear();
+        let mut count = 0;
+        for e in 0..self.mesh.elements.len() {
+            let m = &self.models[self.mesh.element_body[e] as usize];
+            let model = (&m.material, m.formulation);
+            if m.material.is_plastic()
+                && !m.material.is_large()
+                && elastic.and_then(|s| s.get(e)).is_none()
+            {
+                let added = match self.mesh.kind(e) {
+                    ElementKind::Hex8 => self.shapes.get(e).is_ok_and(|shape| {
+                        t.add_hex(shape, &self.gather(e, u), model, self.hist(e))
+                    }),
+                    ElementKind::Tet10 => self
+                        .shapes
+                        .tet(e)
+                        .is_ok_and(|geo| t.add_tet(geo, &self.gather(e, u), model, self.hist(e))),
+                };
+                count += added as usize;
+            }
+            t.end_element();
+        }
+        count
     }
 
     /// The internal force at `u` of the elements evaluated by their kernel: all but those

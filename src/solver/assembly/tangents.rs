@@ -6,8 +6,8 @@
 //! the mean of its branches, where a central difference of the forces mixes them column
 //! by column (docs/plasticity-solve.md).
 
-use super::{Assembly, Elastic};
-use crate::fem::{element, tet10, ElementKind};
+use crate::fem::{element, tet10, Formulation};
+use crate::material::{Material, PlasticState};
 use crate::math::Vec3;
 
 /// Element e's n x n matrix (column j at `j * n`) is `k[offset[e]..offset[e + 1]]`, empty
@@ -46,65 +46,52 @@ pub fn product<const N: usize>(k: &[f64], x: &[Vec3; N], y: &mut [Vec3; N]) {
     }
 }
 
-impl Assembly<'_> {
-    /// The consistent tangents at u (from the committed history) of the local elements of
-    /// small-kinematics J2 bodies that `elastic` does not mark, into `t` (overwritten);
-    /// returns how many elements have one.
-    pub fn consistent_tangents(
-        &self,
-        u: &[Vec3],
-        elastic: Option<Elastic>,
-        t: &mut Tangents,
-    ) -> usize {
-        t.offset.clear();
-        t.k.clear();
-        t.offset.push(0);
-        let mut count = 0;
-        for e in 0..self.mesh.elements.len() {
-            let m = &self.models[self.mesh.element_body[e] as usize];
-            let wanted = m.material.is_plastic()
-                && !m.material.is_large()
-                && elastic.and_then(|s| s.get(e)).is_none();
-            if wanted && self.add_tangent(e, u, t) {
-                count += 1;
-            }
-            t.offset.push(t.k.len());
-        }
-        count
+impl Tangents {
+    /// Empties the matrices before a state's elements are added, in order.
+    pub(super) fn clear(&mut self) {
+        self.offset.clear();
+        self.k.clear();
+        self.offset.push(0);
     }
 
-    /// Appends element `e`'s consistent tangent to `t.k`; false (nothing appended) when
-    /// the element has none.
-    fn add_tangent(&self, e: usize, u: &[Vec3], t: &mut Tangents) -> bool {
-        let m = &self.models[self.mesh.element_body[e] as usize];
-        let (mat, form, hist) = (&m.material, m.formulation, self.hist(e));
-        match self.mesh.kind(e) {
-            ElementKind::Hex8 => {
-                let Ok((geo, gauss)) = self.shapes.get(e) else {
-                    return false;
-                };
-                let ue = self.gather::<8>(e, u);
-                match element::consistent_matrix(geo, gauss, &ue, mat, form, hist) {
-                    Some(k) => {
-                        t.k.extend_from_slice(&k[..]);
-                        true
-                    }
-                    None => false,
-                }
+    /// Closes the next element's range (empty if nothing was added for it).
+    pub(super) fn end_element(&mut self) {
+        self.offset.push(self.k.len());
+    }
+
+    /// Adds a hexahedron's consistent tangent at `u` (`element::consistent_matrix`); false
+    /// (nothing added) when it has none.
+    pub(super) fn add_hex(
+        &mut self,
+        (geo, gauss): (&element::Geometry, Option<&element::GaussGeometry>),
+        u: &[Vec3; 8],
+        (mat, form): (&Material, Formulation),
+        hist: &[PlasticState],
+    ) -> bool {
+        match element::consistent_matrix(geo, gauss, u, mat, form, hist) {
+            Some(k) => {
+                self.k.extend_from_slice(&k[..]);
+                true
             }
-            ElementKind::Tet10 => {
-                let Ok(geo) = self.shapes.tet(e) else {
-                    return false;
-                };
-                let ue = self.gather::<10>(e, u);
-                let start = t.k.len();
-                t.k.resize(start + 900, 0.0);
-                let done = tet10::consistent_matrix(geo, &ue, mat, form, hist, &mut t.k[start..]);
-                if !done {
-                    t.k.truncate(start);
-                }
-                done
-            }
+            None => false,
         }
+    }
+
+    /// Adds a composite tetrahedron's consistent tangent at `u` (`tet10::consistent_matrix`);
+    /// false (nothing added) when it has none.
+    pub(super) fn add_tet(
+        &mut self,
+        geo: &tet10::Geometry,
+        u: &[Vec3; 10],
+        (mat, form): (&Material, Formulation),
+        hist: &[PlasticState],
+    ) -> bool {
+        let start = self.k.len();
+        self.k.resize(start + 900, 0.0);
+        let done = tet10::consistent_matrix(geo, u, mat, form, hist, &mut self.k[start..]);
+        if !done {
+            self.k.truncate(start);
+        }
+        done
     }
 }

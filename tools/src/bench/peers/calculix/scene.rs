@@ -467,9 +467,10 @@ mod tests {
         let problem = crate::api::parse(&text).unwrap();
         let text_of = deck(&problem, 1e7).unwrap().text();
         assert!(text_of.contains("*FRICTION\n0.3, 1000000.0\n"), "{text_of}");
+        // On the held bottom: the skew row repeats what x and y prescribe there (a skew
+        // row with other values is refused by the scene itself).
         let skew = format!(
-            "{text}\n[[displacement]]\nnode_set = \"{}\"\ndirection = [1.0, 1.0, 0.0]\nvalue = 0.0\n",
-            crate::block::BLOCK_TOP_SET
+            "{text}\n[[displacement]]\nnode_set = \"lower_bottom\"\ndirection = [1.0, 1.0, 0.0]\nvalue = 0.0\n"
         );
         let problem = crate::api::parse(&skew).unwrap();
         let e = deck(&problem, 1e7).err().unwrap();
