@@ -118,58 +118,12 @@ pub fn audit<C: Comm + ?Sized>(
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
     let mut found: Vec<(usize, u32)> = Vec::new();
-    for p in 0..problem.contacts.len() {
-        let bodies = master_bodies(problem, p);
-        if slaves[p].is_empty() {
-            continue;
-        }
-        // Only the master elements whose box meets the box of the pair's slave nodes can
-        // hold one (a point of a hexahedron is a convex combination of its corners): the
-        // others are left out of the tree (a whole master body's corners were a step's
-        // largest transient at 10^6 elements).
-        let near = bounding_box_of(slaves[p].values());
-        let mut elements: Vec<usize> = Vec::new();
-        let mut corners: Vec<Vec<Vec3>> = Vec::new();
-        let mut aabbs: Vec<Aabb> = Vec::new();
-        for e in 0..mesh.elements.len() {
-            if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
-                continue;
-            }
-            let x: Vec<Vec3> = mesh
-                .elements
-                .element(e)
-                .iter()
-                .map(|&n| position(mesh, u, n as usize))
-                .collect();
-            let b = bounding_box(&x);
-            if b.intersects(&near) {
-                elements.push(e);
-                corners.push(x);
-                aabbs.push(b);
-            }
-        }
-        if elements.is_empty() {
-            continue;
-        }
-        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
-        for (&s, x) in slaves[p].iter() {
-            if tied.binary_search(&(s, p)).is_ok() {
-                continue;
-            }
-            let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
-            let inside = bvh.intersect_aabb(&probe).any(|k| {
-                let e = elements[k as usize];
-                let own = mesh
-                    .elements
-                    .element(e)
-                    .iter()
-                    .any(|&l| mesh.node_global[l as usize] == s);
-                !own && contains_any(&corners[k as usize], x)
-            });
-            if inside {
-                found.push((p, s));
-            }
-        }
+    for (p, slaves_p) in slaves.iter().enumerate() {
+        found.extend(
+            inside(problem, mesh, u, tied, p, slaves_p)
+                .into_iter()
+                .map(|s| (p, s)),
+        );
     }
     let mut found: Vec<(usize, u32)> = message::all_gather(comm, &found);
     found.sort_unstable_by_key(|&(p, s)| (s, p));
@@ -180,27 +134,7 @@ pub fn audit<C: Comm + ?Sized>(
     let surfaces = gather_masters(comm, problem, mesh, u, &found);
     let mut findings: Vec<Finding> = found
         .into_iter()
-        .filter_map(|(p, s)| {
-            let x = slaves[p][&s];
-            let surface = surfaces[p].as_ref()?;
-            // A self contact node's nearest face is one facing it, not around it.
-            let pair = &problem.contacts[p];
-            let it = match pair.slave_nodes.binary_search(&s) {
-                Ok(i) if pair.is_self() => surface
-                    .nearest_among(&x, pair.facing(i), pair.skipped(i))
-                    .map(|it| surface.symmetrise(it, &x, s)),
-                _ => surface.nearest(&x),
-            }?;
-            let xc = surface.point(it.face, &it.s)?;
-            let depth = norm(&sub(&x, &xc));
-            Some(Finding {
-                pair: p,
-                slave: s,
-                depth,
-                interaction: it,
-                entry: None,
-            })
-        })
+        .filter_map(|(p, s)| measured(problem, surfaces[p].as_ref()?, p, s, &slaves[p][&s]))
         .collect();
     // The face a node entered by is named only in what the step does with a node too deep
     // (`too_deep`), so only those are measured against the master bodies' other faces
@@ -219,6 +153,100 @@ pub fn audit<C: Comm + ?Sized>(
         }
     }
     findings
+}
+
+/// The slave nodes of pair `p` on this rank's view (`slaves_p`: global id to position)
+/// that lie inside an owned element of a master body not holding them, the tied ones left
+/// out.
+fn inside(
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    tied: &[(u32, usize)],
+    p: usize,
+    slaves_p: &BTreeMap<u32, Vec3>,
+) -> Vec<u32> {
+    let bodies = master_bodies(problem, p);
+    if slaves_p.is_empty() {
+        return Vec::new();
+    }
+    // Only the master elements whose box meets the box of the pair's slave nodes can
+    // hold one (a point of a hexahedron is a convex combination of its corners): the
+    // others are left out of the tree (a whole master body's corners were a step's
+    // largest transient at 10^6 elements).
+    let near = bounding_box_of(slaves_p.values());
+    let mut elements: Vec<usize> = Vec::new();
+    let mut corners: Vec<Vec<Vec3>> = Vec::new();
+    let mut aabbs: Vec<Aabb> = Vec::new();
+    for e in 0..mesh.elements.len() {
+        if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
+            continue;
+        }
+        let x: Vec<Vec3> = mesh
+            .elements
+            .element(e)
+            .iter()
+            .map(|&n| position(mesh, u, n as usize))
+            .collect();
+        let b = bounding_box(&x);
+        if b.intersects(&near) {
+            elements.push(e);
+            corners.push(x);
+            aabbs.push(b);
+        }
+    }
+    if elements.is_empty() {
+        return Vec::new();
+    }
+    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
+    let mut found = Vec::new();
+    for (&s, x) in slaves_p.iter() {
+        if tied.binary_search(&(s, p)).is_ok() {
+            continue;
+        }
+        let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
+        let inside = bvh.intersect_aabb(&probe).any(|k| {
+            let e = elements[k as usize];
+            let own = mesh
+                .elements
+                .element(e)
+                .iter()
+                .any(|&l| mesh.node_global[l as usize] == s);
+            !own && contains_any(&corners[k as usize], x)
+        });
+        if inside {
+            found.push(s);
+        }
+    }
+    found
+}
+
+/// Slave node `s` of pair `p` at `x`, found inside: its depth below the nearest point of
+/// the pair's master `surface` (for a self contact node, the nearest face facing it and
+/// not around it).
+fn measured(
+    problem: &Problem,
+    surface: &MasterSurface,
+    p: usize,
+    s: u32,
+    x: &Vec3,
+) -> Option<Finding> {
+    let pair = &problem.contacts[p];
+    let it = match pair.slave_nodes.binary_search(&s) {
+        Ok(i) if pair.is_self() => surface
+            .nearest_among(x, pair.facing(i), pair.skipped(i))
+            .map(|it| surface.symmetrise(it, x, s)),
+        _ => surface.nearest(x),
+    }?;
+    let xc = surface.point(it.face, &it.s)?;
+    let depth = norm(&sub(x, &xc));
+    Some(Finding {
+        pair: p,
+        slave: s,
+        depth,
+        interaction: it,
+        entry: None,
+    })
 }
 
 /// The face of `faces` (element, local face, corners) nearest to `x`; ties go to the first
