@@ -143,6 +143,10 @@ pub struct HertzComparison {
     pub peak: f64,
     /// RMS of FE minus Hertz pressure over the nodes within 1.5 a, over p0.
     pub rms_error: f64,
+    /// (node index of the file, 0-based; position across the contact) of every slave
+    /// node, by node index: where another code's pressures on the same mesh go
+    /// (`errors_of`).
+    pub slave: Vec<(usize, f64)>,
 }
 
 impl HertzComparison {
@@ -154,6 +158,22 @@ impl HertzComparison {
     /// Peak FE pressure over p0, minus 1.
     pub fn peak_error(&self) -> f64 {
         (self.peak - self.hertz.p0) / self.hertz.p0
+    }
+
+    /// (peak over p0 minus 1, RMS error within 1.5 a over p0) of other nodal pressures at
+    /// the same slave nodes (another code's on the same mesh) against this comparison's
+    /// Hertz solution (the load this file's contact carried): `pressure` of a slave node's
+    /// index, None for no pressure there (a node out of contact). None when no slave node
+    /// lies within 1.5 a.
+    pub fn errors_of(&self, pressure: impl Fn(usize) -> Option<f64>) -> Option<(f64, f64)> {
+        let nodes: Vec<(f64, f64)> = self
+            .slave
+            .iter()
+            .map(|&(n, x)| (x, pressure(n).unwrap_or(0.0)))
+            .collect();
+        let peak = nodes.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
+        let rms = rms_error(&nodes, &self.hertz)?;
+        Some(((peak - self.hertz.p0) / self.hertz.p0, rms))
     }
 
     pub fn render(&self) -> String {
@@ -404,6 +424,7 @@ pub fn compare(f: &ResultFile) -> Result<HertzComparison, OutputError> {
         contact_edge,
         peak,
         rms_error,
+        slave: slave.iter().map(|&n| (n, position(n))).collect(),
     })
 }
 
@@ -591,6 +612,45 @@ mod tests {
         assert!((sum - std::f64::consts::PI / 4.0).abs() < 1e-6, "{sum}");
         // Two equal bodies: E* = E / (2 (1 - nu^2)).
         assert!((contact_modulus(2.0, 0.5, 2.0, 0.5) - 1.0 / 0.75).abs() < 1e-15);
+    }
+
+    /// Another code's pressures at the slave nodes: Hertz's own give no error; Hertz's
+    /// plus 1% of p0 inside the contact give +1% at the peak and, with the nodes out of
+    /// contact (none given: zero pressure) exact, an RMS of 1% times the root of the share
+    /// of the window's nodes that are inside (exact arithmetic on these sums: 1e-12).
+    #[test]
+    fn other_pressures_are_compared_with_the_same_hertz_solution() {
+        let hertz = HertzLine::new(std::f64::consts::PI / 4.0, 1.0, 1.0);
+        // Nodes at -1.4, -1.2, ..., 1.4 (15, 9 strictly inside |x| < 1), shuffled ids.
+        let slave: Vec<(usize, f64)> = (0..15)
+            .map(|i| ((i * 7) % 15, -1.4 + 0.2 * i as f64))
+            .collect();
+        let position = |n: usize| slave.iter().find(|s| s.0 == n).unwrap().1;
+        let c = HertzComparison {
+            label: String::new(),
+            radius: 1.0,
+            e_star: 1.0,
+            load_per_length: std::f64::consts::PI / 4.0,
+            hertz,
+            nodes: Vec::new(),
+            contact_edge: 1.0,
+            spacing: 0.2,
+            edge_spacing: 0.2,
+            peak: hertz.p0,
+            rms_error: 0.0,
+            slave: slave.clone(),
+        };
+        let (peak, rms) = c.errors_of(|n| Some(hertz.pressure(position(n)))).unwrap();
+        assert!(peak.abs() < 1e-12 && rms < 1e-12, "{peak} {rms}");
+        let inside = |x: f64| x.abs() < 1.0 - 1e-9;
+        let shifted = |n: usize| {
+            let x = position(n);
+            inside(x).then(|| hertz.pressure(x) + 0.01 * hertz.p0)
+        };
+        let (peak, rms) = c.errors_of(shifted).unwrap();
+        let share = slave.iter().filter(|s| inside(s.1)).count() as f64 / 15.0;
+        assert!((peak - 0.01).abs() < 1e-12, "{peak}");
+        assert!((rms - 0.01 * share.sqrt()).abs() < 1e-12, "{rms}");
     }
 
     #[test]

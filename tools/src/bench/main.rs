@@ -49,7 +49,8 @@
 //!
 //! `bench --tet [--quick] [--out DIR]` runs only Cook's membrane and the J2 punch on Gmsh
 //! tetrahedral meshes, ours (composite tet10) beside CalculiX's C3D10 on the same nodes and
-//! our hex8 at its finest mesh, into `<out>/tet/` (`peers::calculix::tet`).
+//! our hex8 at its finest mesh, and the Hertz cylinder on tetrahedra beside C3D10, into
+//! `<out>/tet/` (`peers::calculix::tet`).
 //!
 //! `bench --pyamg [--out DIR]` exports the first model problem of the block on block
 //! (n = 20, 40) and of the Hertz example x2 (`solver run --export-operator`) and runs
@@ -125,7 +126,8 @@ const USAGE: &str = concat!(
     "               per CG iteration, a model of scaling to 1024 ranks, in <out>/scaling/\n",
     "  --tet        only tetrahedra: Cook's membrane (nu = 0.4999) and the J2 punch on three\n",
     "               Gmsh tet meshes, ours (tet10) and CalculiX C3D10 on the same nodes,\n",
-    "               against our hex8 at its finest mesh, in <out>/tet/ (with --quick: two)\n",
+    "               against our hex8 at its finest mesh, and the Hertz cylinder on tets\n",
+    "               beside C3D10, in <out>/tet/ (with --quick: two meshes, fewer Hertz runs)\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
     "               two_level (default) or multilevel, for --large (its section replaces an\n",

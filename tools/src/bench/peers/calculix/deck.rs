@@ -92,8 +92,11 @@ pub struct Interaction {
     pub friction: Option<(f64, f64)>,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PairType {
     NodeToSurface,
+    /// ccx's penalty mortar: the pair's contact on the slave faces' integration points.
+    SurfaceToSurface,
 }
 
 pub struct ContactPair {
@@ -119,6 +122,8 @@ pub struct Step {
     /// `*CLOAD` nodal forces, at the step's end (ramped as the pressures are).
     pub cloads: Vec<CLoad>,
     pub node_prints: Vec<NodePrint>,
+    /// `*CONTACT PRINT` of CSTR (the slave nodes' contact pressures) to the .dat file.
+    pub contact_print: bool,
 }
 
 /// A pressure on one element face (`<element>, P<face>, <value>`): positive presses
@@ -243,6 +248,7 @@ impl Deck {
         for p in &self.contact_pairs {
             let kind = match p.kind {
                 PairType::NodeToSurface => "NODE TO SURFACE",
+                PairType::SurfaceToSurface => "SURFACE TO SURFACE",
             };
             let _ = writeln!(
                 w,
@@ -341,6 +347,9 @@ impl Step {
                 "*NODE PRINT, NSET={}{totals}\n{}",
                 p.node_set, p.variables
             );
+        }
+        if self.contact_print {
+            let _ = writeln!(w, "*CONTACT PRINT\nCSTR");
         }
         let _ = writeln!(w, "*END STEP");
     }
@@ -479,6 +488,7 @@ RF
                     variables: "RF".into(),
                     totals_only: true,
                 }],
+                contact_print: false,
             }],
         };
         assert_eq!(deck.text(), ONE_ELEMENT);

@@ -100,6 +100,48 @@ pub fn last_displacements(dat: &str, set: &str) -> Option<(f64, Vec<(usize, Vec3
     Some((t, out))
 }
 
+/// The last "contact stress (slave node,press,tang1,tang2) for all contact elements and
+/// time T" block of a .dat file (`*CONTACT PRINT` of CSTR, node-to-surface pairs): T and
+/// every listed slave node's (1-based id, contact pressure). ccx lists the nodes of its
+/// contact elements.
+pub fn last_contact_pressures(dat: &str) -> Option<(f64, Vec<(usize, f64)>)> {
+    let (t, rows) = last_rows(dat, "contact stress (slave node,press,tang1,tang2)")?;
+    let mut out = Vec::new();
+    for v in rows {
+        let [n, p, _, _] = v[..] else { return None };
+        out.push((n.parse().ok()?, p.parse().ok()?));
+    }
+    Some((t, out))
+}
+
+/// The same block of surface-to-surface pairs ("slave element+face"): T and the contact
+/// pressure at every integration point of the slave faces (ccx prints no positions).
+pub fn last_face_contact_pressures(dat: &str) -> Option<(f64, Vec<f64>)> {
+    let (t, rows) = last_rows(dat, "contact stress (slave element+face,press,tang1,tang2)")?;
+    let mut out = Vec::new();
+    for v in rows {
+        let [_, _, p, _, _] = v[..] else { return None };
+        out.push(p.parse().ok()?);
+    }
+    Some((t, out))
+}
+
+/// The time and the rows (split at white space) of the last block of a .dat file whose
+/// heading starts with `head` and ends "for all contact elements and time T".
+fn last_rows<'a>(dat: &'a str, head: &str) -> Option<(f64, Vec<Vec<&'a str>>)> {
+    let key = format!("{head} for all contact elements and time");
+    let lines: Vec<&str> = dat.lines().collect();
+    let i = lines.iter().rposition(|l| l.contains(&key))?;
+    let t: f64 = lines[i].split(&key).nth(1)?.trim().parse().ok()?;
+    let rows = lines[i + 1..]
+        .iter()
+        .skip_while(|r| r.trim().is_empty())
+        .take_while(|r| !r.trim().is_empty())
+        .map(|r| r.split_whitespace().collect())
+        .collect();
+    Some((t, rows))
+}
+
 /// The first `*ERROR` line of the log: ccx exits with 0 after an input error too, so a
 /// run is judged by its output.
 pub fn error_line(log: &str) -> Option<&str> {
@@ -239,6 +281,38 @@ ________________________________________
             Some((1.0, vec![(3, [0.01, -0.02, 0.0]), (12, [0.0, 7.5, 0.002])]))
         );
         assert_eq!(last_displacements(dat, "N_OTHER"), None);
+    }
+
+    /// The last block of contact pressures, with its time.
+    #[test]
+    fn last_contact_pressures_are_read() {
+        let dat = "
+ contact stress (slave node,press,tang1,tang2) for all contact elements and time  0.5000000E+00
+
+        13  1.000000E+03  0.000000E+00  0.000000E+00
+
+ contact stress (slave node,press,tang1,tang2) for all contact elements and time  0.1000000E+01
+
+        13  6.656109E+04  0.000000E+00  0.000000E+00
+        33  2.334395E+03  0.000000E+00  0.000000E+00
+";
+        assert_eq!(
+            last_contact_pressures(dat),
+            Some((1.0, vec![(13, 6.656109e4), (33, 2.334395e3)]))
+        );
+        assert_eq!(last_contact_pressures(" no contact here\n"), None);
+        let faces = "
+ contact stress (slave element+face,press,tang1,tang2) for all contact elements and time  0.1000000E+01
+
+         5          1  4.125832E+03  0.000000E+00  0.000000E+00
+       499          4  5.089609E+03  0.000000E+00  0.000000E+00
+";
+        assert_eq!(
+            last_face_contact_pressures(faces),
+            Some((1.0, vec![4.125832e3, 5.089609e3]))
+        );
+        assert_eq!(last_face_contact_pressures(dat), None);
+        assert_eq!(last_contact_pressures(faces), None);
     }
 
     #[test]

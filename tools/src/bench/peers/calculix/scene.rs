@@ -296,6 +296,7 @@ fn prescribed(problem: &Problem, large: bool) -> Result<(Vec<NodeSet>, Vec<Step>
                         totals_only: p.totals_only,
                     })
                     .collect(),
+                contact_print: false,
             })
         })
         .collect::<Result<_, String>>()?;

@@ -5,9 +5,10 @@
 //! shear traction as ccx's own consistent nodal forces, `face_loads`), against our hex8
 //! with mean dilatation at its finest mesh (Cook at n = 64; the punch at 80 x 80,
 //! `run/scenes/plasticity/punch_80.toml`). Ours on 2 ranks (`auto`), ccx on 2 threads, one
-//! after the other. `bench --tet [--quick] [--out DIR]` writes `<out>/tet/`: `report.md`,
+//! after the other. Then the Hertz cylinder on tetrahedra beside C3D10 (`hertz`). `bench --tet [--quick] [--out DIR]` writes `<out>/tet/`: `report.md`,
 //! `results.json` and each case's directory (mesh, scene, logs, result file, deck).
 
+mod hertz;
 mod report;
 pub mod results;
 pub mod scenes;
@@ -69,9 +70,11 @@ pub fn run(out: &Path, quick: bool) -> Result<(), String> {
     let mut rows = Vec::new();
     for case in cases(quick) {
         rows.push(run_case(case, &dir.join(case.name()), ccx.is_some())?);
-        report::write(&dir, &rows, ccx.as_deref())?;
+        report::write(&dir, &rows, &[], ccx.as_deref())?;
     }
-    println!("{}", report::markdown(&rows, ccx.as_deref()));
+    let hertz = hertz::run(&dir.join("hertz"), quick, ccx.is_some(), TIMEOUT_S);
+    report::write(&dir, &rows, &hertz, ccx.as_deref())?;
+    println!("{}", report::markdown(&rows, &hertz, ccx.as_deref()));
     Ok(())
 }
 

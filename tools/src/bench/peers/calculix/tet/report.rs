@@ -1,19 +1,25 @@
 //! The tetrahedra section as Markdown (a table per problem, errors against our hexahedral
 //! reference) and JSON.
 
+use super::hertz;
 use super::results::{Measured, Row};
 use super::scenes::Problem;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// `report.md` and `results.json` into `dir`.
-pub fn write(dir: &Path, rows: &[Row], ccx_version: Option<&str>) -> Result<(), String> {
+pub fn write(
+    dir: &Path,
+    rows: &[Row],
+    hertz: &[hertz::Row],
+    ccx_version: Option<&str>,
+) -> Result<(), String> {
     let put = |file: &str, text: String| {
         let p = dir.join(file);
         std::fs::write(&p, text).map_err(|e| format!("cannot write {}: {e}", p.display()))
     };
-    put("report.md", markdown(rows, ccx_version))?;
-    put("results.json", json(rows, ccx_version))
+    put("report.md", markdown(rows, hertz, ccx_version))?;
+    put("results.json", json(rows, hertz, ccx_version))
 }
 
 /// The reference of a problem: our hexahedral run's value, if it finished.
@@ -49,7 +55,7 @@ fn cells(m: &Result<Measured, String>, reference: Option<f64>) -> String {
 }
 
 /// The section's Markdown.
-pub fn markdown(rows: &[Row], ccx_version: Option<&str>) -> String {
+pub fn markdown(rows: &[Row], hertz: &[hertz::Row], ccx_version: Option<&str>) -> String {
     let mut w = String::new();
     let _ = writeln!(
         w,
@@ -100,10 +106,13 @@ pub fn markdown(rows: &[Row], ccx_version: Option<&str>) -> String {
             }
         }
     }
+    if !hertz.is_empty() {
+        w.push_str(&hertz::markdown(hertz));
+    }
     w
 }
 
-fn json(rows: &[Row], ccx_version: Option<&str>) -> String {
+fn json(rows: &[Row], hertz: &[hertz::Row], ccx_version: Option<&str>) -> String {
     let m = |m: &Result<Measured, String>| match m {
         Ok(m) => {
             serde_json::json!({"value": m.value, "iterations": m.iterations, "wall_s": m.wall})
@@ -124,6 +133,7 @@ fn json(rows: &[Row], ccx_version: Option<&str>) -> String {
             })
         })
         .collect();
-    let doc = serde_json::json!({"ccx_version": ccx_version, "rows": rows});
+    let doc =
+        serde_json::json!({"ccx_version": ccx_version, "rows": rows, "hertz": hertz::json(hertz)});
     serde_json::to_string_pretty(&doc).unwrap_or_default()
 }
