@@ -25,6 +25,7 @@ pub struct Colouring {
 }
 
 /// Master and slave lists of every tie, in global node ids.
+#[derive(PartialEq)]
 pub struct Ties {
     /// masters of node a: masters[ptr[a]..ptr[a + 1]].
     m_ptr: Vec<usize>,

@@ -1,19 +1,7 @@
-//! The elimination tree and the row patterns of a sparse Cholesky factor, and the factor's
-//! columns as both factorisations (`sparse_cholesky`, column by column, and `supernodal`)
-//! produce them.
+//! The elimination tree and the row patterns of a sparse Cholesky factor, which both
+//! factorisations (`sparse_cholesky`, column by column, and `supernodal`) use.
 
 use super::sparse::Csr;
-
-/// L column by column (rows below the diagonal, in increasing order), its diagonal, and the
-/// permutation (`perm[k]` is the unknown eliminated k-th).
-pub struct Columns {
-    pub perm: Vec<usize>,
-    pub colptr: Vec<usize>,
-    pub rowidx: Vec<u32>,
-    pub val: Vec<f64>,
-    /// The diagonal of L; 0 for an unknown left out.
-    pub diag: Vec<f64>,
-}
 
 /// The elimination tree of P A P^T (parent of each column, usize::MAX at a root), by
 /// Liu's algorithm with path compression.

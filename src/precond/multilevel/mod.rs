@@ -39,7 +39,7 @@ pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;
 pub mod split;
-mod supernodal;
+pub mod supernodal;
 pub mod transfer;
 pub mod triple;
 

@@ -14,7 +14,7 @@
 //! same factor and solves on every rank.
 
 use super::aggregation::Graph;
-use super::elimination::{etree, reach, Columns};
+use super::elimination::{etree, reach};
 use super::sparse::{node_of, Csr};
 
 /// Node sets at most this large are not dissected further.
@@ -173,30 +173,11 @@ impl SparseCholesky {
     }
 
     /// `new`, except that a pivot below `floor` times its diagonal entry is raised to that
-    /// (never dropped): the factor of a positive definite matrix near `a` when `a` is
-    /// indefinite or singular (a modified Cholesky), so that it preconditions CG.
-    /// Computed by supernodes (`supernodal`): the same factor up to the order of additions.
-    pub fn new_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
-        Self::from_columns(super::supernodal::factor(a, perm, counts, floor))
-    }
-
-    /// `new_modified` computed column by column (the reference of the supernodal form).
+    /// (never dropped), column by column: the reference of `supernodal::Factor`, which the
+    /// full tangent uses.
     #[cfg(test)]
     pub(super) fn column_modified(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
         Self::factor(a, perm, counts, Some(floor))
-    }
-
-    /// A factor from its columns (rows below the diagonal increasing) and diagonal.
-    fn from_columns(c: Columns) -> Self {
-        let n = c.diag.len();
-        SparseCholesky {
-            perm: c.perm,
-            colptr: c.colptr,
-            rowidx: c.rowidx,
-            val: c.val,
-            diag: c.diag,
-            work: vec![0.0; n],
-        }
     }
 
     fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: Option<f64>) -> Self {
@@ -330,39 +311,6 @@ impl SparseCholesky {
                 s -= self.val[p] * y[self.rowidx[p] as usize];
             }
             y[j] = s / self.diag[j];
-        }
-        for k in 0..n {
-            x[self.perm[k]] = y[k];
-        }
-    }
-
-    /// Solves L L^T x = b in place as `solve` does, except that the backward substitution's
-    /// sums run in four interleaved partial sums: about twice as fast (the single running
-    /// sum waits on each addition), equal to `solve` to round-off but not bit for bit. For
-    /// factors whose solves need not match `solve`'s (the full tangent preconditioner).
-    pub fn solve_split_sums(&mut self, x: &mut [f64]) {
-        let n = self.diag.len();
-        self.forward(x);
-        let y = &mut self.work;
-        for j in (0..n).rev() {
-            if self.diag[j] == 0.0 {
-                y[j] = 0.0;
-                continue;
-            }
-            let (a, b) = (self.colptr[j], self.colptr[j + 1]);
-            let (rows, vals) = (&self.rowidx[a..b], &self.val[a..b]);
-            let mut acc = [0.0; 4];
-            let mut rc = rows.chunks_exact(4);
-            let mut vc = vals.chunks_exact(4);
-            for (r4, v4) in (&mut rc).zip(&mut vc) {
-                for k in 0..4 {
-                    acc[k] += v4[k] * y[r4[k] as usize];
-                }
-            }
-            for (&r, &v) in rc.remainder().iter().zip(vc.remainder()) {
-                acc[0] += v * y[r as usize];
-            }
-            y[j] = (y[j] - ((acc[0] + acc[1]) + (acc[2] + acc[3]))) / self.diag[j];
         }
         for k in 0..n {
             x[self.perm[k]] = y[k];

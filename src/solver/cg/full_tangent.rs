@@ -28,6 +28,7 @@ use crate::precond::multilevel::aggregation::Graph;
 use crate::precond::multilevel::colouring::{Colouring, Ties};
 use crate::precond::multilevel::sparse::Csr;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
+use crate::precond::multilevel::supernodal::Factor;
 use crate::precond::multilevel::FineOperator;
 
 /// Free directions of a node (unit vectors) that differ by less than this are the same
@@ -40,7 +41,7 @@ pub(super) struct FullTangent {
     first: Vec<usize>,
     /// The free basis of every owned local node.
     basis: Vec<Vec<Vec3>>,
-    chol: SparseCholesky,
+    chol: Factor,
     /// The global right-hand side and solution.
     x: Vec<f64>,
     /// Factor entries, for the log.
@@ -77,6 +78,7 @@ impl FullTangent {
         pb: &ModelProblem<C>,
         op: &mut O,
         order: &mut Option<Order>,
+        colours: &mut Colours,
     ) -> Result<Result<Self, usize>, SolveFailure> {
         let comm = pb.comm;
         let mesh = pb.asm.mesh;
@@ -103,12 +105,20 @@ impl FullTangent {
             owned_of[mesh.node_global[l] as usize] = l;
         }
         let clock = std::time::Instant::now();
-        let col = colouring(pb, n);
+        let col = colours.ensure(pb, n);
         let coloured = clock.elapsed().as_secs_f64();
         let nl = mesh.num_nodes();
         let (mut x, mut y) = (vec![[0.0; 3]; nl], vec![[0.0; 3]; nl]);
-        // Triplets (row, column, value) of the owned rows, as f64 for the gather.
-        let mut mine: Vec<f64> = Vec::new();
+        // Triplets (row, column, value) of the owned rows, as f64 for the gather: one per
+        // owned row and column unknown of every coupled pair of nodes.
+        let entries: usize = (0..col.num_colours)
+            .flat_map(|c| col.pairs(c))
+            .map(|&(r, c)| match owned_of[r as usize] {
+                usize::MAX => 0,
+                lb => basis[lb].len() * count[c as usize] as usize,
+            })
+            .sum();
+        let mut mine: Vec<f64> = Vec::with_capacity(3 * entries);
         for c in 0..col.num_colours {
             for k in 0..3 {
                 x.iter_mut().for_each(|v| *v = [0.0; 3]);
@@ -163,7 +173,7 @@ impl FullTangent {
             return Ok(Err(MAX_FACTOR_ENTRIES));
         };
         let analysed = clock.elapsed().as_secs_f64();
-        let chol = SparseCholesky::new_modified(&a, o.perm.clone(), &o.counts, PIVOT_FLOOR);
+        let chol = Factor::new(&a, o.perm.clone(), &o.counts, PIVOT_FLOOR);
         let factored = clock.elapsed().as_secs_f64();
         Ok(Ok(FullTangent {
             seconds: [
@@ -209,7 +219,7 @@ impl FullTangent {
                 }
             }
         }
-        self.chol.solve_split_sums(&mut self.x);
+        self.chol.solve(&mut self.x);
         for (l, b) in self.basis.iter().enumerate() {
             let f = self.first[node_global[l] as usize];
             let mut v = [0.0; 3];
@@ -265,8 +275,35 @@ const MAX_FACTOR_ENTRIES: usize = 1 << 27;
 const PIVOT_FLOOR: f64 = 1e-2;
 
 /// The colouring of the whole mesh's nodes (one node per aggregate) with the tie rows of
-/// every rank: the same on any number of ranks.
-fn colouring<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
+/// every rank, the same on any number of ranks, and the mesh's node graph it is made from:
+/// a build whose constraint set ties the same pairs of nodes keeps the last one (the
+/// colouring is a function of the graph and the ties).
+#[derive(Default)]
+pub(super) struct Colours {
+    graph: Option<Graph>,
+    last: Option<(Ties, Colouring)>,
+}
+
+impl Colours {
+    /// The colouring for the ties of `pb` (collective: the ties are gathered).
+    fn ensure<C: Comm + ?Sized>(&mut self, pb: &ModelProblem<C>, n: usize) -> &Colouring {
+        let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh, n);
+        let kept = matches!(&self.last, Some((t, _)) if *t == ties);
+        if !kept {
+            let graph = self.graph.get_or_insert_with(|| node_graph(pb, n));
+            let identity: Vec<u32> = (0..n as u32).collect();
+            let colouring = Colouring::new(graph, &identity, n, &ties);
+            self.last = Some((ties, colouring));
+        }
+        match &self.last {
+            Some((_, c)) => c,
+            None => unreachable!("a colouring was just made"),
+        }
+    }
+}
+
+/// The whole mesh's node graph (nodes coupled by an element).
+fn node_graph<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Graph {
     let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
     for e in &pb.global.elements {
         for a in 0..e.len() {
@@ -275,11 +312,7 @@ fn colouring<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
             }
         }
     }
-    let graph = Graph::from_edges(n, &edges);
-    drop(edges);
-    let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh, n);
-    let identity: Vec<u32> = (0..n as u32).collect();
-    Colouring::new(&graph, &identity, n, &ties)
+    Graph::from_edges(n, &edges)
 }
 
 /// The rule that rebuilds the tangent within a model problem: the residual's reduction over

@@ -300,7 +300,12 @@ impl Cg {
         op.central = true;
         op.elastic = Some(elastic);
         op.tangents = Some(&tangents);
-        let t = match FullTangent::build(pb, &mut op, &mut self.tangent_order)? {
+        let t = match FullTangent::build(
+            pb,
+            &mut op,
+            &mut self.tangent_order,
+            &mut self.tangent_colours,
+        )? {
             Ok(t) => t,
             Err(limit) => {
                 self.use_tangent = false;

@@ -4,7 +4,7 @@
 //! concept each.
 
 use super::exported::ExportState;
-use super::full_tangent::{FullTangent, Order};
+use super::full_tangent::{Colours, FullTangent, Order};
 use super::links::Work;
 use super::model::ModelProblem;
 use super::trace::CgTrace;
@@ -64,6 +64,8 @@ pub struct Cg {
     pub(super) tangent: Option<FullTangent>,
     /// The full tangent's order, kept while its pattern does not change.
     pub(super) tangent_order: Option<Order>,
+    /// The full tangent's probing colours, kept while the ties do not change.
+    pub(super) tangent_colours: Colours,
     /// The elastic matrices that stand in for an element's finite difference where it
     /// responds elastically (`Assembly::mark_elastic`): in the full tangent's probes
     /// (marked at the build's state, `tangent_marks`) and in the friction-coupled
@@ -125,6 +127,7 @@ impl Cg {
             use_tangent: false,
             tangent: None,
             tangent_order: None,
+            tangent_colours: Colours::default(),
             elastic: ElasticMatrices::default(),
             tangent_marks: Vec::new(),
             tangent_builds: 0,
