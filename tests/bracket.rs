@@ -15,7 +15,7 @@
 mod common;
 
 use common::{fresh_dir, repo, run_serial};
-use solver::output::ResultFile;
+use solver::output::{contact_status, ResultFile};
 use solver::problem::Problem;
 use solver::scene::load_scene;
 
@@ -195,7 +195,7 @@ fn check_prying(p: &Problem, f: &ResultFile, last: usize) {
     assert!(lift > 0.0, "a heel node did not rise: {lift}");
     for &n in &heel {
         assert!(
-            status[n] == 0 || status[n] == 3,
+            status[n] == contact_status::FREE || status[n] == contact_status::RELEASED,
             "heel node {} in contact",
             n + 1
         );
