@@ -22,9 +22,7 @@ mod verdicts;
 
 use crate::facts::Facts;
 use crate::runner::{in_order, scenes_in, Suite};
-use results::{
-    Paper, EXAMPLE, EXAMPLE_SCENE, ORDER, PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE, SCENE_DIR,
-};
+use results::{Paper, DRAWN_EXAMPLES, EXAMPLE, EXAMPLE_SCENE, ORDER, SCENE_DIR};
 use std::path::{Path, PathBuf};
 
 /// The whole job; returns the exit code.
@@ -39,8 +37,10 @@ pub fn run(suite: &Suite) -> Result<i32, String> {
     }
     suite.run_one(EXAMPLE, 1, Path::new(EXAMPLE_SCENE));
     suite.run_one(EXAMPLE, 2, Path::new(EXAMPLE_SCENE));
-    suite.run_one(PLASTIC_EXAMPLE, 1, Path::new(PLASTIC_EXAMPLE_SCENE));
-    suite.run_one(PLASTIC_EXAMPLE, 2, Path::new(PLASTIC_EXAMPLE_SCENE));
+    for (name, scene) in DRAWN_EXAMPLES {
+        suite.run_one(name, 1, Path::new(scene));
+        suite.run_one(name, 2, Path::new(scene));
+    }
     post::checks(suite, &scenes);
     post::figures(suite);
     post::hertz(suite);

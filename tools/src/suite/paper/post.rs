@@ -3,7 +3,7 @@
 //! against 2 ranks, the figures, `solver post hertz` of the cylinder, and run/render's
 //! ParaView pictures.
 
-use super::results::{EXAMPLE, PLASTIC_EXAMPLE};
+use super::results::{DRAWN_EXAMPLES, EXAMPLE};
 use crate::record::{read, read_trim};
 use crate::runner::{run_merged, Suite};
 use std::path::{Path, PathBuf};
@@ -112,7 +112,9 @@ pub fn hertz(suite: &Suite) {
         }
     }
     compare(suite, EXAMPLE);
-    compare(suite, PLASTIC_EXAMPLE);
+    for (name, _) in DRAWN_EXAMPLES {
+        compare(suite, name);
+    }
     let text = read(&txt).unwrap_or_default();
     let line = text
         .lines()
@@ -145,7 +147,9 @@ pub fn render(suite: &Suite) {
         let code = run_merged(&mut cmd, &log);
         let _ = std::fs::write(&rc, format!("{code}\n"));
     }
-    render_plastic(suite);
+    for (name, _) in DRAWN_EXAMPLES {
+        render_oblique(suite, name);
+    }
     let text = read(&log).unwrap_or_default();
     let last = text.lines().last().unwrap_or("");
     match read_trim(&rc).as_str() {
@@ -167,12 +171,13 @@ pub fn render(suite: &Suite) {
     }
 }
 
-/// The plastic example drawn on its own, from an oblique view: seen from the front, its
-/// yielded zone under the bolt head is hidden by the plates' elastic faces.
-fn render_plastic(suite: &Suite) {
+/// An example drawn on its own, from an oblique view: seen from the front, the plastic
+/// example's yielded zone under the bolt head is hidden by the plates' elastic faces, and
+/// the bracket's bolt hole and bend are edge-on.
+fn render_oblique(suite: &Suite, name: &str) {
     let logs = suite.logs();
-    let log = logs.join("render_plastic.log");
-    let Some(r) = suite.result_of(PLASTIC_EXAMPLE, 1) else {
+    let log = logs.join(format!("render_{name}.log"));
+    let Some(r) = suite.result_of(name, 1) else {
         return;
     };
     let xmf = PathBuf::from(s(&r).strip_suffix(".h5").unwrap_or(s(&r)).to_string() + ".xmf");
@@ -185,5 +190,5 @@ fn render_plastic(suite: &Suite) {
         .arg("-o")
         .arg(&suite.out);
     let code = run_merged(&mut cmd, &log);
-    let _ = std::fs::write(logs.join("render_plastic.rc"), format!("{code}\n"));
+    let _ = std::fs::write(logs.join(format!("render_{name}.rc")), format!("{code}\n"));
 }

@@ -43,6 +43,14 @@ pub const EXAMPLE_SCENE: &str = "run/examples/cylinder_on_block.toml";
 /// The plastic example: run on 1 and 2 ranks, compared, drawn.
 pub const PLASTIC_EXAMPLE: &str = "bolted_clamp";
 pub const PLASTIC_EXAMPLE_SCENE: &str = "run/examples/bolted_clamp.toml";
+/// The tetrahedral example: a part made with Gmsh's OpenCASCADE kernel (issue 41).
+pub const TET_EXAMPLE: &str = "bracket";
+pub const TET_EXAMPLE_SCENE: &str = "run/examples/bracket.toml";
+/// The examples run on 1 and 2 ranks, compared and drawn from an oblique view.
+pub const DRAWN_EXAMPLES: [(&str, &str); 2] = [
+    (PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE),
+    (TET_EXAMPLE, TET_EXAMPLE_SCENE),
+];
 
 /// Everything the report is written from.
 pub struct Paper {
@@ -76,7 +84,9 @@ impl Paper {
             .map(|n| pair(n, &format!("{SCENE_DIR}/{n}.toml")))
             .collect();
         runs.push(pair(EXAMPLE, EXAMPLE_SCENE));
-        runs.push(pair(PLASTIC_EXAMPLE, PLASTIC_EXAMPLE_SCENE));
+        for (name, scene) in DRAWN_EXAMPLES {
+            runs.push(pair(name, scene));
+        }
         Paper {
             out: out.to_path_buf(),
             scenes,

@@ -2,7 +2,7 @@
 //! error of each scene, the summary table's cells, and what fails the job.
 
 use super::model::{first, Comparison, PaperRun};
-use super::results::{Paper, BASE, EXPECTED_FAILURE, PLASTIC_EXAMPLE};
+use super::results::{Paper, BASE, DRAWN_EXAMPLES, EXPECTED_FAILURE};
 use crate::text::{cell, num, number_between};
 
 /// The number of contact updates a cycling diagnosis names (`after N contact updates`).
@@ -260,8 +260,8 @@ impl Paper {
         }
     }
 
-    /// What fails the Gmsh example and the plastic example: incomplete runs, 2 ranks
-    /// differing, the Hertz comparison failing.
+    /// What fails the Gmsh example and the drawn examples (plastic, tetrahedral): incomplete
+    /// runs, 2 ranks differing, the Hertz comparison failing.
     fn example_failures(&self, failures: &mut Vec<String>) {
         let (ex1, _) = self.pair(&self.example);
         if !ex1.completed() {
@@ -275,18 +275,20 @@ impl Paper {
         if two != "bitwise identical" {
             failures.push(format!("{}: 2 ranks: {two}", self.example));
         }
-        let plastic = PLASTIC_EXAMPLE;
-        if self.runs.iter().any(|r| r.0 == plastic) {
-            let (p1, _) = self.pair(plastic);
+        for (name, _) in DRAWN_EXAMPLES {
+            if !self.runs.iter().any(|r| r.0 == name) {
+                continue;
+            }
+            let (p1, _) = self.pair(name);
             if !p1.completed() {
                 failures.push(format!(
-                    "{plastic}: the 1-rank run did not complete: {}",
+                    "{name}: the 1-rank run did not complete: {}",
                     p1.message()
                 ));
             }
-            let two = self.two_ranks(plastic);
+            let two = self.two_ranks(name);
             if two != "bitwise identical" {
-                failures.push(format!("{plastic}: 2 ranks: {two}"));
+                failures.push(format!("{name}: 2 ranks: {two}"));
             }
         }
         if ex1.completed() && self.hertz_rc != "0" {
