@@ -42,6 +42,25 @@ impl Supernode {
 /// The factor of `a` in the order `perm` as its supernodes, with `counts` entries below the
 /// diagonal in each column, a pivot at least `floor` times its diagonal entry of `a`.
 fn supernodes(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { supernodes_avx2(a, perm, counts, floor) };
+    }
+    supernodes_body(a, perm, counts, floor)
+}
+
+/// `supernodes_body` compiled for AVX2 (the caller checks the processor has it). Every
+/// operation is the same IEEE operation on the same operands in the same order (no fused
+/// multiply-adds, independent lanes): the factor is bitwise the same either way.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn supernodes_avx2(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
+    supernodes_body(a, perm, counts, floor)
+}
+
+#[inline(always)]
+fn supernodes_body(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
     let n = a.rows;
     let mut inv = vec![0usize; n];
     for (k, &i) in perm.iter().enumerate() {
@@ -137,6 +156,7 @@ fn symbolic(
 
 /// The supernode's block set to the lower part of A in its columns (`relpos`: local row of
 /// every row of the supernode).
+#[inline(always)]
 fn load(a: &Csr, perm: &[usize], inv: &[usize], sn: &mut Supernode, relpos: &[usize]) {
     let m = sn.height();
     sn.block = vec![0.0; m * sn.width];
@@ -155,6 +175,7 @@ fn load(a: &Csr, perm: &[usize], inv: &[usize], sn: &mut Supernode, relpos: &[us
 /// Subtracts from `sn` the update of the finished supernode `dn`: L_d[p1.., :] times
 /// L_d[p1..p2, :]^T (rows p1..p2 of `dn` are in `sn`'s columns), formed densely in
 /// `update` and scattered through `map` (the local row in `sn` of each row p1.. of `dn`).
+#[inline(always)]
 fn apply_update(
     dn: &Supernode,
     p1: usize,
@@ -195,6 +216,7 @@ fn apply_update(
 /// The dense factor of the supernode's block: its diagonal block by Cholesky with the
 /// pivot rule of `SparseCholesky::new_modified` (`akk`: the diagonal of A in the factor's
 /// order), the rows below by the triangular solve, column by column.
+#[inline(always)]
 fn factor_block(sn: &mut Supernode, akk: &[f64], floor: f64, scale: f64) {
     let m = sn.height();
     let b = &mut sn.block;
@@ -257,7 +279,24 @@ impl Factor {
     }
 
     /// x <- A^-1 x for the modified A: L y = P x forward, L^T z = y backward, x = P^T z.
+    /// On a processor with AVX2 compiled for it, bitwise the same (see `supernodes_avx2`).
     pub fn solve(&mut self, x: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2, checked just above.
+            return unsafe { self.solve_avx2(x) };
+        }
+        self.solve_body(x)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn solve_avx2(&mut self, x: &mut [f64]) {
+        self.solve_body(x)
+    }
+
+    #[inline(always)]
+    fn solve_body(&mut self, x: &mut [f64]) {
         let y = &mut self.work;
         for (k, &i) in self.perm.iter().enumerate() {
             y[k] = x[i];
@@ -276,6 +315,7 @@ impl Factor {
 
 /// The supernode's part of L y = b in place: its columns by the dense triangle, then the
 /// rows below less the block's product, scattered once.
+#[inline(always)]
 fn forward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     let (m, w, f) = (sn.height(), sn.width, sn.first);
     let b = &sn.block;
@@ -302,8 +342,9 @@ fn forward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     }
 }
 
-/// The supernode's part of L^T z = y in place: the rows below gathered once, each column's
-/// product with them in four interleaved partial sums, then the dense triangle backwards.
+/// The supernode's part of L^T z = y in place: the rows below gathered once, then each
+/// column backwards less its products with them and with the later columns.
+#[inline(always)]
 fn backward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     let (m, w, f) = (sn.height(), sn.width, sn.first);
     let b = &sn.block;
@@ -314,23 +355,26 @@ fn backward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     }
     for c in (0..w).rev() {
         let col = &b[c * m..(c + 1) * m];
-        let mut acc = [0.0; 4];
-        let (lc, gc) = (col[w..].chunks_exact(4), g.chunks_exact(4));
-        let (lr, gr) = (lc.remainder(), gc.remainder());
-        for (l4, g4) in lc.zip(gc) {
-            for k in 0..4 {
-                acc[k] += l4[k] * g4[k];
-            }
-        }
-        for (l, v) in lr.iter().zip(gr) {
-            acc[0] += l * v;
-        }
-        let mut s = y[f + c] - ((acc[0] + acc[1]) + (acc[2] + acc[3]));
-        for i in c + 1..w {
-            s -= col[i] * y[f + i];
-        }
+        let s = y[f + c] - dot4(&col[w..], g) - dot4(&col[c + 1..w], &y[f + c + 1..f + w]);
         y[f + c] = s / col[c];
     }
+}
+
+/// a . b in four interleaved partial sums (a single running sum waits on each addition).
+#[inline(always)]
+fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ar, br) = (ac.remainder(), bc.remainder());
+    for (a4, b4) in ac.zip(bc) {
+        for k in 0..4 {
+            acc[k] += a4[k] * b4[k];
+        }
+    }
+    for (x, v) in ar.iter().zip(br) {
+        acc[0] += x * v;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 #[cfg(test)]

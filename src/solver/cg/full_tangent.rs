@@ -109,16 +109,9 @@ impl FullTangent {
         let coloured = clock.elapsed().as_secs_f64();
         let nl = mesh.num_nodes();
         let (mut x, mut y) = (vec![[0.0; 3]; nl], vec![[0.0; 3]; nl]);
-        // Triplets (row, column, value) of the owned rows, as f64 for the gather: one per
-        // owned row and column unknown of every coupled pair of nodes.
-        let entries: usize = (0..col.num_colours)
-            .flat_map(|c| col.pairs(c))
-            .map(|&(r, c)| match owned_of[r as usize] {
-                usize::MAX => 0,
-                lb => basis[lb].len() * count[c as usize] as usize,
-            })
-            .sum();
-        let mut mine: Vec<f64> = Vec::with_capacity(3 * entries);
+        // Triplets (row, column, value) of the owned rows, as f64 for the gather.
+        let mut mine: Vec<f64> =
+            Vec::with_capacity(3 * owned_entries(col, &owned_of, &basis, &count));
         for c in 0..col.num_colours {
             for k in 0..3 {
                 x.iter_mut().for_each(|v| *v = [0.0; 3]);
@@ -231,6 +224,19 @@ impl FullTangent {
             z[l] = v;
         }
     }
+}
+
+/// The entries of the owned rows the probes measure: one per owned row and column unknown
+/// of every coupled pair of nodes (`owned_of`: the local node of a global one this rank
+/// owns, else usize::MAX; `count`: every node's unknowns).
+fn owned_entries(col: &Colouring, owned_of: &[usize], basis: &[Vec<Vec3>], count: &[i64]) -> usize {
+    (0..col.num_colours)
+        .flat_map(|c| col.pairs(c))
+        .map(|&(r, c)| match owned_of[r as usize] {
+            usize::MAX => 0,
+            lb => basis[lb].len() * count[c as usize] as usize,
+        })
+        .sum()
 }
 
 /// The fill-reducing order of the last build and the pattern it was made for: a build whose
