@@ -80,17 +80,9 @@ pub fn max_displacement(dat: &str, set: &str) -> Option<f64> {
 /// The last "displacements (vx,vy,vz) for set NAME and time T" block of a .dat file:
 /// T and every node's (1-based id, u).
 pub fn last_displacements(dat: &str, set: &str) -> Option<(f64, Vec<(usize, Vec3)>)> {
-    let key = format!("displacements (vx,vy,vz) for set {set} and time");
-    let lines: Vec<&str> = dat.lines().collect();
-    let i = lines.iter().rposition(|l| l.contains(&key))?;
-    let t: f64 = lines[i].split(&key).nth(1)?.trim().parse().ok()?;
-    let rows = lines[i + 1..]
-        .iter()
-        .skip_while(|r| r.trim().is_empty())
-        .take_while(|r| !r.trim().is_empty());
+    let (t, rows) = last_rows(dat, &format!("displacements (vx,vy,vz) for set {set}"))?;
     let mut out = Vec::new();
-    for row in rows {
-        let v: Vec<&str> = row.split_whitespace().collect();
+    for v in rows {
         let [n, x, y, z] = v[..] else { return None };
         out.push((
             n.parse().ok()?,
@@ -105,7 +97,7 @@ pub fn last_displacements(dat: &str, set: &str) -> Option<(f64, Vec<(usize, Vec3
 /// every listed slave node's (1-based id, contact pressure). ccx lists the nodes of its
 /// contact elements.
 pub fn last_contact_pressures(dat: &str) -> Option<(f64, Vec<(usize, f64)>)> {
-    let (t, rows) = last_rows(dat, "contact stress (slave node,press,tang1,tang2)")?;
+    let (t, rows) = last_rows(dat, &contact_head("slave node"))?;
     let mut out = Vec::new();
     for v in rows {
         let [n, p, _, _] = v[..] else { return None };
@@ -117,7 +109,7 @@ pub fn last_contact_pressures(dat: &str) -> Option<(f64, Vec<(usize, f64)>)> {
 /// The same block of surface-to-surface pairs ("slave element+face"): T and the contact
 /// pressure at every integration point of the slave faces (ccx prints no positions).
 pub fn last_face_contact_pressures(dat: &str) -> Option<(f64, Vec<f64>)> {
-    let (t, rows) = last_rows(dat, "contact stress (slave element+face,press,tang1,tang2)")?;
+    let (t, rows) = last_rows(dat, &contact_head("slave element+face"))?;
     let mut out = Vec::new();
     for v in rows {
         let [_, _, p, _, _] = v[..] else { return None };
@@ -126,10 +118,15 @@ pub fn last_face_contact_pressures(dat: &str) -> Option<(f64, Vec<f64>)> {
     Some((t, out))
 }
 
+/// The heading of a contact stress block up to its time, whose slave is `what`.
+fn contact_head(what: &str) -> String {
+    format!("contact stress ({what},press,tang1,tang2) for all contact elements")
+}
+
 /// The time and the rows (split at white space) of the last block of a .dat file whose
-/// heading starts with `head` and ends "for all contact elements and time T".
+/// heading is `head` followed by "and time T".
 fn last_rows<'a>(dat: &'a str, head: &str) -> Option<(f64, Vec<Vec<&'a str>>)> {
-    let key = format!("{head} for all contact elements and time");
+    let key = format!("{head} and time");
     let lines: Vec<&str> = dat.lines().collect();
     let i = lines.iter().rposition(|l| l.contains(&key))?;
     let t: f64 = lines[i].split(&key).nth(1)?.trim().parse().ok()?;
