@@ -117,24 +117,28 @@ pub fn audit<C: Comm + ?Sized>(
     tied: &[(u32, usize)],
 ) -> Vec<Finding> {
     let slaves = gather_slaves(comm, problem, mesh, u);
-    let mut found: Vec<(usize, u32)> = Vec::new();
+    let mut found: Vec<(usize, u32, Vec3)> = Vec::new();
     for (p, slaves_p) in slaves.iter().enumerate() {
         found.extend(
             inside(problem, mesh, u, tied, p, slaves_p)
                 .into_iter()
-                .map(|s| (p, s)),
+                .map(|s| (p, s, slaves_p[&s])),
         );
     }
-    let mut found: Vec<(usize, u32)> = message::all_gather(comm, &found);
-    found.sort_unstable_by_key(|&(p, s)| (s, p));
+    drop(slaves);
+    // A node found by two ranks (inside elements of both) comes with the same position
+    // from each: the one its owner sent.
+    let mut found: Vec<(usize, u32, Vec3)> = message::all_gather(comm, &found);
+    found.sort_unstable_by_key(|&(p, s, _)| (s, p));
     found.dedup();
     if found.is_empty() {
         return Vec::new();
     }
-    let surfaces = gather_masters(comm, problem, mesh, u, &found);
-    let mut findings: Vec<Finding> = found
+    let pairs: Vec<(usize, u32)> = found.iter().map(|&(p, s, _)| (p, s)).collect();
+    let surfaces = gather_masters(comm, problem, mesh, u, &pairs);
+    let mut findings: Vec<(Finding, Vec3)> = found
         .into_iter()
-        .filter_map(|(p, s)| measured(problem, surfaces[p].as_ref()?, p, s, &slaves[p][&s]))
+        .filter_map(|(p, s, x)| Some((measured(problem, surfaces[p].as_ref()?, p, s, &x)?, x)))
         .collect();
     // The face a node entered by is named only in what the step does with a node too deep
     // (`too_deep`), so only those are measured against the master bodies' other faces
@@ -142,17 +146,16 @@ pub fn audit<C: Comm + ?Sized>(
     // A node sitting on the master surface, found inside by round-off, costs no more.
     let deep: Vec<(usize, u32)> = findings
         .iter()
-        .filter(|f| is_deep(problem, f))
-        .map(|f| (f.pair, f.slave))
+        .filter(|(f, _)| is_deep(problem, f))
+        .map(|(f, _)| (f.pair, f.slave))
         .collect();
     if !deep.is_empty() {
         let others = gather_other_faces(comm, problem, mesh, u, &deep);
-        for f in findings.iter_mut().filter(|f| is_deep(problem, f)) {
-            let x = slaves[f.pair][&f.slave];
-            f.entry = nearest_entry(&others[f.pair], &x).filter(|e| e.distance < f.depth);
+        for (f, x) in findings.iter_mut().filter(|(f, _)| is_deep(problem, f)) {
+            f.entry = nearest_entry(&others[f.pair], x).filter(|e| e.distance < f.depth);
         }
     }
-    findings
+    findings.into_iter().map(|(f, _)| f).collect()
 }
 
 /// The slave nodes of pair `p` on this rank's view (`slaves_p`: global id to position)
@@ -389,26 +392,80 @@ fn bounding_box_of<'a>(points: impl Iterator<Item = &'a Vec3>) -> Aabb {
     )
 }
 
-/// Current positions of every pair's slave nodes, on every rank. Collective.
+/// Current positions of the slave nodes of every pair that this rank's owned elements of
+/// one of the pair's master bodies may hold: each rank sends its owned slave nodes to the
+/// ranks whose box of those elements (per body, exchanged first) holds the node. A node is
+/// tested only against the elements whose box holds it (`inside`), and a rank's box of a
+/// body holds every box of its elements of that body, so each rank receives every node it
+/// can find, and what each rank holds is bounded by the nodes near its region, not the
+/// whole contact surface. Collective.
 fn gather_slaves<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     mesh: &LocalMesh,
     u: &[Vec3],
 ) -> Vec<BTreeMap<u32, Vec3>> {
-    let mut mine: Vec<(usize, u32, Vec3)> = Vec::new();
+    let all_boxes = comm.all_gather_f64(&body_boxes(problem, mesh, u));
+    let mut send: Vec<Vec<(usize, u32, Vec3)>> = vec![Vec::new(); comm.size()];
     for (p, pair) in problem.contacts.iter().enumerate() {
+        let bodies = master_bodies(problem, p);
+        let ranks: Vec<usize> = (0..comm.size())
+            .filter(|&r| {
+                bodies
+                    .iter()
+                    .any(|&b| all_boxes[r][6 * b as usize] <= all_boxes[r][6 * b as usize + 3])
+            })
+            .collect();
+        if ranks.is_empty() {
+            continue;
+        }
         for &s in &pair.slave_nodes {
             if let Some(l) = mesh.owned_node(s) {
-                mine.push((p, s, position(mesh, u, l)));
+                let x = position(mesh, u, l);
+                for &r in &ranks {
+                    if bodies
+                        .iter()
+                        .any(|&b| holds(&all_boxes[r][6 * b as usize..][..6], &x))
+                    {
+                        send[r].push((p, s, x));
+                    }
+                }
             }
         }
     }
     let mut out = vec![BTreeMap::new(); problem.contacts.len()];
-    for (p, s, x) in message::all_gather(comm, &mine) {
+    for (p, s, x) in message::all_to_all(comm, &send).into_iter().flatten() {
         out[p].insert(s, x);
     }
     out
+}
+
+/// Per body, the box (lo[3], hi[3]) of the current corners of this rank's owned elements
+/// of it (lo above hi for a body with none).
+fn body_boxes(problem: &Problem, mesh: &LocalMesh, u: &[Vec3]) -> Vec<f64> {
+    let mut boxes = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]]
+        .concat()
+        .repeat(problem.mesh.bodies.len());
+    for e in 0..mesh.elements.len() {
+        if !mesh.element_owned[e] {
+            continue;
+        }
+        let b = &mut boxes[6 * mesh.element_body[e] as usize..][..6];
+        for &n in mesh.elements.element(e) {
+            let x = position(mesh, u, n as usize);
+            for i in 0..3 {
+                b[i] = b[i].min(x[i]);
+                b[3 + i] = b[3 + i].max(x[i]);
+            }
+        }
+    }
+    boxes
+}
+
+/// Whether the box (lo[3], hi[3]) holds the point (its faces included, as parry's boxes'
+/// intersection test has them).
+fn holds(b: &[f64], x: &Vec3) -> bool {
+    (0..3).all(|i| b[i] <= x[i] && x[i] <= b[3 + i])
 }
 
 /// Every master face of the pairs with findings, at the current configuration, on every
