@@ -16,7 +16,7 @@ use crate::problem::{ContactPair, Kinematics, Problem};
 /// skipped (none are, for a pair from a scene).
 pub fn slave_areas(pair: &ContactPair, position: impl Fn(u32) -> Vec3) -> Vec<f64> {
     let mut area = vec![0.0; pair.slave_nodes.len()];
-    for nodes in &pair.slave_face_nodes {
+    for nodes in pair.slave_face_nodes.iter() {
         let x: [Vec3; 4] = std::array::from_fn(|a| position(nodes[a]));
         let a = super::facet::nodal_areas(&x);
         for (k, &n) in nodes.iter().enumerate() {

@@ -296,7 +296,7 @@ fn gather_other_faces<C: Comm + ?Sized>(
             continue;
         }
         let bodies = master_bodies(problem, p);
-        let mut masters = pair.master_faces.clone();
+        let mut masters = pair.master_faces.to_vec();
         masters.sort_unstable();
         for &(e, k) in &boundary {
             if !bodies.contains(&problem.mesh.element_body[e as usize])
@@ -419,7 +419,7 @@ fn gather_slaves<C: Comm + ?Sized>(
         if ranks.is_empty() {
             continue;
         }
-        for &s in &pair.slave_nodes {
+        for &s in pair.slave_nodes.iter() {
             if let Some(l) = mesh.owned_node(s) {
                 let x = position(mesh, u, l);
                 for &r in &ranks {

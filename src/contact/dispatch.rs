@@ -405,7 +405,7 @@ fn held_by_partner(state: &ContactState, problem: &Problem) -> Vec<(u32, usize)>
     held.dedup();
     let mut out = Vec::new();
     for (p, q) in seconds {
-        for &s in &problem.contacts[p].slave_nodes {
+        for &s in problem.contacts[p].slave_nodes.iter() {
             if held.binary_search(&(q, s)).is_ok() {
                 out.push((s, p));
             }

@@ -5,6 +5,7 @@
 //! the search tolerance plus a face size (so that the neighbours of a face in reach, which
 //! normal smoothing reads, come too). Nothing is gathered onto every rank.
 
+use super::proximity;
 use super::search::MasterSurface;
 use crate::comm::{message, Comm};
 use crate::math::{add, norm, sub, Vec3};
@@ -32,7 +33,8 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
     start: &[Vec3],
 ) -> Vec<MasterSurface<'p>> {
     let npairs = problem.contacts.len();
-    let (boxes, mut diameter) = slave_boxes(problem, mesh, u);
+    let near = proximity::near_pairs(comm, problem, mesh, u);
+    let (boxes, mut diameter) = slave_boxes(problem, mesh, u, &near);
     comm.max_f64(&mut diameter);
     let all_boxes = comm.all_gather_f64(&boxes);
     let send = faces_to_send(comm.size(), problem, mesh, u, start, &all_boxes, &diameter);
@@ -45,15 +47,26 @@ pub fn surfaces<'p, C: Comm + ?Sized>(
 }
 
 /// Bounding box of this rank's owned slave nodes per pair (lo[3], hi[3]), and the largest
-/// diameter of the master faces it owns per pair.
-fn slave_boxes(problem: &Problem, mesh: &LocalMesh, u: &[Vec3]) -> (Vec<f64>, Vec<f64>) {
+/// diameter of the master faces it owns per pair; for a pair whose bodies are not `near`
+/// (`proximity`), an empty box, so that no face is sent for it.
+fn slave_boxes(
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    near: &[bool],
+) -> (Vec<f64>, Vec<f64>) {
     let npairs = problem.contacts.len();
-    let mut boxes = vec![0.0; 6 * npairs];
+    let mut boxes = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]]
+        .concat()
+        .repeat(npairs);
     let mut diameter = vec![0.0; npairs];
     for (p, pair) in problem.contacts.iter().enumerate() {
+        if !near[p] {
+            continue;
+        }
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
-        for &s in &pair.slave_nodes {
+        for &s in pair.slave_nodes.iter() {
             if let Some(l) = mesh.owned_node(s) {
                 let x = position(mesh, u, l);
                 for i in 0..3 {
@@ -88,6 +101,11 @@ fn faces_to_send(
 ) -> Vec<Vec<FaceMessage>> {
     let mut send: Vec<Vec<FaceMessage>> = vec![Vec::new(); size];
     for (p, pair) in problem.contacts.iter().enumerate() {
+        // No rank's box holds a slave node (the pair's bodies are apart, `proximity`):
+        // no face reaches one.
+        if all_boxes.iter().all(|b| !(b[6 * p] <= b[6 * p + 3])) {
+            continue;
+        }
         let pad = margin(pair, diameter[p]);
         for (f, &(e, _)) in pair.master_faces.iter().enumerate() {
             if mesh.owned_element(e).is_none() {
@@ -147,7 +165,7 @@ fn master_surfaces<'p>(problem: &'p Problem, faces: Vec<Vec<GhostFace>>) -> Vec<
 
 /// How far beyond a rank's slave box a master face is still sent: the search tolerance,
 /// plus a face size and a half so the neighbours of every face in reach come too.
-fn margin(pair: &crate::contact::ContactPair, diameter: f64) -> f64 {
+pub(super) fn margin(pair: &crate::contact::ContactPair, diameter: f64) -> f64 {
     pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter
 }
 

@@ -17,6 +17,7 @@ pub mod ghost;
 pub mod mortar;
 mod node_face;
 pub mod project;
+mod proximity;
 pub mod search;
 mod self_contact;
 pub mod slip;

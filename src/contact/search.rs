@@ -113,6 +113,11 @@ impl<'a> MasterSurface<'a> {
         surface
     }
 
+    /// Whether the surface holds no face (on this rank): then no slave node finds one.
+    pub fn is_empty(&self) -> bool {
+        self.faces.is_empty()
+    }
+
     /// A self contact's node normals: per node of the faces held, the mean of the unit
     /// normals of its faces held (the normal corners' diagonals' cross product), summed in
     /// the order of the faces' indices (so alike on every rank for a node whose faces are

@@ -1,6 +1,7 @@
 //! The description of a contact pair: master faces, slave nodes and the pair's settings.
 
 use crate::mesh::GlobalMesh;
+use std::sync::Arc;
 
 /// How a pair's contact constraints are formed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -27,26 +28,27 @@ impl Discretization {
     }
 }
 
-/// A validated contact pair.
+/// A validated contact pair. The lists are shared: the passes of general contact that have
+/// a body in the same role hold one copy of its lists (`scene::validate::general`).
 #[derive(Clone, Debug)]
 pub struct ContactPair {
     pub name: String,
     /// (element, local face) of each master facet, ascending: a "face" of the pair is a
     /// contact facet (`contact::facet`), a hexahedron's face or one of the four
     /// sub-triangles of a tet10's face (which then appears four times here).
-    pub master_faces: Vec<(u32, u8)>,
+    pub master_faces: Arc<Vec<(u32, u8)>>,
     /// Global node ids of each master facet, ordered with an outward normal (a triangle's
     /// fourth repeats its third).
-    pub face_nodes: Vec<[u32; 4]>,
+    pub face_nodes: Arc<Vec<[u32; 4]>>,
     /// For each master face and edge k (between corners k and k+1), the master face across
     /// it and that face's edge index, if any.
-    pub neighbours: Vec<[Option<(u32, u8)>; 4]>,
+    pub neighbours: Arc<Vec<[Option<(u32, u8)>; 4]>>,
     /// Slave nodes, ascending global ids.
-    pub slave_nodes: Vec<u32>,
+    pub slave_nodes: Arc<Vec<u32>>,
     /// (element, local face) of each slave face, ascending (as given: not per facet).
-    pub slave_faces: Vec<(u32, u8)>,
+    pub slave_faces: Arc<Vec<(u32, u8)>>,
     /// Global node ids of each slave facet, ordered with an outward normal.
-    pub slave_face_nodes: Vec<[u32; 4]>,
+    pub slave_face_nodes: Arc<Vec<[u32; 4]>>,
     pub discretization: Discretization,
     /// Coulomb coefficient; 0 is frictionless.
     pub mu: f64,
@@ -72,7 +74,7 @@ pub struct ContactPair {
     /// unit normals in the reference configuration), by position in `slave_nodes`; a
     /// master face is found for a node only if its normal opposes this. None for
     /// `[[contact]]` pairs, whose side sets already say which faces meet.
-    pub slave_normals: Option<Vec<crate::math::Vec3>>,
+    pub slave_normals: Option<Arc<Vec<crate::math::Vec3>>>,
     /// Self contact (`scene::validate::general`, a body's exterior nodes against its own
     /// exterior faces): per slave node (by position in `slave_nodes`), the master facets
     /// (ascending indices in the pair) it is never tied to, the faces around it: those
@@ -88,11 +90,13 @@ impl ContactPair {
         slave_faces: Vec<(u32, u8)>,
         discretization: Discretization,
     ) -> Self {
-        self.slave_face_nodes = slave_faces
-            .iter()
-            .flat_map(|&(e, f)| mesh.contact_facets(e, f))
-            .collect();
-        self.slave_faces = slave_faces;
+        self.slave_face_nodes = Arc::new(
+            slave_faces
+                .iter()
+                .flat_map(|&(e, f)| mesh.contact_facets(e, f))
+                .collect(),
+        );
+        self.slave_faces = Arc::new(slave_faces);
         self.discretization = discretization;
         self
     }
@@ -151,12 +155,12 @@ impl ContactPair {
             .collect();
         ContactPair {
             name,
-            master_faces,
-            face_nodes,
-            neighbours,
-            slave_nodes,
-            slave_faces: Vec::new(),
-            slave_face_nodes: Vec::new(),
+            master_faces: Arc::new(master_faces),
+            face_nodes: Arc::new(face_nodes),
+            neighbours: Arc::new(neighbours),
+            slave_nodes: Arc::new(slave_nodes),
+            slave_faces: Arc::default(),
+            slave_face_nodes: Arc::default(),
             discretization: Discretization::NodeFace,
             mu,
             normal_tolerance,

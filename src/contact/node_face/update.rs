@@ -35,7 +35,8 @@ impl ContactState {
         let sides = Sides::of(self, problem);
         let mut changed = false;
         for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization != Discretization::NodeFace {
+            // A surface without faces here finds nothing for any node.
+            if pair.discretization != Discretization::NodeFace || surfaces[p].is_empty() {
                 continue;
             }
             for (i, &s) in pair.slave_nodes.iter().enumerate() {
@@ -83,8 +84,16 @@ impl ContactState {
         let sides = Sides::of(self, problem);
         let mut gone = vec![false; self.active.len()];
         let mut added = Vec::new();
+        let mut tied = vec![false; problem.contacts.len()];
+        for &(_, p) in index.keys() {
+            tied[p] = true;
+        }
         for (p, pair) in problem.contacts.iter().enumerate() {
-            if pair.discretization != Discretization::NodeFace {
+            // A surface without faces here finds nothing: only a pair with a node in
+            // contact has something to do (release it).
+            if pair.discretization != Discretization::NodeFace
+                || (surfaces[p].is_empty() && !tied[p])
+            {
                 continue;
             }
             for (i, &s) in pair.slave_nodes.iter().enumerate() {

@@ -13,6 +13,7 @@
 use super::contacts::{fixed_directions, mean_face_size, surface_nodes};
 use super::*;
 use crate::problem::ContactPair;
+use std::sync::Arc;
 
 /// A body of the general contact: its exterior faces, their mean size, and whether every
 /// node of it is prescribed.
@@ -43,6 +44,7 @@ impl Builder {
         let skins = self.skins(mesh, &left_out, &fixed_dirs)?;
         let named = explicit_body_pairs(mesh, explicit);
         let mut pairs = Vec::new();
+        let mut shared = Shared::new(nb);
         for a in 0..nb {
             for b in a + 1..nb {
                 let (Some(sa), Some(sb)) = (&skins[a], &skins[b]) else {
@@ -60,12 +62,14 @@ impl Builder {
                 let def = interaction(g, over);
                 let ids = (slave, master);
                 let skin = |i: usize| if i == a { sa } else { sb };
-                pairs.push(self.pass(key, mesh, &def, ids, (skin(slave), skin(master)), false)?);
+                let skins = (skin(slave), skin(master));
+                pairs.push(self.pass(key, mesh, &mut shared, &def, ids, skins, false)?);
                 if !skin(master).rigid && g.symmetric.unwrap_or(true) {
                     let mut second = def.clone();
                     second.discretization = None;
                     let s = (skin(master), skin(slave));
-                    let mut pass = self.pass(key, mesh, &second, (master, slave), s, true)?;
+                    let ids = (master, slave);
+                    let mut pass = self.pass(key, mesh, &mut shared, &second, ids, s, true)?;
                     pass.partner = Some(explicit.len() + pairs.len() - 1);
                     pairs.push(pass);
                 }
@@ -76,10 +80,12 @@ impl Builder {
     }
 
     /// One pass: the slave body's exterior nodes against the master body's exterior faces.
+    #[allow(clippy::too_many_arguments)]
     fn pass(
         &self,
         key: &str,
         mesh: &GlobalMesh,
+        shared: &mut Shared,
         def: &ContactDef,
         (slave, master): (usize, usize),
         (s, m): (&Skin, &Skin),
@@ -91,25 +97,23 @@ impl Builder {
         let (normal, tangential, capture, smoothing) = self.tolerances(&key, def, m.size)?;
         let discretization = self.discretization(&key, def)?;
         let suffix = if secondary { " (second pass)" } else { "" };
-        let mut pair = ContactPair::new(
-            format!("general:{mn}/{sn}{suffix}"),
-            mesh,
-            m.faces.clone(),
-            surface_nodes(mesh, &s.faces),
-            mu,
-            normal,
-            tangential,
-            capture,
-            smoothing,
-            m.size,
-        )
-        .with_slave_faces(mesh, s.faces.clone(), discretization);
+        let mut pair = shared.master(mesh, master, m).clone();
+        pair.name = format!("general:{mn}/{sn}{suffix}");
+        pair.mu = mu;
+        pair.normal_tolerance = normal;
+        pair.tangential_tolerance = tangential;
+        pair.capture_tolerance = capture;
+        pair.smoothing_width = smoothing;
+        pair.discretization = discretization;
+        let side = shared.slave(mesh, slave, s);
+        pair.slave_nodes = side.nodes.clone();
+        pair.slave_faces = side.faces.clone();
+        pair.slave_face_nodes = side.face_nodes.clone();
+        pair.slave_normals = Some(side.normals.clone());
         pair.secondary = secondary;
-        pair.slave_normals = Some(node_normals(mesh, &pair.slave_nodes, &s.faces));
         Ok(pair)
     }
 
-    /// Which body of `(a, b)` is the primary pass's slave.
     fn primary_slave(
         &self,
         key: &str,
@@ -246,6 +250,67 @@ impl Builder {
 }
 
 /// The interaction of one body pair: the pair's keys where set, the general ones elsewhere.
+/// The lists of a body's passes that depend on the body alone, made at its first pass and
+/// shared by the rest: of a B-body scene's B (B - 1) passes, each body is the master of B - 1
+/// and the slave of B - 1.
+struct Shared {
+    /// Per body, a pass with the body as master, the settings not yet set.
+    masters: Vec<Option<ContactPair>>,
+    slaves: Vec<Option<SlaveSide>>,
+}
+
+/// A body's exterior as a slave: its nodes, faces, facets and node normals.
+struct SlaveSide {
+    nodes: Arc<Vec<u32>>,
+    faces: Arc<Vec<(u32, u8)>>,
+    face_nodes: Arc<Vec<[u32; 4]>>,
+    normals: Arc<Vec<Vec3>>,
+}
+
+impl Shared {
+    fn new(bodies: usize) -> Self {
+        Shared {
+            masters: (0..bodies).map(|_| None).collect(),
+            slaves: (0..bodies).map(|_| None).collect(),
+        }
+    }
+
+    fn master(&mut self, mesh: &GlobalMesh, body: usize, m: &Skin) -> &ContactPair {
+        self.masters[body].get_or_insert_with(|| {
+            ContactPair::new(
+                String::new(),
+                mesh,
+                m.faces.clone(),
+                Vec::new(),
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                None,
+                m.size,
+            )
+        })
+    }
+
+    fn slave(&mut self, mesh: &GlobalMesh, body: usize, s: &Skin) -> &SlaveSide {
+        self.slaves[body].get_or_insert_with(|| {
+            let nodes = surface_nodes(mesh, &s.faces);
+            let normals = node_normals(mesh, &nodes, &s.faces);
+            let face_nodes = s
+                .faces
+                .iter()
+                .flat_map(|&(e, f)| mesh.contact_facets(e, f))
+                .collect();
+            SlaveSide {
+                nodes: Arc::new(nodes),
+                faces: Arc::new(s.faces.clone()),
+                face_nodes: Arc::new(face_nodes),
+                normals: Arc::new(normals),
+            }
+        })
+    }
+}
+
 pub(super) fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) -> ContactDef {
     let pick = |o: Option<f64>, d: Option<f64>| o.or(d);
     let o = over.cloned();

@@ -10,6 +10,7 @@ use super::general::{interaction, node_normals, Skin};
 use super::*;
 use crate::problem::ContactPair;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 impl Builder {
     /// The self contact passes of the bodies `self` names (none without it).
@@ -55,7 +56,7 @@ impl Builder {
                 s.size,
             )
             .with_slave_faces(mesh, s.faces.clone(), Discretization::NodeFace);
-            pair.slave_normals = Some(node_normals(mesh, &pair.slave_nodes, &s.faces));
+            pair.slave_normals = Some(Arc::new(node_normals(mesh, &pair.slave_nodes, &s.faces)));
             pair.neighbourhood = Some(neighbourhood(&pair.slave_nodes, &pair.face_nodes));
             out.push(pair);
         }

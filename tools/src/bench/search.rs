@@ -156,7 +156,7 @@ fn perturb(problem: &Problem) -> Perturbed {
     let mut position = problem.mesh.coords.clone();
     let amplitude = CONTACT_GAP_FRACTION * pair.normal_tolerance;
     let mut offsets = Vec::with_capacity(pair.slave_nodes.len());
-    for &n in &pair.slave_nodes {
+    for &n in pair.slave_nodes.iter() {
         let d = amplitude * (2.0 * unit_hash(n as u64) - 1.0);
         position[n as usize][1] += d;
         offsets.push(d);
@@ -167,7 +167,7 @@ fn perturb(problem: &Problem) -> Perturbed {
         .map(|&n| position[n as usize])
         .collect();
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for f in &pair.face_nodes {
+    for f in pair.face_nodes.iter() {
         for &n in f {
             let x = position[n as usize];
             for (k, i) in [0usize, 2].into_iter().enumerate() {
