@@ -55,7 +55,7 @@ fn driven_past_the_search_tolerance(with_mortar: bool) {
     // Every bottom node of the block is on the base top, and in contact.
     let block = &p.mesh.bodies[1];
     let mut bottom = 0;
-    for &s in &pair.slave_nodes {
+    for &s in pair.slave_nodes.iter() {
         let y = p.mesh.coords[s as usize][1] + state.displacement[s as usize][1];
         assert!(
             y >= 1.0 - capture,

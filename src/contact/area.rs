@@ -114,8 +114,8 @@ mod tests {
             None,
             1.0,
         );
-        pair.slave_faces = vec![(0, 5), (1, 5)];
-        pair.slave_face_nodes = vec![[0, 1, 4, 3], [1, 2, 5, 4]];
+        pair.slave_faces = std::sync::Arc::new(vec![(0, 5), (1, 5)]);
+        pair.slave_face_nodes = std::sync::Arc::new(vec![[0, 1, 4, 3], [1, 2, 5, 4]]);
         (pair, coords)
     }
 

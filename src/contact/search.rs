@@ -461,6 +461,7 @@ fn edge_distances(triangle: bool, s: &[f64; 2]) -> Vec<(usize, f64)> {
 mod tests {
     use super::*;
     use crate::problem::Discretization;
+    use std::sync::Arc;
 
     /// A master surface of m x m faces on the dome y = 0.3 (x^2 + z^2) over [0, 1]^2, the
     /// faces' normals up (+y), search tolerances 0.05 (normal) and 0.02 (tangential).
@@ -483,12 +484,12 @@ mod tests {
         let n = face_nodes.len();
         let pair = ContactPair {
             name: "dome".into(),
-            master_faces: (0..n as u32).map(|f| (f, 2)).collect(),
-            face_nodes,
-            neighbours: vec![[None; 4]; n],
-            slave_nodes: Vec::new(),
-            slave_faces: Vec::new(),
-            slave_face_nodes: Vec::new(),
+            master_faces: Arc::new((0..n as u32).map(|f| (f, 2)).collect()),
+            face_nodes: Arc::new(face_nodes),
+            neighbours: Arc::new(vec![[None; 4]; n]),
+            slave_nodes: Arc::default(),
+            slave_faces: Arc::default(),
+            slave_face_nodes: Arc::default(),
             discretization: Discretization::NodeFace,
             mu: 0.0,
             normal_tolerance: 0.05,
@@ -563,15 +564,15 @@ mod tests {
         // Facet 0's edge 1 (corner 1 to 2) is facet 1's edge 2 (corner 2 to 0).
         let pair = ContactPair {
             name: "crease".into(),
-            master_faces: vec![(0, 0), (1, 0)],
-            face_nodes: vec![[0, 1, 2, 2], [1, 3, 2, 2]],
-            neighbours: vec![
+            master_faces: Arc::new(vec![(0, 0), (1, 0)]),
+            face_nodes: Arc::new(vec![[0, 1, 2, 2], [1, 3, 2, 2]]),
+            neighbours: Arc::new(vec![
                 [None, Some((1, 2)), None, None],
                 [None, None, Some((0, 1)), None],
-            ],
-            slave_nodes: Vec::new(),
-            slave_faces: Vec::new(),
-            slave_face_nodes: Vec::new(),
+            ]),
+            slave_nodes: Arc::default(),
+            slave_faces: Arc::default(),
+            slave_face_nodes: Arc::default(),
             discretization: Discretization::NodeFace,
             mu: 0.0,
             normal_tolerance: 0.05,
