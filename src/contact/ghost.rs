@@ -5,7 +5,7 @@
 //! the search tolerance plus a face size (so that the neighbours of a face in reach, which
 //! normal smoothing reads, come too). Nothing is gathered onto every rank.
 
-use super::proximity;
+use super::proximity::{self, margin};
 use super::search::MasterSurface;
 use crate::comm::{message, Comm};
 use crate::math::{add, norm, sub, Vec3};
@@ -161,12 +161,6 @@ fn master_surfaces<'p>(problem: &'p Problem, faces: Vec<Vec<GhostFace>>) -> Vec<
             }
         })
         .collect()
-}
-
-/// How far beyond a rank's slave box a master face is still sent: the search tolerance,
-/// plus a face size and a half so the neighbours of every face in reach come too.
-pub(super) fn margin(pair: &crate::contact::ContactPair, diameter: f64) -> f64 {
-    pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter
 }
 
 /// Whether a face with these corners reaches the box (lo[3], hi[3]) grown by `pad`.

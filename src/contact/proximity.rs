@@ -4,11 +4,10 @@
 //! bodies can tie a node; the others are left out of the ghost exchange and the search
 //! before any per-node work. The test is conservative and exact: a pass is left out only
 //! when no face of its master bodies can reach the box of its slave nodes within the margin
-//! the ghost exchange sends faces by (`ghost::margin`), so it changes no result.
+//! the ghost exchange sends faces by (`margin`), so it changes no result.
 
-use super::ghost::{margin, position};
 use crate::comm::Comm;
-use crate::math::{norm, sub, Vec3};
+use crate::math::{add, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
 use crate::problem::{ContactPair, Problem};
@@ -33,7 +32,7 @@ impl BodyBoxes {
             let mut lo = [f64::INFINITY; 3];
             let mut hi = [f64::NEG_INFINITY; 3];
             for &n in mesh.elements.element(e) {
-                let x = position(mesh, u, n as usize);
+                let x = add(&mesh.coords[n as usize], &u[n as usize]);
                 for i in 0..3 {
                     lo[i] = lo[i].min(x[i]);
                     hi[i] = hi[i].max(x[i]);
@@ -90,7 +89,7 @@ fn master_bodies(mesh: &GlobalMesh, pair: &ContactPair) -> std::ops::Range<usize
 /// Whether each pair's slave nodes may come within reach of its master faces: some slave
 /// body's box and some master body's box within the pair's margin of each other on every
 /// axis. A face's corners are in its master body's box and a slave node in its body's, and
-/// the margin is computed as `ghost::margin` computes it from a diameter at least the
+/// the margin is computed as `margin` computes it from a diameter at least the
 /// pair's, so a pass found far here is one `ghost` would send no face for. Collective.
 pub fn near_pairs<C: Comm + ?Sized>(
     comm: &C,
@@ -118,4 +117,10 @@ pub fn near_pairs<C: Comm + ?Sized>(
             })
         })
         .collect()
+}
+
+/// How far beyond a rank's slave box a master face is still sent: the search tolerance,
+/// plus a face size and a half so the neighbours of every face in reach come too.
+pub(super) fn margin(pair: &ContactPair, diameter: f64) -> f64 {
+    pair.normal_tolerance.max(pair.tangential_tolerance) + 1.5 * diameter
 }
