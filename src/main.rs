@@ -239,6 +239,9 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
             if comm.is_root() && args.verbosity > 0 && code == 0 {
                 eprintln!("{}", done_line(&summary, estimate));
                 eprintln!("{}", communication_line(&summary, comm.size()));
+                if summary.contact_updates > 0 {
+                    eprintln!("{}", contact_line(&summary));
+                }
                 earlier_run_note(claimed.as_ref().map(|c| &c.paths.failed));
             }
             solver::comm::first_error(comm, (code != 0).then(|| code.to_string()))
@@ -315,6 +318,17 @@ fn done_line(summary: &solver::run::RunSummary, estimate: Option<f64>) -> String
             .as_ref()
             .map(|p| p.display().to_string())
             .unwrap_or_default()
+    )
+}
+
+/// The contact updates' count and time (`bench --general` reads it).
+fn contact_line(summary: &solver::run::RunSummary) -> String {
+    let n = summary.contact_updates;
+    format!(
+        "contact updates: {n}, {:.3} s ({:.2} ms each; the search with its ghost exchange, \
+         capture, release and slip; largest rank)",
+        summary.contact_seconds,
+        1e3 * summary.contact_seconds / n as f64
     )
 }
 

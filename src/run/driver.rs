@@ -41,6 +41,8 @@ struct Progress {
     cg_traffic: comm::Traffic,
     cg_loop_iterations: u64,
     cg_loop_seconds: f64,
+    contact_updates: u64,
+    contact_seconds: f64,
     first_step: usize,
     rows_written: u64,
     started: Instant,
@@ -66,6 +68,8 @@ pub fn run_from<C: Comm + ?Sized>(
         cg_traffic: comm::Traffic::default(),
         cg_loop_iterations: 0,
         cg_loop_seconds: 0.0,
+        contact_updates: 0,
+        contact_seconds: 0.0,
     };
     let (decomposition, local) = partition(comm, problem, &log)?;
     let continued = match restart {
@@ -148,6 +152,8 @@ pub fn run_from<C: Comm + ?Sized>(
             cg_traffic_sum,
             cg_loop_iterations: progress.cg_loop_iterations,
             cg_loop_seconds: comm::max_f64(comm, progress.cg_loop_seconds),
+            contact_updates: progress.contact_updates,
+            contact_seconds: comm::max_f64(comm, progress.contact_seconds),
         },
         state,
     ))
@@ -373,6 +379,8 @@ fn step_through<C: Comm + ?Sized>(
         progress.cg_traffic += trace.traffic;
         progress.cg_loop_iterations += trace.iterations as u64;
         progress.cg_loop_seconds += trace.loop_seconds;
+        progress.contact_updates += trace.contact_updates as u64;
+        progress.contact_seconds += trace.contact_seconds;
         if log.root && log.verbosity >= 2 {
             log.at(2, &trace.summary());
         }

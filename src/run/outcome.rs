@@ -42,6 +42,10 @@ pub struct RunSummary {
     pub cg_loop_iterations: u64,
     /// Wall time in those loops (the largest over the ranks), s.
     pub cg_loop_seconds: f64,
+    /// Contact updates between model problems (`CgTrace::contact_update`) and their wall
+    /// time (the largest over the ranks), s.
+    pub contact_updates: u64,
+    pub contact_seconds: f64,
 }
 
 /// This process's peak resident memory in bytes (Linux: VmHWM), if known.

@@ -42,6 +42,10 @@ pub struct CgTrace {
     loop_start: Option<(Traffic, std::time::Instant)>,
     /// Wall time in the CG loops (s).
     pub loop_seconds: f64,
+    /// Contact updates between model problems (the search with its ghost exchange,
+    /// capture, release and the Coulomb update), and their wall time (s).
+    pub contact_updates: usize,
+    pub contact_seconds: f64,
 }
 
 impl CgTrace {
@@ -63,6 +67,12 @@ impl CgTrace {
             self.traffic += sent.since(&start);
             self.loop_seconds += at.elapsed().as_secs_f64();
         }
+    }
+
+    /// Counts a contact update that took `seconds`.
+    pub fn contact_update(&mut self, seconds: f64) {
+        self.contact_updates += 1;
+        self.contact_seconds += seconds;
     }
 
     /// Records the residual at iteration `it`; `window_start` holds the residual at the

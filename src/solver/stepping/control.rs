@@ -109,7 +109,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 return Err(self.beyond_small_sliding(watch.limit_reached(), u, contact));
             }
             contact.read_forces(self.comm, self.mesh, &cons, &multipliers);
+            let at = std::time::Instant::now();
             changed = contact.update(self.comm, self.problem, self.mesh, u, &self.u, force_tol);
+            self.cg.trace.contact_update(at.elapsed().as_secs_f64());
             watch.updates += 1;
             self.debug_contact(t, watch.updates, changed, outcome.iterations, contact);
             if let Some(progress) = self.progress.as_mut() {

@@ -63,6 +63,11 @@
 //! a time limit, and CalculiX beside the Hertz meshes and the bar, into
 //! `<out>/robustness/` (`robustness`, `peers::calculix::robustness`).
 //!
+//! `bench --general [--quick] [--out DIR]` runs only a stack of 32 and of 128 blocks with
+//! general contact against the same stack with explicit pairs on 2 ranks (about 10^4 and
+//! 10^5 exterior faces; `--quick`: the first): the contact updates' time per update and its
+//! ratio to the pairs', into `<out>/general/` (`general`).
+//!
 //! The tree: `suite` runs the benchmarks in turn into the one results model (`results`),
 //! which the report writers (`report`, one file per section, JSON and Markdown side by
 //! side) read; `runner` runs programs (the solver under `run/mpirun`, with time limits,
@@ -74,6 +79,7 @@ mod bandwidth;
 mod block;
 mod config;
 mod cube;
+mod general;
 mod kernels;
 mod large;
 mod machine;
@@ -103,6 +109,7 @@ const USAGE: &str = concat!(
     "       bench --plasticity [--quick] [--out DIR]\n",
     "       bench --scaling [--out DIR]\n",
     "       bench --tet [--quick] [--out DIR]\n",
+    "       bench --general [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
     "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
@@ -128,6 +135,9 @@ const USAGE: &str = concat!(
     "               Gmsh tet meshes, ours (tet10) and CalculiX C3D10 on the same nodes,\n",
     "               against our hex8 at its finest mesh, and the Hertz cylinder on tets\n",
     "               beside C3D10, in <out>/tet/ (with --quick: two meshes, fewer Hertz runs)\n",
+    "  --general    only general contact against explicit pairs on stacks of 32 and 128\n",
+    "               blocks (10^4 and 10^5 exterior faces; --quick: the first): time per\n",
+    "               contact update and its ratio, in <out>/general/\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
     "               two_level (default) or multilevel, for --large (its section replaces an\n",
@@ -146,6 +156,7 @@ enum Mode {
     Plasticity { quick: bool },
     Scaling,
     Tet { quick: bool },
+    General { quick: bool },
 }
 
 #[derive(Debug, PartialEq)]
@@ -165,6 +176,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     let mut plasticity = false;
     let mut scaling = false;
     let mut tet = false;
+    let mut general = false;
     let mut ranks: Option<Vec<usize>> = None;
     let mut precond: Option<Precond> = None;
     let mut out = PathBuf::from("out/bench");
@@ -179,6 +191,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
             "--plasticity" => plasticity = true,
             "--scaling" => scaling = true,
             "--tet" => tet = true,
+            "--general" => general = true,
             "--ranks" => {
                 let list: Option<Vec<usize>> = args.next().and_then(|v| {
                     v.split(',')
@@ -230,7 +243,12 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if tet && (large || ironing || pyamg || robustness || plasticity || scaling) {
         return Err("--tet goes with --quick and --out only".into());
     }
-    let mode = if tet {
+    if general && (large || ironing || pyamg || robustness || plasticity || scaling || tet) {
+        return Err("--general goes with --quick and --out only".into());
+    }
+    let mode = if general {
+        Mode::General { quick }
+    } else if tet {
         Mode::Tet { quick }
     } else if scaling {
         Mode::Scaling
@@ -274,6 +292,7 @@ fn main() -> ExitCode {
         Mode::Plasticity { quick } => peers::calculix::plasticity::run(&args.out, quick),
         Mode::Scaling => scaling::run(&args.out),
         Mode::Tet { quick } => peers::calculix::tet::run(&args.out, quick),
+        Mode::General { quick } => general::run(&args.out, quick),
         Mode::Normal { quick } => suite::run(Config::new(quick, args.out)),
     };
     match done {
