@@ -583,6 +583,16 @@ fn with_comm(f: impl FnOnce(&dyn Comm) -> u8) -> ExitCode {
         match MpiComm::init() {
             Some(comm) => {
                 let code = f(&comm);
+                if solver::output::shutdown::open_objects() > 0 {
+                    // An object HDF5 could not close (a full disk, reported already): its
+                    // shutdown in MPI_Finalize would crash on it (output::shutdown). This
+                    // rank leaves with its exit code; mpirun ends the others.
+                    use std::io::Write;
+                    let _ = std::io::stderr().flush();
+                    let _ = std::io::stdout().flush();
+                    // SAFETY: ends the process at once; nothing is needed after.
+                    unsafe { libc::_exit(i32::from(code.max(1))) }
+                }
                 drop(comm);
                 ExitCode::from(code)
             }

@@ -25,6 +25,7 @@ mod picture;
 mod publish;
 mod reader;
 mod restart;
+pub mod shutdown;
 mod timestamp;
 mod verify;
 mod writer;
