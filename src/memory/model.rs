@@ -38,6 +38,14 @@ pub struct Counts {
     /// hold its elastic matrix (`Assembly::mark_elastic`) where the full tangent is built
     /// or friction couples a nonlinear body's model problem.
     pub plastic_point_elements: u64,
+    /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
+    /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement holds, its
+    /// entries, and those of its sparse factor where it is predicted factored (0 when
+    /// not). All 0 when the counts come from generated blocks alone, whose aggregates are
+    /// the calibration's.
+    pub coarse_pairs: u64,
+    pub coarse_entries: u64,
+    pub coarse_factor_entries: u64,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -106,6 +114,18 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
 const MULTILEVEL_SPLIT_PER_NODE: f64 = 409.0;
 const MULTILEVEL_WHOLE_PER_NODE: f64 = 198.0;
+/// Where the first coarse level is counted on the mesh (`Counts::coarse_pairs`): the
+/// measurement's buffer of the rank's rows, an f64 and a state byte for each entry of its
+/// 6 x 6 blocks (`measure::Blocks`), at least the per-node split above. On a poorly
+/// aggregated mesh it is larger: 8.2 MB on the Hertz example x2 (27380 blocks, 3.4 nodes
+/// per aggregate; heaptrack), against 2.5 MB at 409 bytes per node.
+const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
+/// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
+/// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by
+/// doubling: 15.9 and 17.0 bytes per entry measured on the plate with a hole and the Hertz
+/// example x2) beside the factor (a u32 row and an f64 value per entry).
+const WHOLE_LEVEL_PER_ENTRY: f64 = 16.0;
+const FACTOR_PER_ENTRY: f64 = 12.0;
 /// The full tangent preconditioner on every rank, per node of the whole mesh: the
 /// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
 /// node graph), held at the build's peak as the gathered (row, column, value) triples
@@ -123,6 +143,22 @@ fn tangent_bytes(nodes: f64) -> f64 {
     let a = TANGENT_ENTRIES_PER_NODE * nodes;
     let factor = TANGENT_FILL * nodes.powf(4.0 / 3.0);
     (40.0 * a).max(12.0 * (a + factor)) + 4.0 * a
+}
+
+/// The multilevel hierarchy at the peak of its build on one of `ranks` ranks: per node, or
+/// from its first coarse level where the mesh counted it, with the factor predicted there.
+fn multilevel_bytes(c: &Counts, ranks: usize) -> f64 {
+    let n = c.nodes as f64;
+    let mut split = MULTILEVEL_SPLIT_PER_NODE * n;
+    let mut whole = MULTILEVEL_WHOLE_PER_NODE * n;
+    if c.coarse_pairs > 0 {
+        split = split.max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64);
+    }
+    if c.coarse_factor_entries > 0 {
+        whole += WHOLE_LEVEL_PER_ENTRY * c.coarse_entries as f64
+            + FACTOR_PER_ENTRY * c.coarse_factor_entries as f64;
+    }
+    whole + split / ranks as f64
 }
 
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
@@ -214,7 +250,7 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         let dim = 6.0 * aggregates;
         8.0 * dim * dim
     } else if c.multilevel {
-        n * (MULTILEVEL_WHOLE_PER_NODE + MULTILEVEL_SPLIT_PER_NODE / ranks as f64)
+        multilevel_bytes(c, ranks)
     } else {
         0.0
     };

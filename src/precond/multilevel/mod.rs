@@ -40,6 +40,7 @@ pub mod sparse;
 pub mod sparse_cholesky;
 pub mod split;
 pub mod supernodal;
+pub mod size;
 pub mod transfer;
 pub mod triple;
 
