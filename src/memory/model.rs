@@ -304,3 +304,42 @@ pub fn ranks_on_one_machine(c: &Counts, available: f64, asked: usize) -> usize {
         .find(|&r| estimate(c, r).total() <= available)
         .unwrap_or(0)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without the first coarse level counted the hierarchy is the per-node count; with it,
+    /// the measurement's blocks where they exceed that (split over the ranks), and a
+    /// predicted factor with the level held whole beside it on every rank.
+    #[test]
+    fn the_first_coarse_level_adds_its_blocks_and_factor() {
+        let base = Counts {
+            elements: 1000,
+            nodes: 1331,
+            multilevel: true,
+            ..Counts::default()
+        };
+        let n = 1331.0;
+        for ranks in [1, 2] {
+            let r = ranks as f64;
+            let per_node = estimate(&base, ranks).coarse;
+            assert_eq!(per_node, n * (198.0 + 409.0 / r));
+            let few = Counts {
+                coarse_pairs: 1,
+                coarse_entries: 36,
+                ..base
+            };
+            assert_eq!(estimate(&few, ranks).coarse, per_node);
+            let poor = Counts {
+                coarse_pairs: 10_000,
+                coarse_entries: 200_000,
+                coarse_factor_entries: 500_000,
+                ..base
+            };
+            // Integers and halves: exact in f64 whatever the order of the sums.
+            let want = n * 198.0 + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
+            assert_eq!(estimate(&poor, ranks).coarse, want);
+        }
+    }
+}

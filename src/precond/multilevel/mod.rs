@@ -35,12 +35,12 @@ mod elimination;
 pub mod first;
 pub mod measure;
 pub mod prolongator;
+pub mod size;
 pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;
 pub mod split;
 pub mod supernodal;
-pub mod size;
 pub mod transfer;
 pub mod triple;
 
