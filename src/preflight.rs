@@ -41,6 +41,7 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
         let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p));
         size.counts.coarse_pairs = first.pairs;
         size.counts.coarse_entries = first.entries;
+        size.counts.coarse_slow = first.poor;
         size.counts.coarse_factor_entries = first.factor_entries;
     }
     size

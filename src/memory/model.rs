@@ -45,6 +45,8 @@ pub struct Counts {
     /// the calibration's.
     pub coarse_pairs: u64,
     pub coarse_entries: u64,
+    /// The level's V-cycle is predicted slow (poor aggregates): its factor is tried.
+    pub coarse_slow: bool,
     pub coarse_factor_entries: u64,
 }
 
@@ -126,6 +128,11 @@ const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
 /// example x2) beside the factor (a u32 row and an f64 value per entry).
 const WHOLE_LEVEL_PER_ENTRY: f64 = 16.0;
 const FACTOR_PER_ENTRY: f64 = 12.0;
+/// Its analysis (`SparseCholesky::analyse`) beside the whole level, the factor's or not:
+/// the aggregate pairs of every entry above the diagonal (8 bytes each, about 4 per entry)
+/// and the graph made of them (7.6 per entry): 16.8 and 32.3 MB at 4.25 million entries
+/// on the plate with a hole's x2 mesh, whose factor did not fit `FILL` (heaptrack).
+const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
 /// The full tangent preconditioner on every rank, per node of the whole mesh: the
 /// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
 /// node graph), held at the build's peak as the gathered (row, column, value) triples
@@ -154,9 +161,10 @@ fn multilevel_bytes(c: &Counts, ranks: usize) -> f64 {
     if c.coarse_pairs > 0 {
         split = split.max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64);
     }
-    if c.coarse_factor_entries > 0 {
-        whole += WHOLE_LEVEL_PER_ENTRY * c.coarse_entries as f64
-            + FACTOR_PER_ENTRY * c.coarse_factor_entries as f64;
+    if c.coarse_slow {
+        let entries = c.coarse_entries as f64;
+        whole += WHOLE_LEVEL_PER_ENTRY * entries
+            + (ANALYSIS_PER_ENTRY * entries).max(FACTOR_PER_ENTRY * c.coarse_factor_entries as f64);
     }
     whole + split / ranks as f64
 }
@@ -334,12 +342,20 @@ mod tests {
             let poor = Counts {
                 coarse_pairs: 10_000,
                 coarse_entries: 200_000,
+                coarse_slow: true,
                 coarse_factor_entries: 500_000,
                 ..base
             };
             // Integers and halves: exact in f64 whatever the order of the sums.
             let want = n * 198.0 + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             assert_eq!(estimate(&poor, ranks).coarse, want);
+            // Slow but too large to factor: the level whole and its analysis.
+            let tried = Counts {
+                coarse_factor_entries: 0,
+                ..poor
+            };
+            let want = n * 198.0 + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+            assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
         }
     }
 }

@@ -34,6 +34,9 @@ pub struct FirstLevel {
     /// live modes (a mode is live where some free direction of a node of the aggregate
     /// moves with it; a plane-strain slab's aggregates on one face keep 3 of their 6).
     pub entries: u64,
+    /// The aggregates are poor (`POOR_AGGREGATE_NODES`): the level's V-cycle is predicted
+    /// slow, and its factor is tried.
+    pub poor: bool,
     /// The entries of its sparse factor when the aggregates are poor and the factor fits
     /// `FILL` (its blocks by nested dissection, diagonal ones included, at the operator's
     /// mean entries per block); 0 when it is not predicted factored.
@@ -81,6 +84,7 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
         aggregates: na as u64,
         pairs,
         entries,
+        poor,
         factor_entries,
     }
 }
@@ -151,6 +155,7 @@ mod tests {
         };
         let free = first_level(&mesh, &[]);
         assert_eq!((free.aggregates, free.pairs, free.entries), (16, 160, 1440));
+        assert!(free.poor);
         assert_eq!(free.factor_entries % 9, 0);
         assert!(
             (88 * 9..=136 * 9).contains(&free.factor_entries),
