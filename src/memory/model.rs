@@ -1,5 +1,8 @@
 //! The memory model: the peak resident memory of a rank from the scene's counts alone
-//! (elements, nodes, formulation, preconditioner, ranks), before anything is allocated.
+//! (elements, nodes, formulation, preconditioner, ranks), before anything is allocated;
+//! for a loaded mesh also from its multilevel first coarse level, counted on the mesh
+//! (`Counts::coarse_pairs` and after: docs/memory.md, "The first coarse level counted on
+//! the mesh").
 //!
 //! The byte counts per element and per node are those of the data structures that hold
 //! them (listed at each constant), so a scene whose ratio of nodes to elements or whose
