@@ -283,7 +283,7 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
         problem.solver.preconditioner = p;
     }
     if sized.is_none() {
-        let size = solver::scene::counts::problem_size(&problem);
+        let size = solver::preflight::loaded_size(&problem);
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
     }
     if let Some(path) = args.restart {
@@ -409,7 +409,7 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
     };
     println!("{}", solver::problem::summary(&p));
     if sized.is_none() {
-        let size = solver::scene::counts::problem_size(&p);
+        let size = solver::preflight::loaded_size(&p);
         let fit =
             solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());
         println!("{}", solver::preflight::fit_line(&fit));

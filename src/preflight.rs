@@ -4,7 +4,8 @@
 
 use crate::comm::{self, Comm};
 use crate::memory::{self, available, check_fit, Fit};
-use crate::scene::counts::SceneSize;
+use crate::problem::Problem;
+use crate::scene::counts::{problem_size, SceneSize};
 use std::hash::{Hash, Hasher};
 
 /// This machine's host name.
@@ -28,6 +29,41 @@ pub fn ranks_on_this_machine<C: Comm + ?Sized>(comm: &C) -> usize {
         .iter()
         .filter(|v| v.first() == Some(&mine))
         .count()
+}
+
+/// The size of a loaded scene (`scene::counts::problem_size`) with, where the multilevel
+/// hierarchy will be built, its first coarse level counted on the mesh
+/// (`precond::multilevel::size`): the aggregates of an unstructured mesh are not the
+/// generated blocks' 27 nodes, and a poorly aggregated level is factored.
+pub fn loaded_size(p: &Problem) -> SceneSize {
+    let mut size = problem_size(p);
+    if size.counts.multilevel && !size.counts.two_level && !size.counts.tangent {
+        let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p));
+        size.counts.coarse_pairs = first.pairs;
+        size.counts.coarse_entries = first.entries;
+        size.counts.coarse_slow = first.poor;
+        size.counts.coarse_factor_entries = first.factor_entries;
+    }
+    size
+}
+
+/// Bits 0, 1, 2 of every node: held in x, y, z by a displacement along that axis (one
+/// along an oblique direction is left out: the modes then count as live, the larger
+/// estimate).
+fn held(p: &Problem) -> Vec<u8> {
+    let mut fixed = vec![0u8; p.mesh.num_nodes()];
+    for d in &p.dirichlet {
+        let Some(axis) = (0..3).find(|&i| d.direction[i].abs() == 1.0) else {
+            continue;
+        };
+        if (0..3).any(|i| i != axis && d.direction[i] != 0.0) {
+            continue;
+        }
+        for &a in &p.node_sets[d.node_set].nodes {
+            fixed[a as usize] |= 1 << axis;
+        }
+    }
+    fixed
 }
 
 /// What the gate decided.

@@ -150,29 +150,39 @@ fn measured_peak(d: &Path, factor: u32, ranks: usize, preconditioner: Option<&st
     let scene = root().join("run/scenes/bench/block_on_block.toml");
     let name = preconditioner.unwrap_or("default");
     let h5 = d.join(format!("n{}_np{ranks}_{name}.h5", 10 * factor));
+    let mut args = vec!["--refine".to_string(), factor.to_string()];
+    if let Some(p) = preconditioner {
+        args.extend(["--preconditioner".to_string(), p.to_string()]);
+    }
+    run_under_mpirun(&scene, &args, ranks, &h5).1
+}
+
+/// Runs `scene` with `args` on `ranks` ranks under mpirun and returns the estimate and the
+/// peak its done line prints ("peak memory X MiB per rank (estimated Y MiB)"), in bytes.
+fn run_under_mpirun(scene: &Path, args: &[String], ranks: usize, h5: &Path) -> (f64, f64) {
     let o = Command::new(root().join("run/mpirun"))
         .args(["-np", &ranks.to_string()])
         .arg(env!("CARGO_BIN_EXE_solver"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "--refine",
-            &factor.to_string(),
-        ])
-        .args(preconditioner.iter().flat_map(|&p| ["--preconditioner", p]))
-        .args(["-o", h5.to_str().unwrap()])
+        .arg("run")
+        .arg(scene)
+        .args(args)
+        .arg("-o")
+        .arg(h5)
         .output()
         .expect("mpirun runs");
     let (_, err) = text(&o);
     assert!(o.status.success(), "{err}");
-    let at = err.find("peak memory ").expect("done line") + "peak memory ".len();
-    let mib: f64 = err[at..]
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    mib * 1024.0 * 1024.0
+    let mib_after = |key: &str| -> f64 {
+        let at = err.find(key).unwrap_or_else(|| panic!("'{key}' in {err}")) + key.len();
+        let mib: f64 = err[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        mib * 1024.0 * 1024.0
+    };
+    (mib_after("(estimated "), mib_after("peak memory "))
 }
 
 /// The estimate is within 25% of the measured peak for the block on block at n = 10, 20,
@@ -245,4 +255,46 @@ fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
         cases.push((factor, ranks, counts, Some("multilevel")));
     }
     estimates_within_25_percent("peaks-multilevel", cases);
+}
+
+/// The estimate within 25% of the peak on unstructured Gmsh meshes, where the multilevel
+/// hierarchy's first coarse level is counted on the mesh (`precond::multilevel::size`): the
+/// plate with a hole (run/scenes/bench/plate_with_hole.toml: hexahedra split from
+/// tetrahedra, 10.9 nodes per aggregate, its first coarse level factored: 4.25 million
+/// entries) on 1 and 2 ranks, and the Hertz example x2 (one element thick, 3.4 nodes per
+/// aggregate, factored) on 1 and 2 ranks, each with the default preconditioner (multilevel
+/// there). The same 25% as the generated blocks, for the same reason. Before the first
+/// level was counted on the mesh: 66.1 and 51.6 MiB against 128.9 and 113.8 (-49%, -55%),
+/// and 42.2 and 37.6 against 71.3 and 63.1 (-41%, -40%); since: -0.5%, -0.1%, -16.3%,
+/// -17.9% (docs/memory.md's table). The x2 mesh comes from run/gmsh/make_examples 2 (Gmsh)
+/// when missing.
+#[test]
+fn the_estimate_is_within_25_percent_on_gmsh_meshes() {
+    let d = dir("gmsh");
+    let x2 = root().join("run/examples/cylinder_on_block_x2.toml");
+    if !x2.exists() || !root().join("run/gmsh/cylinder_on_block_x2.msh").exists() {
+        let status = Command::new(root().join("run/gmsh/make_examples"))
+            .arg("2")
+            .status()
+            .expect("run/gmsh/make_examples runs");
+        assert!(status.success(), "run/gmsh/make_examples 2 failed");
+    }
+    let plate = root().join("run/scenes/bench/plate_with_hole.toml");
+    let mut lines = Vec::new();
+    let mut worst: f64 = 0.0;
+    for (scene, ranks) in [(&plate, 1), (&plate, 2), (&x2, 1), (&x2, 2)] {
+        let name = scene.file_stem().unwrap().to_string_lossy().to_string();
+        let h5 = d.join(format!("{name}_np{ranks}.h5"));
+        let (est, peak) = run_under_mpirun(scene, &[], ranks, &h5);
+        let rel = est / peak - 1.0;
+        worst = worst.max(rel.abs());
+        lines.push(format!(
+            "{name}, {ranks} rank(s): estimate {:.1} MiB, peak {:.1} MiB, {:+.1}%",
+            est / 1048576.0,
+            peak / 1048576.0,
+            100.0 * rel
+        ));
+    }
+    eprintln!("{}", lines.join("\n"));
+    assert!(worst <= 0.25, "{}", lines.join("\n"));
 }

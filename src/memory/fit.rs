@@ -140,6 +140,7 @@ mod tests {
             nonlinear: false,
             tangent: false,
             plastic_point_elements: 0,
+            ..Counts::default()
         };
         let one = estimate(&c, 1).per_rank();
         assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());

@@ -1,5 +1,8 @@
 //! The memory model: the peak resident memory of a rank from the scene's counts alone
-//! (elements, nodes, formulation, preconditioner, ranks), before anything is allocated.
+//! (elements, nodes, formulation, preconditioner, ranks), before anything is allocated;
+//! for a loaded mesh also from its multilevel first coarse level, counted on the mesh
+//! (`Counts::coarse_pairs` and after: docs/memory.md, "The first coarse level counted on
+//! the mesh").
 //!
 //! The byte counts per element and per node are those of the data structures that hold
 //! them (listed at each constant), so a scene whose ratio of nodes to elements or whose
@@ -38,6 +41,16 @@ pub struct Counts {
     /// hold its elastic matrix (`Assembly::mark_elastic`) where the full tangent is built
     /// or friction couples a nonlinear body's model problem.
     pub plastic_point_elements: u64,
+    /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
+    /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement holds, its
+    /// entries, and those of its sparse factor where it is predicted factored (0 when
+    /// not). All 0 when the counts come from generated blocks alone, whose aggregates are
+    /// the calibration's.
+    pub coarse_pairs: u64,
+    pub coarse_entries: u64,
+    /// The level's V-cycle is predicted slow (poor aggregates): its factor is tried.
+    pub coarse_slow: bool,
+    pub coarse_factor_entries: u64,
 }
 
 /// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
@@ -106,6 +119,23 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
 const MULTILEVEL_SPLIT_PER_NODE: f64 = 409.0;
 const MULTILEVEL_WHOLE_PER_NODE: f64 = 198.0;
+/// Where the first coarse level is counted on the mesh (`Counts::coarse_pairs`): the
+/// measurement's buffer of the rank's rows, an f64 and a state byte for each entry of its
+/// 6 x 6 blocks (`measure::Blocks`), at least the per-node split above. On a poorly
+/// aggregated mesh it is larger: 8.2 MB on the Hertz example x2 (27380 blocks, 3.4 nodes
+/// per aggregate; heaptrack), against 2.5 MB at 409 bytes per node.
+const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
+/// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
+/// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by
+/// doubling: 15.9 and 17.0 bytes per entry measured on the plate with a hole and the Hertz
+/// example x2) beside the factor (a u32 row and an f64 value per entry).
+const WHOLE_LEVEL_PER_ENTRY: f64 = 16.0;
+const FACTOR_PER_ENTRY: f64 = 12.0;
+/// Its analysis (`SparseCholesky::analyse`) beside the whole level, the factor's or not:
+/// the aggregate pairs of every entry above the diagonal (8 bytes each, about 4 per entry)
+/// and the graph made of them (7.6 per entry): 16.8 and 32.3 MB at 4.25 million entries
+/// on the plate with a hole's x2 mesh, whose factor did not fit `FILL` (heaptrack).
+const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
 /// The full tangent preconditioner on every rank, per node of the whole mesh: the
 /// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
 /// node graph), held at the build's peak as the gathered (row, column, value) triples
@@ -123,6 +153,23 @@ fn tangent_bytes(nodes: f64) -> f64 {
     let a = TANGENT_ENTRIES_PER_NODE * nodes;
     let factor = TANGENT_FILL * nodes.powf(4.0 / 3.0);
     (40.0 * a).max(12.0 * (a + factor)) + 4.0 * a
+}
+
+/// The multilevel hierarchy at the peak of its build on one of `ranks` ranks: per node, or
+/// from its first coarse level where the mesh counted it, with the factor predicted there.
+fn multilevel_bytes(c: &Counts, ranks: usize) -> f64 {
+    let n = c.nodes as f64;
+    let mut split = MULTILEVEL_SPLIT_PER_NODE * n;
+    let mut whole = MULTILEVEL_WHOLE_PER_NODE * n;
+    if c.coarse_pairs > 0 {
+        split = split.max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64);
+    }
+    if c.coarse_slow {
+        let entries = c.coarse_entries as f64;
+        whole += WHOLE_LEVEL_PER_ENTRY * entries
+            + (ANALYSIS_PER_ENTRY * entries).max(FACTOR_PER_ENTRY * c.coarse_factor_entries as f64);
+    }
+    whole + split / ranks as f64
 }
 
 /// The runtime before any mesh: the binary, HDF5 and, under mpirun, MPI and its buffers.
@@ -214,7 +261,7 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
         let dim = 6.0 * aggregates;
         8.0 * dim * dim
     } else if c.multilevel {
-        n * (MULTILEVEL_WHOLE_PER_NODE + MULTILEVEL_SPLIT_PER_NODE / ranks as f64)
+        multilevel_bytes(c, ranks)
     } else {
         0.0
     };
@@ -267,4 +314,51 @@ pub fn ranks_on_one_machine(c: &Counts, available: f64, asked: usize) -> usize {
         .rev()
         .find(|&r| estimate(c, r).total() <= available)
         .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without the first coarse level counted the hierarchy is the per-node count; with it,
+    /// the measurement's blocks where they exceed that (split over the ranks), and a
+    /// predicted factor with the level held whole beside it on every rank.
+    #[test]
+    fn the_first_coarse_level_adds_its_blocks_and_factor() {
+        let base = Counts {
+            elements: 1000,
+            nodes: 1331,
+            multilevel: true,
+            ..Counts::default()
+        };
+        let n = 1331.0;
+        for ranks in [1, 2] {
+            let r = ranks as f64;
+            let per_node = estimate(&base, ranks).coarse;
+            assert_eq!(per_node, n * (198.0 + 409.0 / r));
+            let few = Counts {
+                coarse_pairs: 1,
+                coarse_entries: 36,
+                ..base
+            };
+            assert_eq!(estimate(&few, ranks).coarse, per_node);
+            let poor = Counts {
+                coarse_pairs: 10_000,
+                coarse_entries: 200_000,
+                coarse_slow: true,
+                coarse_factor_entries: 500_000,
+                ..base
+            };
+            // Integers and halves: exact in f64 whatever the order of the sums.
+            let want = n * 198.0 + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
+            assert_eq!(estimate(&poor, ranks).coarse, want);
+            // Slow but too large to factor: the level whole and its analysis.
+            let tried = Counts {
+                coarse_factor_entries: 0,
+                ..poor
+            };
+            let want = n * 198.0 + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+            assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
+        }
+    }
 }

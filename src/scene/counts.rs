@@ -200,6 +200,7 @@ pub fn problem_size(p: &Problem) -> SceneSize {
                 })
                 .map(|(b, _)| b.num_elements as u64)
                 .sum(),
+            ..Counts::default()
         },
         preconditioner: pre,
         plastic,

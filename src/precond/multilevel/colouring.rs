@@ -144,7 +144,7 @@ impl Neighbours for MeshNeighbours<'_> {
 }
 
 /// reach[reach_ptr[j]..reach_ptr[j + 1]]: the aggregates a probe on aggregate j reaches.
-fn reach_of(
+pub(super) fn reach_of(
     graph: &impl Neighbours,
     agg_of: &[u32],
     num_aggs: usize,

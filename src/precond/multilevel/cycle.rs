@@ -32,7 +32,7 @@ const RATE_CYCLES: usize = 8;
 /// about 4 nnz(L) flops, the V-cycle it replaces sweeps x (2 degree + 2) level products, 36
 /// nnz(A) flops with the defaults, so up to 9 nnz(A) the solve costs no more per
 /// application. (Hertz x2 and x4: 3.1-4.4.)
-const FILL: usize = 8;
+pub(super) const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
 

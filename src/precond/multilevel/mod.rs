@@ -35,6 +35,7 @@ mod elimination;
 pub mod first;
 pub mod measure;
 pub mod prolongator;
+pub mod size;
 pub mod smoother;
 pub mod sparse;
 pub mod sparse_cholesky;

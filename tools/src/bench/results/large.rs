@@ -223,6 +223,7 @@ mod tests {
             nonlinear: false,
             tangent: false,
             plastic_point_elements: 0,
+            ..solver::memory::Counts::default()
         };
         let want = solver::memory::estimate_run(&c, 2, true).per_rank() / MIB;
         let got = model_estimate_mib(2, Precond::TwoLevel).unwrap();

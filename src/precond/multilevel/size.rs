@@ -1,0 +1,168 @@
+//! The first coarse level's size from the mesh alone, for the memory estimate made before
+//! the solve (`memory::model`): the aggregates of the node graph (the build's own
+//! aggregation, `Transfer::new`), the aggregate pairs the measurement of the first coarse
+//! operator holds (`Colouring`'s reach: one ring of the node graph; the ties of contact,
+//! unknown before the solve, left out), and, where the aggregates are poor, the entries of
+//! the sparse factor that then replaces the coarse levels (`Hierarchy::finish`).
+
+use super::aggregation::{aggregate, Graph};
+use super::colouring::{reach_of, Ties};
+use super::cycle::FILL;
+use super::sparse_cholesky::SparseCholesky;
+use super::transfer::{SINGLETON_NODES, STRONG_RATIO};
+use crate::mesh::GlobalMesh;
+use crate::precond::aggregates::modes;
+
+/// Aggregates of fewer nodes than this on average make a first coarse level whose
+/// V-cycle is slow (its rate above `cycle::SLOW_RATE`), and it is factored. Measured: the
+/// generated blocks aggregate 25 to 27 nodes each (rate 0.56, not factored); the Hertz
+/// example 3.8 and x2 3.4 (one element thick), its tetrahedral version 6.2, the Gmsh
+/// plate with a hole (hexahedra split from tetrahedra) 10.9 and the bracket (10-node
+/// tetrahedra on a block of hexahedra) 17.4 (rates 0.66 to 0.84, factored). The rate
+/// that decides is known only once the level is built: this is a threshold between the
+/// measured cases, not a bound.
+pub const POOR_AGGREGATE_NODES: f64 = 20.0;
+
+/// What the estimate needs of the first coarse level.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FirstLevel {
+    pub aggregates: u64,
+    /// Pairs (k, j) of aggregates where k sees j, k = j included: the 6 x 6 blocks the
+    /// measurement holds (`measure::Blocks`).
+    pub pairs: u64,
+    /// The operator's entries: of each pair's block, the products of the two aggregates'
+    /// live modes (a mode is live where some free direction of a node of the aggregate
+    /// moves with it; a plane-strain slab's aggregates on one face keep 3 of their 6).
+    pub entries: u64,
+    /// The aggregates are poor (`POOR_AGGREGATE_NODES`): the level's V-cycle is predicted
+    /// slow, and its factor is tried.
+    pub poor: bool,
+    /// The entries of its sparse factor when the aggregates are poor and the factor fits
+    /// `FILL` (its blocks by nested dissection, diagonal ones included, at the operator's
+    /// mean entries per block); 0 when it is not predicted factored.
+    pub factor_entries: u64,
+}
+
+/// Bits 0, 1, 2 of `fixed[a]`: node a is held in x, y, z (from the scene's displacements).
+pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
+    let n = mesh.num_nodes();
+    if n == 0 {
+        return FirstLevel::default();
+    }
+    let graph = Graph::of_mesh(mesh);
+    let (agg_of, na) = if n <= SINGLETON_NODES {
+        ((0..n as u32).collect(), n)
+    } else {
+        aggregate(&graph.strong(&mesh.coords, STRONG_RATIO), &vec![true; n])
+    };
+    let (reach_ptr, reach) = reach_of(&graph, &agg_of, na, &Ties::from_pairs(n, Vec::new()));
+    drop(graph);
+    let live = live_modes(mesh, fixed, &agg_of, na);
+    let mut entries = 0u64;
+    let mut edges = Vec::new();
+    for j in 0..na {
+        for &k in &reach[reach_ptr[j]..reach_ptr[j + 1]] {
+            entries += (live[j] * live[k as usize]) as u64;
+            if (k as usize) > j {
+                edges.push((j as u32, k));
+            }
+        }
+    }
+    let pairs = reach.len() as u64;
+    drop(reach);
+    let poor = (n as f64) < POOR_AGGREGATE_NODES * na as f64;
+    let factor_entries = if poor {
+        let g = Graph::from_edges(na, &edges);
+        drop(edges);
+        SparseCholesky::graph_factor_entries(&g, FILL * pairs as usize).map_or(0, |(below, _)| {
+            ((below + na) as f64 * entries as f64 / pairs as f64).round() as u64
+        })
+    } else {
+        0
+    };
+    FirstLevel {
+        aggregates: na as u64,
+        pairs,
+        entries,
+        poor,
+        factor_entries,
+    }
+}
+
+/// The live modes of every aggregate (`aggregates::modes` at the nodes' offsets from the
+/// aggregate's centre, less the directions each node is held in).
+fn live_modes(mesh: &GlobalMesh, fixed: &[u8], agg_of: &[u32], na: usize) -> Vec<usize> {
+    let mut centre = vec![[0.0f64; 3]; na];
+    let mut count = vec![0usize; na];
+    for (a, x) in mesh.coords.iter().enumerate() {
+        let k = agg_of[a] as usize;
+        (0..3).for_each(|i| centre[k][i] += x[i]);
+        count[k] += 1;
+    }
+    for k in 0..na {
+        (0..3).for_each(|i| centre[k][i] /= count[k].max(1) as f64);
+    }
+    let mut live = vec![0u8; na];
+    for (a, x) in mesh.coords.iter().enumerate() {
+        let k = agg_of[a] as usize;
+        let d = crate::math::sub(x, &centre[k]);
+        let held = fixed.get(a).copied().unwrap_or(0);
+        for (m, v) in modes(&d).iter().enumerate() {
+            if (0..3).any(|i| held & (1 << i) == 0 && v[i] != 0.0) {
+                live[k] |= 1 << m;
+            }
+        }
+    }
+    live.iter().map(|l| l.count_ones() as usize).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Connectivity;
+
+    /// Three hexahedra in a row (16 nodes, so one aggregate per node): each of the 8 end
+    /// nodes sees the 8 nodes of its element, each of the 8 middle ones the 12 of its two,
+    /// so 160 pairs; a lone node's rotations vanish at its own centre, leaving 3 live
+    /// modes (9 entries a pair), 2 where every node is held in z (4 a pair). 16 nodes in
+    /// 16 aggregates are poor ones: the factor is predicted, between the operator's lower
+    /// triangle with its diagonal ((160 - 16) / 2 + 16 blocks) and a full one (136).
+    #[test]
+    fn a_row_of_three_elements_counts_its_pairs_entries_and_factor() {
+        let mut elements = Vec::new();
+        for e in 0..3u32 {
+            let b = 4 * e;
+            elements.push([b, b + 4, b + 5, b + 1, b + 2, b + 6, b + 7, b + 3]);
+        }
+        let coords = (0..16)
+            .map(|a| {
+                let (i, r) = (a / 4, a % 4);
+                [i as f64, (r % 2) as f64, (r / 2) as f64]
+            })
+            .collect();
+        let mesh = GlobalMesh {
+            coords,
+            elements: Connectivity::from_fixed(&elements),
+            element_body: vec![0; 3],
+            bodies: vec![crate::mesh::Body {
+                name: "b".into(),
+                kind: crate::fem::ElementKind::Hex8,
+                first_node: 0,
+                num_nodes: 16,
+                first_element: 0,
+                num_elements: 3,
+            }],
+        };
+        let free = first_level(&mesh, &[]);
+        assert_eq!((free.aggregates, free.pairs, free.entries), (16, 160, 1440));
+        assert!(free.poor);
+        assert_eq!(free.factor_entries % 9, 0);
+        assert!(
+            (88 * 9..=136 * 9).contains(&free.factor_entries),
+            "{free:?}"
+        );
+        let held = first_level(&mesh, &[4; 16]);
+        assert_eq!((held.pairs, held.entries), (160, 640));
+        assert_eq!(held.factor_entries * 9, free.factor_entries * 4);
+    }
+}
