@@ -11,7 +11,8 @@
 //!   in some rigid-body motion (its stiffness there comes through the contact patch), else
 //!   block Jacobi with multilevel on standby for a model problem that stalls;
 //! - from TWO_LEVEL_NODES: two-level, with multilevel on standby up to
-//!   MULTILEVEL_STANDBY_NODES.
+//!   MULTILEVEL_STANDBY_NODES; where no coarse space can be built (several bodies in one of
+//!   its cells), multilevel as below TWO_LEVEL_NODES instead of Jacobi alone.
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
@@ -207,7 +208,11 @@ fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -
 /// (Hertz x2: 791 CG iterations with the switch at 300, 496 with multilevel from the
 /// start); otherwise Jacobi with multilevel on standby.
 fn medium_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Choice {
-    let m = multilevel(comm, problem, mesh);
+    medium_with(problem, multilevel(comm, problem, mesh))
+}
+
+/// `medium_mesh` with its multilevel preconditioner built.
+fn medium_with(problem: &Problem, m: Multilevel) -> Choice {
     let held = held_by_contact_alone(problem);
     if !held.is_empty() {
         let note = format!(
@@ -255,10 +260,15 @@ fn two_level<C: Comm + ?Sized>(
             None,
             format!("preconditioner: refused two_level ({why}); nodal block Jacobi instead"),
         ),
-        Err(why) => (
-            None,
-            None,
-            format!("preconditioner: nodal block Jacobi ({why})"),
-        ),
+        Err(why) => {
+            // No coarse space (several bodies in one cell): multilevel, as below
+            // TWO_LEVEL_NODES, rather than Jacobi alone (a stack of 128 blocks held by
+            // contact alone, 146112 nodes: no first model problem in 15 minutes).
+            let (coarse, ml, note) = match standby {
+                Some(m) => medium_with(problem, m),
+                None => medium_mesh(comm, problem, mesh),
+            };
+            (coarse, ml, format!("{note}; two-level refused: {why}"))
+        }
     }
 }
