@@ -28,6 +28,9 @@ impl Discretization {
     }
 }
 
+/// Per edge of a master facet, the facet across it and that facet's edge index, if any.
+pub type EdgeNeighbours = [Option<(u32, u8)>; 4];
+
 /// A validated contact pair. The lists are shared: the passes of general contact that have
 /// a body in the same role hold one copy of its lists (`scene::validate::general`).
 #[derive(Clone, Debug)]
@@ -42,7 +45,7 @@ pub struct ContactPair {
     pub face_nodes: Arc<Vec<[u32; 4]>>,
     /// For each master face and edge k (between corners k and k+1), the master face across
     /// it and that face's edge index, if any.
-    pub neighbours: Arc<Vec<[Option<(u32, u8)>; 4]>>,
+    pub neighbours: Arc<Vec<EdgeNeighbours>>,
     /// Slave nodes, ascending global ids.
     pub slave_nodes: Arc<Vec<u32>>,
     /// (element, local face) of each slave face, ascending (as given: not per facet).

@@ -240,11 +240,10 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     if scaling && (quick || large || ironing || pyamg || robustness || plasticity) {
         return Err("--scaling goes with --out only".into());
     }
-    if tet && (large || ironing || pyamg || robustness || plasticity || scaling) {
-        return Err("--tet goes with --quick and --out only".into());
-    }
-    if general && (large || ironing || pyamg || robustness || plasticity || scaling || tet) {
-        return Err("--general goes with --quick and --out only".into());
+    let others = large || ironing || pyamg || robustness || plasticity || scaling;
+    if (tet || general) && (others || (tet && general)) {
+        let which = if general { "--general" } else { "--tet" };
+        return Err(format!("{which} goes with --quick and --out only"));
     }
     let mode = if general {
         Mode::General { quick }
