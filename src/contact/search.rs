@@ -15,6 +15,20 @@ use std::collections::HashMap;
 /// A node beyond a face's edge by less than this fraction of the face size sits on the
 /// edge (round-off of the projection): its interaction has no offset.
 const BEYOND_NOISE: f64 = 1e-10;
+/// General contact's normal smoothing blends two faces' normals across their edge only
+/// where they meet at less than 45 degrees: facets of a curved surface, whose normal should
+/// turn continuously (the paper's "V", 12 degrees). Its master surface is every exterior
+/// face, so a steeper edge is a corner of the body (a block's), whose faces keep their own
+/// normals: blended there, the normal of a block's top tilted by 45 degrees toward its
+/// sides, and the nodes lying along those edges were no longer found facing it. A
+/// `[[contact]]` pair blends across every edge of the faces it names: a die's bottom and
+/// front named with smoothing round its edge (the ironing die of run/scenes/sliding at 300
+/// drag steps completes with it and stops at t = 1.52 without).
+const SMOOTH_EDGE_COSINE: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// How far below zero the cosine between a slave facet's normal and a master face's must
+/// be for the two to oppose (`MasterSurface::overlaps`): beyond the round-off of unit
+/// normals, so that faces at right angles (a block's side beside another's top) do not.
+const OPPOSED: f64 = 1e-8;
 
 /// A slave node's interaction with a master face (the paper's section 3).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -258,6 +272,36 @@ impl<'a> MasterSurface<'a> {
             .map(|(_, it)| it)
     }
 
+    /// Whether the slave surface around a node at `x` overlaps a held face: some point
+    /// of it (`tributary`: offsets from the node halfway to the centres of the slave
+    /// facets around it, each with that facet's outward normal) lies over a face whose
+    /// normal opposes the facet's (beyond round-off), within the normal tolerance and the offset's length
+    /// (the point is off the master plane where the slave facet is tilted). Faces that
+    /// meet another body's only along an edge or at a corner (blocks side by side) do not
+    /// overlap: their nodes on the shared edge are not tied across it.
+    pub fn overlaps(&self, x: &Vec3, tributary: &[[Vec3; 2]]) -> bool {
+        tributary.iter().any(|[d, n_slave]| {
+            let p = add(x, d);
+            let reach = self.pair.normal_tolerance + norm(d);
+            let probe = Aabb::new(
+                Point::new(p[0] - reach, p[1] - reach, p[2] - reach),
+                Point::new(p[0] + reach, p[1] + reach, p[2] + reach),
+            );
+            let found = self.bvh.intersect_aabb(&probe).any(|k| {
+                let c = &self.corners[k as usize];
+                let (s, ok) = closest_point(c, &p);
+                let triangle = facet::is_triangle(c);
+                if !ok || facet::beyond(triangle, &s, 0.0) {
+                    return false;
+                }
+                let n = normal(self.normal_corners(k as usize), &s);
+                let xc = interpolate(c, &facet::shape(triangle, &s));
+                dot(&n, n_slave) < -OPPOSED && dot(&sub(&p, &xc), &n).abs() <= reach
+            });
+            found
+        })
+    }
+
     /// The interaction of a slave node at `x` with the face it touches now (index in the
     /// pair), if the node's projection lies on that face or beyond an edge by at most
     /// `margin` (in local coordinates, which span 2 across the face) and within the normal
@@ -409,6 +453,9 @@ impl<'a> MasterSurface<'a> {
             let (sg, _) = closest_point(cg, &xe);
             let sg = facet::clamp(facet::is_triangle(cg), &sg);
             let ng = normal(self.normal_corners(kg as usize), &sg);
+            if self.pair.slave_normals.is_some() && dot(n_face, &ng) < SMOOTH_EDGE_COSINE {
+                continue;
+            }
             let avg = add(n_face, &ng);
             let la = norm(&avg);
             if !(la > 1e-12) {
@@ -500,6 +547,7 @@ mod tests {
             secondary: false,
             partner: None,
             slave_normals: None,
+            slave_tributaries: None,
             neighbourhood: None,
         };
         (pair, coords)
@@ -549,6 +597,25 @@ mod tests {
         }
     }
 
+    /// A node on the master surface's edge is captured only where the slave surface around
+    /// it lies over the master (a block's bottom on the dome), not where it lies beyond the
+    /// edge (a block beside the dome, meeting it along the edge only), nor where the slave
+    /// facet over the master does not oppose its normal (a side face turned away from the
+    /// dome's slope, or one facing the same way).
+    #[test]
+    fn only_slave_area_over_the_master_overlaps_it() {
+        let (pair, coords) = dome(2);
+        let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
+        let x = [1.0, 0.3 * (1.0 + 0.25), 0.5];
+        let down = [0.0, -1.0, 0.0];
+        let beyond = [[0.125, 0.0, 0.125], down];
+        let over = [[-0.125, 0.0, 0.125], down];
+        assert!(!surface.overlaps(&x, &[beyond]));
+        assert!(surface.overlaps(&x, &[beyond, over]));
+        assert!(!surface.overlaps(&x, &[[[-0.125, 0.0, 0.125], [-1.0, 0.0, 0.0]]]));
+        assert!(!surface.overlaps(&x, &[[[-0.125, 0.0, 0.125], [0.0, 1.0, 0.0]]]));
+    }
+
     /// Normal smoothing on triangles (two sub-triangles meeting at a crease, as across the
     /// edge of two tet10 faces): on the shared edge the normal is the average of the two
     /// facets' normals; at a facet's centroid, farther from every edge than the width
@@ -583,6 +650,7 @@ mod tests {
             secondary: false,
             partner: None,
             slave_normals: None,
+            slave_tributaries: None,
             neighbourhood: None,
         };
         let surface = MasterSurface::new(&pair, |n| coords[n as usize]);

@@ -31,6 +31,9 @@ impl Discretization {
 /// Per edge of a master facet, the facet across it and that facet's edge index, if any.
 pub type EdgeNeighbours = [Option<(u32, u8)>; 4];
 
+/// Per slave node, the points of the slave surface around it (`ContactPair::slave_tributaries`).
+pub type Tributaries = Arc<Vec<Vec<[crate::math::Vec3; 2]>>>;
+
 /// A validated contact pair. The lists are shared: the passes of general contact that have
 /// a body in the same role hold one copy of its lists (`scene::validate::general`).
 #[derive(Clone, Debug)]
@@ -78,6 +81,13 @@ pub struct ContactPair {
     /// master face is found for a node only if its normal opposes this. None for
     /// `[[contact]]` pairs, whose side sets already say which faces meet.
     pub slave_normals: Option<Arc<Vec<crate::math::Vec3>>>,
+    /// General contact between two bodies: per slave node (by position in
+    /// `slave_nodes`), the slave surface around it, as points it is captured by
+    /// (`MasterSurface::overlaps`): for each slave facet around the node, the offset from
+    /// the node halfway to the facet's centre and the facet's outward normal, in the
+    /// reference configuration. A node is captured only where this area overlaps a master
+    /// face, not where the two bodies meet along an edge only. None for every other pair.
+    pub slave_tributaries: Option<Tributaries>,
     /// Self contact (`scene::validate::general`, a body's exterior nodes against its own
     /// exterior faces): per slave node (by position in `slave_nodes`), the master facets
     /// (ascending indices in the pair) it is never tied to, the faces around it: those
@@ -174,6 +184,7 @@ impl ContactPair {
             secondary: false,
             partner: None,
             slave_normals: None,
+            slave_tributaries: None,
             neighbourhood: None,
         }
     }
@@ -192,6 +203,12 @@ impl ContactPair {
     /// The outward normal slave node `i` (its position in `slave_nodes`) must oppose.
     pub fn facing(&self, i: usize) -> Option<&crate::math::Vec3> {
         self.slave_normals.as_ref().map(|n| &n[i])
+    }
+
+    /// The slave surface around slave node `i` (its position in `slave_nodes`) that a
+    /// master face must overlap to capture it; None: no such condition.
+    pub fn tributary(&self, i: usize) -> Option<&[[crate::math::Vec3; 2]]> {
+        self.slave_tributaries.as_ref().map(|t| &t[i][..])
     }
 
     /// Whether a slave node not in contact at `gap` from the master surface is captured

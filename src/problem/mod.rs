@@ -10,7 +10,7 @@ mod contact_pair;
 mod function;
 mod kinematics;
 
-pub use contact_pair::{ContactPair, Discretization};
+pub use contact_pair::{ContactPair, Discretization, Tributaries};
 pub use function::PiecewiseLinear;
 pub use kinematics::Kinematics;
 

@@ -51,6 +51,9 @@ impl ContactState {
                 if let Some(it) = found.map(|it| surfaces[p].symmetrise(it, &x, s)) {
                     if pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p)))
                         && sides.admits(problem, p, s, it.face)
+                        && pair
+                            .tributary(i)
+                            .is_none_or(|t| surfaces[p].overlaps(&x, t))
                     {
                         self.active.push(new_active(p, s, &it, pair.mu));
                         changed = true;
@@ -122,6 +125,9 @@ impl ContactState {
                         // penetrates; at zero gap it is just leaving.
                         if admitted
                             && pair.captures(it.gap, PENETRATION_NOISE, released.contains(&(s, p)))
+                            && pair
+                                .tributary(i)
+                                .is_none_or(|t| surfaces[p].overlaps(&x, t))
                         {
                             added.push(new_active(p, s, &it, pair.mu));
                             changed = true;

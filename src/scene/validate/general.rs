@@ -12,7 +12,7 @@
 
 use super::contacts::{fixed_directions, mean_face_size, surface_nodes};
 use super::*;
-use crate::problem::ContactPair;
+use crate::problem::{ContactPair, Tributaries};
 use std::sync::Arc;
 
 /// A body of the general contact: its exterior faces, their mean size, and whether every
@@ -110,6 +110,7 @@ impl Builder {
         pair.slave_faces = side.faces.clone();
         pair.slave_face_nodes = side.face_nodes.clone();
         pair.slave_normals = Some(side.normals.clone());
+        pair.slave_tributaries = Some(side.tributaries.clone());
         pair.secondary = secondary;
         Ok(pair)
     }
@@ -265,6 +266,7 @@ struct SlaveSide {
     faces: Arc<Vec<(u32, u8)>>,
     face_nodes: Arc<Vec<[u32; 4]>>,
     normals: Arc<Vec<Vec3>>,
+    tributaries: Tributaries,
 }
 
 impl Shared {
@@ -296,6 +298,7 @@ impl Shared {
         self.slaves[body].get_or_insert_with(|| {
             let nodes = surface_nodes(mesh, &s.faces);
             let normals = node_normals(mesh, &nodes, &s.faces);
+            let tributaries = node_tributaries(mesh, &nodes, &s.faces);
             let face_nodes = s
                 .faces
                 .iter()
@@ -306,6 +309,7 @@ impl Shared {
                 faces: Arc::new(s.faces.clone()),
                 face_nodes: Arc::new(face_nodes),
                 normals: Arc::new(normals),
+                tributaries: Arc::new(tributaries),
             }
         })
     }
@@ -396,4 +400,31 @@ pub(super) fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]
     sum.into_iter()
         .map(|v| scale(&v, 1.0 / norm(&v).max(f64::MIN_POSITIVE)))
         .collect()
+}
+
+/// Each node's slave surface around it (`ContactPair::slave_tributaries`), by position in
+/// `nodes` (ascending): per facet around it, the offset halfway to the facet's centre (the
+/// mean of its corners) and its unit outward normal, in the reference configuration.
+fn node_tributaries(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Vec<Vec<[Vec3; 2]>> {
+    let mut out = vec![Vec::new(); nodes.len()];
+    for facet in faces.iter().flat_map(|&(e, f)| mesh.contact_facets(e, f)) {
+        let corners = if facet[3] == facet[2] { 3 } else { 4 };
+        let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[facet[a] as usize]);
+        let n = crate::math::cross(
+            &crate::math::sub(&x[2], &x[0]),
+            &crate::math::sub(&x[3], &x[1]),
+        );
+        let n = scale(&n, 1.0 / norm(&n));
+        let mut centre = [0.0; 3];
+        for p in &x[..corners] {
+            centre = crate::math::add(&centre, &scale(p, 1.0 / corners as f64));
+        }
+        for (a, &node) in facet[..corners].iter().enumerate() {
+            let i = nodes
+                .binary_search(&node)
+                .expect("a face's node is a surface node");
+            out[i].push([scale(&crate::math::sub(&centre, &x[a]), 0.5), n]);
+        }
+    }
+    out
 }
