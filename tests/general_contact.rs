@@ -71,7 +71,7 @@ fn block_on_wedge_general_contact_gives_the_pairwise_answer() {
 /// answer to 1e-8: the edge-only pairs tie no node (a node is captured, or its shallow
 /// penetration audited, only where the slave surface around it overlaps a master face),
 /// smoothing keeps the skin's 90-degree edges sharp, and the audit puts a node back on the
-/// nearest face it faces. Before, the first two stopped at their first step and the
+/// nearest face not pointing the way its own surface does. Before, the first two stopped at their first step and the
 /// others differed by 0.89 and 0.33 of the largest displacement, or stopped on an
 /// inverted element (barrel). Measured: bitwise, barrel 1.8e-11.
 #[test]

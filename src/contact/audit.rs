@@ -229,10 +229,14 @@ fn inside(
 }
 
 /// Slave node `s` of pair `p` at `x`, found inside: its depth below the nearest point of
-/// the pair's master `surface`; for a general contact node the nearest face facing it
-/// (a block's corner pushed through a base's top lies on the base's side face where the
-/// two bodies' sides are flush: gap removal must put it back on the top), and for a self
-/// contact node one not around it.
+/// the pair's master `surface`. For a general contact node, the nearest face whose normal
+/// is not within 60 degrees of the node's own: a block's corner pushed through a base's
+/// top lies beside the base's side face where the two bodies' sides are flush, and gap
+/// removal must put it back on the top, not on that face, which it could not have come
+/// in by. The bound is loose because the node's normal is the reference configuration's:
+/// the slab a die's front edge ploughs into the die has turned, and its nodes go back out
+/// of the die's front face (at right angles to their reference normal), the nearest. For
+/// a self contact node, the nearest face facing it and not around it.
 fn measured(
     problem: &Problem,
     surface: &MasterSurface,
@@ -245,7 +249,10 @@ fn measured(
         Ok(i) if pair.is_self() => surface
             .nearest_among(x, pair.facing(i), pair.skipped(i))
             .map(|it| surface.symmetrise(it, x, s)),
-        Ok(i) => surface.nearest_among(x, pair.facing(i), &[]),
+        Ok(i) => match pair.facing(i) {
+            Some(n) => surface.nearest_not_along(x, n),
+            None => surface.nearest(x),
+        },
         _ => surface.nearest(x),
     }?;
     let xc = surface.point(it.face, &it.s)?;

@@ -340,9 +340,27 @@ impl<'a> MasterSurface<'a> {
         facing: Option<&Vec3>,
         skip: &[u32],
     ) -> Option<Interaction> {
+        self.nearest_where(x, facing.map(|n| (n, 0.0)), skip)
+    }
+
+    /// `nearest` among the faces whose normal does not point along `along` (cosine below
+    /// 1/2): a general contact node found inside a master body goes back out of a face it
+    /// could have come in by, not one its own surface lies alongside (`audit::measured`).
+    pub fn nearest_not_along(&self, x: &Vec3, along: &Vec3) -> Option<Interaction> {
+        self.nearest_where(x, Some((along, 0.5)), &[])
+    }
+
+    /// `nearest` among the faces whose normal has a cosine below `limit` with `direction`
+    /// (every face when None), leaving out the faces `skip`.
+    fn nearest_where(
+        &self,
+        x: &Vec3,
+        direction: Option<(&Vec3, f64)>,
+        skip: &[u32],
+    ) -> Option<Interaction> {
         let measure = |k: u32| {
             self.project_within(k, x, f64::INFINITY, f64::INFINITY)
-                .filter(|c| facing.is_none_or(|n| crate::math::dot(&c.1.normal, n) < 0.0))
+                .filter(|c| direction.is_none_or(|(n, limit)| dot(&c.1.normal, n) < limit))
                 .filter(|c| skip.binary_search(&c.1.face).is_err())
         };
         let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
