@@ -285,3 +285,77 @@ fn general_contact_takes_tet10_bodies() {
         assert!(r.pressure.0 > 0.0, "{case}: {r:?}");
     }
 }
+
+/// Coulomb friction on tet10 faces: the stacked cubes (tet10 cube on the hex8 cube), the
+/// lower cube's bottom clamped, a pressure p on the upper cube's top, every node of the
+/// upper cube dragged along x by 0.05 (free in z; the lower cube, a short cantilever,
+/// takes mu p at about 0.02 of shear and bending), every node held in y (plane strain:
+/// the slip is along x, where the lower cube's Poisson bulge would otherwise turn part of
+/// the friction sideways). Once every slave node slips, the upper cube's equilibrium is
+/// exact whatever the discretisation:
+/// the normal contact force is p A, and the friction the drag's reaction balances is
+/// mu p A (A = 1). Tet faces as the master (node-to-face, the hex nodes on the
+/// sub-triangles) and as the slave (mortar, the dual basis on the sub-triangles).
+#[test]
+fn coulomb_friction_on_tet_faces_carries_mu_n_in_either_role() {
+    const MU: f64 = 0.3;
+    let dir = fresh_dir("tet_contact_friction");
+    let mesh = stack_mesh(&dir, false);
+    for (case, master, slave, disc) in [
+        ("tet master", "upper_bottom", "lower_top", "node_face"),
+        ("tet slave, mortar", "lower_top", "upper_bottom", "mortar"),
+    ] {
+        let text = scene(&mesh, master, slave, disc)
+            .replace(
+                "node_set = \"lower_bottom\"\ncomponents = [\"z\"]",
+                "node_set = \"lower_bottom\"\ncomponents = [\"x\", \"y\", \"z\"]",
+            )
+            .replace(
+                "node_set = \"x0\"\ncomponents = [\"x\"]\nvalue = 0.0",
+                "node_set = \"upper_nodes\"\ncomponents = [\"x\"]\nfunction = [[0.0, 0.0], [1.0, 0.05]]",
+            )
+            .replacen(
+                "[[displacement]]",
+                "[[node_set]]\nname = \"upper_nodes\"\ngmsh_group = \"upper\"\n\n[[displacement]]",
+                1,
+            )
+            .replace(
+                &format!("discretization = \"{disc}\""),
+                &format!("discretization = \"{disc}\"\nfriction = \"coulomb\"\nmu = {MU}"),
+            )
+            .replace(
+                "name = \"y0\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }",
+                "name = \"y0\"\nbox = { min = [-1.0, -1.0, -1.0], max = [2.0, 2.0, 3.0] }",
+            )
+            .replace("steps = 1 }", "steps = 2 }");
+        let path = dir.join("friction.toml");
+        std::fs::write(&path, text).unwrap();
+        let p = load_scene(&path).unwrap_or_else(|e| panic!("{case}: {e}"));
+        let (_, state) = solve(&p);
+        let upper = &p.mesh.bodies[1];
+        let drag: f64 = (upper.first_node..upper.first_node + upper.num_nodes)
+            .map(|n| state.reaction[n][0])
+            .sum();
+        let normal: f64 = state.constraints.iter().map(|c| c.normal_force).sum();
+        let slaves: Vec<u8> = (state.constraints.iter())
+            .map(|c| state.contact_status[c.slave as usize])
+            .collect();
+        println!(
+            "{case}: N {normal:.12e}, drag {drag:.12e} (mu p {}), {} slave nodes in contact",
+            MU * P,
+            slaves.len()
+        );
+        assert!(
+            !slaves.is_empty() && slaves.iter().all(|&s| s == 2),
+            "{case}: {slaves:?}"
+        );
+        // The solver's residual tolerance (1e-13 of the reference force) bounds the
+        // equilibrium's error far below this 1e-8 of the load.
+        assert!((normal - P).abs() <= 1e-8 * P, "{case}: N {normal} vs {P}");
+        assert!(
+            (drag.abs() - MU * P).abs() <= 1e-8 * P,
+            "{case}: drag {drag} vs {}",
+            MU * P
+        );
+    }
+}
