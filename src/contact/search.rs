@@ -275,10 +275,10 @@ impl<'a> MasterSurface<'a> {
     /// Whether the slave surface around a node at `x` overlaps a held face: some point
     /// of it (`tributary`: offsets from the node halfway to the centres of the slave
     /// facets around it, each with that facet's outward normal) lies over a face whose
-    /// normal opposes the facet's (beyond round-off), within the normal tolerance and the offset's length
-    /// (the point is off the master plane where the slave facet is tilted). Faces that
-    /// meet another body's only along an edge or at a corner (blocks side by side) do not
-    /// overlap: their nodes on the shared edge are not tied across it.
+    /// normal opposes the facet's (beyond round-off), within the normal tolerance and the
+    /// offset's length (the point is off the master plane where the slave facet is
+    /// tilted). Faces that meet another body's only along an edge or at a corner (blocks
+    /// side by side) do not overlap: their nodes on the shared edge are not tied across it.
     pub fn overlaps(&self, x: &Vec3, tributary: &[[Vec3; 2]]) -> bool {
         tributary.iter().any(|[d, n_slave]| {
             let p = add(x, d);

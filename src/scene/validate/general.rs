@@ -382,11 +382,7 @@ pub(super) fn node_normals(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]
     // whose fourth node repeats its third (the diagonals' cross product is then the
     // triangle's normal; its repeated node counts once).
     for facet in faces.iter().flat_map(|&(e, f)| mesh.contact_facets(e, f)) {
-        let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[facet[a] as usize]);
-        let d1 = crate::math::sub(&x[2], &x[0]);
-        let d2 = crate::math::sub(&x[3], &x[1]);
-        let n = crate::math::cross(&d1, &d2);
-        let n = scale(&n, 1.0 / norm(&n));
+        let n = facet_normal(mesh, &facet);
         let corners = if facet[3] == facet[2] { 3 } else { 4 };
         for &a in &facet[..corners] {
             let i = nodes
@@ -410,11 +406,7 @@ fn node_tributaries(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Ve
     for facet in faces.iter().flat_map(|&(e, f)| mesh.contact_facets(e, f)) {
         let corners = if facet[3] == facet[2] { 3 } else { 4 };
         let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[facet[a] as usize]);
-        let n = crate::math::cross(
-            &crate::math::sub(&x[2], &x[0]),
-            &crate::math::sub(&x[3], &x[1]),
-        );
-        let n = scale(&n, 1.0 / norm(&n));
+        let n = facet_normal(mesh, &facet);
         let mut centre = [0.0; 3];
         for p in &x[..corners] {
             centre = crate::math::add(&centre, &scale(p, 1.0 / corners as f64));
@@ -427,4 +419,16 @@ fn node_tributaries(mesh: &GlobalMesh, nodes: &[u32], faces: &[(u32, u8)]) -> Ve
         }
     }
     out
+}
+
+/// A contact facet's unit outward normal in the reference configuration: the cross product
+/// of its diagonals (a triangle's fourth node repeats its third, and the product is then
+/// its normal).
+fn facet_normal(mesh: &GlobalMesh, facet: &[u32; 4]) -> Vec3 {
+    let x: [Vec3; 4] = std::array::from_fn(|a| mesh.coords[facet[a] as usize]);
+    let n = crate::math::cross(
+        &crate::math::sub(&x[2], &x[0]),
+        &crate::math::sub(&x[3], &x[1]),
+    );
+    scale(&n, 1.0 / norm(&n))
 }
