@@ -147,3 +147,28 @@ fn face_key(kind: ElementKind, el: &[u32], k: usize) -> [u32; 4] {
     key.sort_unstable();
     key
 }
+
+/// Three hexahedra in a row along x, one body of 16 nodes (four per cross-section, in the
+/// order the elements' connectivity gives), at `coords`: a fixture of the unit tests.
+#[cfg(test)]
+pub(crate) fn hexahedra_in_a_row(coords: Vec<Vec3>) -> GlobalMesh {
+    let elements: Vec<[u32; 8]> = (0..3u32)
+        .map(|e| {
+            let b = 4 * e;
+            [b, b + 4, b + 5, b + 1, b + 2, b + 6, b + 7, b + 3]
+        })
+        .collect();
+    GlobalMesh {
+        coords,
+        elements: Connectivity::from_fixed(&elements),
+        element_body: vec![0; 3],
+        bodies: vec![Body {
+            name: "b".into(),
+            kind: ElementKind::Hex8,
+            first_node: 0,
+            num_nodes: 16,
+            first_element: 0,
+            num_elements: 3,
+        }],
+    }
+}

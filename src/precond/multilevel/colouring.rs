@@ -306,24 +306,7 @@ mod tests {
         // Three elements in a row (16 nodes), aggregates of four nodes, a tie from the far
         // end's node to the first: the colouring from the elements around each node is
         // the one from the node graph.
-        let mut elements = Vec::new();
-        for e in 0..3u32 {
-            let b = 4 * e;
-            elements.push([b, b + 4, b + 5, b + 1, b + 2, b + 6, b + 7, b + 3]);
-        }
-        let mesh = crate::mesh::GlobalMesh {
-            coords: vec![[0.0; 3]; 16],
-            elements: Connectivity::from_fixed(&elements),
-            element_body: vec![0; 3],
-            bodies: vec![crate::mesh::Body {
-                name: "b".into(),
-                kind: crate::fem::ElementKind::Hex8,
-                first_node: 0,
-                num_nodes: 16,
-                first_element: 0,
-                num_elements: 3,
-            }],
-        };
+        let mesh = crate::mesh::hexahedra_in_a_row(vec![[0.0; 3]; 16]);
         let around = NodeElements::of_mesh(&mesh);
         let by_elements = MeshNeighbours {
             around: &around,

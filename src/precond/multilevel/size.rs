@@ -119,7 +119,6 @@ fn live_modes(mesh: &GlobalMesh, fixed: &[u8], agg_of: &[u32], na: usize) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::Connectivity;
 
     /// Three hexahedra in a row (16 nodes, so one aggregate per node): each of the 8 end
     /// nodes sees the 8 nodes of its element, each of the 8 middle ones the 12 of its two,
@@ -129,30 +128,13 @@ mod tests {
     /// triangle with its diagonal ((160 - 16) / 2 + 16 blocks) and a full one (136).
     #[test]
     fn a_row_of_three_elements_counts_its_pairs_entries_and_factor() {
-        let mut elements = Vec::new();
-        for e in 0..3u32 {
-            let b = 4 * e;
-            elements.push([b, b + 4, b + 5, b + 1, b + 2, b + 6, b + 7, b + 3]);
-        }
         let coords = (0..16)
             .map(|a| {
                 let (i, r) = (a / 4, a % 4);
                 [i as f64, (r % 2) as f64, (r / 2) as f64]
             })
             .collect();
-        let mesh = GlobalMesh {
-            coords,
-            elements: Connectivity::from_fixed(&elements),
-            element_body: vec![0; 3],
-            bodies: vec![crate::mesh::Body {
-                name: "b".into(),
-                kind: crate::fem::ElementKind::Hex8,
-                first_node: 0,
-                num_nodes: 16,
-                first_element: 0,
-                num_elements: 3,
-            }],
-        };
+        let mesh = crate::mesh::hexahedra_in_a_row(coords);
         let free = first_level(&mesh, &[]);
         assert_eq!((free.aggregates, free.pairs, free.entries), (16, 160, 1440));
         assert!(free.poor);
