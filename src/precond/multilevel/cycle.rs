@@ -292,8 +292,8 @@ impl Hierarchy {
             // Node-block relaxation (Hertz x4, first model problem: 2610 CG iterations with
             // point relaxation, 1959 with blocks; block on block n = 20: 94 -> 79).
             let dinv = BlockInverse::new(&a, &node_ptr);
-            let (graph, active) = strength_graph(&a, &diag, &node_ptr, &body);
-            let (agg, na) = aggregate(&graph, &active);
+            let (mut graph, active) = strength_graph(&a, &diag, &node_ptr, &body);
+            let (agg, na) = aggregate(&mut graph, &active);
             let coarse_body = coarse_bodies(&agg, na, &body);
             let tent = tentative(&agg, na, &node_ptr, &b);
             if stops_coarsening(tent.p.cols, a.rows) {

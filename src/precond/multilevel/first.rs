@@ -250,9 +250,9 @@ fn next_aggregates<C: Comm + ?Sized>(
         .map(|e| (e[0] as u32, e[1] as u32))
         .collect();
     drop(flat);
-    let graph = Graph::from_edges(node_ptr.len() - 1, &edges);
+    let mut graph = Graph::from_edges(node_ptr.len() - 1, &edges);
     drop(edges);
-    aggregate(&graph, &cycle::active_nodes(diag, node_ptr))
+    aggregate(&mut graph, &cycle::active_nodes(diag, node_ptr))
 }
 
 /// P^T and P^T A P (its symmetric part) from this rank's rows of A (those of the nodes

@@ -49,7 +49,7 @@ use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
-use aggregation::{Graph, NodeElements};
+use aggregation::NodeElements;
 use colouring::{Colouring, MeshNeighbours, Ties};
 use cycle::Hierarchy;
 use prolongator::MODES;
@@ -138,9 +138,7 @@ impl Multilevel {
         mesh: &LocalMesh,
         degree: usize,
     ) -> Self {
-        let graph = Graph::of_mesh(g);
-        let transfer = Transfer::new(comm, g, &graph, mesh);
-        drop(graph);
+        let transfer = Transfer::new(comm, g, mesh);
         let nl = mesh.num_nodes();
         let dim = transfer.dim();
         let mut lo = [f64::INFINITY; 3];

@@ -5,11 +5,11 @@
 //! unknown before the solve, left out), and, where the aggregates are poor, the entries of
 //! the sparse factor that then replaces the coarse levels (`Hierarchy::finish`).
 
-use super::aggregation::{aggregate, Graph};
+use super::aggregation::Graph;
 use super::colouring::{reach_of, Ties};
 use super::cycle::FILL;
 use super::sparse_cholesky::SparseCholesky;
-use super::transfer::{SINGLETON_NODES, STRONG_RATIO};
+use super::transfer::fine_aggregates;
 use crate::mesh::GlobalMesh;
 use crate::precond::aggregates::modes;
 
@@ -49,12 +49,8 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
     if n == 0 {
         return FirstLevel::default();
     }
+    let (agg_of, na) = fine_aggregates(mesh);
     let graph = Graph::of_mesh(mesh);
-    let (agg_of, na) = if n <= SINGLETON_NODES {
-        ((0..n as u32).collect(), n)
-    } else {
-        aggregate(&graph.strong(&mesh.coords, STRONG_RATIO), &vec![true; n])
-    };
     let (reach_ptr, reach) = reach_of(&graph, &agg_of, na, &Ties::from_pairs(n, Vec::new()));
     drop(graph);
     let live = live_modes(mesh, fixed, &agg_of, na);

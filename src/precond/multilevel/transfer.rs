@@ -4,7 +4,7 @@
 //! (values of nodes owned elsewhere fetched first), and every rank gathers all aggregates:
 //! the coarse vector is the same on every rank and on any number of ranks.
 
-use super::aggregation::{aggregate, Graph};
+use super::aggregation::{aggregate, StrongMesh};
 use super::prolongator::MODES;
 use crate::comm::Comm;
 use crate::math::Vec3;
@@ -13,7 +13,7 @@ use crate::mesh::GlobalMesh;
 use crate::precond::aggregates::Aggregates;
 
 /// Mesh neighbours farther apart than this times the shortest distance from either to a
-/// neighbour are weakly coupled and not aggregated together (Graph::strong). Measured on
+/// neighbour are weakly coupled and not aggregated together (`StrongMesh`). Measured on
 /// the Hertz example x2 (one element thick, graded): 3233 CG iterations with every
 /// neighbour aggregated, 756 with this ratio; cubes (diagonals 1.41 and 1.73) keep all.
 pub(super) const STRONG_RATIO: f64 = 2.0;
@@ -36,20 +36,22 @@ pub struct Transfer {
     pub body: Vec<u32>,
 }
 
+/// The fine-level aggregates of the whole mesh: the aggregate of every node and their
+/// number (one per node on a mesh of at most SINGLETON_NODES nodes).
+pub fn fine_aggregates(g: &GlobalMesh) -> (Vec<u32>, usize) {
+    let n = g.num_nodes();
+    if n <= SINGLETON_NODES {
+        ((0..n as u32).collect(), n)
+    } else {
+        aggregate(&mut StrongMesh::new(g, STRONG_RATIO), &vec![true; n])
+    }
+}
+
 impl Transfer {
     /// Aggregates the global node graph and plans the sums (collective).
-    pub fn new<C: Comm + ?Sized>(
-        comm: &C,
-        g: &GlobalMesh,
-        graph: &Graph,
-        mesh: &LocalMesh,
-    ) -> Self {
+    pub fn new<C: Comm + ?Sized>(comm: &C, g: &GlobalMesh, mesh: &LocalMesh) -> Self {
         let n = g.num_nodes();
-        let (agg_of, na) = if n <= SINGLETON_NODES {
-            ((0..n as u32).collect(), n)
-        } else {
-            aggregate(&graph.strong(&g.coords, STRONG_RATIO), &vec![true; n])
-        };
+        let (agg_of, na) = fine_aggregates(g);
         let mut centre = vec![[0.0; 3]; na];
         let mut count = vec![0usize; na];
         for a in 0..n {
