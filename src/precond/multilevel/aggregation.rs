@@ -303,8 +303,7 @@ pub fn aggregate(g: &mut impl Rows, active: &[bool]) -> (Vec<u32>, usize) {
             continue;
         }
         g.row(i, &mut nb);
-        if let Some(&j) = nb.iter().find(|&&j| phase1[j as usize] != FREE)
-        {
+        if let Some(&j) = nb.iter().find(|&&j| phase1[j as usize] != FREE) {
             agg[i] = phase1[j as usize];
         }
     }
@@ -425,7 +424,10 @@ mod tests {
             }],
         };
         let mut whole = strong(&Graph::of_mesh(&mesh), &mesh.coords, 2.0);
-        assert!(whole.adj.len() < Graph::of_mesh(&mesh).adj.len(), "no link dropped");
+        assert!(
+            whole.adj.len() < Graph::of_mesh(&mesh).adj.len(),
+            "no link dropped"
+        );
         let mut rows = StrongMesh::new(&mesh, 2.0);
         let mut row = Vec::new();
         for a in (0..n).rev().chain(0..n) {
@@ -433,7 +435,10 @@ mod tests {
             assert_eq!(row, whole.neighbours(a), "node {a}");
         }
         let active = vec![true; n];
-        assert_eq!(aggregate(&mut rows, &active), aggregate(&mut whole, &active));
+        assert_eq!(
+            aggregate(&mut rows, &active),
+            aggregate(&mut whole, &active)
+        );
     }
 
     #[test]

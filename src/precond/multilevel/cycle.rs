@@ -10,6 +10,7 @@ use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;
 use super::blocks::BlockInverse;
 use super::direct::Compressed;
+use super::prolongation::Prolongation;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
 use super::sparse::{node_of, Csr, Offset, Rows};
@@ -69,15 +70,13 @@ impl Op {
     }
 }
 
-/// One coarse level: its operator, smoother, the transpose of its prolongator to the next
-/// (restriction P^T r is its product, prolongation P x its transposed product: each entry
-/// of P x gets its terms in the order of P's row, so the same bits as with P held too,
-/// which was as large again) and buffers.
+/// One coarse level: its operator, smoother, its prolongator to the next (`Prolongation`)
+/// and buffers.
 struct Level {
     a: Op,
     dinv: BlockInverse,
     cheb: Chebyshev,
-    pt: Csr,
+    transfer: Prolongation,
     b: Vec<f64>,
     x: Vec<f64>,
     r: Vec<f64>,
@@ -87,12 +86,12 @@ struct Level {
 
 impl Level {
     /// A level of `n` unknowns.
-    fn new(a: Op, dinv: BlockInverse, cheb: Chebyshev, pt: Csr, n: usize) -> Self {
+    fn new(a: Op, dinv: BlockInverse, cheb: Chebyshev, transfer: Prolongation, n: usize) -> Self {
         Level {
             a,
             dinv,
             cheb,
-            pt,
+            transfer,
             b: vec![0.0; n],
             x: vec![0.0; n],
             r: vec![0.0; n],
@@ -108,7 +107,7 @@ pub struct FirstLevel {
     pub rows: BlockRows,
     pub dinv: BlockInverse,
     pub cheb: Chebyshev,
-    pub pt: Csr,
+    pub transfer: Prolongation,
     /// Unknowns of the level.
     pub n: usize,
     /// Non-zeros of the whole level's operator.
@@ -124,6 +123,8 @@ pub struct FirstLevel {
 /// product is the same row sum (`Csr::mul_rows_into`), so the same bits.
 pub trait Product {
     fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
+    /// Every rank's `mine` into `all` (`all.len()` = ranks x `mine.len()`), in rank order.
+    fn gather(&mut self, mine: &[f64], all: &mut [f64]);
 }
 
 /// The whole product on this rank.
@@ -132,6 +133,9 @@ pub struct Whole;
 impl Product for Whole {
     fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
         a.mul_into(x, y);
+    }
+    fn gather(&mut self, mine: &[f64], all: &mut [f64]) {
+        all.copy_from_slice(mine);
     }
 }
 
@@ -314,7 +318,7 @@ impl Hierarchy {
             let ac = triple_product(&pt, op.csr(), &p, TRIPLE_BLOCKS).symmetric_part();
             // The cycle prolongs with P^T (`Csr::mul_transpose_into`): P itself goes.
             drop(p);
-            levels.push(Level::new(op, dinv, cheb, pt, n));
+            levels.push(Level::new(op, dinv, cheb, Prolongation::Whole(pt), n));
             a = ac;
             node_ptr = tent.node_ptr;
             b = tent.b;
@@ -341,7 +345,13 @@ impl Hierarchy {
     /// hierarchy of that level's coarse operator.
     pub fn above(first: FirstLevel, mut rest: Hierarchy) -> Hierarchy {
         let n = first.n;
-        let level = Level::new(Op::Rows(first.rows), first.dinv, first.cheb, first.pt, n);
+        let level = Level::new(
+            Op::Rows(first.rows),
+            first.dinv,
+            first.cheb,
+            first.transfer,
+            n,
+        );
         rest.levels.insert(0, level);
         rest.sizes.insert(0, n);
         rest.nonzeros.insert(0, first.nnz);
@@ -511,17 +521,18 @@ fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f6
     }
     let xc: &[f64] = match rest.first_mut() {
         None => {
-            lv.pt.mul_into(&lv.r, cb);
+            lv.transfer.restrict(&lv.r, cb, |m, a| top.gather(m, a));
             coarsest.solve(cb);
             cb
         }
         Some(next) => {
-            lv.pt.mul_into(&lv.r, &mut next.b);
+            lv.transfer
+                .restrict(&lv.r, &mut next.b, |m, a| top.gather(m, a));
             cycle(rest, coarsest, cb, &mut Whole);
             &rest[0].x
         }
     };
-    lv.pt.mul_transpose_into(xc, &mut lv.t);
+    lv.transfer.prolong(xc, &mut lv.t, |m, a| top.gather(m, a));
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }

@@ -22,6 +22,7 @@ use super::aggregation::{aggregate, Graph};
 use super::block_rows::{BlockRows, View};
 use super::blocks::BlockInverse;
 use super::cycle::{self, FirstLevel, Hierarchy, Op};
+use super::prolongation::Prolongation;
 use super::prolongator::{smooth_nodes, tentative, MODES};
 use super::smoother::Chebyshev;
 use super::sparse::{node_of, Csr, Rows};
@@ -69,34 +70,43 @@ pub fn gather_rows<C: Comm + ?Sized>(comm: &C, rows: &Csr) -> Csr {
 /// Rows of P a rank sends at a time while P^T is formed.
 const TRANSPOSE_PIECE: usize = 4096;
 
-/// The transpose of the matrix whose rows every rank holds some of (`own`: this rank's,
-/// those of the aggregates `held_by` gives it of `aggregates`, six rows each), formed on
-/// every rank from the rows as they come, rank after rank, a piece at a time: the entries
-/// and bits of `gather_rows(comm, own).transpose()` (each row's entries in the order of
-/// the rows they come from) without the whole matrix held beside it (collective).
-pub fn transpose_gathered<C: Comm + ?Sized>(comm: &C, own: &Csr, aggregates: usize) -> Csr {
-    let (size, cols) = (comm.size(), own.cols);
-    let mut count = vec![0.0f64; cols];
-    for &c in &own.idx {
-        count[c as usize] += 1.0;
+/// One pass over the rows of P every rank holds some of (`own`: this rank's, those of the
+/// aggregates `held_by` gives it of `aggregates`, six rows each), rank after rank, a piece
+/// at a time (collective): the rows `keep` of P^T (each row's entries in the order of the
+/// rows they come from: the bits of those rows of `gather_rows(comm, own).transpose()`)
+/// and the rows `picked` (increasing) of P, without P or P^T held whole.
+pub fn gathered<C: Comm + ?Sized>(
+    comm: &C,
+    own: &Csr,
+    aggregates: usize,
+    keep: Range<usize>,
+    picked: &[u32],
+) -> (Csr, Picked) {
+    let (size, n) = (comm.size(), MODES * aggregates);
+    let mut slot = vec![u32::MAX; n];
+    for (s, &r) in picked.iter().enumerate() {
+        slot[r as usize] = s as u32;
     }
-    let mut all = vec![0.0f64; cols * size];
-    comm.all_gather_equal_f64(&count, &mut all);
+    let mut rows = Csr::empty(own.cols);
+    // The entries of each row of P^T in `keep`, summed over the ranks.
+    let mut count = vec![0i64; own.cols];
+    for &j in &own.idx {
+        count[j as usize] += 1;
+    }
+    comm.sum_i64(&mut count);
+    let mut ptr = vec![0usize; keep.len() + 1];
+    for (j, c) in count[keep.clone()].iter().enumerate() {
+        ptr[j + 1] = ptr[j] + *c as usize;
+    }
     drop(count);
-    let mut ptr = vec![0usize; cols + 1];
-    for i in 0..cols {
-        let n: f64 = (0..size).map(|r| all[r * cols + i]).sum();
-        ptr[i + 1] = ptr[i] + n as usize;
-    }
-    drop(all);
-    let nnz = ptr[cols];
+    let nnz = ptr[keep.len()];
     let (mut idx, mut val) = (vec![0u32; nnz], vec![0.0f64; nnz]);
-    let mut next = ptr[..cols].to_vec();
+    let mut next = ptr[..keep.len()].to_vec();
     for r in 0..size {
         let held = held_by(aggregates, size, r);
-        let rows = MODES * held.len();
-        for start in (0..rows).step_by(TRANSPOSE_PIECE) {
-            let end = (start + TRANSPOSE_PIECE).min(rows);
+        let count = MODES * held.len();
+        for start in (0..count).step_by(TRANSPOSE_PIECE) {
+            let end = (start + TRANSPOSE_PIECE).min(count);
             let mut bytes = if r == comm.rank() {
                 own.rows_to_bytes(start..end)
             } else {
@@ -108,22 +118,32 @@ pub fn transpose_gathered<C: Comm + ?Sized>(comm: &C, own: &Csr, aggregates: usi
             let first = MODES * held.start + start;
             for q in 0..piece.rows {
                 let (c, v) = piece.row(q);
-                for (&i, &x) in c.iter().zip(v) {
-                    let k = &mut next[i as usize];
-                    idx[*k] = (first + q) as u32;
-                    val[*k] = x;
-                    *k += 1;
+                let i = first + q;
+                if slot[i] != u32::MAX {
+                    rows.idx.extend_from_slice(c);
+                    rows.val.extend_from_slice(v);
+                    rows.ptr.push(rows.idx.len());
+                    rows.rows += 1;
+                }
+                for (&j, &x) in c.iter().zip(v) {
+                    if keep.contains(&(j as usize)) {
+                        let k = &mut next[j as usize - keep.start];
+                        idx[*k] = i as u32;
+                        val[*k] = x;
+                        *k += 1;
+                    }
                 }
             }
         }
     }
-    Csr {
-        rows: cols,
-        cols: MODES * aggregates,
+    let pt = Csr {
+        rows: keep.len(),
+        cols: n,
         ptr,
         idx,
         val,
-    }
+    };
+    (pt, Picked::new(slot, rows))
 }
 
 /// Every rank's values, in rank order.
@@ -200,7 +220,7 @@ pub fn build<C: Comm + ?Sized>(
         unreachable!("the first level's rows are blocks")
     };
     let mut view = View::new(&blocks);
-    let (pt, ac) = galerkin(
+    let (transfer, ac) = galerkin(
         comm,
         &mut view,
         (held.clone(), aggregates),
@@ -215,7 +235,7 @@ pub fn build<C: Comm + ?Sized>(
         rows: blocks,
         dinv,
         cheb,
-        pt,
+        transfer,
         n,
         nnz,
         node_ptr,
@@ -255,9 +275,10 @@ fn next_aggregates<C: Comm + ?Sized>(
     aggregate(&mut graph, &cycle::active_nodes(diag, node_ptr))
 }
 
-/// P^T and P^T A P (its symmetric part) from this rank's rows of A (those of the nodes
-/// `held`): P's rows of the held nodes, gathered whole; P^T; P^T A P in turns, each rank
-/// going on from the sums of the rank before it (collective).
+/// The prolongator P (this rank's rows of P and P^T, or P^T whole on one rank) and P^T A
+/// P (its symmetric part) from this rank's rows of A (those of the nodes `held`): P's rows
+/// of the held nodes; of P^T, a range of rows; of P, the rows this rank's rows of A reach;
+/// P^T A P in turns, each rank going on from the sums of the rank before it (collective).
 fn galerkin<C: Comm + ?Sized>(
     comm: &C,
     view: &mut View,
@@ -265,31 +286,51 @@ fn galerkin<C: Comm + ?Sized>(
     dinv: &BlockInverse,
     lmax: f64,
     tentative: &Csr,
-) -> (Csr, Csr) {
+) -> (Prolongation, Csr) {
     let ks = MODES * held.start..MODES * held.end;
     let own_p = smooth_nodes(view, dinv, lmax, tentative, held);
-    let pt = transpose_gathered(comm, &own_p, aggregates);
-    drop(own_p);
-    // Of P, the product needs only the rows its rows of A reach: taken back from P^T.
-    let mut reached = vec![false; pt.cols];
+    // Of P, the product needs only the rows its rows of A reach.
+    let mut reached = vec![false; MODES * aggregates];
     for k in ks.clone() {
         for &m in view.row(k).0 {
             reached[m as usize] = true;
         }
     }
-    let rows: Vec<u32> = (0..pt.cols as u32)
+    let rows: Vec<u32> = (0..reached.len() as u32)
         .filter(|&m| reached[m as usize])
         .collect();
     drop(reached);
-    let p = Picked::from_transpose(&pt, &rows);
+    let (size, coarse) = (comm.size(), own_p.cols);
+    let pt_per = coarse.div_ceil(size).max(1);
+    let keep = (comm.rank() * pt_per).min(coarse)..((comm.rank() + 1) * pt_per).min(coarse);
+    let (pt, p) = gathered(comm, &own_p, aggregates, keep, &rows);
     drop(rows);
+    // The product's rows of P^T restricted to `ks`: on one rank P^T itself, else the
+    // transpose of this rank's rows of P, numbered as the level's, which stands for those
+    // rows until the product is formed (their transpose again, the same rows and bits: the
+    // columns of each row of P are sorted).
+    let local = (size > 1).then(|| {
+        let mut t = own_p.transpose();
+        t.idx.iter_mut().for_each(|k| *k += ks.start as u32);
+        t.cols = MODES * aggregates;
+        t
+    });
+    let own_cols = own_p.cols;
+    drop(own_p);
     let mut sums: Option<Csr> = None;
-    for r in 0..comm.size() {
+    for r in 0..size {
         let mut bytes = Vec::new();
         if r == comm.rank() {
-            let part = triple_product_part(&pt, view, ks.clone(), &p, TRIPLE_BLOCKS, sums.as_ref());
+            let part = triple_product_part(
+                local.as_ref().unwrap_or(&pt),
+                view,
+                ks.clone(),
+                &p,
+                TRIPLE_BLOCKS,
+                sums.as_ref(),
+            );
             bytes = part.to_bytes();
-            if comm.size() == 1 {
+            if size == 1 {
                 sums = Some(part);
                 continue;
             }
@@ -298,15 +339,27 @@ fn galerkin<C: Comm + ?Sized>(
         sums = Some(Csr::from_bytes(&bytes));
     }
     drop(p);
-    (pt, sums.expect("one rank at least").symmetric_part())
+    let transfer = match local {
+        None => Prolongation::Whole(pt),
+        Some(mut t) => {
+            t.idx.iter_mut().for_each(|k| *k -= ks.start as u32);
+            t.cols = ks.len();
+            let own_p = t.transpose();
+            debug_assert_eq!(own_p.cols, own_cols);
+            let p_per = rows_per_rank(comm, aggregates);
+            Prolongation::split(own_p, p_per, pt, pt_per, size)
+        }
+    };
+    (transfer, sums.expect("one rank at least").symmetric_part())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::precond::multilevel::triple::RowsOf;
 
     #[test]
-    fn the_transpose_formed_piece_by_piece_is_the_transpose_bit_for_bit() {
+    fn the_rows_gathered_piece_by_piece_are_those_of_the_matrix_and_its_transpose_bit_for_bit() {
         // 1000 aggregates (6000 rows, pieces of 4096 rows and a last one of 1904), entries
         // with values that round, an explicit zero among them, some rows empty.
         let aggregates = 1000;
@@ -325,11 +378,24 @@ mod tests {
         }
         let own = Csr::from_triplets(MODES * aggregates, 37, t);
         let want = own.transpose();
-        let got = transpose_gathered(&crate::comm::SerialComm, &own, aggregates);
-        assert_eq!((got.rows, got.cols), (want.rows, want.cols));
-        assert_eq!((&got.ptr, &got.idx), (&want.ptr, &want.idx));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(bits(&got.val), bits(&want.val));
+        let picked: Vec<u32> = (0..MODES as u32 * 1000).filter(|r| r % 7 < 2).collect();
+        // The whole transpose, and rows 5..23 of it (a rank's range of them).
+        for keep in [0..37, 5..23] {
+            let comm = &crate::comm::SerialComm;
+            let (got, p) = gathered(comm, &own, aggregates, keep.clone(), &picked);
+            assert_eq!((got.rows, got.cols), (keep.len(), want.cols));
+            for (g, w) in keep.enumerate() {
+                let (gc, gv) = got.row(g);
+                let (wc, wv) = want.row(w);
+                assert_eq!((gc, bits(gv)), (wc, bits(wv)), "row {w} of P^T");
+            }
+            for &r in &picked {
+                let (pc, pv) = p.row_of(r as usize);
+                let (oc, ov) = own.row(r as usize);
+                assert_eq!((pc, bits(pv)), (oc, bits(ov)), "row {r} of P");
+            }
+        }
     }
 
     #[test]

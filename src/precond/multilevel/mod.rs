@@ -34,6 +34,7 @@ pub mod direct;
 mod elimination;
 pub mod first;
 pub mod measure;
+pub mod prolongation;
 pub mod prolongator;
 pub mod size;
 pub mod smoother;

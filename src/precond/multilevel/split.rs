@@ -21,4 +21,7 @@ impl<C: Comm + ?Sized> Product for Split<'_, C> {
         self.comm.all_gather_equal_f64(self.rows, self.all);
         y.copy_from_slice(&self.all[..y.len()]);
     }
+    fn gather(&mut self, mine: &[f64], all: &mut [f64]) {
+        self.comm.all_gather_equal_f64(mine, all);
+    }
 }

@@ -17,7 +17,7 @@ impl RowsOf for Csr {
     }
 }
 
-/// Some rows of a matrix, taken from its transpose: row r is `rows.row(slot[r])` for the
+/// Some rows of a matrix: row r is `rows.row(slot[r])` for the
 /// rows picked (slot u32::MAX for the others, which must not be asked for).
 pub struct Picked {
     slot: Vec<u32>,
@@ -25,46 +25,9 @@ pub struct Picked {
 }
 
 impl Picked {
-    /// The rows `picked` (increasing) of the matrix whose transpose is `t`: each row's
-    /// entries in column order with the transpose's bits, as `t.transpose()` has them.
-    pub fn from_transpose(t: &Csr, picked: &[u32]) -> Picked {
-        let mut slot = vec![u32::MAX; t.cols];
-        for (s, &r) in picked.iter().enumerate() {
-            slot[r as usize] = s as u32;
-        }
-        let mut ptr = vec![0usize; picked.len() + 1];
-        for &c in &t.idx {
-            if let Some(&s) = slot.get(c as usize).filter(|&&s| s != u32::MAX) {
-                ptr[s as usize + 1] += 1;
-            }
-        }
-        for s in 0..picked.len() {
-            ptr[s + 1] += ptr[s];
-        }
-        let mut next = ptr.clone();
-        let nnz = ptr[picked.len()];
-        let (mut idx, mut val) = (vec![0u32; nnz], vec![0.0f64; nnz]);
-        for i in 0..t.rows {
-            let (c, v) = t.row(i);
-            for (&r, &x) in c.iter().zip(v) {
-                let s = slot[r as usize];
-                if s != u32::MAX {
-                    idx[next[s as usize]] = i as u32;
-                    val[next[s as usize]] = x;
-                    next[s as usize] += 1;
-                }
-            }
-        }
-        Picked {
-            slot,
-            rows: Csr {
-                rows: picked.len(),
-                cols: t.rows,
-                ptr,
-                idx,
-                val,
-            },
-        }
+    /// Rows of a matrix of `n` rows: row r is `rows.row(slot[r])` (u32::MAX: not held).
+    pub fn new(slot: Vec<u32>, rows: Csr) -> Picked {
+        Picked { slot, rows }
     }
 }
 
@@ -244,7 +207,7 @@ mod tests {
     fn the_product_in_turns_with_the_rows_of_p_it_reaches_is_the_whole_product() {
         // As the first level forms it: the rows of A split in consecutive ranges (the
         // ranks), each range's part seeded with the parts before, P given only by the rows
-        // the range's rows of A reach, taken back from P^T (`Picked`).
+        // the range's rows of A reach (`Picked`), P^T only by its columns in the range.
         let a = rounding(13, 13, 1).symmetric_part();
         let p = rounding(13, 5, 2);
         let pt = p.transpose();
@@ -258,15 +221,28 @@ mod tests {
                         ks.clone().flat_map(|k| a.row(k).0.to_vec()).collect();
                     reached.sort_unstable();
                     reached.dedup();
-                    let picked = Picked::from_transpose(&pt, &reached);
-                    for &m in &reached {
-                        let (c, v) = picked.row_of(m as usize);
-                        assert_eq!(c, p.row(m as usize).0);
-                        assert_eq!(bits(v), bits(p.row(m as usize).1));
+                    let mut slot = vec![u32::MAX; p.rows];
+                    let mut held = Csr::empty(p.cols);
+                    for (s, &m) in reached.iter().enumerate() {
+                        slot[m as usize] = s as u32;
+                        let (c, v) = p.row(m as usize);
+                        held.idx.extend_from_slice(c);
+                        held.val.extend_from_slice(v);
+                        held.ptr.push(held.idx.len());
+                        held.rows += 1;
                     }
+                    let picked = Picked::new(slot, held);
+                    let range: Vec<_> = (0..p.rows)
+                        .flat_map(|m| {
+                            let (c, v) = p.row(m);
+                            c.iter().zip(v).map(move |(&j, &x)| (m as u32, j, x))
+                        })
+                        .filter(|&(m, _, _)| ks.contains(&(m as usize)))
+                        .collect();
+                    let pt_ks = Csr::from_triplets(p.rows, p.cols, range).transpose();
                     let rows = &mut Offset { a: &a, first: 0 };
                     sums = Some(triple_product_part(
-                        &pt,
+                        &pt_ks,
                         rows,
                         ks,
                         &picked,
