@@ -317,6 +317,9 @@ fn galerkin<C: Comm + ?Sized>(
     });
     let own_cols = own_p.cols;
     drop(own_p);
+    // The sums so far (of the whole next level's size): the ones before go as soon as
+    // they have seeded this rank's part or the next arrive, so that a rank holds two such
+    // matrices at a time, not three.
     let mut sums: Option<Csr> = None;
     for r in 0..size {
         let mut bytes = Vec::new();
@@ -327,14 +330,15 @@ fn galerkin<C: Comm + ?Sized>(
                 ks.clone(),
                 &p,
                 TRIPLE_BLOCKS,
-                sums.as_ref(),
+                sums.take().as_ref(),
             );
-            bytes = part.to_bytes();
             if size == 1 {
                 sums = Some(part);
                 continue;
             }
+            bytes = part.to_bytes();
         }
+        drop(sums.take());
         comm.broadcast_bytes(r, &mut bytes);
         sums = Some(Csr::from_bytes(&bytes));
     }
