@@ -361,14 +361,16 @@ mod tests {
                 ..base
             };
             // Integers and halves: exact in f64 whatever the order of the sums.
-            let want = n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
+            let want =
+                n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             assert_eq!(estimate(&poor, ranks).coarse, want);
             // Slow but too large to factor: the level whole and its analysis.
             let tried = Counts {
                 coarse_factor_entries: 0,
                 ..poor
             };
-            let want = n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+            let want =
+                n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
             assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
         }
     }
