@@ -360,7 +360,7 @@ mod tests {
                 coarse_factor_entries: 500_000,
                 ..base
             };
-            // Integers and halves: exact in f64 whatever the order of the sums.
+            // Integers, halves and quarters: exact in f64 whatever the order of the sums.
             let want =
                 n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             assert_eq!(estimate(&poor, ranks).coarse, want);
