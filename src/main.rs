@@ -6,7 +6,7 @@ use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::memory::available;
 use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
-use solver::run::{run_from, RunOptions};
+use solver::run::{run_from, Partition, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -65,6 +65,11 @@ enum Command {
         /// count on it), into this directory as NumPy arrays (one rank only).
         #[arg(long, value_name = "DIR")]
         export_operator: Option<PathBuf>,
+        /// How the elements are split over the ranks: METIS on the whole mesh, or groups
+        /// cut by coordinate bisection each split by METIS (no rank runs METIS on the
+        /// whole mesh); auto: groups from 8 ranks. The results are the same either way.
+        #[arg(long, value_parser = solver::run::Partition::NAMES, default_value = "auto")]
+        partition: String,
     },
     /// Validate a scene and print a summary, without solving.
     Check {
@@ -78,6 +83,9 @@ enum Command {
         /// faces each rank would hold.
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
         ranks: Option<u32>,
+        /// The partition `--ranks` shows (as `solver run --partition`).
+        #[arg(long, value_parser = solver::run::Partition::NAMES, default_value = "auto")]
+        partition: String,
     },
     /// Work with result files.
     #[command(subcommand)]
@@ -134,7 +142,13 @@ fn main() -> ExitCode {
             scene,
             refine,
             ranks,
-        } => ExitCode::from(check_command(&scene, refine, ranks)),
+            partition,
+        } => ExitCode::from(check_command(
+            &scene,
+            refine,
+            ranks,
+            partition_of(&partition),
+        )),
         Command::Run {
             scene,
             output,
@@ -144,6 +158,7 @@ fn main() -> ExitCode {
             nonlinear,
             force,
             export_operator,
+            partition,
         } => with_comm(|comm| {
             let args = RunArgs {
                 scene: &scene,
@@ -157,6 +172,7 @@ fn main() -> ExitCode {
                 force,
                 verbosity,
                 export_operator,
+                partition: partition_of(&partition),
             };
             run_command(comm, &args)
         }),
@@ -174,6 +190,7 @@ struct RunArgs<'a> {
     force: bool,
     verbosity: u8,
     export_operator: Option<PathBuf>,
+    partition: Partition,
 }
 
 /// `solver run`: the memory check (before the mesh is built when the counts allow), the
@@ -219,6 +236,7 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         verbosity: args.verbosity,
         export_operator: args.export_operator.clone(),
         final_state: false,
+        partition: args.partition,
     };
     match run_from(comm, &problem, &opts, args.restart) {
         Ok((summary, _)) if summary.failure.is_some() => {
@@ -366,6 +384,11 @@ fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String
     )
 }
 
+fn partition_of(name: &str) -> Partition {
+    // clap accepts only Partition::NAMES.
+    Partition::from_name(name).unwrap_or_default()
+}
+
 fn preconditioner_of(name: &str) -> solver::problem::Preconditioner {
     use solver::problem::Preconditioner;
     // clap accepts only Preconditioner::NAMES.
@@ -374,7 +397,7 @@ fn preconditioner_of(name: &str) -> solver::problem::Preconditioner {
 
 /// `solver check`: the scene's size and memory estimate from its divisions (before any
 /// mesh is built), then, when its mesh can be built here, the full validation.
-fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
+fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Partition) -> u8 {
     let r = ranks.unwrap_or(1) as usize;
     let sized = solver::scene::counts::scene_size(scene, refine);
     if let Some(size) = &sized {
@@ -419,7 +442,7 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>) -> u8 {
         }
     }
     if let Some(n) = ranks {
-        match solver::run::decomposition_report(&p, n as usize) {
+        match solver::run::decomposition_report(&p, n as usize, partition) {
             Ok(text) => print!("{text}"),
             Err(e) => {
                 eprintln!("error: {e}");

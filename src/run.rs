@@ -5,6 +5,7 @@ use crate::comm::Comm;
 use crate::problem::Problem;
 use partition::Decomposition;
 
+mod decompose;
 mod driver;
 mod export;
 mod fields;
@@ -13,6 +14,7 @@ mod mesh;
 mod outcome;
 mod plastic;
 mod restart;
+pub use decompose::Partition;
 pub use driver::run_from;
 use gather::Gather;
 pub use mesh::output_mesh;
@@ -22,15 +24,26 @@ pub use restart::check_restart;
 /// How a scene splits over `ranks` ranks: the decomposition's balance, edge cut and per-rank
 /// element and node counts, and the master faces each rank holds for its slave nodes at the
 /// reference configuration (the ghosted faces of the contact search).
-pub fn decomposition_report(problem: &Problem, ranks: usize) -> Result<String, String> {
+pub fn decomposition_report(
+    problem: &Problem,
+    ranks: usize,
+    method: Partition,
+) -> Result<String, String> {
     use std::fmt::Write;
     let mesh = &problem.mesh;
-    let d = Decomposition::partition(mesh.num_nodes(), &mesh.elements, ranks).map_err(|e| {
-        format!(
-            "{}: cannot partition the mesh over {ranks} ranks: {e}",
-            problem.file
-        )
-    })?;
+    let centres = decompose::centres(mesh);
+    let groups = method.groups(ranks);
+    let d =
+        partition::partition_for_ranks(mesh.num_nodes(), &mesh.elements, &centres, ranks, groups)
+            .and_then(|parts| {
+                Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts, ranks)
+            })
+            .map_err(|e| {
+                format!(
+                    "{}: cannot partition the mesh over {ranks} ranks: {e}",
+                    problem.file
+                )
+            })?;
     let mut s = d.stats().to_string();
     if !problem.contacts.is_empty() {
         let counts = crate::contact::ghost::face_counts(problem, &d);

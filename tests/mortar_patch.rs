@@ -500,6 +500,7 @@ fn multi_constraint_errors(disc: &str) -> Errors {
             verbosity: 0,
             export_operator: None,
             final_state: true,
+            partition: Default::default(),
         },
     )
     .expect("run starts");

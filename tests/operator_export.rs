@@ -51,6 +51,7 @@ fn exported_operator_is_the_matrix_free_operator() {
             verbosity: 0,
             export_operator: Some(dir.clone()),
             final_state: true,
+            partition: Default::default(),
         },
     )
     .unwrap();

@@ -33,6 +33,7 @@ fn run_text(text: &str, file: &str) -> (Verification, GlobalState, Option<String
             verbosity: 0,
             export_operator: None,
             final_state: true,
+            partition: Default::default(),
         },
     )
     .expect("run starts");

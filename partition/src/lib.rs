@@ -5,7 +5,10 @@
 //!
 //! 1. partitions the elements over `nparts` ranks with METIS
 //!    ([`partition_elements`]), using the face-adjacency dual graph (two
-//!    elements are neighbours when they share at least 4 nodes);
+//!    elements are neighbours when they share at least 4 nodes); or METIS
+//!    partitions groups of elements cut from the whole by recursive coordinate
+//!    bisection ([`partition_for_ranks`], by default from [`GROUPED_RANKS`]
+//!    ranks), so that no rank needs METIS on the whole mesh;
 //! 2. derives node ownership, ghost elements, ghost nodes and the halo
 //!    send/receive lists per rank ([`Decomposition`]).
 //!
@@ -45,9 +48,13 @@ use metis::Idx;
 
 mod cells;
 mod graph;
+mod groups;
 pub use cells::Cells;
 pub use graph::DualGraph;
 use graph::NodeElements;
+pub use groups::{
+    grouped, partition_for_ranks, partition_group, Groups, GROUPED_RANKS, GROUP_PARTS,
+};
 
 /// Errors from partitioning or building a decomposition.
 #[derive(Debug, Clone, PartialEq, Eq)]

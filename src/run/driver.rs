@@ -71,7 +71,7 @@ pub fn run_from<C: Comm + ?Sized>(
         contact_updates: 0,
         contact_seconds: 0.0,
     };
-    let (decomposition, local) = partition(comm, problem, &log)?;
+    let (decomposition, local) = partition(comm, problem, opts, &log)?;
     let continued = match restart {
         Some(path) => Some(restart::resume(comm, problem, path)?),
         None => None,
@@ -206,17 +206,22 @@ fn new_stepper<'a, C: Comm + ?Sized>(
 fn partition<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
+    opts: &RunOptions,
     log: &Log,
 ) -> Result<(Decomposition, LocalMesh), String> {
     let mesh = &problem.mesh;
-    let decomposition = Decomposition::partition(mesh.num_nodes(), &mesh.elements, comm.size())
-        .map_err(|e| {
-            format!(
-                "{}: cannot partition the mesh over {} ranks: {e}",
-                problem.file,
-                comm.size()
-            )
-        })?;
+    let cannot = |e: String| {
+        format!(
+            "{}: cannot partition the mesh over {} ranks: {e}",
+            problem.file,
+            comm.size()
+        )
+    };
+    let parts = super::decompose::element_parts(comm, mesh, opts.partition).map_err(cannot)?;
+    let decomposition =
+        Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts, comm.size())
+            .map_err(|e| cannot(e.to_string()))?;
+    drop(parts);
     let local = LocalMesh::new(mesh, &decomposition, comm.rank());
     log.at(
         1,

@@ -18,6 +18,8 @@ pub struct RunOptions {
     /// state comes back empty and rank 0 frees each step's gathered fields as soon as they
     /// are written (the command line, which has the result file).
     pub final_state: bool,
+    /// How the elements are partitioned over the ranks.
+    pub partition: super::Partition,
 }
 
 /// The run's outcome as every rank sees it.

@@ -36,6 +36,7 @@ pub fn run_serial(p: &Problem, output: Option<PathBuf>) -> (RunSummary, GlobalSt
             verbosity: 0,
             export_operator: None,
             final_state: true,
+            partition: Default::default(),
         },
     )
     .expect("run starts")

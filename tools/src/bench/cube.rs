@@ -180,6 +180,7 @@ fn cube(n: usize, repeats: usize) -> Result<CubeResult, String> {
         verbosity: 0,
         export_operator: None,
         final_state: true,
+        partition: Default::default(),
     };
     let mut run_wall = Vec::new();
     let mut solve_wall = Vec::new();
