@@ -300,7 +300,12 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
     if let Some(p) = args.preconditioner {
         problem.solver.preconditioner = p;
     }
-    if sized.is_none() {
+    // Counted from the divisions, the two-level preconditioner's refusal under `auto` is
+    // known only now: checked again with what runs instead.
+    let refused = sized
+        .as_ref()
+        .is_some_and(|s| solver::preflight::two_level_refused(&problem, s));
+    if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&problem);
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
     }
@@ -431,7 +436,16 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
         }
     };
     println!("{}", solver::problem::summary(&p));
-    if sized.is_none() {
+    let refused = sized
+        .as_ref()
+        .is_some_and(|s| solver::preflight::two_level_refused(&p, s));
+    if refused {
+        println!(
+            "the two-level preconditioner will be refused ({}): counted with the multilevel one",
+            solver::precond::coarse::refusal(&p).unwrap_or_default()
+        );
+    }
+    if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&p);
         let fit =
             solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());

@@ -298,3 +298,65 @@ fn the_estimate_is_within_25_percent_on_gmsh_meshes() {
     eprintln!("{}", lines.join("\n"));
     assert!(worst <= 0.25, "{}", lines.join("\n"));
 }
+
+/// A stack of 24 blocks (20 x 20 x 1 elements each, 21168 nodes: `auto` picks the
+/// two-level preconditioner from its node count) whose coarse cells each hold several
+/// bodies, so the two-level coarse space is refused and the run builds the multilevel
+/// hierarchy: `solver check` says so and estimates that (before, the two-level estimate:
+/// a stack of 128 blocks, 146112 nodes, 139.8 MiB estimated against 1549 MiB measured on
+/// 2 ranks; now 618.2, the multilevel estimate, whose first coarse level is counted
+/// without contact's ties, unknown before the solve).
+#[test]
+fn a_refused_two_level_preconditioner_is_estimated_as_the_multilevel_one() {
+    let d = dir("stack");
+    let mut s = String::from("name = \"stack24\"\nkinematics = \"small\"\n");
+    for i in 0..24 {
+        let (z0, z1) = (0.05 * i as f64, 0.05 * (i + 1) as f64);
+        s += &format!(
+            "[[body]]\nname = \"b{i}\"\nbox = {{ min = [0.0, 0.0, {z0}], max = [1.0, 1.0, {z1}] }}\n\
+             divisions = [20, 20, 1]\nmaterial = {{ model = \"linear_elastic\", E = 1.0e6, nu = 0.3 }}\n\
+             [[side_set]]\nname = \"b{i}_top\"\nbody = \"b{i}\"\nplane = {{ point = [0.0, 0.0, {z1}], normal = [0.0, 0.0, 1.0] }}\n\
+             [[side_set]]\nname = \"b{i}_bottom\"\nbody = \"b{i}\"\nplane = {{ point = [0.0, 0.0, {z0}], normal = [0.0, 0.0, 1.0] }}\n"
+        );
+        if i > 0 {
+            s += &format!(
+                "[[contact]]\nmaster = \"b{}_top\"\nslave = \"b{i}_bottom\"\n",
+                i - 1
+            );
+        }
+    }
+    s += "[[node_set]]\nname = \"base\"\nbody = \"b0\"\nplane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }\n\
+          [[displacement]]\nnode_set = \"base\"\ncomponents = [\"x\", \"y\", \"z\"]\nvalue = 0.0\n\
+          [[pressure]]\nside_set = \"b23_top\"\nvalue = 1.0e3\n\
+          [time]\nsegments = [{ end = 1.0, steps = 1 }]\n";
+    let scene = d.join("stack24.toml");
+    std::fs::write(&scene, s).unwrap();
+    let size = scene_size(&scene, 1).expect("counted from the divisions");
+    assert_eq!(size.counts.nodes, 24 * 21 * 21 * 2);
+    assert!(size.counts.two_level && !size.counts.multilevel);
+    let p = solver::scene::load_scene(&scene).unwrap();
+    assert!(solver::preflight::two_level_refused(&p, &size));
+    let loaded = solver::preflight::loaded_size(&p);
+    assert!(loaded.counts.multilevel && !loaded.counts.two_level);
+    let (two, multi) = (
+        estimate_run(&size.counts, 2, true).per_rank(),
+        estimate_run(&loaded.counts, 2, true).per_rank(),
+    );
+    assert!(multi > two, "multilevel {multi} against two-level {two}");
+    let o = Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["check", scene.to_str().unwrap(), "--ranks", "2"])
+        .output()
+        .unwrap();
+    let (out, err) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{out}{err}");
+    assert!(
+        out.contains("the two-level preconditioner will be refused (")
+            && out.contains("bodies share one coarse cell"),
+        "{out}"
+    );
+    let mib = format!(
+        "estimated peak {:.1} MiB per rank",
+        multi / (1024.0 * 1024.0)
+    );
+    assert!(out.contains(&mib), "{mib} not in:\n{out}");
+}

@@ -58,11 +58,7 @@ impl CoarseSpace {
         mesh: &LocalMesh,
     ) -> Result<Self, String> {
         let g = &problem.mesh;
-        let (lo, hi) = bounding_box(&g.coords);
-        let (keys, h) = aggregate_keys(problem, &lo, &hi);
-        let mut list = keys.clone();
-        list.sort_unstable_by_key(|&(c, b)| (c[2], c[1], c[0], b));
-        list.dedup();
+        let (keys, h, list) = cells(problem);
         let index: HashMap<([u32; 3], u32), u32> = list
             .iter()
             .enumerate()
@@ -239,6 +235,26 @@ fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u3
         }
         h *= 1.25;
     }
+}
+
+/// An aggregate's key: its cell and its body.
+type Key = ([u32; 3], u32);
+
+/// Each node's aggregate key, the cell size, and the distinct keys sorted by cell.
+fn cells(problem: &Problem) -> (Vec<Key>, f64, Vec<Key>) {
+    let (lo, hi) = bounding_box(&problem.mesh.coords);
+    let (keys, h) = aggregate_keys(problem, &lo, &hi);
+    let mut list = keys.clone();
+    list.sort_unstable_by_key(|&(c, b)| (c[2], c[1], c[0], b));
+    list.dedup();
+    (keys, h, list)
+}
+
+/// Why the coarse space would not be used for this scene's mesh (`CoarseSpace::new`'s
+/// refusal), from the mesh alone: for the memory estimate before the run, which then counts
+/// what `auto` runs instead.
+pub fn refusal(problem: &Problem) -> Option<String> {
+    colours(&cells(problem).2).err()
 }
 
 /// Colour of each aggregate (of `list`, sorted by cell): the cell's place in a 3 x 3 x 3
