@@ -74,6 +74,36 @@ impl DualGraph {
     }
 }
 
+/// The edge cut of `element_part` (`DualGraph::edge_cut`) from the elements around each
+/// node, without the dual graph held.
+pub(crate) fn edge_cut(n2e: &NodeElements, elements: &dyn Cells, element_part: &[u32]) -> usize {
+    let mut count = vec![0u32; elements.count()];
+    let mut touched: Vec<u32> = Vec::new();
+    let mut cut = 0;
+    for e in 0..elements.count() {
+        for node in distinct_nodes(elements.nodes(e)) {
+            for &f in n2e.of(node) {
+                if f as usize > e {
+                    if count[f as usize] == 0 {
+                        touched.push(f);
+                    }
+                    count[f as usize] += 1;
+                }
+            }
+        }
+        for &f in &touched {
+            if count[f as usize] >= DualGraph::NCOMMON
+                && element_part[f as usize] != element_part[e]
+            {
+                cut += 1;
+            }
+            count[f as usize] = 0;
+        }
+        touched.clear();
+    }
+    cut
+}
+
 /// Node -> elements incidence in CSR form (element ids ascending per node).
 pub(crate) struct NodeElements {
     ptr: Vec<usize>,

@@ -580,7 +580,8 @@ impl Decomposition {
             .collect();
         mirror_sends(&mut parts);
 
-        let edge_cut = DualGraph::new(num_nodes, elements).edge_cut(element_part);
+        let edge_cut = graph::edge_cut(&halo.n2e, elements, element_part);
+        drop(halo);
         Ok(Decomposition {
             nparts,
             element_part: element_part.to_vec(),

@@ -574,6 +574,8 @@ fn grouped_partition_is_the_groups_partitioned_alone_and_valid() {
         check_bitwise_nodal_sums(nn, &el, &d);
         let whole = Decomposition::partition(nn, &el, nparts).unwrap();
         let (cut, metis) = (d.edge_cut(), whole.edge_cut());
+        // Counted from the elements around each node, as the dual graph counts it.
+        assert_eq!(cut, DualGraph::new(nn, &el).edge_cut(&part));
         println!(
             "{nparts} parts: edge cut {cut} (METIS on the whole mesh {metis}), imbalance {:.3}",
             d.stats().imbalance
