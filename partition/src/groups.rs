@@ -68,6 +68,15 @@ impl Groups {
             .collect()
     }
 
+    /// The elements of every group, ascending (one pass over the elements).
+    pub fn members(&self) -> Vec<Vec<u32>> {
+        let mut members = vec![Vec::new(); self.count()];
+        for (e, &g) in self.group.iter().enumerate() {
+            members[g as usize].push(e as u32);
+        }
+        members
+    }
+
     /// The part of every element from each group's parts of its elements (ascending
     /// element order, as [`partition_group`] gives them).
     pub fn assemble<'a>(&self, mut parts_of: impl FnMut(usize) -> &'a [u32]) -> Vec<u32> {
@@ -129,7 +138,15 @@ pub fn partition_group(
     groups: &Groups,
     g: usize,
 ) -> Result<Vec<u32>, PartitionError> {
-    let ids = groups.elements(g);
+    partition_ids(elements, &groups.elements(g), groups.parts(g))
+}
+
+/// The parts `parts` of the elements `ids` (ascending), by METIS on their dual graph.
+fn partition_ids(
+    elements: &dyn Cells,
+    ids: &[u32],
+    parts: Range<usize>,
+) -> Result<Vec<u32>, PartitionError> {
     let mut nodes: Vec<u32> = ids
         .iter()
         .flat_map(|&e| elements.nodes(e as usize).iter().copied())
@@ -140,14 +157,13 @@ pub fn partition_group(
         ptr: vec![0],
         nodes: Vec::new(),
     };
-    for &e in &ids {
+    for &e in ids {
         for n in elements.nodes(e as usize) {
             let local = nodes.binary_search(n).expect("a node of the group") as u32;
             sub.nodes.push(local);
         }
         sub.ptr.push(sub.nodes.len());
     }
-    let parts = groups.parts(g);
     let local = partition_elements(nodes.len(), &sub, parts.len())?;
     Ok(local.iter().map(|&p| p + parts.start as u32).collect())
 }
@@ -184,8 +200,11 @@ pub fn partition_for_ranks(
     }
     crate::check_mesh(num_nodes, elements)?;
     let groups = Groups::new(centres, nparts);
-    let lists = (0..groups.count())
-        .map(|g| partition_group(elements, &groups, g))
+    let lists = groups
+        .members()
+        .iter()
+        .enumerate()
+        .map(|(g, ids)| partition_ids(elements, ids, groups.parts(g)))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(groups.assemble(|g| &lists[g]))
 }
