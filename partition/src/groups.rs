@@ -1,7 +1,7 @@
 //! Partitions into many parts without METIS on the whole mesh: the element centres are cut
 //! by recursive coordinate bisection into groups of at most [`GROUP_PARTS`] parts (each
 //! group's element count in proportion to its parts), then METIS partitions each group's
-//! elements alone ([`partition_group`]: the group's dual graph, its nodes numbered
+//! elements alone (`partition_group`: the group's dual graph, its nodes numbered
 //! locally). A rank so partitions only its group: METIS's memory (about 230 bytes per
 //! element of the graph it is given, measured on the block on block at n = 40) follows
 //! the rank's share of the mesh instead of the whole mesh, and the groups' results are
@@ -11,7 +11,7 @@
 
 use std::ops::Range;
 
-use crate::{partition_elements, Cells, PartitionError};
+use crate::Cells;
 
 /// Parts per group: METIS partitions a group's elements (about this many ranks' shares)
 /// into its parts; the cuts between groups are planes.
@@ -78,7 +78,7 @@ impl Groups {
     }
 
     /// The part of every element from each group's parts of its elements (ascending
-    /// element order, as [`partition_group`] gives them).
+    /// element order, as `partition_group` gives them).
     pub fn assemble<'a>(&self, mut parts_of: impl FnMut(usize) -> &'a [u32]) -> Vec<u32> {
         let mut next = vec![0usize; self.count()];
         let lists: Vec<&[u32]> = (0..self.count()).map(&mut parts_of).collect();
@@ -131,22 +131,9 @@ fn bisect(c: &[[f64; 3]], ids: &mut [u32], gs: Range<usize>, first: &[usize], ou
     bisect(c, r, mid..gs.end, first, out);
 }
 
-/// The parts of group `g`'s elements (ascending element order): METIS on their dual graph
-/// alone ([`partition_elements`], into the group's parts), the parts numbered globally.
-pub fn partition_group(
-    elements: &dyn Cells,
-    groups: &Groups,
-    g: usize,
-) -> Result<Vec<u32>, PartitionError> {
-    partition_ids(elements, &groups.elements(g), groups.parts(g))
-}
-
-/// The parts `parts` of the elements `ids` (ascending), by METIS on their dual graph.
-fn partition_ids(
-    elements: &dyn Cells,
-    ids: &[u32],
-    parts: Range<usize>,
-) -> Result<Vec<u32>, PartitionError> {
+/// The elements `ids` with their nodes numbered locally (0 .. the count returned): what
+/// METIS partitions of a group.
+pub(crate) fn local_mesh(elements: &dyn Cells, ids: &[u32]) -> (usize, Sub) {
     let mut nodes: Vec<u32> = ids
         .iter()
         .flat_map(|&e| elements.nodes(e as usize).iter().copied())
@@ -164,12 +151,11 @@ fn partition_ids(
         }
         sub.ptr.push(sub.nodes.len());
     }
-    let local = partition_elements(nodes.len(), &sub, parts.len())?;
-    Ok(local.iter().map(|&p| p + parts.start as u32).collect())
+    (nodes.len(), sub)
 }
 
 /// Some elements, their nodes numbered locally.
-struct Sub {
+pub(crate) struct Sub {
     ptr: Vec<usize>,
     nodes: Vec<u32>,
 }
@@ -181,32 +167,6 @@ impl Cells for Sub {
     fn nodes(&self, e: usize) -> &[u32] {
         &self.nodes[self.ptr[e]..self.ptr[e + 1]]
     }
-}
-
-/// The partition over `nparts` ranks as a run makes it: by `groups` of the centres, each
-/// partitioned by METIS ([`partition_group`]; all of them here, a run partitions only its
-/// own group on each rank, the same parts), or METIS on the whole mesh (also with groups
-/// for at most GROUP_PARTS parts, or at least as many parts as elements: element e to
-/// part e).
-pub fn partition_for_ranks(
-    num_nodes: usize,
-    elements: &dyn Cells,
-    centres: &[[f64; 3]],
-    nparts: usize,
-    groups: bool,
-) -> Result<Vec<u32>, PartitionError> {
-    if !(groups && grouped(elements.count(), nparts)) {
-        return partition_elements(num_nodes, elements, nparts);
-    }
-    crate::check_mesh(num_nodes, elements)?;
-    let groups = Groups::new(centres, nparts);
-    let lists = groups
-        .members()
-        .iter()
-        .enumerate()
-        .map(|(g, ids)| partition_ids(elements, ids, groups.parts(g)))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(groups.assemble(|g| &lists[g]))
 }
 
 /// Whether a partition of `elements` elements into `nparts` parts asked to be made by

@@ -52,9 +52,7 @@ mod groups;
 pub use cells::Cells;
 pub use graph::DualGraph;
 use graph::NodeElements;
-pub use groups::{
-    grouped, partition_for_ranks, partition_group, Groups, GROUPED_RANKS, GROUP_PARTS,
-};
+pub use groups::{grouped, Groups, GROUPED_RANKS, GROUP_PARTS};
 
 /// Errors from partitioning or building a decomposition.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -215,6 +213,53 @@ pub fn partition_elements(
         return Err(PartitionError::EmptyPart { part: p });
     }
     Ok(part)
+}
+
+/// The parts of group `g`'s elements (ascending element order): METIS on their dual graph
+/// alone ([`partition_elements`], into the group's parts), the parts numbered globally.
+pub fn partition_group(
+    elements: &dyn Cells,
+    groups: &Groups,
+    g: usize,
+) -> Result<Vec<u32>, PartitionError> {
+    partition_ids(elements, &groups.elements(g), groups.parts(g))
+}
+
+/// The parts `parts` of the elements `ids` (ascending), by METIS on their dual graph.
+fn partition_ids(
+    elements: &dyn Cells,
+    ids: &[u32],
+    parts: std::ops::Range<usize>,
+) -> Result<Vec<u32>, PartitionError> {
+    let (nodes, sub) = groups::local_mesh(elements, ids);
+    let local = partition_elements(nodes, &sub, parts.len())?;
+    Ok(local.iter().map(|&p| p + parts.start as u32).collect())
+}
+
+/// The partition over `nparts` ranks as a run makes it: by `groups` of the centres, each
+/// partitioned by METIS ([`partition_group`]; all of them here, a run partitions only its
+/// own group on each rank, the same parts), or METIS on the whole mesh (also with groups
+/// for at most GROUP_PARTS parts, or at least as many parts as elements: element e to
+/// part e).
+pub fn partition_for_ranks(
+    num_nodes: usize,
+    elements: &dyn Cells,
+    centres: &[[f64; 3]],
+    nparts: usize,
+    groups: bool,
+) -> Result<Vec<u32>, PartitionError> {
+    if !(groups && grouped(elements.count(), nparts)) {
+        return partition_elements(num_nodes, elements, nparts);
+    }
+    check_mesh(num_nodes, elements)?;
+    let groups = Groups::new(centres, nparts);
+    let lists = groups
+        .members()
+        .iter()
+        .enumerate()
+        .map(|(g, ids)| partition_ids(elements, ids, groups.parts(g)))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(groups.assemble(|g| &lists[g]))
 }
 
 /// Node owner: lowest part among the node's elements; orphans -> 0.
