@@ -191,7 +191,8 @@ pub fn build<C: Comm + ?Sized>(
     let mut view = View::new(&blocks);
     // Node-block relaxation, the strength graph and the aggregates of the next level.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
-    let dinv = BlockInverse::from_inverses(&node_ptr, gather(comm, &inv));
+    let inv = gather(comm, &inv);
+    let dinv = BlockInverse::from_inverses(&node_ptr, inv);
     let ks = first..first + MODES * held.len();
     let (agg, nc) = next_aggregates(comm, &mut view, ks, &diag, &node_ptr, &body);
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
@@ -303,13 +304,23 @@ fn galerkin<C: Comm + ?Sized>(
     let (size, coarse) = (comm.size(), own_p.cols);
     let pt_per = coarse.div_ceil(size).max(1);
     let keep = (comm.rank() * pt_per).min(coarse)..((comm.rank() + 1) * pt_per).min(coarse);
-    let (pt, p) = gathered(comm, &own_p, aggregates, keep, &rows);
+    // On more ranks than one the product runs on the transpose of this rank's rows of P
+    // (`local`), and this rank's range of P^T is gathered after it, so that the two are
+    // not held beside the product's rows of P and its sums.
+    let one = size == 1;
+    let (pt, p) = gathered(
+        comm,
+        &own_p,
+        aggregates,
+        if one { keep.clone() } else { 0..0 },
+        &rows,
+    );
     drop(rows);
     // The product's rows of P^T restricted to `ks`: on one rank P^T itself, else the
     // transpose of this rank's rows of P, numbered as the level's, which stands for those
     // rows until the product is formed (their transpose again, the same rows and bits: the
     // columns of each row of P are sorted).
-    let local = (size > 1).then(|| {
+    let local = (!one).then(|| {
         let mut t = own_p.transpose();
         t.idx.iter_mut().for_each(|k| *k += ks.start as u32);
         t.cols = MODES * aggregates;
@@ -349,6 +360,8 @@ fn galerkin<C: Comm + ?Sized>(
             t.idx.iter_mut().for_each(|k| *k -= ks.start as u32);
             t.cols = ks.len();
             let own_p = t.transpose();
+            drop(t);
+            let (pt, _) = gathered(comm, &own_p, aggregates, keep, &[]);
             debug_assert_eq!(own_p.cols, own_cols);
             let p_per = rows_per_rank(comm, aggregates);
             Prolongation::split(own_p, p_per, pt, pt_per, size)
