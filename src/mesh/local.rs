@@ -25,7 +25,6 @@ pub struct LocalMesh {
     pub halo: ExchangePlan,
     /// Owning rank of every global node (contact constraints reach nodes of any rank).
     node_owner: Vec<u32>,
-    global_to_local: std::collections::HashMap<u32, u32>,
 }
 
 impl LocalMesh {
@@ -57,6 +56,11 @@ impl LocalMesh {
                 .map(|(r, ids)| (*r, ids.iter().map(|g| global_to_local[g]).collect()))
                 .collect()
         };
+        let (owned, ghosts) = node_global.split_at(part.num_owned_nodes());
+        debug_assert!(
+            owned.is_sorted() && ghosts.is_sorted(),
+            "owned and ghost node ids ascending (`local_node` searches them)"
+        );
         LocalMesh {
             num_owned_nodes: part.num_owned_nodes(),
             node_global,
@@ -71,7 +75,6 @@ impl LocalMesh {
                 recv: map(&part.recv),
             },
             node_owner: decomposition.node_owner().to_vec(),
-            global_to_local,
         }
     }
 
@@ -98,8 +101,16 @@ impl LocalMesh {
         self.node_global.len()
     }
 
+    /// Local index of a global node (owned or ghost): a binary search in the owned ids,
+    /// then in the ghost ids (each list is ascending), instead of a map of every local
+    /// node (17 B per local node: 9 MiB per rank of the block on block at n = 80 on 2
+    /// ranks).
     pub fn local_node(&self, global: u32) -> Option<usize> {
-        self.global_to_local.get(&global).map(|&l| l as usize)
+        let (owned, ghosts) = self.node_global.split_at(self.num_owned_nodes);
+        owned
+            .binary_search(&global)
+            .ok()
+            .or_else(|| ghosts.binary_search(&global).ok().map(|i| i + owned.len()))
     }
 
     /// The kind of local element `e` (its body's).
