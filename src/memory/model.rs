@@ -104,7 +104,11 @@ const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// The multilevel hierarchy at the peak of its build, per node of the whole mesh: a part
 /// split over the ranks, the rows of the first coarse operator each rank measures and
-/// keeps (about 34 entries per node, held in 6 x 6 blocks at 8.1 bytes each), a part
+/// keeps (about 34 entries per node, held in 6 x 6 blocks at 8.1 bytes each, a block below
+/// the diagonal read from its transpose where the rank holds that: about half of them;
+/// 409 bytes per node before, when every block was stored, n = 40 on 1 and 2 ranks then
+/// measured 190.5 and 133.8 MiB, now 174.4 and 123.7 against 172.0 and 129.2 estimated,
+/// n = 80 on 2 ranks 692.8 then and 634.9 now against 793.3), a part
 /// every rank holds whole (the aggregates, the first coarse level's vectors and node
 /// blocks, the levels below it), and the smoothed prolongator of the first coarse level
 /// (about 5.5 entries per node at 12 bytes: P^T on one rank; on more, each rank holds its
@@ -120,7 +124,7 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// node and whole output fields were held) n = 40 on 1 and 2 ranks peaked at 216.6 and 149.1
 /// MiB and n = 80 on 2 ranks at 854.0; before each rank kept only its rows (1000 bytes per
 /// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
-const MULTILEVEL_SPLIT_PER_NODE: f64 = 409.0;
+const MULTILEVEL_SPLIT_PER_NODE: f64 = 330.0;
 const MULTILEVEL_WHOLE_PER_NODE: f64 = 129.0;
 const MULTILEVEL_PROLONGATOR_PER_NODE: f64 = 69.0;
 /// Where the first coarse level is counted on the mesh (`Counts::coarse_pairs`): the

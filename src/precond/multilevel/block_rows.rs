@@ -66,7 +66,7 @@ impl BlockRows {
         if !rows.is_multiple_of(B) || !cols.is_multiple_of(B) {
             return None;
         }
-        let columns = cols;
+        let (rows_count, columns) = (rows, cols);
         let end = (first + len).min(rows);
         let block_first = first / B;
         let block_end = end.div_ceil(B).max(block_first);
@@ -110,7 +110,7 @@ impl BlockRows {
                 }
             }
         }
-        Some(BlockRows::mirrored(BlockRows {
+        let rows = BlockRows {
             first,
             len: end.saturating_sub(first),
             block_first,
@@ -121,7 +121,9 @@ impl BlockRows {
             present,
             entries: 0,
             columns,
-        }))
+        };
+        // Only a square operator has blocks that are each other's transposes.
+        Some(BlockRows::mirrored(rows, rows_count == columns))
     }
 
     /// Rows first..first + len (`first` a multiple of B) from their blocks: block row i
@@ -139,24 +141,27 @@ impl BlockRows {
         assert!(first.is_multiple_of(B) && len.is_multiple_of(B));
         assert_eq!(ptr.len(), len / B + 1);
         assert_eq!(val.len(), B * B * col.len());
-        BlockRows::mirrored(BlockRows {
-            first,
-            len,
-            block_first: first / B,
-            slot: Vec::new(),
-            ptr,
-            col,
-            val,
-            present,
-            entries: 0,
-            columns,
-        })
+        BlockRows::mirrored(
+            BlockRows {
+                first,
+                len,
+                block_first: first / B,
+                slot: Vec::new(),
+                ptr,
+                col,
+                val,
+                present,
+                entries: 0,
+                columns,
+            },
+            true,
+        )
     }
 
     /// `rows` (every block stored, `slot` empty) with each block below the diagonal that
-    /// is the same bits as the transpose of a block held above it read from that block,
-    /// and the values of the blocks stored moved together.
-    fn mirrored(mut rows: BlockRows) -> BlockRows {
+    /// is the same bits as the transpose of a block held above it read from that block
+    /// (where `square`), and the values of the blocks stored moved together.
+    fn mirrored(mut rows: BlockRows, square: bool) -> BlockRows {
         const BB: usize = B * B;
         let bit = |present: &[u64], at: usize| present[at / 64] & (1 << (at % 64)) != 0;
         rows.entries = rows.present.iter().map(|w| w.count_ones() as usize).sum();
@@ -185,7 +190,7 @@ impl BlockRows {
             let bi = lo + i;
             for b in rows.ptr[i]..rows.ptr[i + 1] {
                 let bj = rows.col[b] as usize;
-                if bj < bi {
+                if square && bj < bi {
                     if let Some(t) = partner(&rows, bj, bi).filter(|&t| same(&rows, b, t)) {
                         from[b] = t as u32;
                     }
@@ -225,6 +230,11 @@ impl BlockRows {
     /// Entries of the sparse rows held.
     pub fn nnz(&self) -> usize {
         self.entries
+    }
+
+    /// The first row held.
+    pub fn first(&self) -> usize {
+        self.first
     }
 
     /// Where the value of row r, column c of block b is: its index in `val`.
@@ -435,7 +445,11 @@ mod tests {
                 rows.mul_rows_into(&x, r * l, &mut y);
                 for (k, &v) in y.iter().enumerate() {
                     let want = whole.get(r * l + k).copied().unwrap_or(0.0);
-                    assert_eq!(v.to_bits(), want.to_bits(), "ranks {ranks} rank {r} row {k}");
+                    assert_eq!(
+                        v.to_bits(),
+                        want.to_bits(),
+                        "ranks {ranks} rank {r} row {k}"
+                    );
                 }
                 let back = rows.to_csr();
                 for k in 0..back.rows {

@@ -364,7 +364,7 @@ fn galerkin<C: Comm + ?Sized>(
             let (pt, _) = gathered(comm, &own_p, aggregates, keep, &[]);
             debug_assert_eq!(own_p.cols, own_cols);
             let p_per = rows_per_rank(comm, aggregates);
-            Prolongation::split(own_p, p_per, pt, pt_per, size)
+            Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank())
         }
     };
     (transfer, sums.expect("one rank at least").symmetric_part())
