@@ -21,7 +21,7 @@ use super::sparse::Csr;
 pub enum Prolongation {
     /// P^T.
     Whole(Csr),
-    Split(SplitRows),
+    Split(Box<SplitRows>),
 }
 
 /// This rank's rows of P and of P^T, and the buffers of their gathered products.
@@ -79,14 +79,14 @@ impl Prolongation {
         let (fine, coarse) = (pt.cols, p.cols);
         let p = Rows::new(p, rank * p_per, fine);
         let pt = Rows::new(pt, (rank * pt_per).min(coarse), coarse);
-        Prolongation::Split(SplitRows {
+        Prolongation::Split(Box::new(SplitRows {
             p,
             p_per,
             pt,
             pt_per,
             mine: vec![0.0; per],
             all: vec![0.0; per * ranks],
-        })
+        }))
     }
 
     /// out = P^T r (`gather`: every rank's `mine` into `all`, in rank order; collective
