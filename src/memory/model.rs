@@ -107,8 +107,9 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// keeps (about 34 entries per node, held in 6 x 6 blocks at 8.1 bytes each, a block below
 /// the diagonal read from its transpose where the rank holds that: about half of them;
 /// 409 bytes per node before, when every block was stored, n = 40 on 1 and 2 ranks then
-/// measured 190.5 and 133.8 MiB, now 174.4 and 123.7 against 172.0 and 129.2 estimated,
-/// n = 80 on 2 ranks 692.8 then and 634.9 now against 793.3), a part
+/// measured 190.5 and 133.8 MiB, now, with the fine vectors the measurement does not use
+/// freed and P in blocks, 174.6 and 123.6 against 182.0 and 126.2 estimated, n = 80 on 2
+/// ranks 692.8 then and 609.5 now against 770.5: +26%), a part
 /// every rank holds whole (the aggregates, the first coarse level's vectors and node
 /// blocks, the levels below it), and the smoothed prolongator of the first coarse level
 /// (about 5.5 entries per node at 12 bytes: P^T on one rank; on more, each rank holds its
@@ -127,11 +128,14 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 const MULTILEVEL_SPLIT_PER_NODE: f64 = 330.0;
 const MULTILEVEL_WHOLE_PER_NODE: f64 = 129.0;
 const MULTILEVEL_PROLONGATOR_PER_NODE: f64 = 69.0;
+/// The prolongator's rows split over more ranks than one, in full 6 x 6 blocks: 8.1 bytes
+/// per entry instead of 12 (`multilevel::prolongation`).
+const MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE: f64 = MULTILEVEL_PROLONGATOR_PER_NODE * 8.1 / 12.0;
 /// Where the first coarse level is counted on the mesh (`Counts::coarse_pairs`): the
 /// measurement's buffer of the rank's rows, an f64 and a state byte for each entry of its
 /// 6 x 6 blocks (`measure::Blocks`), at least the per-node split above. On a poorly
 /// aggregated mesh it is larger: 8.2 MB on the Hertz example x2 (27380 blocks, 3.4 nodes
-/// per aggregate; heaptrack), against 2.5 MB at 409 bytes per node.
+/// per aggregate; heaptrack), against 2.0 MB at 330 bytes per node.
 const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
 /// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
 /// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by
@@ -172,7 +176,7 @@ fn multilevel_bytes(c: &Counts, ranks: usize) -> f64 {
     // P^T on one rank; P's rows and P^T's split over more.
     let prolongator = match ranks {
         1 => MULTILEVEL_PROLONGATOR_PER_NODE * n,
-        r => 2.0 * MULTILEVEL_PROLONGATOR_PER_NODE * n / r as f64,
+        r => 2.0 * MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE * n / r as f64,
     };
     if c.coarse_pairs > 0 {
         split = split.max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64);

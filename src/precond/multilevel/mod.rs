@@ -393,7 +393,13 @@ impl FineVectors {
 
     /// Allocates those that were freed (outside CG: its iterations allocate nothing).
     fn ensure(&mut self, nodes: usize) {
-        for v in [&mut self.x, &mut self.r, &mut self.d, &mut self.t, &mut self.u] {
+        for v in [
+            &mut self.x,
+            &mut self.r,
+            &mut self.d,
+            &mut self.t,
+            &mut self.u,
+        ] {
             if v.len() != nodes {
                 *v = vec![[0.0; 3]; nodes];
             }
