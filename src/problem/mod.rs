@@ -152,9 +152,10 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
 /// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
 /// one model problem); above this size two-level runs alone, as the memory model assumes.
 /// There multilevel is faster but not leaner: the block on block at n = 80 (1062882 nodes)
-/// on 2 ranks takes 92 CG iterations, 49.1 s and 707 MiB per rank with multilevel by name
-/// against 716, 74.2 s and 409 MiB with two-level (`run/bench --large`, with and without
-/// `--preconditioner multilevel`); `auto` keeps the run that fits in less memory.
+/// on 2 ranks takes 92 CG iterations, 78.7 s and 609.5 MiB per rank with multilevel by
+/// name against 716, 119.0 s and 401.4 MiB with two-level (one after the other on
+/// 2026-11-29; `run/bench --large`, with and without `--preconditioner multilevel`);
+/// `auto` keeps the run that fits in less memory.
 pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's

@@ -191,8 +191,9 @@ pub fn build<C: Comm + ?Sized>(
     let mut view = View::new(&blocks);
     // Node-block relaxation, the strength graph and the aggregates of the next level.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
-    let inv = gather(comm, &inv);
-    let dinv = BlockInverse::from_inverses(&node_ptr, inv);
+    let all = gather(comm, &inv);
+    drop(inv);
+    let dinv = BlockInverse::from_inverses(&node_ptr, all);
     let ks = first..first + MODES * held.len();
     let (agg, nc) = next_aggregates(comm, &mut view, ks, &diag, &node_ptr, &body);
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
