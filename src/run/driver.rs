@@ -48,6 +48,23 @@ struct Progress {
     started: Instant,
 }
 
+impl Progress {
+    /// Nothing done yet; the clock starts now.
+    fn start() -> Self {
+        Progress {
+            records: Vec::new(),
+            first_step: 0,
+            rows_written: 0,
+            started: Instant::now(),
+            cg_traffic: comm::Traffic::default(),
+            cg_loop_iterations: 0,
+            cg_loop_seconds: 0.0,
+            contact_updates: 0,
+            contact_seconds: 0.0,
+        }
+    }
+}
+
 /// Runs the scene, continuing from the last step an earlier run of it recorded in
 /// `restart` when given: the result is then bitwise the one of an uninterrupted run.
 pub fn run_from<C: Comm + ?Sized>(
@@ -60,17 +77,7 @@ pub fn run_from<C: Comm + ?Sized>(
         root: comm.is_root(),
         verbosity: opts.verbosity,
     };
-    let mut progress = Progress {
-        records: Vec::new(),
-        first_step: 0,
-        rows_written: 0,
-        started: Instant::now(),
-        cg_traffic: comm::Traffic::default(),
-        cg_loop_iterations: 0,
-        cg_loop_seconds: 0.0,
-        contact_updates: 0,
-        contact_seconds: 0.0,
-    };
+    let mut progress = Progress::start();
     let (decomposition, local) = partition(comm, problem, opts, &log)?;
     let continued = match restart {
         Some(path) => Some(restart::resume(comm, problem, path)?),
