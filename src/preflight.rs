@@ -43,7 +43,7 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     }
     if size.counts.multilevel && !size.counts.two_level && !size.counts.tangent {
         let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p));
-        size.counts.coarse_pairs = first.pairs;
+        size.counts.coarse_pairs = first.measured_blocks();
         size.counts.coarse_entries = first.entries;
         size.counts.coarse_slow = first.poor;
         size.counts.coarse_factor_entries = first.factor_entries;

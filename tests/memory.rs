@@ -265,8 +265,8 @@ fn the_multilevel_estimate_is_within_25_percent_of_the_measured_peak() {
 /// aggregate, factored) on 1 and 2 ranks, each with the default preconditioner (multilevel
 /// there). The same 25% as the generated blocks, for the same reason. Before the first
 /// level was counted on the mesh: 66.1 and 51.6 MiB against 128.9 and 113.8 (-49%, -55%),
-/// and 42.2 and 37.6 against 71.3 and 63.1 (-41%, -40%); since: -0.5%, -0.1%, -16.3%,
-/// -17.9% (docs/memory.md's table). The x2 mesh comes from run/gmsh/make_examples 2 (Gmsh)
+/// and 42.2 and 37.6 against 71.3 and 63.1 (-41%, -40%); since: -0.4%, -0.4%, -17.8%,
+/// -20.4% (docs/memory.md's table). The x2 mesh comes from run/gmsh/make_examples 2 (Gmsh)
 /// when missing.
 #[test]
 fn the_estimate_is_within_25_percent_on_gmsh_meshes() {

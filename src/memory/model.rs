@@ -42,7 +42,7 @@ pub struct Counts {
     /// or friction couples a nonlinear body's model problem.
     pub plastic_point_elements: u64,
     /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
-    /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement holds, its
+    /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement stores, its
     /// entries, and those of its sparse factor where it is predicted factored (0 when
     /// not). All 0 when the counts come from generated blocks alone, whose aggregates are
     /// the calibration's.
@@ -108,8 +108,9 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// the diagonal read from its transpose where the rank holds that: about half of them;
 /// 409 bytes per node before, when every block was stored, n = 40 on 1 and 2 ranks then
 /// measured 190.5 and 133.8 MiB, now, with the fine vectors the measurement does not use
-/// freed and P in blocks, 174.6 and 123.6 against 182.0 and 126.2 estimated, n = 80 on 2
-/// ranks 692.8 then and 609.5 now against 770.5: +26%), a part
+/// freed, P in blocks and the measurement storing one block of each symmetric pair,
+/// 172.8 and 120.8 against 182.0 and 126.2 estimated, n = 80 on 2 ranks 692.8 then and
+/// 596.8 now against 770.5: +29%, its peak now in the CG loops, not the build), a part
 /// every rank holds whole (the aggregates, the first coarse level's vectors and node
 /// blocks, the levels below it), and the smoothed prolongator of the first coarse level
 /// (about 5.5 entries per node at 12 bytes: P^T on one rank; on more, each rank holds its
@@ -132,10 +133,11 @@ const MULTILEVEL_PROLONGATOR_PER_NODE: f64 = 69.0;
 /// per entry instead of 12 (`multilevel::prolongation`).
 const MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE: f64 = MULTILEVEL_PROLONGATOR_PER_NODE * 8.1 / 12.0;
 /// Where the first coarse level is counted on the mesh (`Counts::coarse_pairs`): the
-/// measurement's buffer of the rank's rows, an f64 and a state byte for each entry of its
-/// 6 x 6 blocks (`measure::Blocks`), at least the per-node split above. On a poorly
-/// aggregated mesh it is larger: 8.2 MB on the Hertz example x2 (27380 blocks, 3.4 nodes
-/// per aggregate; heaptrack), against 2.0 MB at 330 bytes per node.
+/// measurement's buffer of the rank's rows, an f64 and a state byte for each entry of the
+/// 6 x 6 blocks it stores (`measure::Blocks`: the diagonal's and one of each symmetric
+/// pair), at least the per-node split above. On a poorly aggregated mesh it is larger:
+/// 8.2 MB on the Hertz example x2 when every block of its 27380 was stored (3.4 nodes per
+/// aggregate; heaptrack), against 2.0 MB at 330 bytes per node.
 const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
 /// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
 /// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by

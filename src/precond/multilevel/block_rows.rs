@@ -46,7 +46,7 @@ pub struct BlockRows {
 }
 
 /// A block read from another one, transposed.
-const MIRROR: u32 = 1 << 31;
+pub(super) const MIRROR: u32 = 1 << 31;
 
 impl BlockRows {
     /// Rows first..first + len of `a` (clipped to its rows), whose unknowns come in nodes
@@ -127,35 +127,45 @@ impl BlockRows {
     }
 
     /// Rows first..first + len (`first` a multiple of B) from their blocks: block row i
-    /// (counted from first / B) has blocks ptr[i]..ptr[i + 1] of block columns `col`,
-    /// values `val` (B x B each, row-major) and a bit per value of whether the sparse row
-    /// holds it (a value without one is 0.0).
-    pub fn from_blocks(
+    /// (counted from first / B) has blocks ptr[i]..ptr[i + 1]; block b, of block column
+    /// `col[b]`, has the values `val[B * B * slot[b]..]` (B x B, row-major), transposed
+    /// where `slot[b]` has `MIRROR` set (a block below the diagonal read from the one above
+    /// it that is its transpose, bit for bit and present bit for present bit: the
+    /// caller's guarantee, which `mirrored` checks), and `present` a bit per value stored
+    /// of whether the sparse row holds it (a value without one is 0.0).
+    pub fn from_placed(
         (first, len): (usize, usize),
         ptr: Vec<usize>,
-        col: Vec<u32>,
+        (col, slot): (Vec<u32>, Vec<u32>),
         val: Vec<f64>,
         present: Vec<u64>,
         columns: usize,
     ) -> Self {
+        const BB: usize = B * B;
         assert!(first.is_multiple_of(B) && len.is_multiple_of(B));
         assert_eq!(ptr.len(), len / B + 1);
-        assert_eq!(val.len(), B * B * col.len());
-        BlockRows::mirrored(
-            BlockRows {
-                first,
-                len,
-                block_first: first / B,
-                slot: Vec::new(),
-                ptr,
-                col,
-                val,
-                present,
-                entries: 0,
-                columns,
-            },
-            true,
-        )
+        assert_eq!(col.len(), slot.len());
+        let stored = val.len() / BB;
+        assert!(slot.iter().all(|&s| ((s & !MIRROR) as usize) < stored));
+        let count = |s: u32| {
+            let at = BB * (s & !MIRROR) as usize;
+            (at..at + BB)
+                .filter(|&i| present[i / 64] & (1 << (i % 64)) != 0)
+                .count()
+        };
+        let entries = slot.iter().map(|&s| count(s)).sum();
+        BlockRows {
+            first,
+            len,
+            block_first: first / B,
+            ptr,
+            col,
+            slot,
+            val,
+            present,
+            entries,
+            columns,
+        }
     }
 
     /// `rows` (every block stored, `slot` empty) with each block below the diagonal that

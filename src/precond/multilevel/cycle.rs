@@ -315,7 +315,7 @@ impl Hierarchy {
             let Ok(cheb) = Chebyshev::estimate(&mut sp, degree, &mut v, &mut y, &mut w);
             let p = smooth(op.csr(), &dinv, cheb.lmax, &tent.p);
             let pt = p.transpose();
-            let ac = triple_product(&pt, op.csr(), &p, TRIPLE_BLOCKS).symmetric_part();
+            let ac = triple_product(&pt, op.csr(), &p, TRIPLE_BLOCKS).into_symmetric_part();
             // The cycle prolongs with P^T (`Csr::mul_transpose_into`): P itself goes.
             drop(p);
             levels.push(Level::new(op, dinv, cheb, Prolongation::Whole(pt), n));

@@ -368,7 +368,10 @@ fn galerkin<C: Comm + ?Sized>(
             Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank())
         }
     };
-    (transfer, sums.expect("one rank at least").symmetric_part())
+    (
+        transfer,
+        sums.expect("one rank at least").into_symmetric_part(),
+    )
 }
 
 #[cfg(test)]

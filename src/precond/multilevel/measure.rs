@@ -3,7 +3,7 @@
 //! m sums mode m of every aggregate of colour c, and Q^T A probe gives, at every aggregate
 //! k, column (j, m) of Kc for the one aggregate j of colour c that k sees.
 
-use super::block_rows::BlockRows;
+use super::block_rows::{BlockRows, MIRROR};
 use super::colouring::Colouring;
 use super::prolongator::MODES;
 use super::transfer::Transfer;
@@ -30,7 +30,10 @@ pub struct Probe<'b> {
 /// j's colour is probed in mode m, and its mirror (j, m; k, l), at aggregate j when k's
 /// colour is probed in mode l; the entry is 0.5 a + 0.5 b of the two (a value never
 /// measured counts 0) and is kept where either was non-zero. A rank holds only its rows
-/// (13 bytes per entry), where every rank held the whole Kc.
+/// (13 bytes per entry), where every rank held the whole Kc, and of a block below the
+/// diagonal whose transpose is in its rows, none: the two entries of a pair receive the
+/// same two values (each value goes to both), so they are the same bits, and the block is
+/// read from its transpose (`BlockRows`' mirrored blocks) from the start.
 #[allow(clippy::too_many_arguments)]
 pub fn measure<C: Comm + ?Sized, E>(
     comm: &C,
@@ -50,21 +53,7 @@ pub fn measure<C: Comm + ?Sized, E>(
             tr.aggregates.restrict(comm, buf.av, buf.coeff);
             for &(k, j) in col.pairs(c) {
                 let (k, j) = (k as usize, j as usize);
-                let coeff = &buf.coeff[MODES * k..MODES * (k + 1)];
-                if kc.holds(k) {
-                    let t = kc.slot(k, j);
-                    for (l, &x) in coeff.iter().enumerate() {
-                        let p = kc.at(k, l, t, m);
-                        kc.arrive(p, x, MEASURED);
-                    }
-                }
-                if kc.holds(j) {
-                    let s = kc.slot(j, k);
-                    for (l, &x) in coeff.iter().enumerate() {
-                        let q = kc.at(j, m, s, l);
-                        kc.arrive(q, x, MIRRORED);
-                    }
-                }
+                kc.take(k, j, m, &buf.coeff[MODES * k..MODES * (k + 1)]);
             }
         }
     }
@@ -87,6 +76,9 @@ struct Blocks {
     lo: usize,
     ptr: Vec<usize>,
     js: Vec<u32>,
+    /// Where each block's values are, in blocks of `val`; with `MIRROR` set, a block below
+    /// the diagonal whose transpose is held, and that block's place.
+    place: Vec<u32>,
     val: Vec<f64>,
     state: Vec<u8>,
 }
@@ -104,6 +96,12 @@ impl Blocks {
                 }
             }
         }
+        Blocks::of_pairs(pairs, total, held)
+    }
+
+    /// The blocks of the couplings `pairs` (row aggregate, column aggregate; the rows
+    /// `held`, the pattern symmetric where both are held), every value yet to come.
+    fn of_pairs(mut pairs: Vec<(u32, u32)>, total: usize, held: Range<usize>) -> Self {
         pairs.sort_unstable();
         pairs.dedup();
         let mut ptr = vec![0usize; held.len() + 1];
@@ -114,14 +112,55 @@ impl Blocks {
             ptr[k + 1] += ptr[k];
         }
         let js: Vec<u32> = pairs.into_iter().map(|(_, j)| j).collect();
-        let n = MODES * MODES * js.len();
+        let mut place = vec![0u32; js.len()];
+        let mut stored = 0u32;
+        for k in held.clone() {
+            for b in ptr[k - held.start]..ptr[k - held.start + 1] {
+                let j = js[b] as usize;
+                place[b] = if j < k && held.contains(&j) {
+                    let row = &js[ptr[j - held.start]..ptr[j - held.start + 1]];
+                    let t = row
+                        .binary_search(&(k as u32))
+                        .expect("the pattern of held rows is symmetric");
+                    place[ptr[j - held.start] + t] | MIRROR
+                } else {
+                    stored += 1;
+                    stored - 1
+                };
+            }
+        }
+        assert!(stored < MIRROR, "Kc: blocks to number");
+        let n = MODES * MODES * stored as usize;
         Blocks {
             total,
             lo: held.start,
             ptr,
             js,
+            place,
             val: vec![0.0; n],
             state: vec![0; n],
+        }
+    }
+
+    /// The coefficients `coeff` (six) at aggregate k of the probe of j's colour in mode m:
+    /// column (j, m) of row k and, as its mirror, row (j, m) at column k, where held and
+    /// stored (not read from a transpose, which takes the same values).
+    fn take(&mut self, k: usize, j: usize, m: usize, coeff: &[f64]) {
+        if self.holds(k) {
+            let t = self.slot(k, j);
+            for (l, &x) in coeff.iter().enumerate() {
+                if let Some(p) = self.at(k, l, t, m) {
+                    self.arrive(p, x, MEASURED);
+                }
+            }
+        }
+        if self.holds(j) {
+            let s = self.slot(j, k);
+            for (l, &x) in coeff.iter().enumerate() {
+                if let Some(q) = self.at(j, m, s, l) {
+                    self.arrive(q, x, MIRRORED);
+                }
+            }
         }
     }
 
@@ -138,10 +177,10 @@ impl Blocks {
     }
 
     /// The entry of row (k, l) and column (js[ptr[k] + t], m): block by block, each 6 x 6
-    /// row-major, as `BlockRows` holds them.
-    fn at(&self, k: usize, l: usize, t: usize, m: usize) -> usize {
-        let k = k - self.lo;
-        MODES * MODES * (self.ptr[k] + t) + MODES * l + m
+    /// row-major, as `BlockRows` holds them; None in a block read from its transpose.
+    fn at(&self, k: usize, l: usize, t: usize, m: usize) -> Option<usize> {
+        let place = self.place[self.ptr[k - self.lo] + t];
+        (place & MIRROR == 0).then(|| MODES * MODES * place as usize + MODES * l + m)
     }
 
     /// Value x of kind `kind` (MEASURED or MIRRORED) for entry p: the first of the two is
@@ -164,22 +203,38 @@ impl Blocks {
 
     /// The held rows in blocks, compacted in place: an entry of which only one value came
     /// is 0.5 x + 0.5 * 0 and is kept when x is non-zero; one of which none came is left
-    /// out (a zero the sparse rows do not have), and a block left with none goes. The same
-    /// rows, bit for bit, as the sparse rows of these entries put into blocks
-    /// (`BlockRows::of_rows`), without holding both.
+    /// out (a zero the sparse rows do not have), and a block left with none goes (a block
+    /// read from its transpose goes with it: their entries came alike). The same rows, bit
+    /// for bit, as the sparse rows of these entries put into blocks (`BlockRows::of_rows`,
+    /// whose mirrored blocks are these), without holding both.
     fn finish(mut self) -> BlockRows {
+        const NONE: u32 = u32::MAX;
         let na = self.ptr.len() - 1;
         let bb = MODES * MODES;
         let mut ptr = Vec::with_capacity(na + 1);
         ptr.push(0usize);
         let mut present = vec![0u64; self.val.len().div_ceil(64)];
-        let mut kept = 0usize;
+        // The place of every stored block among those kept (NONE: it went).
+        let mut kept_place = vec![NONE; self.val.len() / bb];
+        let mut slot = Vec::with_capacity(self.js.len());
+        let (mut kept, mut stored) = (0usize, 0u32);
         for k in 0..na {
             for b in self.ptr[k]..self.ptr[k + 1] {
+                let place = self.place[b];
+                if place & MIRROR != 0 {
+                    let at = kept_place[(place & !MIRROR) as usize];
+                    if at != NONE {
+                        slot.push(at | MIRROR);
+                        self.js[kept] = self.js[b];
+                        kept += 1;
+                    }
+                    continue;
+                }
+                let p = place as usize;
                 let mut block = [0.0f64; MODES * MODES];
                 let mut bits = [false; MODES * MODES];
                 for e in 0..bb {
-                    let (s, x) = (self.state[bb * b + e], self.val[bb * b + e]);
+                    let (s, x) = (self.state[bb * p + e], self.val[bb * p + e]);
                     let keep = match s {
                         0 => None,
                         MEASURED | MIRRORED => (x != 0.0).then_some(0.5 * x + 0.5 * 0.0),
@@ -193,28 +248,32 @@ impl Blocks {
                 if !bits.contains(&true) {
                     continue;
                 }
-                // kept <= b: the block moves forward over ones already read.
-                self.val[bb * kept..bb * (kept + 1)].copy_from_slice(&block);
+                // stored <= p: the block moves forward over ones already read.
+                let at = stored as usize;
+                self.val[bb * at..bb * (at + 1)].copy_from_slice(&block);
                 for (e, _) in bits.iter().enumerate().filter(|(_, &p)| p) {
-                    let at = bb * kept + e;
-                    present[at / 64] |= 1 << (at % 64);
+                    let i = bb * at + e;
+                    present[i / 64] |= 1 << (i % 64);
                 }
+                kept_place[p] = stored;
+                slot.push(stored);
                 self.js[kept] = self.js[b];
+                stored += 1;
                 kept += 1;
             }
             ptr.push(kept);
         }
-        drop(self.state);
-        self.val.truncate(bb * kept);
+        drop((self.state, self.place, kept_place));
+        self.val.truncate(bb * stored as usize);
         self.val.shrink_to_fit();
         self.js.truncate(kept);
         self.js.shrink_to_fit();
-        present.truncate((bb * kept).div_ceil(64));
+        present.truncate((bb * stored as usize).div_ceil(64));
         present.shrink_to_fit();
-        BlockRows::from_blocks(
+        BlockRows::from_placed(
             (MODES * self.lo, MODES * na),
             ptr,
-            self.js,
+            (self.js, slot),
             self.val,
             present,
             MODES * self.total,
@@ -226,43 +285,53 @@ impl Blocks {
 mod tests {
     use super::*;
     use crate::precond::multilevel::sparse::Csr;
+    use std::collections::HashMap;
 
-    /// The rows as sparse rows, entry by entry in column order (what the measurement gave
-    /// before it kept blocks): the specification `finish` must meet bit for bit.
-    fn sparse_rows(b: &Blocks) -> Csr {
-        let mut out = Csr::empty(MODES * b.total);
-        for k in 0..b.ptr.len() - 1 {
+    type Came = HashMap<(usize, usize, usize, usize), f64>;
+
+    /// The specification's sparse rows (every row of the `sees.len()` aggregates, those
+    /// outside `held` empty) from the value that came first at each (k, l; j, m).
+    fn spec_rows(came: &Came, sees: &[Vec<bool>], held: &Range<usize>) -> Csr {
+        let total = sees.len();
+        let mut sparse = Csr::empty(MODES * total);
+        for k in 0..total {
             for l in 0..MODES {
-                for t in 0..b.ptr[k + 1] - b.ptr[k] {
-                    let j = b.js[b.ptr[k] + t];
+                for j in (0..total).filter(|&j| held.contains(&k) && (sees[k][j] || sees[j][k])) {
                     for m in 0..MODES {
-                        let p = b.at(b.lo + k, l, t, m);
-                        let (s, x) = (b.state[p], b.val[p]);
-                        let keep = match s {
-                            0 => None,
-                            MEASURED | MIRRORED => (x != 0.0).then_some(0.5 * x + 0.5 * 0.0),
-                            _ => (s & KEPT != 0).then_some(x),
+                        let a = came.get(&(k, l, j, m));
+                        let b = came.get(&(j, m, k, l));
+                        let v = match (a, b) {
+                            (Some(&a), Some(&b)) => {
+                                (a != 0.0 || b != 0.0).then_some(0.5 * a + 0.5 * b)
+                            }
+                            (Some(&x), None) | (None, Some(&x)) => {
+                                (x != 0.0).then_some(0.5 * x + 0.5 * 0.0)
+                            }
+                            (None, None) => None,
                         };
-                        if let Some(v) = keep {
-                            out.idx.push(MODES as u32 * j + m as u32);
-                            out.val.push(v);
+                        if let Some(v) = v {
+                            sparse.idx.push((MODES * j + m) as u32);
+                            sparse.val.push(v);
                         }
                     }
                 }
-                out.end_row();
+                sparse.end_row();
             }
         }
-        out
+        sparse
     }
 
+    /// Aggregates 1..5 of 7 held (one rank's rows: couplings to rows held elsewhere too);
+    /// a pattern where some aggregates see each other one way only, values that round when
+    /// halved (odd mantissas, subnormals) and zeros, one event sent twice, and the blocks
+    /// of aggregates 2 and 4 all zero (they must go, and their mirror with them). The
+    /// specification, entry by entry from the events: both values 0.5 a + 0.5 b, kept
+    /// where either is non-zero; one value x, 0.5 x + 0.5 * 0, kept where non-zero; none,
+    /// left out; those sparse rows put into blocks by `BlockRows::of_rows` (which mirrors a
+    /// block below the diagonal where its values are those of its transpose, checked).
     #[test]
-    fn the_measured_blocks_are_the_sparse_rows_put_into_blocks_bit_for_bit() {
-        // Aggregates 1..4 of 5 held; aggregate 2's block with 4 is all unmeasured or zero
-        // and must go, as the sparse rows have none of it.
-        let (ptr, js) = (vec![0, 3, 5, 8], vec![0, 1, 3, 2, 4, 0, 3, 4]);
-        let n = MODES * MODES * js.len();
-        let mut val = Vec::with_capacity(n);
-        let mut state = Vec::with_capacity(n);
+    fn the_measured_blocks_are_the_sparse_rows_of_the_events_bit_for_bit() {
+        let (total, held) = (7usize, 1..5usize);
         let mut seed = 12345u64;
         let mut next = || {
             seed = seed
@@ -270,55 +339,87 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             seed >> 33
         };
-        for p in 0..n {
-            let r = next();
-            // Values that round when halved (odd mantissas, subnormal among them) and zeros.
-            let x = match r % 7 {
-                0 => 0.0,
-                1 => f64::from_bits(1 + 2 * (r % 1000)),
-                _ => (r as f64 / 3.0) * if r % 2 == 0 { 1.0 } else { -1.0 },
-            };
-            let s = [
-                0,
-                MEASURED,
-                MIRRORED,
-                MEASURED | MIRRORED,
-                MEASURED | MIRRORED | KEPT,
-            ][(next() % 5) as usize];
-            let dropped = (4 * MODES * MODES..5 * MODES * MODES).contains(&p);
-            val.push(if dropped && s != 0 { 0.0 } else { x });
-            state.push(if dropped && s & KEPT != 0 {
-                MEASURED
-            } else {
-                s
-            });
+        let mut sees = vec![vec![false; total]; total];
+        for k in 0..total {
+            sees[k][k] = true;
+            for j in k + 1..total {
+                match next() % 4 {
+                    0 => {}
+                    1 => sees[k][j] = true,
+                    _ => (sees[k][j], sees[j][k]) = (true, true),
+                }
+            }
         }
-        let b = Blocks {
-            total: 5,
-            lo: 1,
-            ptr,
-            js,
-            val,
-            state,
-        };
-        let sparse = sparse_rows(&b);
-        let (first, len) = (MODES, 3 * MODES);
-        let expected = BlockRows::of_rows(|r| sparse.row(r - first), (30, 30), first, len).unwrap();
-        let got = b.finish();
+        (sees[2][4], sees[4][2]) = (true, true);
+        let mut pairs = Vec::new();
+        for k in 0..total {
+            for j in 0..total {
+                if sees[k][j] {
+                    if held.contains(&k) {
+                        pairs.push((k as u32, j as u32));
+                    }
+                    if held.contains(&j) {
+                        pairs.push((j as u32, k as u32));
+                    }
+                }
+            }
+        }
+        let mut blocks = Blocks::of_pairs(pairs, total, held.clone());
+        let stored = blocks.val.len() / (MODES * MODES);
+        assert!(
+            stored < blocks.js.len(),
+            "some blocks are read from their transposes"
+        );
+        // The value at (k, l; j, m), the first that came.
+        let mut came: Came = HashMap::new();
+        let mut events = Vec::new();
+        for k in 0..total {
+            for j in 0..total {
+                if sees[k][j] {
+                    events.extend((0..MODES).map(|m| (k, j, m)));
+                }
+            }
+        }
+        events.push(events[events.len() / 2]);
+        for &(k, j, m) in &events {
+            let coeff: Vec<f64> = (0..MODES)
+                .map(|_| {
+                    let r = next();
+                    match r % 7 {
+                        _ if (k, j) == (2, 4) || (k, j) == (4, 2) => 0.0,
+                        0 => 0.0,
+                        1 => f64::from_bits(1 + 2 * (r % 1000)),
+                        _ => (r as f64 / 3.0) * if r % 2 == 0 { 1.0 } else { -1.0 },
+                    }
+                })
+                .collect();
+            for (l, &x) in coeff.iter().enumerate() {
+                came.entry((k, l, j, m)).or_insert(x);
+            }
+            blocks.take(k, j, m, &coeff);
+        }
+        let sparse = spec_rows(&came, &sees, &held);
+        let (first, len) = (MODES * held.start, MODES * held.len());
+        let n = MODES * total;
+        let expected = BlockRows::of_rows(|r| sparse.row(r), (n, n), first, len).unwrap();
+        let got = blocks.finish();
         let (e, g) = (expected.to_csr(), got.to_csr());
         assert_eq!(e.ptr, g.ptr);
         assert_eq!(e.idx, g.idx);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&e.val), bits(&g.val));
-        assert_eq!(bits(&sparse.val), bits(&g.val));
-        assert_eq!(expected.bytes(), got.bytes(), "the same blocks");
+        assert_eq!(expected.nnz(), got.nnz());
         assert_eq!(
+            expected.bytes(),
             got.bytes(),
-            // A column and a slot per block; these rows are not symmetric, so no block is
-            // read from another.
-            8 * (4 + 7 * 36 + (7 * 36usize).div_ceil(64)) + 4 * (7 + 7)
+            "the same blocks, mirrored alike"
         );
-        let x: Vec<f64> = (0..30).map(|i| 1.0 / (i as f64 + 3.0)).collect();
+        let row2 = g.row(MODES * (2 - held.start)).0;
+        assert!(
+            row2.iter().all(|&c| !(24..30).contains(&c)),
+            "the zero block went"
+        );
+        let x: Vec<f64> = (0..n).map(|i| 1.0 / (i as f64 + 3.0)).collect();
         let (mut ye, mut yg) = (vec![0.0; len], vec![0.0; len]);
         expected.mul_rows_into(&x, first, &mut ye);
         got.mul_rows_into(&x, first, &mut yg);

@@ -214,8 +214,8 @@ impl Multilevel {
         lap(0);
         self.f.ensure_probes(mesh.num_nodes());
         let buf = measure::Probe {
-            v: &mut self.f.x,
-            av: &mut self.f.r,
+            v: &mut self.f.r,
+            av: &mut self.f.d,
             coeff: &mut self.coarse.b,
         };
         let held = first::held(comm, na);
@@ -288,6 +288,8 @@ impl Multilevel {
         minv: &[Mat3],
         op: &mut O,
     ) -> Result<(), O::Error> {
+        // The power iteration's third vector only while it runs: the cycle uses four.
+        let mut x = vec![[0.0; 3]; self.f.r.len()];
         let mut f = Fine {
             comm,
             op,
@@ -299,7 +301,7 @@ impl Multilevel {
         self.fine = Some(Chebyshev::estimate(
             &mut f,
             self.degree,
-            self.f.x.as_flattened_mut(),
+            x.as_flattened_mut(),
             self.f.r.as_flattened_mut(),
             self.f.d.as_flattened_mut(),
         )?);
@@ -368,7 +370,6 @@ impl Multilevel {
 
 /// The fine level's work vectors, one entry per local node (or none).
 struct FineVectors {
-    x: Vec<Vec3>,
     r: Vec<Vec3>,
     d: Vec<Vec3>,
     t: Vec<Vec3>,
@@ -379,7 +380,6 @@ impl FineVectors {
     fn new(nodes: usize) -> Self {
         let v = || vec![[0.0; 3]; nodes];
         FineVectors {
-            x: v(),
             r: v(),
             d: v(),
             t: v(),
@@ -393,29 +393,22 @@ impl FineVectors {
 
     /// Allocates those that were freed (outside CG: its iterations allocate nothing).
     fn ensure(&mut self, nodes: usize) {
-        for v in [
-            &mut self.x,
-            &mut self.r,
-            &mut self.d,
-            &mut self.t,
-            &mut self.u,
-        ] {
+        for v in [&mut self.r, &mut self.d, &mut self.t, &mut self.u] {
             if v.len() != nodes {
                 *v = vec![[0.0; 3]; nodes];
             }
         }
     }
 
-    /// The two the measurement's probes use, the others freed: at the peak of a
-    /// hierarchy's build, while the first coarse level's entries arrive (three vectors
-    /// less, 37 MiB per rank at n = 80 on 2 ranks).
+    /// The two the measurement's probes use, the others freed: while the first coarse
+    /// level's entries arrive (two vectors less, 24 MiB per rank at n = 80 on 2 ranks).
     fn ensure_probes(&mut self, nodes: usize) {
-        for v in [&mut self.x, &mut self.r] {
+        for v in [&mut self.r, &mut self.d] {
             if v.len() != nodes {
                 *v = vec![[0.0; 3]; nodes];
             }
         }
-        for v in [&mut self.d, &mut self.t, &mut self.u] {
+        for v in [&mut self.t, &mut self.u] {
             *v = Vec::new();
         }
     }

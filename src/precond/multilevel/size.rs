@@ -27,8 +27,8 @@ pub const POOR_AGGREGATE_NODES: f64 = 20.0;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FirstLevel {
     pub aggregates: u64,
-    /// Pairs (k, j) of aggregates where k sees j, k = j included: the 6 x 6 blocks the
-    /// measurement holds (`measure::Blocks`).
+    /// Pairs (k, j) of aggregates where k sees j, k = j included: the 6 x 6 blocks of the
+    /// operator's pattern.
     pub pairs: u64,
     /// The operator's entries: of each pair's block, the products of the two aggregates'
     /// live modes (a mode is live where some free direction of a node of the aggregate
@@ -41,6 +41,15 @@ pub struct FirstLevel {
     /// `FILL` (its blocks by nested dissection, diagonal ones included, at the operator's
     /// mean entries per block); 0 when it is not predicted factored.
     pub factor_entries: u64,
+}
+
+impl FirstLevel {
+    /// The 6 x 6 blocks the measurement holds on one rank (`measure::Blocks`): the
+    /// diagonal's and one of each symmetric pair (a block below the diagonal is read from
+    /// its transpose; on more ranks those whose transpose is another rank's are held too).
+    pub fn measured_blocks(&self) -> u64 {
+        (self.pairs + self.aggregates) / 2
+    }
 }
 
 /// Bits 0, 1, 2 of `fixed[a]`: node a is held in x, y, z (from the scene's displacements).
@@ -133,6 +142,9 @@ mod tests {
         let mesh = crate::mesh::hexahedra_in_a_row(coords);
         let free = first_level(&mesh, &[]);
         assert_eq!((free.aggregates, free.pairs, free.entries), (16, 160, 1440));
+        // Stored by the measurement on one rank: the 16 diagonal blocks and one of each of
+        // the 72 symmetric pairs.
+        assert_eq!(free.measured_blocks(), 16 + (160 - 16) / 2);
         assert!(free.poor);
         assert_eq!(free.factor_entries % 9, 0);
         assert!(

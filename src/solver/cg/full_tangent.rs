@@ -155,7 +155,7 @@ impl FullTangent {
             }
         }
         drop(all);
-        let a = Csr::from_triplets(m, m, trip).symmetric_part();
+        let a = Csr::from_triplets(m, m, trip).into_symmetric_part();
         let probed = clock.elapsed().as_secs_f64();
         let node_ptr: Vec<usize> = {
             let mut p: Vec<usize> = (0..n).filter(|&g| count[g] > 0).map(|g| first[g]).collect();
