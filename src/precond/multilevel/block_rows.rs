@@ -12,8 +12,9 @@
 //! The operator is symmetric (its measured entries are 0.5 a + 0.5 b of the two probes
 //! either way round), so a block below the diagonal whose transpose is a block of a row
 //! held too keeps no values of its own: it is read from that block, transposed (only
-//! where the two are the same bits, value by value and entry by entry, checked when the
-//! rows are made). Products and rows read the same values in the same order, so the same
+//! where the two are the same bits, value by value and entry by entry: checked when rows
+//! are made from sparse rows, `of_rows`; the measurement makes them so, every measured
+//! value going to both entries of its pair, and stores one of each, `from_placed`). Products and rows read the same values in the same order, so the same
 //! bits; about half the values of a rank's rows are not stored twice (block on block at
 //! n = 80 on 2 ranks: 137 MiB of blocks per rank before).
 

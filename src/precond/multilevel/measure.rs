@@ -30,10 +30,10 @@ pub struct Probe<'b> {
 /// j's colour is probed in mode m, and its mirror (j, m; k, l), at aggregate j when k's
 /// colour is probed in mode l; the entry is 0.5 a + 0.5 b of the two (a value never
 /// measured counts 0) and is kept where either was non-zero. A rank holds only its rows
-/// (13 bytes per entry), where every rank held the whole Kc, and of a block below the
-/// diagonal whose transpose is in its rows, none: the two entries of a pair receive the
-/// same two values (each value goes to both), so they are the same bits, and the block is
-/// read from its transpose (`BlockRows`' mirrored blocks) from the start.
+/// (an f64 and a state byte per entry stored), where every rank held the whole Kc, and of
+/// a block below the diagonal whose transpose is in its rows, none: the two entries of a
+/// pair receive the same two values (each value goes to both), so they are the same bits,
+/// and the block is read from its transpose (`BlockRows`' mirrored blocks) from the start.
 #[allow(clippy::too_many_arguments)]
 pub fn measure<C: Comm + ?Sized, E>(
     comm: &C,
