@@ -69,11 +69,7 @@ impl CoarseSpace {
         let neighbour = neighbours(&list, &color, num_colors);
         let agg: Vec<u32> = keys.iter().map(|k| index[k]).collect();
         let centre = centres(&g.coords, &agg, na);
-        let offset = |a: usize| -> Vec3 {
-            let k = agg[a] as usize;
-            std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / h)
-        };
-        let aggregates = Aggregates::new(comm, mesh, &agg, na, offset);
+        let aggregates = Aggregates::new(comm, mesh, &agg, (centre, vec![h; na]), &g.coords);
         Ok(CoarseSpace {
             num_aggregates: na,
             color,
@@ -105,16 +101,24 @@ impl CoarseSpace {
     }
 
     /// The probe vector of colour `c` and mode `m` on the owned nodes (projected on the free
-    /// directions of constrained nodes); ghosts are zero.
-    pub fn probe(&self, cons: &Constraints, c: usize, m: usize, owned: usize, v: &mut [Vec3]) {
-        self.aggregates.probe(cons, &self.color, c, m, owned, v);
+    /// directions of constrained nodes); ghosts are zero. `nodes`: the owned nodes' count
+    /// and the local mesh's positions.
+    pub fn probe(
+        &self,
+        cons: &Constraints,
+        (c, m): (usize, usize),
+        nodes: (usize, &[Vec3]),
+        v: &mut [Vec3],
+    ) {
+        self.aggregates.probe(cons, &self.color, c, m, nodes, v);
     }
 
     /// Q^T r: every aggregate's six coefficients, the same on every rank. Collective.
-    pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, r: &[Vec3], out: &mut Vec<f64>) {
+    /// `x`: the local mesh's positions.
+    pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, x: &[Vec3], r: &[Vec3], out: &mut Vec<f64>) {
         out.clear();
         out.resize(self.dim(), 0.0);
-        self.aggregates.restrict(comm, r, out);
+        self.aggregates.restrict(comm, x, r, out);
     }
 
     /// Records the coarse coefficients of A applied to probe (c, m).
@@ -155,7 +159,7 @@ impl CoarseSpace {
         &self,
         comm: &C,
         cons: &Constraints,
-        owned: usize,
+        nodes: (usize, &[Vec3]),
         r: &[Vec3],
         z: &mut [Vec3],
         work: &mut Vec<f64>,
@@ -163,9 +167,9 @@ impl CoarseSpace {
         let Some(f) = &self.factor else {
             return;
         };
-        self.restrict(comm, r, work);
+        self.restrict(comm, nodes.1, r, work);
         f.solve_term_by_term(work);
-        self.aggregates.prolong_add(cons, owned, work, z);
+        self.aggregates.prolong_add(cons, nodes, work, z);
     }
 }
 

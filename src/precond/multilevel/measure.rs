@@ -40,7 +40,7 @@ pub fn measure<C: Comm + ?Sized, E>(
     tr: &mut Transfer,
     col: &Colouring,
     cons: &Constraints,
-    owned: usize,
+    (owned, x): (usize, &[Vec3]),
     buf: Probe,
     held: Range<usize>,
     mut apply: impl FnMut(&mut [Vec3], &mut [Vec3]) -> Result<(), E>,
@@ -48,9 +48,10 @@ pub fn measure<C: Comm + ?Sized, E>(
     let mut kc = Blocks::new(col, tr.num_aggregates, held);
     for c in 0..col.num_colours {
         for m in 0..MODES {
-            tr.aggregates.probe(cons, &col.colour, c, m, owned, buf.v);
+            tr.aggregates
+                .probe(cons, &col.colour, c, m, (owned, x), buf.v);
             apply(buf.v, buf.av)?;
-            tr.aggregates.restrict(comm, buf.av, buf.coeff);
+            tr.aggregates.restrict(comm, x, buf.av, buf.coeff);
             for &(k, j) in col.pairs(c) {
                 let (k, j) = (k as usize, j as usize);
                 kc.take(k, j, m, &buf.coeff[MODES * k..MODES * (k + 1)]);

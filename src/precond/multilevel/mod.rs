@@ -224,7 +224,7 @@ impl Multilevel {
             &mut self.transfer,
             &col,
             cons,
-            self.owned,
+            (self.owned, &mesh.coords),
             buf,
             held.clone(),
             |v, av| op.apply(v, av),
@@ -323,12 +323,13 @@ impl Multilevel {
         }
     }
 
-    /// z = M^-1 r on the owned nodes (collective). Requires `setup`.
+    /// z = M^-1 r on the owned nodes (collective; `x` the local mesh's positions).
+    /// Requires `setup`.
     #[allow(clippy::too_many_arguments)]
     pub fn apply<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
         comm: &C,
-        cons: &Constraints,
+        (cons, x): (&Constraints, &[Vec3]),
         minv: &[Mat3],
         op: &mut O,
         r: &[Vec3],
@@ -341,7 +342,7 @@ impl Multilevel {
                 *z = matvec(m, r);
             }
             self.coarse
-                .correct(comm, h, &self.transfer, (cons, owned), r, z);
+                .correct(comm, h, &self.transfer, (cons, owned, x), r, z);
             return Ok(());
         };
         let v = &mut self.f;
@@ -360,7 +361,7 @@ impl Multilevel {
         cheb.smooth(&mut f, rf, zf, df, tf)?;
         residual(&mut f, r, zf, rf, tf)?;
         self.coarse
-            .correct(comm, h, &self.transfer, (cons, owned), &v.r, z);
+            .correct(comm, h, &self.transfer, (cons, owned, x), &v.r, z);
         let (zf, rf) = (z.as_flattened_mut(), v.r.as_flattened_mut());
         let tf = v.t.as_flattened_mut();
         residual(&mut f, r, zf, rf, tf)?;
@@ -448,11 +449,11 @@ impl CoarseVectors {
         comm: &C,
         h: &mut Hierarchy,
         transfer: &Transfer,
-        (cons, owned): (&Constraints, usize),
+        (cons, owned, x): (&Constraints, usize, &[Vec3]),
         r: &[Vec3],
         z: &mut [Vec3],
     ) {
-        transfer.aggregates.restrict(comm, r, &mut self.b);
+        transfer.aggregates.restrict(comm, x, r, &mut self.b);
         if self.split_rows.is_empty() {
             h.solve(&self.b, &mut self.x);
         } else {
@@ -460,7 +461,9 @@ impl CoarseVectors {
             let all = &mut self.split_all;
             h.solve_with(&self.b, &mut self.x, &mut Split { comm, rows, all });
         }
-        transfer.aggregates.prolong_add(cons, owned, &self.x, z);
+        transfer
+            .aggregates
+            .prolong_add(cons, (owned, x), &self.x, z);
     }
 }
 

@@ -27,11 +27,9 @@ pub struct Transfer {
     pub num_aggregates: usize,
     /// Aggregate of every global node.
     pub agg_of: Vec<u32>,
-    /// The aggregates (offsets scaled by each aggregate's size): restriction, prolongation
-    /// and probes.
+    /// The aggregates (offsets scaled by each aggregate's size, their centres and sizes):
+    /// restriction, prolongation and probes.
     pub aggregates: Aggregates,
-    pub centre: Vec<Vec3>,
-    pub scale: Vec<f64>,
     /// The body of every aggregate (aggregates follow mesh edges, so never span two).
     pub body: Vec<u32>,
 }
@@ -76,11 +74,7 @@ impl Transfer {
         scale
             .iter_mut()
             .for_each(|s| *s = s.max(floor).max(f64::MIN_POSITIVE));
-        let offset = |a: usize| -> Vec3 {
-            let k = agg_of[a] as usize;
-            std::array::from_fn(|i| (g.coords[a][i] - centre[k][i]) / scale[k])
-        };
-        let aggregates = Aggregates::new(comm, mesh, &agg_of, na, offset);
+        let aggregates = Aggregates::new(comm, mesh, &agg_of, (centre, scale), &g.coords);
         let mut body = vec![0u32; na];
         for (b, info) in g.bodies.iter().enumerate() {
             for a in info.first_node..info.first_node + info.num_nodes {
@@ -92,8 +86,6 @@ impl Transfer {
             num_aggregates: na,
             agg_of,
             aggregates,
-            centre,
-            scale,
         }
     }
 
@@ -106,7 +98,8 @@ impl Transfer {
     pub fn nullspace(&self, origin: &Vec3, length: f64) -> Vec<[f64; MODES]> {
         let mut b = vec![[0.0; MODES]; self.dim()];
         for k in 0..self.num_aggregates {
-            let c = crate::math::sub(&self.centre[k], origin);
+            let (centre, scale) = self.aggregates.centre_and_scale(k);
+            let c = crate::math::sub(&centre, origin);
             for i in 0..3 {
                 b[MODES * k + i][i] = 1.0;
                 // e_i x (c - origin) / length in the translations, scale / length in the
@@ -117,7 +110,7 @@ impl Transfer {
                 for j in 0..3 {
                     b[MODES * k + j][3 + i] = t[j] / length;
                 }
-                b[MODES * k + 3 + i][3 + i] = self.scale[k] / length;
+                b[MODES * k + 3 + i][3 + i] = scale / length;
             }
         }
         b

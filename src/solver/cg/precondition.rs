@@ -51,7 +51,8 @@ impl Cg {
         }
         if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
             let mut op = fine_op!(self, pb, u, linear, s);
-            ml.apply(comm, pb.cons, &self.minv, &mut op, &self.r, &mut self.z)?;
+            let at = (pb.cons, pb.asm.mesh.coords.as_slice());
+            ml.apply(comm, at, &self.minv, &mut op, &self.r, &mut self.z)?;
         } else {
             jacobi::apply(&self.minv[..u.len()], &self.r, &mut self.z);
         }
@@ -59,7 +60,7 @@ impl Cg {
             c.apply(
                 comm,
                 pb.cons,
-                pb.owned(),
+                (pb.owned(), &pb.asm.mesh.coords),
                 &self.r,
                 &mut self.z,
                 &mut self.coarse_work,

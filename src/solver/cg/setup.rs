@@ -60,7 +60,7 @@ impl Cg {
         let mut result = Ok(());
         'probes: for c in 0..cs.num_colors() {
             for m in 0..6 {
-                cs.probe(pb.cons, c, m, owned, &mut self.pu);
+                cs.probe(pb.cons, (c, m), (owned, &pb.asm.mesh.coords), &mut self.pu);
                 pb.cons.expand(comm, &mut self.pu);
                 pb.asm.mesh.exchange(comm, &mut self.pu);
                 if linear {
@@ -93,7 +93,7 @@ impl Cg {
                     }
                 }
                 pb.cons.reduce(comm, &mut self.q, None);
-                cs.restrict(comm, &self.q, &mut restricted);
+                cs.restrict(comm, &pb.asm.mesh.coords, &self.q, &mut restricted);
                 cs.record(c, m, &restricted, &mut kc);
             }
         }
