@@ -108,9 +108,10 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// the diagonal read from its transpose where the rank holds that: about half of them;
 /// 409 bytes per node before, when every block was stored, n = 40 on 1 and 2 ranks then
 /// measured 190.5 and 133.8 MiB, now, with the fine vectors the measurement does not use
-/// freed, P in blocks and the measurement storing one block of each symmetric pair,
-/// 172.8 and 120.8 against 182.0 and 126.2 estimated, n = 80 on 2 ranks 692.8 then and
-/// 596.8 now against 770.5: +29%, its peak now in the CG loops, not the build), a part
+/// freed, P in blocks, the measurement storing one block of each symmetric pair and the
+/// fine aggregates' offsets not kept, 170.4 and 119.1 against 182.0 and 126.2 estimated,
+/// n = 80 on 2 ranks 692.8 then and 584.1 now against 770.5: +32%, its peak now in the CG
+/// loops, not the build), a part
 /// every rank holds whole (the aggregates, the first coarse level's vectors and node
 /// blocks, the levels below it), and the smoothed prolongator of the first coarse level
 /// (about 5.5 entries per node at 12 bytes: P^T on one rank; on more, each rank holds its
