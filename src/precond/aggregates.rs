@@ -214,7 +214,7 @@ impl Aggregates {
         (owned, x): (usize, &[Vec3]),
         v: &mut [Vec3],
     ) {
-        v.iter_mut().for_each(|x| *x = [0.0; 3]);
+        v.iter_mut().for_each(|w| *w = [0.0; 3]);
         for (l, k) in self.agg.iter().enumerate().take(owned) {
             if colour[*k as usize] as usize == c {
                 let phi = modes(&self.offset(x, l))[m];
