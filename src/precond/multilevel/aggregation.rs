@@ -110,9 +110,13 @@ pub struct NodeElements {
 
 impl NodeElements {
     pub fn of_mesh(mesh: &GlobalMesh) -> Self {
-        let n = mesh.num_nodes();
+        Self::of_connectivity(mesh.num_nodes(), &mesh.elements)
+    }
+
+    /// The elements around every node of `elements`, whose nodes are 0..n.
+    pub fn of_connectivity(n: usize, elements: &Connectivity) -> Self {
         let mut ptr = vec![0usize; n + 1];
-        for e in mesh.elements.iter() {
+        for e in elements.iter() {
             for &a in e {
                 ptr[a as usize + 1] += 1;
             }
@@ -122,7 +126,7 @@ impl NodeElements {
         }
         let mut next = ptr.clone();
         let mut elems = vec![0u32; ptr[n]];
-        for (k, e) in mesh.elements.iter().enumerate() {
+        for (k, e) in elements.iter().enumerate() {
             for &a in e {
                 elems[next[a as usize]] = k as u32;
                 next[a as usize] += 1;

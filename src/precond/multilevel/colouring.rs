@@ -11,7 +11,6 @@ use super::aggregation::{Graph, NodeElements};
 use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::mesh::local::LocalMesh;
-use crate::mesh::Connectivity;
 
 pub struct Colouring {
     pub colour: Vec<u16>,
@@ -127,22 +126,6 @@ impl Neighbours for Graph {
     }
 }
 
-/// The node graph of a hexahedral mesh from the elements around each node (a node itself
-/// comes among its neighbours, and some twice).
-pub struct MeshNeighbours<'a> {
-    pub around: &'a NodeElements,
-    pub elements: &'a Connectivity,
-}
-
-impl Neighbours for MeshNeighbours<'_> {
-    fn nodes(&self) -> usize {
-        self.around.len()
-    }
-    fn each(&self, a: usize, f: impl FnMut(u32)) {
-        self.around.each_neighbour(self.elements, a, f);
-    }
-}
-
 /// reach[reach_ptr[j]..reach_ptr[j + 1]]: the aggregates a probe on aggregate j reaches.
 pub(super) fn reach_of(
     graph: &impl Neighbours,
@@ -195,6 +178,118 @@ pub(super) fn reach_of(
     (reach_ptr, reach)
 }
 
+/// The masters of node `a` closed over chains of ties, `a` first (M*(a)).
+fn masters_closure(ties: &Ties, a: u32, out: &mut Vec<u32>) {
+    out.clear();
+    out.push(a);
+    let mut i = 0;
+    while i < out.len() {
+        for &m in ties.masters(out[i] as usize) {
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+        i += 1;
+    }
+}
+
+/// The pairs (j, k), aggregate j's probe reaches aggregate k, that this rank's owned nodes
+/// give. `reach_of` forms reach(j) = agg(M*(N[S(j)])): S(j) the nodes of j with the slaves
+/// tied to them (transitively), N[.] those with their element neighbours, M*(.) those with
+/// their masters (transitively). That is the union over b in S(j) of
+/// R(b) = agg(M*(N[b])), and b is in S(j) exactly when j is in J(b) = agg(M*(b)) (a tie's
+/// slave lists are its master lists reversed). A rank holds every element around its owned
+/// nodes (one ghost layer), so it forms R(b) and J(b) for each of them: the ranks' pairs
+/// together are every pair of the whole node graph's reach, each at least once.
+pub(super) fn reach_pairs(
+    mesh: &LocalMesh,
+    agg_of: &[u32],
+    num_aggs: usize,
+    ties: &Ties,
+) -> Vec<(u32, u32)> {
+    let owned = mesh.num_owned_nodes;
+    let gid = |l: usize| mesh.node_global[l];
+    // Owned nodes by aggregate, so that a mark per aggregate keeps each (j, k) once here.
+    let mut order: Vec<u32> = (0..owned as u32).collect();
+    order.sort_unstable_by_key(|&l| (agg_of[gid(l as usize) as usize], l));
+    let around = NodeElements::of_connectivity(mesh.num_nodes(), &mesh.elements);
+    let mut mark = vec![u32::MAX; num_aggs];
+    let mut pairs = Vec::new();
+    let (mut near, mut closed, mut of_b, mut tied_to) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for &l in &order {
+        let b = gid(l as usize);
+        let j = agg_of[b as usize];
+        near.clear();
+        around.each_neighbour(&mesh.elements, l as usize, |c| near.push(gid(c as usize)));
+        let tied = !ties.masters(b as usize).is_empty();
+        of_b.clear();
+        for &c in &near {
+            masters_closure(ties, c, &mut closed);
+            for &d in &closed {
+                let k = agg_of[d as usize];
+                if mark[k as usize] != j {
+                    mark[k as usize] = j;
+                    pairs.push((j, k));
+                }
+                if tied {
+                    of_b.push(k);
+                }
+            }
+        }
+        if tied {
+            // b is tied to masters in other aggregates: their probes reach R(b) too.
+            masters_closure(ties, b, &mut closed);
+            tied_to.clear();
+            tied_to.extend(closed.iter().map(|&d| agg_of[d as usize]));
+            tied_to.sort_unstable();
+            tied_to.dedup();
+            of_b.sort_unstable();
+            of_b.dedup();
+            for &i in tied_to.iter().filter(|&&i| i != j) {
+                pairs.extend(of_b.iter().map(|&k| (i, k)));
+            }
+        }
+    }
+    pairs
+}
+
+/// reach_ptr and reach (as `reach_of`, each aggregate's list ascending) from pairs (j, k)
+/// in any order, repeats included.
+pub(super) fn reach_from_pairs(
+    num_aggs: usize,
+    mut pairs: Vec<(u32, u32)>,
+) -> (Vec<usize>, Vec<u32>) {
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut reach_ptr = vec![0usize; num_aggs + 1];
+    for &(j, _) in &pairs {
+        reach_ptr[j as usize + 1] += 1;
+    }
+    for j in 0..num_aggs {
+        reach_ptr[j + 1] += reach_ptr[j];
+    }
+    (reach_ptr, pairs.into_iter().map(|(_, k)| k).collect())
+}
+
+/// `reach_of` of the whole node graph from every rank's owned nodes (collective): each
+/// rank's `reach_pairs`, gathered, sorted: the same sets on any number of ranks.
+pub(super) fn reach_of_ranks<C: Comm + ?Sized>(
+    comm: &C,
+    mesh: &LocalMesh,
+    agg_of: &[u32],
+    num_aggs: usize,
+    ties: &Ties,
+) -> (Vec<usize>, Vec<u32>) {
+    let mine = reach_pairs(mesh, agg_of, num_aggs, ties);
+    let all = if comm.size() == 1 {
+        mine
+    } else {
+        message::all_gather(comm, &mine)
+    };
+    reach_from_pairs(num_aggs, all)
+}
+
 /// For each aggregate, the (colour, aggregate) pairs that reach it.
 type SeenBy = Vec<Vec<(u16, u32)>>;
 
@@ -235,7 +330,26 @@ impl Colouring {
     /// Colours the aggregates `agg_of` (of every global node) of the node graph with ties.
     pub fn new(graph: &impl Neighbours, agg_of: &[u32], num_aggs: usize, ties: &Ties) -> Self {
         let (reach_ptr, reach) = reach_of(graph, agg_of, num_aggs, ties);
-        let (colour, num_colours, seen_by) = greedy_colours(&reach_ptr, &reach, num_aggs);
+        Self::of_reach(&reach_ptr, &reach, num_aggs)
+    }
+
+    /// `new` of the whole node graph, from the ranks' local meshes (collective; see
+    /// `reach_of_ranks`).
+    pub fn of_ranks<C: Comm + ?Sized>(
+        comm: &C,
+        mesh: &LocalMesh,
+        agg_of: &[u32],
+        num_aggs: usize,
+        ties: &Ties,
+    ) -> Self {
+        let (reach_ptr, reach) = reach_of_ranks(comm, mesh, agg_of, num_aggs, ties);
+        Self::of_reach(&reach_ptr, &reach, num_aggs)
+    }
+
+    /// The colouring of the aggregates' reach (greedy, in aggregate order: it depends on
+    /// the sets only, not on the order within a list).
+    fn of_reach(reach_ptr: &[usize], reach: &[u32], num_aggs: usize) -> Self {
+        let (colour, num_colours, seen_by) = greedy_colours(reach_ptr, reach, num_aggs);
         let mut seen_ptr = vec![0usize];
         let mut seen = Vec::new();
         let mut by_colour = vec![Vec::new(); num_colours];
@@ -270,6 +384,7 @@ impl Colouring {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use partition::Decomposition;
 
     #[test]
     fn aggregates_sharing_a_colour_are_never_seen_together() {
@@ -301,25 +416,80 @@ mod tests {
         assert!(c.seen(5).iter().any(|&(_, j)| j == 0));
     }
 
+    /// reach_of's lists sorted, for comparing sets.
+    fn sorted(reach_ptr: &[usize], reach: &[u32]) -> Vec<Vec<u32>> {
+        reach_ptr
+            .windows(2)
+            .map(|w| {
+                let mut l = reach[w[0]..w[1]].to_vec();
+                l.sort_unstable();
+                l
+            })
+            .collect()
+    }
+
     #[test]
-    fn the_mesh_neighbours_colour_as_the_node_graph_does() {
-        // Three elements in a row (16 nodes), aggregates of four nodes, a tie from the far
-        // end's node to the first: the colouring from the elements around each node is
-        // the one from the node graph.
-        let mesh = crate::mesh::hexahedra_in_a_row(vec![[0.0; 3]; 16]);
-        let around = NodeElements::of_mesh(&mesh);
-        let by_elements = MeshNeighbours {
-            around: &around,
-            elements: &mesh.elements,
+    fn the_ranks_reach_is_the_whole_graphs_on_any_decomposition() {
+        // A block of 5 x 4 x 3 elements (120 nodes) in aggregates of seven consecutive
+        // nodes; ties that chain (slave 0 on 50 on 119), a slave of four masters, a master
+        // of two slaves, nodes of one element's far corners: the pairs every part's owned
+        // nodes give, gathered, are the reach of the whole node graph, on one part and on
+        // parts that interleave (elements dealt round the parts).
+        let corners = crate::mesh::block::box_corners(&[0.0; 3], &[1.0; 3]);
+        let b = crate::mesh::block::generate(&corners, 5, 4, 3).unwrap();
+        let g = crate::mesh::GlobalMesh {
+            coords: b.coords,
+            elements: crate::mesh::Connectivity::from_fixed(&b.elements),
+            element_body: vec![0; 60],
+            bodies: vec![crate::mesh::Body {
+                name: "b".into(),
+                kind: crate::fem::ElementKind::Hex8,
+                first_node: 0,
+                num_nodes: 120,
+                first_element: 0,
+                num_elements: 60,
+            }],
         };
-        let graph = Graph::of_mesh(&mesh);
-        let agg_of: Vec<u32> = (0..16).map(|a| a / 4).collect();
-        for ties in [vec![], vec![(15, 0)], vec![(15, 0), (12, 3)]] {
-            let a = Colouring::new(&graph, &agg_of, 4, &Ties::from_pairs(16, ties.clone()));
-            let b = Colouring::new(&by_elements, &agg_of, 4, &Ties::from_pairs(16, ties));
-            assert_eq!((&a.colour, a.num_colours), (&b.colour, b.num_colours));
-            assert_eq!((&a.seen_ptr, &a.seen), (&b.seen_ptr, &b.seen));
-            assert_eq!(a.by_colour, b.by_colour);
+        let n = g.num_nodes();
+        let agg_of: Vec<u32> = (0..n as u32).map(|a| a / 7).collect();
+        let na = n.div_ceil(7);
+        let graph = Graph::of_mesh(&g);
+        let tie_sets = [
+            vec![],
+            vec![(0, 50), (50, 119)],
+            vec![
+                (0, 50),
+                (50, 119),
+                (33, 1),
+                (33, 2),
+                (33, 90),
+                (33, 91),
+                (60, 7),
+                (61, 7),
+            ],
+        ];
+        for pairs in tie_sets {
+            let ties = Ties::from_pairs(n, pairs);
+            let (ptr, reach) = reach_of(&graph, &agg_of, na, &ties);
+            let whole = sorted(&ptr, &reach);
+            for parts in 1..=3usize {
+                let element_part: Vec<u32> = (0..60).map(|e| ((e * 7) % parts) as u32).collect();
+                let d = Decomposition::try_new(n, &g.elements, &element_part, parts).unwrap();
+                let mut all = Vec::new();
+                for r in 0..parts {
+                    let mesh = LocalMesh::new(&g, &d, r);
+                    all.extend(reach_pairs(&mesh, &agg_of, na, &ties));
+                }
+                let (p2, r2) = reach_from_pairs(na, all);
+                assert_eq!(sorted(&p2, &r2), whole, "{parts} parts");
+                let c = Colouring::of_reach(&p2, &r2, na);
+                let c0 = Colouring::new(&graph, &agg_of, na, &ties);
+                assert_eq!(
+                    (&c.colour, &c.seen_ptr, &c.seen),
+                    (&c0.colour, &c0.seen_ptr, &c0.seen)
+                );
+                assert_eq!(c.by_colour, c0.by_colour);
+            }
         }
     }
 }

@@ -50,8 +50,7 @@ use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
-use aggregation::NodeElements;
-use colouring::{Colouring, MeshNeighbours, Ties};
+use colouring::{Colouring, Ties};
 use cycle::Hierarchy;
 use prolongator::MODES;
 use smoother::{hash_value, Chebyshev, Space};
@@ -177,13 +176,10 @@ impl Multilevel {
         self.degree
     }
 
-    /// Measures Kc, builds the coarse levels and the fine smoother (collective); `g` is the
-    /// whole mesh `new` was given.
-    #[allow(clippy::too_many_arguments)]
+    /// Measures Kc, builds the coarse levels and the fine smoother (collective).
     pub fn setup<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
         comm: &C,
-        g: &GlobalMesh,
         cons: &Constraints,
         mesh: &LocalMesh,
         minv: &[Mat3],
@@ -199,18 +195,12 @@ impl Multilevel {
         let mut phases = [0.0f64; 4];
         let mut lap =
             |i: usize| phases[i] = clock.elapsed().as_secs_f64() - phases.iter().sum::<f64>();
-        let ties = Ties::gather(comm, cons, mesh, g.num_nodes());
+        let agg_of = &self.transfer.agg_of;
+        let ties = Ties::gather(comm, cons, mesh, agg_of.len());
         let na = self.transfer.num_aggregates;
-        // The elements around every node, with the mesh's elements the node graph the
-        // colouring follows (a third of the graph's size), formed for it and not kept: 41 MB
-        // per rank at n = 80, held through the build's peak before.
-        let around = NodeElements::of_mesh(g);
-        let graph = MeshNeighbours {
-            around: &around,
-            elements: &g.elements,
-        };
-        let col = Colouring::new(&graph, &self.transfer.agg_of, na, &ties);
-        drop(around);
+        // Each rank finds what its owned nodes reach in its local mesh; the colouring of the
+        // gathered sets is every rank's (`colouring::reach_of_ranks`).
+        let col = Colouring::of_ranks(comm, mesh, agg_of, na, &ties);
         lap(0);
         self.f.ensure_probes(mesh.num_nodes());
         let buf = measure::Probe {

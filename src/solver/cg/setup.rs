@@ -182,15 +182,7 @@ impl Cg {
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
         self.trace.ml_builds += 1;
-        ml.setup(
-            pb.comm,
-            pb.global,
-            pb.cons,
-            pb.asm.mesh,
-            &self.minv,
-            &mut op,
-            linear,
-        )?;
+        ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
         self.rebuild_note = Some(format!(
             "{} (build {}: {why}; {:.3} s)",
             ml.summary,
