@@ -6,7 +6,7 @@ use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::memory::available;
 use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
-use solver::run::{run_from, Partition, RunOptions};
+use solver::run::{run_owned, Partition, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -238,7 +238,8 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         final_state: false,
         partition: args.partition,
     };
-    match run_from(comm, &problem, &opts, args.restart) {
+    // The run frees its copy of the whole mesh once set up.
+    match run_owned(comm, problem, &opts, args.restart) {
         Ok((summary, _)) if summary.failure.is_some() => {
             if comm.is_root() {
                 eprintln!("error: {}", summary.failure.as_deref().unwrap_or_default());

@@ -84,7 +84,7 @@ fn check(p: &Problem, k: f64, h: f64, path: [f64; 3]) -> (f64, f64, u64) {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, p, &local, &p.mesh).expect("the stepper is built");
     let (mut es, mut ee, mut cg) = (0.0f64, 0.0f64, 0);
     let mut seg_start = (0.0, 0.0);
     let mut prev = 0.0;

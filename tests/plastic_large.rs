@@ -74,7 +74,7 @@ fn uniaxial_stretch_to_half_through_the_solver() {
         let comm = SerialComm;
         let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
         let local = LocalMesh::new(&p.mesh, &d, 0);
-        let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+        let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
         let (mut es, mut ee, mut cg) = (0.0f64, 0.0f64, 0);
         for (k, &t) in p.step_times.iter().enumerate() {
             cg += st

@@ -57,7 +57,7 @@ fn curve_of(text: &str, n: usize, depth: f64) -> (Vec<(f64, f64)>, CgCount) {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
     let punch = &p.node_set("punch").unwrap().nodes;
     let thickness = L / n as f64;
     let mut out = Vec::new();
@@ -262,7 +262,7 @@ fn plane_strain_compression_limit() {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
     for (k, &t) in p.step_times.iter().enumerate() {
         st.advance(k + 1, t).unwrap();
         let s = st.assembly().owned_stresses(&st.u).unwrap()[0];
@@ -494,7 +494,7 @@ fn contact_curve_mu(
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
     // The block's top nodes under the punch: the internal force they carry is the contact
     // force (the punch moves rigidly, so its own internal force is zero).
     let block = &p.mesh.bodies[0];

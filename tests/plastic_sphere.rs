@@ -50,7 +50,7 @@ fn solve_with(
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
     let mut out = Vec::new();
     let mut cg = 0;
     for (k, &t) in p.step_times.iter().enumerate() {

@@ -80,7 +80,7 @@ fn solve(n: usize, element: &str, tag: &str) -> (Vec<(f64, f64)>, u64, usize) {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, &p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, &p, &local, &p.mesh).expect("the stepper is built");
     let radius = |x: [f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
     let (mut out, mut cg) = (Vec::new(), 0);
     for (k, &t) in p.step_times.iter().enumerate() {

@@ -77,7 +77,7 @@ fn auto_keeps_multilevel_on_standby_only_within_the_two_level_range() {
         assert_eq!(p.mesh.num_nodes(), nodes);
         let d = partition::Decomposition::partition(nodes, &p.mesh.elements, 1).unwrap();
         let local = LocalMesh::new(&p.mesh, &d, 0);
-        let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, &local);
+        let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, (&local, &p.mesh));
         assert!(coarse.is_some(), "{note}");
         let standby = multilevel.as_ref().map(|(_, standby)| *standby);
         if large {

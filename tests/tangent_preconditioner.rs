@@ -25,7 +25,7 @@ fn punch_forces(p: &Problem) -> (Vec<f64>, u64) {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
-    let mut st = Stepper::new(&comm, p, &local).expect("the stepper is built");
+    let mut st = Stepper::new(&comm, p, &local, &p.mesh).expect("the stepper is built");
     let punch = &p.node_set("punch").unwrap().nodes;
     let (mut forces, mut cg) = (Vec::new(), 0);
     for (k, &t) in p.step_times.iter().enumerate() {

@@ -54,6 +54,7 @@ fn on_tets(mut p: Problem, n: usize, g: &Mat3) -> Problem {
         elements,
         element_body: vec![0; mesh.elements.len()],
         bodies: vec![tet_body(0, mesh.x.len(), 0, mesh.elements.len())],
+        freed: None,
     };
     p.node_sets.clear();
     p.dirichlet.clear();
@@ -277,6 +278,7 @@ tolerance = 1e-13
             hex.clone(),
             tet_body(offset, tets.x.len(), hex.num_elements, tets.elements.len()),
         ],
+        freed: None,
     };
     p.node_sets.clear();
     p.dirichlet.clear();

@@ -167,7 +167,7 @@ fn auto_factors_the_tangent_of_a_slab_but_not_of_a_3d_tetrahedral_block() {
         "{} nodes",
         cube.mesh.num_nodes()
     );
-    assert!(!solver::solver::choice::full_tangent(&cube));
+    assert!(!solver::solver::choice::full_tangent(&cube, &cube.mesh));
     let punch = load_scene(&repo("run/scenes/plasticity/punch_40.toml")).unwrap();
-    assert!(solver::solver::choice::full_tangent(&punch));
+    assert!(solver::solver::choice::full_tangent(&punch, &punch.mesh));
 }

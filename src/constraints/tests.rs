@@ -20,6 +20,7 @@ fn mesh() -> LocalMesh {
             first_element: 0,
             num_elements: 1,
         }],
+        freed: None,
     };
     let d = Decomposition::partition(8, &g.elements, 1).unwrap();
     LocalMesh::new(&g, &d, 0)

@@ -41,18 +41,17 @@ pub fn contact_pressure(
     active: &[Active],
     displacement: impl Fn(u32) -> Vec3,
 ) -> Vec<f64> {
-    let coords = &problem.mesh.coords;
-    let mut pressure = vec![0.0; coords.len()];
+    let mut pressure = vec![0.0; problem.mesh.num_nodes()];
     if active.is_empty() {
         return pressure;
     }
     let current = problem.kinematics == Kinematics::Large;
     let position = |n: u32| {
-        let n = n as usize;
+        let x = problem.reference_position(n);
         if current {
-            add(&coords[n], &displacement(n as u32))
+            add(&x, &displacement(n))
         } else {
-            coords[n]
+            x
         }
     };
     let mut areas: Vec<Option<Vec<f64>>> = vec![None; problem.contacts.len()];

@@ -319,7 +319,7 @@ fn gather_other_faces<C: Comm + ?Sized>(
     u: &[Vec3],
     found: &[(usize, u32)],
 ) -> Vec<Vec<(u32, u8, [Vec3; 4])>> {
-    let boundary = problem.mesh.boundary_faces();
+    let boundary = problem.master_boundary();
     let mut mine: Vec<(usize, u32, u32, [f64; 12])> = Vec::new();
     for (p, pair) in problem.contacts.iter().enumerate() {
         if !found.iter().any(|f| f.0 == p) {
@@ -328,24 +328,16 @@ fn gather_other_faces<C: Comm + ?Sized>(
         let bodies = master_bodies(problem, p);
         let mut masters = pair.master_faces.to_vec();
         masters.sort_unstable();
-        for &(e, k) in &boundary {
-            if !bodies.contains(&problem.mesh.element_body[e as usize])
+        // A tet10's face by its corner triangle (the fourth corner repeating the third, as
+        // a contact facet's: `BoundaryFace`).
+        for &(e, k, b, corners) in boundary.iter() {
+            if !bodies.contains(&b)
                 || masters.binary_search(&(e, k)).is_ok()
                 || mesh.owned_element(e).is_none()
             {
                 continue;
             }
-            // A tet10's face by its corner triangle (the fourth corner repeating the
-            // third, as a contact facet's).
-            let nodes: Vec<u32> = problem.mesh.face_nodes(e, k).collect();
-            let corner = |a: usize| {
-                if nodes.len() == 4 {
-                    nodes[a]
-                } else {
-                    nodes[a.min(2)]
-                }
-            };
-            let c: [Vec3; 4] = [0, 1, 2, 3].map(corner).map(|n| {
+            let c: [Vec3; 4] = corners.map(|n| {
                 let l = mesh
                     .local_node(n)
                     .expect("a face node of an owned element is local");
@@ -384,7 +376,7 @@ fn master_bodies(problem: &Problem, p: usize) -> Vec<u32> {
     let mut bodies: Vec<u32> = problem.contacts[p]
         .master_faces
         .iter()
-        .map(|&(e, _)| problem.mesh.element_body[e as usize])
+        .map(|&(e, _)| problem.mesh.body_of_element(e as usize) as u32)
         .collect();
     bodies.sort_unstable();
     bodies.dedup();
@@ -550,7 +542,7 @@ fn gather_masters<'p, C: Comm + ?Sized>(
                     .iter()
                     .map(|&f| {
                         let n = &pair.face_nodes[f as usize];
-                        std::array::from_fn(|a| problem.mesh.coords[n[a] as usize])
+                        std::array::from_fn(|a| problem.reference_position(n[a]))
                     })
                     .collect();
                 surface.with_reference_normals(reference)

@@ -150,7 +150,7 @@ fn master_surfaces<'p>(problem: &'p Problem, faces: Vec<Vec<GhostFace>>) -> Vec<
                 .iter()
                 .map(|&f| {
                     let n = &pair.face_nodes[f as usize];
-                    std::array::from_fn(|a| problem.mesh.coords[n[a] as usize])
+                    std::array::from_fn(|a| problem.reference_position(n[a]))
                 })
                 .collect();
             let surface = MasterSurface::from_faces(pair, ids, current, start);

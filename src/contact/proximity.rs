@@ -83,7 +83,7 @@ fn master_bodies(mesh: &GlobalMesh, pair: &ContactPair) -> std::ops::Range<usize
     else {
         return 0..0;
     };
-    (mesh.element_body[first as usize] as usize)..(mesh.element_body[last as usize] as usize + 1)
+    mesh.body_of_element(first as usize)..mesh.body_of_element(last as usize) + 1
 }
 
 /// Whether each pair's slave nodes may come within reach of its master faces: some slave

@@ -56,10 +56,10 @@ impl ContactState {
             let mut xm = [0.0; 3];
             for &(m, w) in &masters {
                 for i in 0..3 {
-                    xm[i] += w * problem.mesh.coords[m as usize][i];
+                    xm[i] += w * problem.reference_position(m)[i];
                 }
             }
-            let offset = sub(&problem.mesh.coords[a.slave as usize], &xm);
+            let offset = sub(&problem.reference_position(a.slave), &xm);
             let dirs = if tangents_pass {
                 let (t1, t2) = tangents(&a.normal);
                 vec![(1, t1), (2, t2)]

@@ -53,13 +53,16 @@ pub struct Counts {
     pub coarse_factor_entries: u64,
 }
 
-/// Every rank holds the whole mesh: connectivity (32) and body (4), the decomposition's
-/// element part (4) and per-rank element lists (4); rank 0 also the result file's copy of
-/// the mesh (36) and what a step's output adds (OUTPUT_PER_ELEMENT).
-const GLOBAL_PER_ELEMENT: f64 = 32.0 + 4.0 + 4.0 + 4.0 + 36.0 + OUTPUT_PER_ELEMENT;
-/// Coordinates (24), node owner (4) and per-rank node lists (4); on rank 0 the result
-/// file's coordinates (24) and what a step's output adds (OUTPUT_PER_NODE).
-const GLOBAL_PER_NODE: f64 = 24.0 + 4.0 + 4.0 + 24.0 + OUTPUT_PER_NODE;
+/// What every rank holds of the whole mesh at the run's peak, after its setup: the whole
+/// mesh's connectivity (32), element bodies (4) and coordinates (24 per node) are freed
+/// once the run is set up (`Problem::outline`), before any step; the decomposition's element
+/// part (4) and per-rank element lists (4) and rank 0's copy of the mesh for the result
+/// file's header (36) stand for what remains of the peaks they were calibrated on (the
+/// setup's, the file's); rank 0 adds what a step's output adds (OUTPUT_PER_ELEMENT).
+const GLOBAL_PER_ELEMENT: f64 = 4.0 + 4.0 + 36.0 + OUTPUT_PER_ELEMENT;
+/// Node owner (4) and per-rank node lists (4); on rank 0 the result file's coordinates
+/// (24) and what a step's output adds (OUTPUT_PER_NODE).
+const GLOBAL_PER_NODE: f64 = 4.0 + 4.0 + 24.0 + OUTPUT_PER_NODE;
 /// What rank 0's step output adds to the peak of a run without the multilevel hierarchy,
 /// per element and per node: calibrated on the two-level runs of the block on block at
 /// n = 40 on 1 and 2 ranks (177.1 and 139.9 MiB against 173.7 and 142.6). It was the

@@ -33,15 +33,59 @@ pub struct GlobalMesh {
     pub elements: Connectivity,
     pub element_body: Vec<u32>,
     pub bodies: Vec<Body>,
+    /// The node and element counts of an outline (`outline`): a mesh whose positions,
+    /// connectivity and element bodies are not held, as a run's problem keeps it once its
+    /// setup is done. None for a whole mesh.
+    pub freed: Option<[usize; 2]>,
+}
+
+/// A whole mesh lent to what reads it while it is set up (`solver::Stepper::new`), where an
+/// owned one would be freed once read.
+impl<'a> From<&'a GlobalMesh> for std::borrow::Cow<'a, GlobalMesh> {
+    fn from(mesh: &'a GlobalMesh) -> Self {
+        std::borrow::Cow::Borrowed(mesh)
+    }
 }
 
 impl GlobalMesh {
     pub fn num_nodes(&self) -> usize {
-        self.coords.len()
+        self.freed.map_or(self.coords.len(), |c| c[0])
     }
 
     pub fn num_elements(&self) -> usize {
-        self.elements.len()
+        self.freed.map_or(self.elements.len(), |c| c[1])
+    }
+
+    /// The mesh without its positions, connectivity and element bodies: its bodies and
+    /// counts (what a run reads of the whole mesh once set up).
+    pub fn outline(&self) -> GlobalMesh {
+        GlobalMesh {
+            bodies: self.bodies.clone(),
+            freed: Some([self.num_nodes(), self.num_elements()]),
+            ..GlobalMesh::default()
+        }
+    }
+
+    /// Whether this is an outline (`outline`).
+    pub fn is_outline(&self) -> bool {
+        self.freed.is_some()
+    }
+
+    /// The body of element `e`, from the bodies' element ranges (an outline's too).
+    pub fn body_of_element(&self, e: usize) -> usize {
+        let b = self
+            .bodies
+            .partition_point(|b| b.first_element + b.num_elements <= e);
+        debug_assert!(b < self.bodies.len(), "element {e} is in a body");
+        b
+    }
+
+    /// The body of node `n`, from the bodies' node ranges (an outline's too).
+    pub fn body_of_node(&self, n: usize) -> Option<usize> {
+        let b = self
+            .bodies
+            .partition_point(|b| b.first_node + b.num_nodes <= n);
+        (b < self.bodies.len() && self.bodies[b].first_node <= n).then_some(b)
     }
 
     /// The kind of element `e` (its body's).
@@ -170,5 +214,6 @@ pub(crate) fn hexahedra_in_a_row(coords: Vec<Vec3>) -> GlobalMesh {
             first_element: 0,
             num_elements: 3,
         }],
+        freed: None,
     }
 }

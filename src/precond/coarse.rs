@@ -24,6 +24,7 @@ use crate::constraints::Constraints;
 use crate::math::Vec3;
 use crate::memory::AllocError;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::GlobalMesh;
 use crate::problem::Problem;
 use std::collections::HashMap;
 
@@ -51,14 +52,15 @@ pub struct CoarseSpace {
 impl CoarseSpace {
     /// Builds the aggregates and the summation plan (collective), or says why a coarse
     /// space is not used for this mesh: the cell size, the aggregates (cell and body), their
-    /// colours and neighbours, their centres, and which rank sums each.
+    /// colours and neighbours, their centres, and which rank sums each. `g` is the whole
+    /// mesh.
     pub fn new<C: Comm + ?Sized>(
         comm: &C,
         problem: &Problem,
+        g: &GlobalMesh,
         mesh: &LocalMesh,
     ) -> Result<Self, String> {
-        let g = &problem.mesh;
-        let (keys, h, list) = cells(problem);
+        let (keys, h, list) = cells(problem, g);
         let index: HashMap<([u32; 3], u32), u32> = list
             .iter()
             .enumerate()
@@ -174,10 +176,8 @@ impl CoarseSpace {
 }
 
 /// The body a global node belongs to.
-fn node_body(problem: &Problem, a: usize) -> u32 {
-    problem
-        .mesh
-        .bodies
+fn node_body(g: &GlobalMesh, a: usize) -> u32 {
+    g.bodies
         .iter()
         .position(|b| a >= b.first_node && a < b.first_node + b.num_nodes)
         .unwrap_or(0) as u32
@@ -200,8 +200,12 @@ fn bounding_box(coords: &[Vec3]) -> (Vec3, Vec3) {
 /// NODES_PER_SIDE nodes per aggregate side, and wide enough that everything one node
 /// couples to (its elements, a contact tie and the slave's own elements) lies in its cell
 /// or the next one; grown until there are few enough aggregates.
-fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u32)>, f64) {
-    let g = &problem.mesh;
+fn aggregate_keys(
+    problem: &Problem,
+    g: &GlobalMesh,
+    lo: &Vec3,
+    hi: &Vec3,
+) -> (Vec<([u32; 3], u32)>, f64) {
     let n = g.num_nodes();
     let mut span = 0.0f64;
     for e in 0..g.num_elements() {
@@ -229,7 +233,7 @@ fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u3
     };
     loop {
         let keys: Vec<([u32; 3], u32)> = (0..n)
-            .map(|a| (key_of(&g.coords[a], h), node_body(problem, a)))
+            .map(|a| (key_of(&g.coords[a], h), node_body(g, a)))
             .collect();
         let mut distinct = keys.clone();
         distinct.sort_unstable();
@@ -245,9 +249,9 @@ fn aggregate_keys(problem: &Problem, lo: &Vec3, hi: &Vec3) -> (Vec<([u32; 3], u3
 type Key = ([u32; 3], u32);
 
 /// Each node's aggregate key, the cell size, and the distinct keys sorted by cell.
-fn cells(problem: &Problem) -> (Vec<Key>, f64, Vec<Key>) {
-    let (lo, hi) = bounding_box(&problem.mesh.coords);
-    let (keys, h) = aggregate_keys(problem, &lo, &hi);
+fn cells(problem: &Problem, g: &GlobalMesh) -> (Vec<Key>, f64, Vec<Key>) {
+    let (lo, hi) = bounding_box(&g.coords);
+    let (keys, h) = aggregate_keys(problem, g, &lo, &hi);
     let mut list = keys.clone();
     list.sort_unstable_by_key(|&(c, b)| (c[2], c[1], c[0], b));
     list.dedup();
@@ -258,7 +262,7 @@ fn cells(problem: &Problem) -> (Vec<Key>, f64, Vec<Key>) {
 /// refusal), from the mesh alone: for the memory estimate before the run, which then counts
 /// what `auto` runs instead.
 pub fn refusal(problem: &Problem) -> Option<String> {
-    colours(&cells(problem).2).err()
+    colours(&cells(problem, &problem.mesh).2).err()
 }
 
 /// Colour of each aggregate (of `list`, sorted by cell): the cell's place in a 3 x 3 x 3

@@ -9,10 +9,12 @@ use crate::mesh::GlobalMesh;
 mod contact_pair;
 mod function;
 mod kinematics;
+mod outline;
 
 pub use contact_pair::{ContactPair, Discretization, Tributaries};
 pub use function::PiecewiseLinear;
 pub use kinematics::Kinematics;
+pub use outline::{frame_of, BoundaryFace, Retained};
 
 #[derive(Clone, Debug)]
 pub struct BodyModel {
@@ -227,6 +229,9 @@ pub struct Problem {
     pub step_times: Vec<f64>,
     pub solver: SolverSettings,
     pub output_every: usize,
+    /// What a run reads of the whole mesh once `mesh` is its outline (`outline`); None
+    /// while `mesh` is the whole mesh.
+    pub retained: Option<Box<Retained>>,
 }
 
 impl Problem {
@@ -236,6 +241,86 @@ impl Problem {
 
     pub fn side_set(&self, name: &str) -> Option<&SideSet> {
         self.side_sets.iter().find(|s| s.name == name)
+    }
+}
+
+impl Problem {
+    /// This problem for a run: the whole mesh as an outline, with what the run reads of it
+    /// (`Retained`); the whole mesh is `self.mesh`, for the setup.
+    pub fn outline(&self) -> Problem {
+        let retained = self.retained_of(&self.mesh);
+        Problem {
+            mesh: self.mesh.outline(),
+            retained: Some(Box::new(retained)),
+            name: self.name.clone(),
+            text: self.text.clone(),
+            file: self.file.clone(),
+            kinematics: self.kinematics,
+            body_models: self.body_models.clone(),
+            node_sets: self.node_sets.clone(),
+            side_sets: self.side_sets.clone(),
+            dirichlet: self.dirichlet.clone(),
+            pressures: self.pressures.clone(),
+            tractions: self.tractions.clone(),
+            body_forces: self.body_forces.clone(),
+            contacts: self.contacts.clone(),
+            start_time: self.start_time,
+            step_times: self.step_times.clone(),
+            solver: self.solver.clone(),
+            output_every: self.output_every,
+        }
+    }
+
+    /// `outline` without copying: the problem for a run and its whole mesh, which the
+    /// caller frees once the run is set up.
+    pub fn into_outline(mut self) -> (Problem, GlobalMesh) {
+        let retained = self.retained_of(&self.mesh);
+        let outline = self.mesh.outline();
+        let whole = std::mem::replace(&mut self.mesh, outline);
+        self.retained = Some(Box::new(retained));
+        (self, whole)
+    }
+
+    /// The reference position of node `n` (one the run keeps on an outline: of a contact
+    /// pair or a prescribed node set).
+    pub fn reference_position(&self, n: u32) -> Vec3 {
+        match &self.retained {
+            Some(r) => r.position(n),
+            None => self.mesh.coords[n as usize],
+        }
+    }
+
+    /// The centre and size of body `b`'s nodes (`frame_of`).
+    pub fn body_frame(&self, b: usize) -> (Vec3, f64) {
+        match &self.retained {
+            Some(r) => r.frame(b),
+            None => {
+                let body = &self.mesh.bodies[b];
+                outline::frame_of(
+                    &self.mesh.coords[body.first_node..body.first_node + body.num_nodes],
+                )
+            }
+        }
+    }
+
+    /// The boundary faces of the contact pairs' master bodies (`boundary_of`).
+    pub fn master_boundary(&self) -> std::borrow::Cow<'_, [BoundaryFace]> {
+        match &self.retained {
+            Some(r) => std::borrow::Cow::Borrowed(r.master_boundary()),
+            None => std::borrow::Cow::Owned(outline::boundary_of(
+                &self.mesh,
+                &outline::master_bodies_of(&self.contacts, &self.mesh),
+            )),
+        }
+    }
+
+    /// What a run of this problem reads of the whole mesh `mesh` after its setup.
+    fn retained_of(&self, mesh: &GlobalMesh) -> Retained {
+        let prescribed = self
+            .dirichlet
+            .iter()
+            .map(|bc| self.node_sets[bc.node_set].nodes.as_slice());
+        Retained::of(&self.contacts, prescribed, mesh)
     }
 }
 

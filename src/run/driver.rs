@@ -11,10 +11,12 @@ use super::restart::{self, Continued};
 use crate::comm::{self, Comm};
 use crate::contact::active::Mode;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::GlobalMesh;
 use crate::output::{ResultWriter, RunInfo, StepOutput};
 use crate::problem::Problem;
 use crate::solver::{StepRecord, Stepper};
 use partition::Decomposition;
+use std::borrow::Cow;
 use std::io::IsTerminal;
 use std::path::Path;
 use std::time::Instant;
@@ -66,10 +68,35 @@ impl Progress {
 }
 
 /// Runs the scene, continuing from the last step an earlier run of it recorded in
-/// `restart` when given: the result is then bitwise the one of an uninterrupted run.
+/// `restart` when given: the result is then bitwise the one of an uninterrupted run. The
+/// run reads `problem`'s outline (`Problem::outline`), its whole mesh only while set up.
 pub fn run_from<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
+    opts: &RunOptions,
+    restart: Option<&Path>,
+) -> Result<(RunSummary, GlobalState), String> {
+    let outline = problem.outline();
+    run_outline(comm, &outline, Cow::Borrowed(&problem.mesh), opts, restart)
+}
+
+/// `run_from` taking the problem: its whole mesh is freed once the run is set up (every
+/// rank's copy of it, 60 MB per rank at 10^6 elements).
+pub fn run_owned<C: Comm + ?Sized>(
+    comm: &C,
+    problem: Problem,
+    opts: &RunOptions,
+    restart: Option<&Path>,
+) -> Result<(RunSummary, GlobalState), String> {
+    let (outline, whole) = problem.into_outline();
+    run_outline(comm, &outline, Cow::Owned(whole), opts, restart)
+}
+
+/// `run_from` of a problem's outline, with its whole mesh for the setup.
+fn run_outline<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    whole: Cow<'_, GlobalMesh>,
     opts: &RunOptions,
     restart: Option<&Path>,
 ) -> Result<(RunSummary, GlobalState), String> {
@@ -78,12 +105,12 @@ pub fn run_from<C: Comm + ?Sized>(
         verbosity: opts.verbosity,
     };
     let mut progress = Progress::start();
-    let (decomposition, local) = partition(comm, problem, opts, &log)?;
+    let (decomposition, local) = partition(comm, problem, &whole, opts, &log)?;
     let continued = match restart {
         Some(path) => Some(restart::resume(comm, problem, path)?),
         None => None,
     };
-    let mut writer = open_writer(comm, problem, opts, &decomposition)?;
+    let mut writer = open_writer(comm, (problem, &whole), opts, &decomposition)?;
     // Only the writer's header needs the decomposition (which rank owns each element): not
     // held through the run (its lists of every rank's part, 21 MB per rank at n = 80).
     drop(decomposition);
@@ -92,7 +119,9 @@ pub fn run_from<C: Comm + ?Sized>(
         problem.mesh.num_nodes(),
         problem.mesh.num_elements(),
     );
-    let mut stepper = new_stepper(comm, problem, &local, opts, &log)?;
+    // The stepper frees an owned whole mesh once it has what it needs of it: the steps
+    // read the outline only.
+    let mut stepper = new_stepper(comm, problem, (&local, whole), opts, &log)?;
     if let Some(c) = continued {
         let with_pressure = continue_from(
             comm,
@@ -187,11 +216,11 @@ fn over_the_ranks<C: Comm + ?Sized>(
 fn new_stepper<'a, C: Comm + ?Sized>(
     comm: &'a C,
     problem: &'a Problem,
-    local: &'a LocalMesh,
+    (local, whole): (&'a LocalMesh, Cow<'_, GlobalMesh>),
     opts: &RunOptions,
     log: &Log,
 ) -> Result<Stepper<'a, C>, String> {
-    let mut stepper = Stepper::new(comm, problem, local)?;
+    let mut stepper = Stepper::new(comm, problem, local, whole)?;
     if opts.export_operator.is_some() {
         if comm.size() != 1 {
             return Err(format!(
@@ -213,10 +242,10 @@ fn new_stepper<'a, C: Comm + ?Sized>(
 fn partition<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
+    mesh: &GlobalMesh,
     opts: &RunOptions,
     log: &Log,
 ) -> Result<(Decomposition, LocalMesh), String> {
-    let mesh = &problem.mesh;
     let cannot = |e: String| {
         format!(
             "{}: cannot partition the mesh over {} ranks: {e}",
@@ -252,7 +281,7 @@ fn partition<C: Comm + ?Sized>(
 /// Collective: an error on rank 0 is every rank's.
 fn open_writer<C: Comm + ?Sized>(
     comm: &C,
-    problem: &Problem,
+    (problem, whole): (&Problem, &GlobalMesh),
     opts: &RunOptions,
     decomposition: &Decomposition,
 ) -> Result<Option<ResultWriter>, String> {
@@ -276,7 +305,7 @@ fn open_writer<C: Comm + ?Sized>(
             }
         }
         if local_err.is_none() {
-            match ResultWriter::create(path, &info, &output_mesh(problem)) {
+            match ResultWriter::create(path, &info, &output_mesh(problem, whole)) {
                 Ok(w) => writer = Some(w),
                 Err(e) => local_err = Some(e.to_string()),
             }
@@ -569,7 +598,7 @@ fn final_state<C: Comm + ?Sized>(
                 ActiveConstraint {
                     slave: a.slave,
                     pair: a.pair,
-                    master_body: problem.mesh.element_body[e as usize] as usize,
+                    master_body: problem.mesh.body_of_element(e as usize),
                     stick: a.mode == Mode::Stick,
                     normal: a.normal,
                     normal_force: a.normal_force,

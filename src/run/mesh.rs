@@ -1,11 +1,11 @@
 //! The mesh of a result file, from the validated problem.
 
+use crate::mesh::GlobalMesh;
 use crate::output::{ElementNodes, OutputBody, OutputMesh};
 use crate::problem::Problem;
 
-/// The whole mesh as the result file records it.
-pub fn output_mesh(problem: &Problem) -> OutputMesh {
-    let m = &problem.mesh;
+/// The whole mesh `m` of `problem` as the result file records it.
+pub fn output_mesh(problem: &Problem, m: &GlobalMesh) -> OutputMesh {
     OutputMesh {
         coordinates: m.coords.clone(),
         node_ids: (1..=m.num_nodes() as u64).collect(),

@@ -13,16 +13,11 @@ use crate::solver::Stepper;
 pub(super) fn history_len(problem: &Problem) -> usize {
     problem
         .mesh
-        .element_body
+        .bodies
         .iter()
-        .map(|&b| {
-            let m = &problem.body_models[b as usize];
-            if m.material.is_plastic() {
-                history::points_of(problem.mesh.bodies[b as usize].kind, m.formulation) * STATE_LEN
-            } else {
-                0
-            }
-        })
+        .zip(&problem.body_models)
+        .filter(|(_, m)| m.material.is_plastic())
+        .map(|(b, m)| b.num_elements * history::points_of(b.kind, m.formulation) * STATE_LEN)
         .sum()
 }
 
@@ -58,12 +53,12 @@ pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Prob
     }
     let mut start = vec![usize::MAX; problem.mesh.num_elements()];
     let mut at = 0;
-    for (e, &b) in problem.mesh.element_body.iter().enumerate() {
-        let m = &problem.body_models[b as usize];
+    for (e, s) in start.iter_mut().enumerate() {
+        let b = problem.mesh.body_of_element(e);
+        let m = &problem.body_models[b];
         if m.material.is_plastic() {
-            start[e] = at;
-            at +=
-                history::points_of(problem.mesh.bodies[b as usize].kind, m.formulation) * STATE_LEN;
+            *s = at;
+            at += history::points_of(problem.mesh.bodies[b].kind, m.formulation) * STATE_LEN;
         }
     }
     stepper.assembly_mut().set_history(|g| {
@@ -72,7 +67,7 @@ pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Prob
         if s == usize::MAX {
             return None;
         }
-        let b = problem.mesh.element_body[e] as usize;
+        let b = problem.mesh.body_of_element(e);
         let n = history::points_of(
             problem.mesh.bodies[b].kind,
             problem.body_models[b].formulation,

@@ -176,6 +176,7 @@ impl Builder {
             step_times,
             solver,
             output_every,
+            retained: None,
         })
     }
 

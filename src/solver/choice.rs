@@ -16,6 +16,10 @@
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::GlobalMesh;
+
+/// This rank's part of the mesh and the whole mesh (the run's setup has it).
+pub type At<'m> = (&'m LocalMesh, &'m GlobalMesh);
 use crate::precond::coarse::CoarseSpace;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
 use crate::precond::multilevel::transfer::SINGLETON_NODES;
@@ -53,16 +57,12 @@ fn named(bodies: &[String]) -> String {
 /// `true` when it waits on standby for a model problem that stalls), the two-level one,
 /// or nodal block Jacobi. A preconditioner asked for by name that cannot
 /// be used says why in the line, which starts with "preconditioner: refused" then.
-pub fn choose_preconditioner<C: Comm + ?Sized>(
-    comm: &C,
-    problem: &Problem,
-    mesh: &LocalMesh,
-) -> Choice {
+pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
     let nodes = problem.mesh.num_nodes();
     match problem.solver.preconditioner {
         Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
         Preconditioner::Multilevel => {
-            let m = multilevel(comm, problem, mesh);
+            let m = multilevel(comm, mesh);
             let note = format!("preconditioner: multilevel; {}", m.summary);
             (None, Some((m, false)), note)
         }
@@ -74,7 +74,7 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(
                 .into(),
         ),
         Preconditioner::Auto => {
-            let decision = tangent_decision(problem);
+            let decision = tangent_decision(problem, mesh.1);
             if let Some(Ok(fill)) = &decision {
                 return (None, None, tangent_note(problem, fill.unwrap_or(0.0)));
             }
@@ -124,8 +124,7 @@ const FACTOR_WORK_LIMIT: f64 = 5e8;
 /// Whether `auto` factors the full tangent: its factor's work (see FACTOR_WORK_LIMIT),
 /// counted on the whole mesh's node graph in the factor's own order without factoring, or
 /// Err saying why not.
-fn factor_fits(problem: &Problem) -> Result<f64, String> {
-    let mesh = &problem.mesh;
+fn factor_fits(mesh: &GlobalMesh) -> Result<f64, String> {
     let mut edges = Vec::new();
     for e in mesh.elements.iter() {
         for (k, &a) in e.iter().enumerate() {
@@ -152,20 +151,20 @@ fn factor_fits(problem: &Problem) -> Result<f64, String> {
 /// Whether the run uses the full tangent preconditioner: by name, or under `auto` where a
 /// body is plastic on fewer than TANGENT_NODES nodes (`problem::uses_full_tangent`) and
 /// its factor fits (`factor_fits`).
-pub fn full_tangent(problem: &Problem) -> bool {
-    matches!(tangent_decision(problem), Some(Ok(_)))
+pub fn full_tangent(problem: &Problem, whole: &GlobalMesh) -> bool {
+    matches!(tangent_decision(problem, whole), Some(Ok(_)))
 }
 
 /// None where the full tangent is not considered; else whether it is used (with its
 /// factorization's work under `auto`), or why not.
-fn tangent_decision(problem: &Problem) -> Option<Result<Option<f64>, String>> {
+fn tangent_decision(problem: &Problem, whole: &GlobalMesh) -> Option<Result<Option<f64>, String>> {
     let plastic = problem.body_models.iter().any(|m| m.material.is_plastic());
     let p = problem.solver.preconditioner;
     if !uses_full_tangent(p, plastic, problem.mesh.num_nodes() as u64) {
         return None;
     }
     Some(match p {
-        Preconditioner::Auto => factor_fits(problem).map(Some),
+        Preconditioner::Auto => factor_fits(whole).map(Some),
         _ => Ok(None),
     })
 }
@@ -174,8 +173,8 @@ fn tangent_decision(problem: &Problem) -> Option<Result<Option<f64>, String>> {
 /// line that says which.
 type Choice = (Option<CoarseSpace>, Option<(Multilevel, bool)>, String);
 
-fn multilevel<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Multilevel {
-    Multilevel::new(comm, &problem.mesh, mesh, FINE_DEGREE)
+fn multilevel<C: Comm + ?Sized>(comm: &C, mesh: At) -> Multilevel {
+    Multilevel::new(comm, mesh.1, mesh.0, FINE_DEGREE)
 }
 
 /// `auto` on at most SINGLETON_NODES nodes: Jacobi, as an iteration costs little there,
@@ -184,7 +183,7 @@ fn multilevel<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -
 /// nodes: 21 s -> 117 s with the switch). Except where a body is nearly incompressible:
 /// Jacobi's iterations grow with K/G there whatever the size (incompressible_mean, 189
 /// nodes, nu = 0.4999: 16634 CG iterations with Jacobi, 67 with multilevel).
-fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Choice {
+fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
     let stiff = nearly_incompressible(problem);
     if stiff.is_empty() {
         let nodes = problem.mesh.num_nodes();
@@ -194,7 +193,7 @@ fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -
             format!("preconditioner: nodal block Jacobi ({nodes} nodes)"),
         );
     }
-    let m = multilevel(comm, problem, mesh);
+    let m = multilevel(comm, mesh);
     let note = format!(
         "preconditioner: multilevel (nearly incompressible: {}); {}",
         named(&stiff),
@@ -207,8 +206,8 @@ fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -
 /// alone in some rigid-body motion, which stalls Jacobi from the first model problem on
 /// (Hertz x2: 791 CG iterations with the switch at 300, 496 with multilevel from the
 /// start); otherwise Jacobi with multilevel on standby.
-fn medium_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: &LocalMesh) -> Choice {
-    medium_with(problem, multilevel(comm, problem, mesh))
+fn medium_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
+    medium_with(problem, multilevel(comm, mesh))
 }
 
 /// `medium_mesh` with its multilevel preconditioner built.
@@ -234,16 +233,10 @@ fn medium_with(problem: &Problem, m: Multilevel) -> Choice {
 /// two-level does not solve in SWITCH_AFTER iterations goes on with multilevel (Hertz x4,
 /// a cylinder held only by contact: no first model problem in 400 s with two-level; 584 CG
 /// iterations in all, 36 s, with multilevel).
-fn two_level<C: Comm + ?Sized>(
-    comm: &C,
-    problem: &Problem,
-    mesh: &LocalMesh,
-    asked: bool,
-) -> Choice {
+fn two_level<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At, asked: bool) -> Choice {
     let nodes = problem.mesh.num_nodes();
-    let standby =
-        (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| multilevel(comm, problem, mesh));
-    match CoarseSpace::new(comm, problem, mesh) {
+    let standby = (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| multilevel(comm, mesh));
+    match CoarseSpace::new(comm, problem, mesh.1, mesh.0) {
         Ok(c) => {
             let note = match &standby {
                 Some(m) => format!(

@@ -343,6 +343,7 @@ mod tests {
                 first_element: 0,
                 num_elements: ne,
             }],
+            freed: None,
         };
         let models = [BodyModel {
             material: Material::LinearElastic(LinearElastic::new(1000.0, 0.3)),

@@ -32,8 +32,7 @@ pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<Strin
         if body.num_nodes == 0 {
             continue;
         }
-        let nodes = &mesh.coords[body.first_node..body.first_node + body.num_nodes];
-        let eig = SymmetricEigen::new(support_gram(nodes, &rows[b]));
+        let eig = SymmetricEigen::new(support_gram(problem.body_frame(b), &rows[b]));
         let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
         let free: Vec<usize> = (0..6)
             .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
@@ -66,8 +65,7 @@ pub fn held_by_contact_alone(problem: &Problem) -> Vec<String> {
         if body.num_nodes == 0 {
             continue;
         }
-        let nodes = &mesh.coords[body.first_node..body.first_node + body.num_nodes];
-        let eig = SymmetricEigen::new(support_gram(nodes, &rows[b]));
+        let eig = SymmetricEigen::new(support_gram(problem.body_frame(b), &rows[b]));
         let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
         if largest == 0.0 || eig.eigenvalues.iter().any(|&v| v <= FREE * largest) {
             out.push(body.name.clone());
@@ -78,11 +76,7 @@ pub fn held_by_contact_alone(problem: &Problem) -> Vec<String> {
 
 /// The body of global node `g`.
 fn body_of(problem: &Problem, g: usize) -> Option<usize> {
-    problem
-        .mesh
-        .bodies
-        .iter()
-        .position(|b| (b.first_node..b.first_node + b.num_nodes).contains(&g))
+    problem.mesh.body_of_node(g)
 }
 
 /// The prescribed directions of each body as (point, direction).
@@ -92,7 +86,7 @@ fn dirichlet_rows(problem: &Problem) -> Vec<Vec<(Vec3, Vec3)>> {
     for bc in &problem.dirichlet {
         for &g in &problem.node_sets[bc.node_set].nodes {
             if let Some(b) = body_of(problem, g as usize) {
-                rows[b].push((mesh.coords[g as usize], bc.direction));
+                rows[b].push((problem.reference_position(g), bc.direction));
             }
         }
     }
@@ -102,11 +96,10 @@ fn dirichlet_rows(problem: &Problem) -> Vec<Vec<(Vec3, Vec3)>> {
 /// The supports of each body: (point, direction) of every prescribed direction and of
 /// every contact tie (on the slave's body and on the master's).
 fn support_rows(problem: &Problem, contact: &impl Enforcement) -> Vec<Vec<(Vec3, Vec3)>> {
-    let mesh = &problem.mesh;
     let body_of = |g: usize| body_of(problem, g);
     let mut rows = dirichlet_rows(problem);
     for (slave, master, dirs) in contact.supports(problem) {
-        let x = mesh.coords[slave as usize];
+        let x = problem.reference_position(slave);
         for b in [body_of(slave as usize), body_of(master as usize)]
             .into_iter()
             .flatten()
@@ -118,25 +111,9 @@ fn support_rows(problem: &Problem, contact: &impl Enforcement) -> Vec<Vec<(Vec3,
 }
 
 /// The Gram matrix of a body's supports as rigid-body motions (direction, and moment
-/// about the body's centre with lever arms scaled by the body's size).
-fn support_gram(nodes: &[Vec3], rows: &[(Vec3, Vec3)]) -> Matrix6<f64> {
-    let n = nodes.len() as f64;
-    let mut centre = [0.0; 3];
-    for x in nodes {
-        for i in 0..3 {
-            centre[i] += x[i] / n;
-        }
-    }
-    let size = nodes
-        .iter()
-        .map(|x| {
-            (0..3)
-                .map(|i| (x[i] - centre[i]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        })
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
+/// about the body's centre with lever arms scaled by the body's size: its frame,
+/// `problem::frame_of`).
+fn support_gram((centre, size): (Vec3, f64), rows: &[(Vec3, Vec3)]) -> Matrix6<f64> {
     let mut gram = Matrix6::<f64>::zeros();
     for (x, c) in rows {
         let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);

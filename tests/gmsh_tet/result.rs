@@ -15,7 +15,7 @@ use super::common::{fresh_dir, repo, solver, stderr_text};
 
 /// The problem's mesh with one step of the fields above, as `<dir>/<name>.h5`.
 fn write(p: &Problem, dir: &Path, name: &str) -> PathBuf {
-    let mesh = solver::run::output_mesh(p);
+    let mesh = solver::run::output_mesh(p, &p.mesh);
     let (n, e) = (mesh.coordinates.len(), mesh.num_elements());
     let info = RunInfo {
         solver_version: "test".into(),
@@ -115,7 +115,7 @@ fn reads_everywhere(p: &Problem, name: &str, types: &[u64]) -> PathBuf {
     let f = ResultFile::open(&h5).unwrap();
     f.verify().unwrap();
     let mesh = f.mesh().unwrap();
-    assert_eq!(mesh, solver::run::output_mesh(p));
+    assert_eq!(mesh, solver::run::output_mesh(p, &p.mesh));
     let h5s = h5.display().to_string();
     let info = post(&["info", &h5s]);
     println!("{info}");

@@ -97,7 +97,7 @@ impl Positions {
             nodes
                 .iter()
                 .map(|&n| {
-                    let reference = small.then(|| n.map(|g| problem.mesh.coords[g as usize]));
+                    let reference = small.then(|| n.map(|g| problem.reference_position(g)));
                     Face::new(n, n.map(|g| self.now(g)), reference)
                 })
                 .collect()

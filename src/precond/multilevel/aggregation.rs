@@ -426,6 +426,7 @@ mod tests {
                 first_element: 0,
                 num_elements: block.elements.len(),
             }],
+            freed: None,
         };
         let mut whole = strong(&Graph::of_mesh(&mesh), &mesh.coords, 2.0);
         assert!(
@@ -500,6 +501,7 @@ mod tests {
                 first_element: 0,
                 num_elements: 2,
             }],
+            freed: None,
         };
         let g = Graph::of_mesh(&mesh);
         // The graph of every element's node pairs, as it was built before.

@@ -221,6 +221,7 @@ pub(super) fn reach_pairs(
         let b = gid(l as usize);
         let j = agg_of[b as usize];
         near.clear();
+        near.push(b);
         around.each_neighbour(&mesh.elements, l as usize, |c| near.push(gid(c as usize)));
         let tied = !ties.masters(b as usize).is_empty();
         of_b.clear();
@@ -449,6 +450,7 @@ mod tests {
                 first_element: 0,
                 num_elements: 60,
             }],
+            freed: None,
         };
         let n = g.num_nodes();
         let agg_of: Vec<u32> = (0..n as u32).map(|a| a / 7).collect();

@@ -24,7 +24,6 @@ use super::failure::SolveFailure;
 use super::model::ModelProblem;
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::precond::multilevel::aggregation::Graph;
 use crate::precond::multilevel::colouring::{Colouring, Ties};
 use crate::precond::multilevel::sparse::Csr;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
@@ -281,12 +280,11 @@ const MAX_FACTOR_ENTRIES: usize = 1 << 27;
 const PIVOT_FLOOR: f64 = 1e-2;
 
 /// The colouring of the whole mesh's nodes (one node per aggregate) with the tie rows of
-/// every rank, the same on any number of ranks, and the mesh's node graph it is made from:
-/// a build whose constraint set ties the same pairs of nodes keeps the last one (the
-/// colouring is a function of the graph and the ties).
+/// every rank, the same on any number of ranks: a build whose constraint set ties the same
+/// pairs of nodes keeps the last one (the colouring is a function of the mesh and the
+/// ties).
 #[derive(Default)]
 pub(super) struct Colours {
-    graph: Option<Graph>,
     last: Option<(Ties, Colouring)>,
 }
 
@@ -296,9 +294,10 @@ impl Colours {
         let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh, n);
         let kept = matches!(&self.last, Some((t, _)) if *t == ties);
         if !kept {
-            let graph = self.graph.get_or_insert_with(|| node_graph(pb, n));
+            // Every node its own aggregate: the node graph's colouring, from the ranks'
+            // local meshes (`Colouring::of_ranks`).
             let identity: Vec<u32> = (0..n as u32).collect();
-            let colouring = Colouring::new(graph, &identity, n, &ties);
+            let colouring = Colouring::of_ranks(pb.comm, pb.asm.mesh, &identity, n, &ties);
             self.last = Some((ties, colouring));
         }
         match &self.last {
@@ -306,19 +305,6 @@ impl Colours {
             None => unreachable!("a colouring was just made"),
         }
     }
-}
-
-/// The whole mesh's node graph (nodes coupled by an element).
-fn node_graph<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Graph {
-    let mut edges = Vec::with_capacity(pb.global.num_elements() * 28);
-    for e in &pb.global.elements {
-        for a in 0..e.len() {
-            for b in a + 1..e.len() {
-                edges.push((e[a], e[b]));
-            }
-        }
-    }
-    Graph::from_edges(n, &edges)
 }
 
 /// The rule that rebuilds the tangent within a model problem: the residual's reduction over

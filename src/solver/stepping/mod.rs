@@ -11,8 +11,10 @@ use crate::contact::Enforcement;
 use crate::fem::ElementKind;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::GlobalMesh;
 use crate::problem::Problem;
 use crate::springs::Spring;
+use std::borrow::Cow;
 use std::time::Instant;
 
 mod control;
@@ -108,8 +110,16 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
     /// The stepper with node-to-face contact (the paper's). Fails as `with_enforcement`.
-    pub fn new(comm: &'a C, problem: &'a Problem, mesh: &'a LocalMesh) -> Result<Self, String> {
-        Self::with_enforcement(comm, problem, mesh)
+    /// `whole` is the whole mesh (`problem.mesh`, or the one a run's outline came from:
+    /// `Problem::outline`), read while the stepper is built only: an owned one is freed
+    /// before the stepper's vectors and element data are allocated.
+    pub fn new<'w>(
+        comm: &'a C,
+        problem: &'a Problem,
+        mesh: &'a LocalMesh,
+        whole: impl Into<Cow<'w, GlobalMesh>>,
+    ) -> Result<Self, String> {
+        Self::with_enforcement(comm, problem, mesh, whole.into())
     }
 }
 
@@ -121,8 +131,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         comm: &'a C,
         problem: &'a Problem,
         mesh: &'a LocalMesh,
+        whole: Cow<'_, GlobalMesh>,
     ) -> Result<Self, String> {
-        let built = Self::build(comm, problem, mesh);
+        let built = Self::build(comm, problem, mesh, whole);
         let refused = built.as_ref().err().map(ToString::to_string);
         match (built, crate::comm::first_error(comm, refused)) {
             (Ok(s), None) => Ok(s),
@@ -135,10 +146,18 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         comm: &'a C,
         problem: &'a Problem,
         mesh: &'a LocalMesh,
+        whole: Cow<'_, GlobalMesh>,
     ) -> Result<Self, crate::memory::AllocError> {
         let n = mesh.num_nodes();
         let (coarse, multilevel, coarse_note) =
-            super::choice::choose_preconditioner(comm, problem, mesh);
+            super::choice::choose_preconditioner(comm, problem, (mesh, &whole));
+        let plan = super::shapes::Plan::new(&whole, &problem.body_models);
+        let shapes_note = plan.describe(&whole);
+        let full_tangent = super::choice::full_tangent(problem, &whole);
+        let length_scale = whole.bounding_diagonal();
+        let stiffness_scale = stiffness_scale(problem, &whole);
+        // Nothing below reads the whole mesh.
+        drop(whole);
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -148,7 +167,6 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             }
         }
         let zero = |what| crate::memory::try_filled([0.0; 3], n, what);
-        let plan = super::shapes::Plan::new(&problem.mesh, &problem.body_models);
         let asm = Assembly::new(mesh, &problem.body_models, &plan)?;
         let loads = Loads::new(problem, mesh);
         // As the model solve decides it (cg::iteration): the nonlinear path's vectors only
@@ -169,13 +187,13 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 if let Some((m, standby)) = multilevel {
                     cg.set_multilevel(m, standby);
                 }
-                if super::choice::full_tangent(problem) {
+                if full_tangent {
                     cg.use_full_tangent();
                 }
                 cg
             },
             coarse_note,
-            shapes_note: plan.describe(&problem.mesh),
+            shapes_note,
             u: zero("the displacement")?,
             u_prev: zero("the previous displacement")?,
             time: problem.start_time,
@@ -183,8 +201,8 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             reference_floor: 0.0,
             audit_depth: 0.0,
             progress: None,
-            length_scale: problem.mesh.bounding_diagonal(),
-            stiffness_scale: stiffness_scale(problem),
+            length_scale,
+            stiffness_scale,
             contact: E::default(),
             cons: Constraints::none(mesh),
             multipliers: Vec::new(),
@@ -562,7 +580,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
 }
 
 /// Largest Young's modulus times the smallest element size.
-fn stiffness_scale(problem: &Problem) -> f64 {
+fn stiffness_scale(problem: &Problem, mesh: &GlobalMesh) -> f64 {
     let e_max = problem
         .body_models
         .iter()
@@ -571,7 +589,6 @@ fn stiffness_scale(problem: &Problem) -> f64 {
             mu * (3.0 * l + 2.0 * mu) / (l + mu)
         })
         .fold(0.0, f64::max);
-    let mesh = &problem.mesh;
     let h_min = (0..mesh.num_elements())
         .filter_map(|e| match mesh.kind(e) {
             ElementKind::Hex8 => crate::fem::element::volume(&mesh.element_coords(e)).ok(),
