@@ -113,7 +113,7 @@ const COARSE_MAX_AGGREGATES: f64 = 400.0;
 /// measured 190.5 and 133.8 MiB, now, with the fine vectors the measurement does not use
 /// freed, P in blocks, the measurement storing one block of each symmetric pair and the
 /// fine aggregates' offsets not kept, 170.4 and 119.1 against 182.0 and 126.2 estimated,
-/// n = 80 on 2 ranks 692.8 then and 584.1 now against 770.5: +32%, its peak now in the CG
+/// n = 80 on 2 ranks 692.8 then and 527.2 now against 711.1: +35%, its peak now in the CG
 /// loops, not the build), a part
 /// every rank holds whole (the aggregates, the first coarse level's vectors and node
 /// blocks, the levels below it), and the smoothed prolongator of the first coarse level
