@@ -4,8 +4,10 @@
 //! a colour only if no aggregate k couples to both. Coupling follows the constrained
 //! operator T^T K T: a probe on aggregate j reaches the slaves tied to its nodes (expand),
 //! then their element neighbours (K), then the masters of the constrained nodes among those
-//! (reduce). Computed from global data (the node graph, every rank's tie rows gathered in
-//! global order), greedily in aggregate order: the same on any number of ranks.
+//! (reduce). What each aggregate reaches is found by the ranks, each from its owned nodes'
+//! elements (`reach_pairs`) and every rank's tie rows, gathered and sorted; the colours
+//! are given greedily in aggregate order: the same on any number of ranks. (`reach_of`
+//! forms the same sets from a whole node graph: the memory estimate's count before a run.)
 
 use super::aggregation::{Graph, NodeElements};
 use crate::comm::{message, Comm};

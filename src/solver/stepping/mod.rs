@@ -148,6 +148,10 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         mesh: &'a LocalMesh,
         whole: Cow<'_, GlobalMesh>,
     ) -> Result<Self, crate::memory::AllocError> {
+        assert!(
+            !whole.is_outline(),
+            "the stepper is built from the whole mesh, not an outline"
+        );
         let n = mesh.num_nodes();
         let (coarse, multilevel, coarse_note) =
             super::choice::choose_preconditioner(comm, problem, (mesh, &whole));
