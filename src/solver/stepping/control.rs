@@ -101,7 +101,6 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 }
                 self.cons = cons;
                 self.multipliers = multipliers;
-                self.extra = extra;
                 record.contact_updates = watch.updates as u64;
                 return Ok(outcome);
             }

@@ -96,7 +96,6 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     /// The constraint set and row multipliers of the last converged state.
     cons: Constraints,
     multipliers: Vec<f64>,
-    extra: Vec<Vec3>,
     /// Which preconditioner the run uses, for the log.
     pub coarse_note: String,
     /// Which bodies are evaluated by element matrices, for the log (none: no line).
@@ -210,7 +209,6 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             contact: E::default(),
             cons: Constraints::none(mesh),
             multipliers: Vec::new(),
-            extra: Vec::new(),
         })
     }
 
