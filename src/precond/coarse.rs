@@ -175,14 +175,6 @@ impl CoarseSpace {
     }
 }
 
-/// The body a global node belongs to.
-fn node_body(g: &GlobalMesh, a: usize) -> u32 {
-    g.bodies
-        .iter()
-        .position(|b| a >= b.first_node && a < b.first_node + b.num_nodes)
-        .unwrap_or(0) as u32
-}
-
 /// The box around every node.
 fn bounding_box(coords: &[Vec3]) -> (Vec3, Vec3) {
     let mut lo = [f64::INFINITY; 3];
@@ -233,7 +225,12 @@ fn aggregate_keys(
     };
     loop {
         let keys: Vec<([u32; 3], u32)> = (0..n)
-            .map(|a| (key_of(&g.coords[a], h), node_body(g, a)))
+            .map(|a| {
+                (
+                    key_of(&g.coords[a], h),
+                    g.body_of_node(a).unwrap_or(0) as u32,
+                )
+            })
             .collect();
         let mut distinct = keys.clone();
         distinct.sort_unstable();

@@ -74,18 +74,13 @@ pub fn held_by_contact_alone(problem: &Problem) -> Vec<String> {
     out
 }
 
-/// The body of global node `g`.
-fn body_of(problem: &Problem, g: usize) -> Option<usize> {
-    problem.mesh.body_of_node(g)
-}
-
 /// The prescribed directions of each body as (point, direction).
 fn dirichlet_rows(problem: &Problem) -> Vec<Vec<(Vec3, Vec3)>> {
     let mesh = &problem.mesh;
     let mut rows: Vec<Vec<(Vec3, Vec3)>> = vec![Vec::new(); mesh.bodies.len()];
     for bc in &problem.dirichlet {
         for &g in &problem.node_sets[bc.node_set].nodes {
-            if let Some(b) = body_of(problem, g as usize) {
+            if let Some(b) = problem.mesh.body_of_node(g as usize) {
                 rows[b].push((problem.reference_position(g), bc.direction));
             }
         }
@@ -96,7 +91,7 @@ fn dirichlet_rows(problem: &Problem) -> Vec<Vec<(Vec3, Vec3)>> {
 /// The supports of each body: (point, direction) of every prescribed direction and of
 /// every contact tie (on the slave's body and on the master's).
 fn support_rows(problem: &Problem, contact: &impl Enforcement) -> Vec<Vec<(Vec3, Vec3)>> {
-    let body_of = |g: usize| body_of(problem, g);
+    let body_of = |g: usize| problem.mesh.body_of_node(g);
     let mut rows = dirichlet_rows(problem);
     for (slave, master, dirs) in contact.supports(problem) {
         let x = problem.reference_position(slave);
