@@ -81,8 +81,10 @@ pub struct Multilevel {
     global_ids: Vec<u32>,
     owned: usize,
     coarse: CoarseVectors,
-    /// The fine level's work vectors (x and r are the measurement's probes too): none while
+    /// The fine level's work vectors (r and d are the measurement's probes too): none while
     /// the coarse levels are built, the build's highest memory (65 MB per rank at n = 80).
+    /// The operator's input is copied into the caller's scratch vector (`tmp` of `apply`),
+    /// one that is idle while the preconditioner runs.
     f: FineVectors,
     origin: Vec3,
     length: f64,
@@ -176,7 +178,9 @@ impl Multilevel {
         self.degree
     }
 
-    /// Measures Kc, builds the coarse levels and the fine smoother (collective).
+    /// Measures Kc, builds the coarse levels and the fine smoother (collective; `tmp` a
+    /// scratch vector of the local nodes, as for `apply`).
+    #[allow(clippy::too_many_arguments)]
     pub fn setup<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
         comm: &C,
@@ -185,6 +189,7 @@ impl Multilevel {
         minv: &[Mat3],
         op: &mut O,
         linear: bool,
+        tmp: &mut [Vec3],
     ) -> Result<(), O::Error> {
         // The old hierarchy goes first: held through the build, it doubled the peak memory
         // of a rebuild (block on block n = 80: 4761 MiB per rank instead of the estimated
@@ -245,7 +250,7 @@ impl Multilevel {
         self.f.ensure(mesh.num_nodes());
         self.fine = None;
         if self.degree > 0 && linear {
-            self.estimate_smoother(comm, minv, op)?;
+            self.estimate_smoother(comm, minv, op, tmp)?;
         }
         lap(3);
         self.builds += 1;
@@ -271,12 +276,14 @@ impl Multilevel {
     }
 
     /// The fine Chebyshev smoother for the operator and diagonal blocks as they are now
-    /// (collective): its bound on the spectrum of D^-1 A is measured again.
+    /// (collective): its bound on the spectrum of D^-1 A is measured again (`tmp` as for
+    /// `apply`).
     pub fn estimate_smoother<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
         comm: &C,
         minv: &[Mat3],
         op: &mut O,
+        tmp: &mut [Vec3],
     ) -> Result<(), O::Error> {
         // The power iteration's third vector only while it runs: the cycle uses four.
         let mut x = vec![[0.0; 3]; self.f.r.len()];
@@ -286,7 +293,7 @@ impl Multilevel {
             minv,
             owned: self.owned,
             ids: &self.global_ids,
-            tmp: &mut self.f.u,
+            tmp,
         };
         self.fine = Some(Chebyshev::estimate(
             &mut f,
@@ -313,8 +320,9 @@ impl Multilevel {
         }
     }
 
-    /// z = M^-1 r on the owned nodes (collective; `x` the local mesh's positions).
-    /// Requires `setup`.
+    /// z = M^-1 r on the owned nodes (collective; `x` the local mesh's positions; `tmp` a
+    /// scratch vector of the local nodes, overwritten: the copy of the operator's input,
+    /// which the operator changes). Requires `setup`.
     #[allow(clippy::too_many_arguments)]
     pub fn apply<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
@@ -322,7 +330,7 @@ impl Multilevel {
         (cons, x): (&Constraints, &[Vec3]),
         minv: &[Mat3],
         op: &mut O,
-        r: &[Vec3],
+        (r, tmp): (&[Vec3], &mut [Vec3]),
         z: &mut [Vec3],
     ) -> Result<(), O::Error> {
         let h = self.hierarchy.as_mut().expect("multilevel set up");
@@ -342,7 +350,7 @@ impl Multilevel {
             minv,
             owned,
             ids: &self.global_ids,
-            tmp: &mut v.u,
+            tmp,
         };
         z.iter_mut().for_each(|v| *v = [0.0; 3]);
         v.r.copy_from_slice(r);
@@ -364,7 +372,6 @@ struct FineVectors {
     r: Vec<Vec3>,
     d: Vec<Vec3>,
     t: Vec<Vec3>,
-    u: Vec<Vec3>,
 }
 
 impl FineVectors {
@@ -374,7 +381,6 @@ impl FineVectors {
             r: v(),
             d: v(),
             t: v(),
-            u: v(),
         }
     }
 
@@ -384,24 +390,22 @@ impl FineVectors {
 
     /// Allocates those that were freed (outside CG: its iterations allocate nothing).
     fn ensure(&mut self, nodes: usize) {
-        for v in [&mut self.r, &mut self.d, &mut self.t, &mut self.u] {
+        for v in [&mut self.r, &mut self.d, &mut self.t] {
             if v.len() != nodes {
                 *v = vec![[0.0; 3]; nodes];
             }
         }
     }
 
-    /// The two the measurement's probes use, the others freed: while the first coarse
-    /// level's entries arrive (two vectors less, 24 MiB per rank at n = 80 on 2 ranks).
+    /// The two the measurement's probes use, the third freed: while the first coarse
+    /// level's entries arrive (a vector less, 12 MiB per rank at n = 80 on 2 ranks).
     fn ensure_probes(&mut self, nodes: usize) {
         for v in [&mut self.r, &mut self.d] {
             if v.len() != nodes {
                 *v = vec![[0.0; 3]; nodes];
             }
         }
-        for v in [&mut self.t, &mut self.u] {
-            *v = Vec::new();
-        }
+        self.t = Vec::new();
     }
 }
 

@@ -52,7 +52,9 @@ impl Cg {
         if let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) {
             let mut op = fine_op!(self, pb, u, linear, s);
             let at = (pb.cons, pb.asm.mesh.coords.as_slice());
-            ml.apply(comm, at, &self.minv, &mut op, &self.r, &mut self.z)?;
+            // q is idle until the next direction's product: the cycle's scratch.
+            let rq = (self.r.as_slice(), self.q.as_mut_slice());
+            ml.apply(comm, at, &self.minv, &mut op, rq, &mut self.z)?;
         } else {
             jacobi::apply(&self.minv[..u.len()], &self.r, &mut self.z);
         }

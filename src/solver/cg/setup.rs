@@ -146,7 +146,7 @@ impl Cg {
                     self.ml_smoother_rows = [rows, contact];
                     self.ml_smoother_fp = fp;
                     let mut op = fine_op!(self, pb, u, linear, s);
-                    ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
+                    ml.estimate_smoother(pb.comm, &self.minv, &mut op, &mut self.q)?;
                 }
                 return Ok(());
             }
@@ -160,7 +160,7 @@ impl Cg {
                 self.ml_smoother_rows = [rows, contact];
                 self.ml_smoother_fp = linear.then(|| operator_fingerprint(pb));
                 let mut op = fine_op!(self, pb, u, linear, s);
-                ml.estimate_smoother(pb.comm, &self.minv, &mut op)?;
+                ml.estimate_smoother(pb.comm, &self.minv, &mut op, &mut self.q)?;
             }
             return Ok(());
         }
@@ -182,7 +182,16 @@ impl Cg {
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
         self.trace.ml_builds += 1;
-        ml.setup(pb.comm, pb.cons, pb.asm.mesh, &self.minv, &mut op, linear)?;
+        let q = &mut self.q;
+        ml.setup(
+            pb.comm,
+            pb.cons,
+            pb.asm.mesh,
+            &self.minv,
+            &mut op,
+            linear,
+            q,
+        )?;
         self.rebuild_note = Some(format!(
             "{} (build {}: {why}; {:.3} s)",
             ml.summary,
