@@ -85,6 +85,22 @@ impl BlockInverse {
         }
     }
 
+    /// The inverses of `nodes` only, their unknowns numbered from the first's.
+    pub fn keep(self, nodes: std::ops::Range<usize>) -> Self {
+        let (lo, off0) = (self.node_ptr[nodes.start], self.off[nodes.start]);
+        BlockInverse {
+            node_ptr: self.node_ptr[nodes.start..=nodes.end]
+                .iter()
+                .map(|&p| p - lo)
+                .collect(),
+            off: self.off[nodes.start..=nodes.end]
+                .iter()
+                .map(|&o| o - off0)
+                .collect(),
+            inv: self.inv[off0..self.off[nodes.end]].to_vec(),
+        }
+    }
+
     /// z = D^-1 r.
     pub fn apply(&self, r: &[f64], z: &mut [f64]) {
         for i in 0..self.node_ptr.len() - 1 {

@@ -1,10 +1,12 @@
 //! The coarse levels and their V-cycle: assembled sparse operators A_(l+1) = P^T A_l P
 //! with smoothed-aggregation prolongators, a Chebyshev smoother on each, a dense direct
-//! solve on the coarsest. Every rank builds the whole hierarchy (from the same data in the
-//! same order) and runs the same cycle on the same coarse vector: bitwise the same result
-//! on any number of ranks. Once built (`Hierarchy::finish`), the first level's operator is
-//! kept as this rank's rows only, applied through a `Product` that gathers every rank's
-//! rows (the only communication). Buffers are allocated once, at setup.
+//! solve on the coarsest. Every rank builds the levels below the first whole (from the same
+//! data in the same order) and runs the same cycle on them: bitwise the same result on any
+//! number of ranks. The first level is held as this rank's rows (`Hierarchy::above`): its
+//! operator's rows, its node-block inverses and its cycle's vectors, applied through a
+//! `Product` that gathers every rank's rows of a vector before a product (the only
+//! communication); each entry is the one the whole level gives it. Buffers are allocated
+//! once, at setup.
 
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;
@@ -71,7 +73,8 @@ impl Op {
 }
 
 /// One coarse level: its operator, smoother, its prolongator to the next (`Prolongation`)
-/// and buffers.
+/// and buffers: the level's unknowns, or on the first level those of this rank's rows
+/// (`Hierarchy::own`), as the node-block inverses.
 struct Level {
     a: Op,
     dinv: BlockInverse,
@@ -85,7 +88,7 @@ struct Level {
 }
 
 impl Level {
-    /// A level of `n` unknowns.
+    /// A level holding `n` unknowns.
     fn new(a: Op, dinv: BlockInverse, cheb: Chebyshev, transfer: Prolongation, n: usize) -> Self {
         Level {
             a,
@@ -105,7 +108,10 @@ impl Level {
 /// rank's rows in blocks, and what every rank holds whole.
 pub struct FirstLevel {
     pub rows: BlockRows,
+    /// The node-block inverses of this rank's rows (`own`).
     pub dinv: BlockInverse,
+    /// The unknowns of this rank's rows.
+    pub own: std::ops::Range<usize>,
     pub cheb: Chebyshev,
     pub transfer: Prolongation,
     /// Unknowns of the level.
@@ -118,28 +124,60 @@ pub struct FirstLevel {
     pub live: Vec<bool>,
 }
 
-/// How the first coarse level's operator is applied: whole on this rank (`Whole`), or by
-/// rows split over the ranks and gathered (`super::Split`). Either way each entry of the
-/// product is the same row sum (`Csr::mul_rows_into`), so the same bits.
+/// How the first coarse level's vectors are held and its operator applied: whole on this
+/// rank (`Whole`), or as this rank's rows, every rank's gathered before a product
+/// (`super::Split`). Either way each entry of a product is the same row sum
+/// (`Csr::mul_rows_into`) of the same vector, so the same bits.
 pub trait Product {
+    /// y = A x on the vectors as the level holds them (this rank's rows, or whole).
     fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
-    /// Every rank's `mine` into `all` (`all.len()` = ranks x `mine.len()`), in rank order.
-    fn gather(&mut self, mine: &[f64], all: &mut [f64]);
+    /// y = A x on whole vectors.
+    fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
+    /// The whole vector of which the level holds `mine` (every rank's gathered); it may
+    /// run past the level's unknowns (zeros).
+    fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64];
+    /// out = P^T r (`transfer`'s), r as the level holds it.
+    fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]);
 }
 
-/// The whole product on this rank.
+/// The whole level on this rank.
 pub struct Whole;
 
 impl Product for Whole {
     fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
         a.mul_into(x, y);
     }
-    fn gather(&mut self, mine: &[f64], all: &mut [f64]) {
-        all.copy_from_slice(mine);
+    fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
+        a.mul_into(x, y);
+    }
+    fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64] {
+        mine
+    }
+    fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]) {
+        transfer.restrict(r, out, |m, a| a.copy_from_slice(m));
     }
 }
 
-/// A sparse level seen by the smoother.
+/// A product on whole vectors (the build's power iteration on the first level held as
+/// rows: every rank computes its rows of the product and gathers the rest).
+pub struct AsWhole<'p, P: Product>(pub &'p mut P);
+
+impl<P: Product> Product for AsWhole<'_, P> {
+    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
+        self.0.mul_whole(a, x, y);
+    }
+    fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
+        self.0.mul_whole(a, x, y);
+    }
+    fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64] {
+        mine
+    }
+    fn restrict(&mut self, _: &mut Prolongation, _: &[f64], _: &mut [f64]) {
+        unreachable!("a whole product serves the power iteration only")
+    }
+}
+
+/// A sparse level seen by the smoother (its vectors as the product holds them).
 pub(super) struct Sparse<'a, P: Product> {
     pub(super) a: &'a Op,
     pub(super) dinv: &'a BlockInverse,
@@ -200,6 +238,11 @@ pub struct Hierarchy {
     first_nodes: Vec<usize>,
     /// The first level's unknowns with stiffness, when it was built elsewhere (`above`).
     first_live: Vec<bool>,
+    /// The first level's unknowns this rank holds (all of them but on a first level
+    /// built split over the ranks, `above`).
+    own: std::ops::Range<usize>,
+    /// The sum of a solve's sweeps on those unknowns.
+    acc: Vec<f64>,
 }
 
 /// The node graph of a level: nodes i and j are linked when some entry between their
@@ -336,26 +379,32 @@ impl Hierarchy {
             factored: None,
             first_nodes: Vec::new(),
             first_live: Vec::new(),
+            own: 0..n1,
+            acc: vec![0.0; n1],
         };
         h.first_nodes = first_nodes;
         h
     }
 
     /// The hierarchy of a first level built elsewhere (`first`) above `rest`, the
-    /// hierarchy of that level's coarse operator.
+    /// hierarchy of that level's coarse operator: the first level's vectors are this
+    /// rank's rows only (`first.own`).
     pub fn above(first: FirstLevel, mut rest: Hierarchy) -> Hierarchy {
         let n = first.n;
+        let held = first.own.len();
         let level = Level::new(
             Op::Rows(first.rows),
             first.dinv,
             first.cheb,
             first.transfer,
-            n,
+            held,
         );
         rest.levels.insert(0, level);
         rest.sizes.insert(0, n);
         rest.nonzeros.insert(0, first.nnz);
-        rest.res = vec![0.0; n];
+        rest.res = vec![0.0; held];
+        rest.acc = vec![0.0; held];
+        rest.own = first.own;
         rest.first_nodes = first.node_ptr;
         rest.first_live = first.live;
         rest
@@ -363,7 +412,8 @@ impl Hierarchy {
 
     /// Completes a build: keeps of the first level's operator only rows first..first + len,
     /// in blocks (`BlockRows`; the cycle then applies it only through `top`, a product of
-    /// those rows: `super::Split`, or `Whole` when they are all of them), measures the
+    /// those rows: `super::Split`, or `Whole` when they are all of them; a level built
+    /// whole here, `build`, must hold those rows: all of them), measures the
     /// V-cycle's rate with `top`, and replaces the levels by a sparse factor of the first
     /// one when that rate is slow and the factor fits the fill budget. The rate is the same
     /// bits whichever product measures it. The first level stays sparse when its unknowns
@@ -384,6 +434,10 @@ impl Hierarchy {
         };
         let spare = match std::mem::replace(&mut lv.a, Op::Sparse(Csr::default())) {
             Op::Sparse(a) => {
+                assert!(
+                    first == self.own.start && first + len >= self.own.end,
+                    "a first level built whole keeps the rows its vectors hold"
+                );
                 self.first_live = a.diagonal().iter().map(|&d| d > 0.0).collect();
                 match BlockRows::new(&a, first, len) {
                     Some(rows) => {
@@ -430,12 +484,14 @@ impl Hierarchy {
     /// unknowns), the first level's operator applied by `top`.
     fn v_cycle_rate<P: Product>(&mut self, live: &[bool], top: &mut P) -> f64 {
         let n = live.len();
+        let own = self.own.clone();
         let x_true: Vec<f64> = (0..n)
             .map(|i| if live[i] { hash_value(i as u64) } else { 0.0 })
             .collect();
         let mut rhs = vec![0.0; n];
-        top.mul(&self.levels[0].a, &x_true, &mut rhs);
+        top.mul_whole(&self.levels[0].a, &x_true, &mut rhs);
         let mut x = vec![0.0; n];
+        let mut ax = vec![0.0; n];
         let err = |x: &[f64]| -> f64 {
             (0..n)
                 .filter(|&i| live[i])
@@ -445,12 +501,12 @@ impl Hierarchy {
         };
         let e0 = err(&x);
         for _ in 0..RATE_CYCLES {
-            top.mul(&self.levels[0].a, &x, &mut self.res);
-            for i in 0..n {
-                self.levels[0].b[i] = rhs[i] - self.res[i];
+            top.mul_whole(&self.levels[0].a, &x, &mut ax);
+            for (i, b) in own.clone().zip(self.levels[0].b.iter_mut()) {
+                *b = rhs[i] - ax[i];
             }
             cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
-            for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
+            for (xi, ci) in x.iter_mut().zip(top.whole(&self.levels[0].x)) {
                 *xi += ci;
             }
         }
@@ -477,32 +533,37 @@ impl Hierarchy {
         self.solve_with(b, x, &mut Whole);
     }
 
-    /// `solve`, the first coarse level's operator applied by `top`.
+    /// `solve`, the first coarse level's vectors held and its operator applied by `top`
+    /// (b and x whole: x gathered from every rank's rows at the end).
     pub fn solve_with<P: Product>(&mut self, b: &[f64], x: &mut [f64], top: &mut P) {
         if self.levels.is_empty() {
             x.copy_from_slice(b);
             self.coarsest.solve(x);
             return;
         }
-        x.fill(0.0);
+        let b = &b[self.own.clone()];
+        self.acc.fill(0.0);
         for sweep in 0..self.sweeps {
             if sweep == 0 {
                 self.levels[0].b.copy_from_slice(b);
             } else {
-                top.mul(&self.levels[0].a, x, &mut self.res);
+                top.mul(&self.levels[0].a, &self.acc, &mut self.res);
                 for ((bl, bi), ri) in self.levels[0].b.iter_mut().zip(b).zip(&self.res) {
                     *bl = bi - ri;
                 }
             }
             cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
-            for (xi, ci) in x.iter_mut().zip(&self.levels[0].x) {
+            for (xi, ci) in self.acc.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
         }
+        let n = x.len();
+        x.copy_from_slice(&top.whole(&self.acc)[..n]);
     }
 }
 
-/// levels[0].x = V(levels[0].b), the first level's operator applied by `top`.
+/// levels[0].x = V(levels[0].b), the first level's vectors held and its operator applied
+/// by `top` (P x needs no gather: each rank holds P's rows of its own).
 fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64], top: &mut P) {
     let (lv, rest) = levels.split_first_mut().expect("a level");
     lv.x.fill(0.0);
@@ -521,18 +582,17 @@ fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f6
     }
     let xc: &[f64] = match rest.first_mut() {
         None => {
-            lv.transfer.restrict(&lv.r, cb, |m, a| top.gather(m, a));
+            top.restrict(&mut lv.transfer, &lv.r, cb);
             coarsest.solve(cb);
             cb
         }
         Some(next) => {
-            lv.transfer
-                .restrict(&lv.r, &mut next.b, |m, a| top.gather(m, a));
+            top.restrict(&mut lv.transfer, &lv.r, &mut next.b);
             cycle(rest, coarsest, cb, &mut Whole);
             &rest[0].x
         }
     };
-    lv.transfer.prolong(xc, &mut lv.t, |m, a| top.gather(m, a));
+    lv.transfer.prolong(xc, &mut lv.t);
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }

@@ -195,7 +195,7 @@ pub fn build<C: Comm + ?Sized>(
     drop(inv);
     let dinv = BlockInverse::from_inverses(&node_ptr, all);
     let ks = first..first + MODES * held.len();
-    let (agg, nc) = next_aggregates(comm, &mut view, ks, &diag, &node_ptr, &body);
+    let (agg, nc) = next_aggregates(comm, &mut view, ks.clone(), &diag, &node_ptr, &body);
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
     let tent = tentative(&agg, nc, &node_ptr, &b);
     if cycle::stops_coarsening(tent.p.cols, n) {
@@ -205,11 +205,12 @@ pub fn build<C: Comm + ?Sized>(
     let per = rows_per_rank(comm, aggregates);
     let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);
     let op = Op::Rows(blocks);
-    let product = &mut Split {
+    let split = &mut Split {
         comm,
         rows: &mut mine,
         all: &mut all,
     };
+    let product = &mut cycle::AsWhole(split);
     let mut space = cycle::Sparse {
         a: &op,
         dinv: &dinv,
@@ -235,7 +236,8 @@ pub fn build<C: Comm + ?Sized>(
     let live = diag.iter().map(|&d| d > 0.0).collect();
     let first_level = FirstLevel {
         rows: blocks,
-        dinv,
+        dinv: dinv.keep(held.clone()),
+        own: ks,
         cheb,
         transfer,
         n,

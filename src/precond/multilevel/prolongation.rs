@@ -6,8 +6,9 @@
 //!   order of P's row, so the same bits as with P held too.
 //! - `Split`: the first coarse level built split over the ranks (`first`): this rank's rows
 //!   of P (those of the aggregates it holds, `first::held`) and of P^T (a range of the next
-//!   level's unknowns); each product is computed by rows and every rank's rows gathered
-//!   (`gather`, as `Split` applies the level's operator), so every entry is the row sum the
+//!   level's unknowns). P x is computed by this rank's rows, which are those of the level's
+//!   vectors it holds (`cycle::Split`); P^T r by this rank's range, every rank's gathered
+//!   (`gather`, as `Split` applies the level's operator). Every entry is the row sum the
 //!   whole matrix gives it, the same bits on any number of ranks. No rank holds P or P^T
 //!   whole: P^T was the largest part of the hierarchy every rank held whole (69 B per node
 //!   of the mesh, 9.1 MB at n = 40). The rows are kept in 6 x 6 blocks (`BlockRows`: P
@@ -24,14 +25,12 @@ pub enum Prolongation {
     Split(Box<SplitRows>),
 }
 
-/// This rank's rows of P and of P^T, and the buffers of their gathered products.
+/// This rank's rows of P and of P^T, and the buffers of P^T's gathered products.
 pub struct SplitRows {
     /// Rows `rank p_per ..` of P, numbered from the first (fewer on the last rank).
     p: Rows,
-    p_per: usize,
     /// Rows `rank pt_per ..` of P^T.
     pt: Rows,
-    pt_per: usize,
     mine: Vec<f64>,
     all: Vec<f64>,
 }
@@ -75,17 +74,14 @@ impl Prolongation {
     /// This rank's rows of P (`p`, `p_per` rows per rank) and of P^T (`pt`, `pt_per` per
     /// rank) on `ranks` ranks; each numbered from its first row.
     pub fn split(p: Csr, p_per: usize, pt: Csr, pt_per: usize, ranks: usize, rank: usize) -> Self {
-        let per = p_per.max(pt_per);
         let (fine, coarse) = (pt.cols, p.cols);
         let p = Rows::new(p, rank * p_per, fine);
         let pt = Rows::new(pt, (rank * pt_per).min(coarse), coarse);
         Prolongation::Split(Box::new(SplitRows {
             p,
-            p_per,
             pt,
-            pt_per,
-            mine: vec![0.0; per],
-            all: vec![0.0; per * ranks],
+            mine: vec![0.0; pt_per],
+            all: vec![0.0; pt_per * ranks],
         }))
     }
 
@@ -99,39 +95,21 @@ impl Prolongation {
     ) {
         match self {
             Prolongation::Whole(pt) => pt.mul_into(r, out),
-            Prolongation::Split(s) => s.gathered(true, r, out, gather),
+            Prolongation::Split(s) => {
+                s.pt.mul_into(r, &mut s.mine);
+                gather(&s.mine, &mut s.all);
+                out.copy_from_slice(&s.all[..out.len()]);
+            }
         }
     }
 
-    /// out = P x (as `restrict`).
-    pub fn prolong(&mut self, x: &[f64], out: &mut [f64], gather: impl FnOnce(&[f64], &mut [f64])) {
+    /// out = P x: the whole product (`Whole`), or this rank's rows of it (`Split`; out as
+    /// long as the rows held).
+    pub fn prolong(&mut self, x: &[f64], out: &mut [f64]) {
         match self {
             Prolongation::Whole(pt) => pt.mul_transpose_into(x, out),
-            Prolongation::Split(s) => s.gathered(false, x, out, gather),
+            Prolongation::Split(s) => s.p.mul_into(x, out),
         }
-    }
-}
-
-impl SplitRows {
-    /// out = P^T x (`transpose`) or P x: this rank's rows, then every rank's gathered.
-    fn gathered(
-        &mut self,
-        transpose: bool,
-        x: &[f64],
-        out: &mut [f64],
-        gather: impl FnOnce(&[f64], &mut [f64]),
-    ) {
-        let (m, per) = if transpose {
-            (&self.pt, self.pt_per)
-        } else {
-            (&self.p, self.p_per)
-        };
-        let ranks = self.all.len() / self.mine.len().max(1);
-        let mine = &mut self.mine[..per];
-        m.mul_into(x, mine);
-        let all = &mut self.all[..per * ranks];
-        gather(mine, all);
-        out.copy_from_slice(&all[..out.len()]);
     }
 }
 
