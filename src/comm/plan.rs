@@ -20,18 +20,16 @@ impl ExchangePlan {
     }
 
     /// The plan that brings remote values to this rank: `wanted` lists (global id, slot)
-    /// pairs, `owner` names the rank holding a global id's value and `local` its index
-    /// there. Each owner learns what it is asked for. Collective.
+    /// pairs, `owners` the rank holding each one's value and `local` its index there. Each owner learns what it is asked for. Collective.
     pub fn fetch<C: Comm + ?Sized>(
         comm: &C,
         wanted: &[(u32, u32)],
-        owner: impl Fn(u32) -> usize,
+        owners: &[usize],
         local: impl Fn(u32) -> Option<usize>,
     ) -> Self {
         let mut slots: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
         let mut request: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
-        for &(global, slot) in wanted {
-            let r = owner(global);
+        for (&(global, slot), &r) in wanted.iter().zip(owners) {
             slots[r].push(slot);
             request[r].push(global);
         }

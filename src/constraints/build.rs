@@ -231,6 +231,16 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
         // (master node, key of the row entry) to the master's owner.
         let mut push: Vec<Vec<(u32, Key)>> = vec![Vec::new(); comm.size()];
         let mut push_slots: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
+        // The owners of the level's remote masters, in the order they come below.
+        let remote: Vec<u32> = nodes[start..end]
+            .iter()
+            .flat_map(|nr| nr.rows.iter().zip(&nr.refs))
+            .flat_map(|(row, refs)| row.masters.iter().zip(refs))
+            .filter(|(_, src)| matches!(src, Src::Remote(_)))
+            .map(|(&(m, _), _)| m)
+            .collect();
+        let mut owners = mesh.owners(comm, &remote).into_iter();
+        drop(remote);
         for nr in &mut nodes[start..end] {
             let mut out = Vec::with_capacity(nr.rows.len());
             for (i, (row, refs)) in nr.rows.iter().zip(&nr.refs).enumerate() {
@@ -244,7 +254,7 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
                         Src::Local(l) => arrivals.push((l as usize, key, k)),
                         Src::Remote(q) => {
                             wanted.push((m, q));
-                            let r = mesh.owner(m);
+                            let r = owners.next().expect("an owner per remote master");
                             push[r].push((m, key));
                             push_slots[r].push(k);
                         }

@@ -5,7 +5,7 @@
 //! bitwise the same on any number of ranks.
 
 use super::{Connectivity, GlobalMesh};
-use crate::comm::{Comm, ExchangePlan};
+use crate::comm::{message, Comm, ExchangePlan};
 use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
 use partition::Decomposition;
@@ -23,8 +23,18 @@ pub struct LocalMesh {
     pub body_kind: Vec<ElementKind>,
     /// Owned node values (local indices) to the ghost copies (local indices) on other ranks.
     pub halo: ExchangePlan,
-    /// Owning rank of every global node (contact constraints reach nodes of any rank).
-    node_owner: Vec<u32>,
+    /// The owners of a piece of the global nodes, `OWNER_PIECE` (contact constraints reach
+    /// nodes of any rank: `owners` asks the rank that holds a node's piece).
+    owners: OwnerPiece,
+}
+
+/// The owning ranks of the global nodes `first..first + owner.len()`: rank r holds nodes
+/// r B to (r + 1) B - 1, B = ceil(nodes / ranks), so that no rank holds every node's.
+#[derive(Clone, Debug)]
+struct OwnerPiece {
+    first: usize,
+    per_rank: usize,
+    owner: Vec<u32>,
 }
 
 impl LocalMesh {
@@ -74,13 +84,52 @@ impl LocalMesh {
                 send: map(&part.send),
                 recv: map(&part.recv),
             },
-            node_owner: decomposition.node_owner().to_vec(),
+            owners: {
+                let all = decomposition.node_owner();
+                let per_rank = all.len().div_ceil(decomposition.parts().len()).max(1);
+                let first = (rank * per_rank).min(all.len());
+                let last = (first + per_rank).min(all.len());
+                OwnerPiece {
+                    first,
+                    per_rank,
+                    owner: all[first..last].to_vec(),
+                }
+            },
         }
     }
 
-    /// The rank that owns a global node.
-    pub fn owner(&self, global: u32) -> usize {
-        self.node_owner[global as usize] as usize
+    /// The ranks that own global nodes `nodes` (collective: each asks the ranks that hold
+    /// their owners, `OwnerPiece`, in two exchanges).
+    pub fn owners<C: Comm + ?Sized>(&self, comm: &C, nodes: &[u32]) -> Vec<usize> {
+        if comm.size() == 1 {
+            return vec![0; nodes.len()];
+        }
+        let per = self.owners.per_rank;
+        let mut ask: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
+        for &g in nodes {
+            ask[g as usize / per].push(g);
+        }
+        let asked = message::all_to_all(comm, &ask);
+        let answers: Vec<Vec<u32>> = asked
+            .iter()
+            .map(|ids| {
+                let at = |g: u32| g as usize - self.owners.first;
+                ids.iter().map(|&g| self.owners.owner[at(g)]).collect()
+            })
+            .collect();
+        drop(asked);
+        let mut got: Vec<std::vec::IntoIter<u32>> = message::all_to_all(comm, &answers)
+            .into_iter()
+            .map(|v| v.into_iter())
+            .collect();
+        nodes
+            .iter()
+            .map(|&g| {
+                got[g as usize / per]
+                    .next()
+                    .expect("an owner per node asked") as usize
+            })
+            .collect()
     }
 
     /// Local index of a global node owned by this rank.
@@ -133,6 +182,9 @@ impl LocalMesh {
     /// The plan that fetches the values of remote nodes from their owners: `wanted` lists
     /// (global node, slot of the destination array). Collective.
     pub fn fetch_plan<C: Comm + ?Sized>(&self, comm: &C, wanted: &[(u32, u32)]) -> ExchangePlan {
-        ExchangePlan::fetch(comm, wanted, |g| self.owner(g), |g| self.owned_node(g))
+        let ids: Vec<u32> = wanted.iter().map(|w| w.0).collect();
+        let owners = self.owners(comm, &ids);
+        drop(ids);
+        ExchangePlan::fetch(comm, wanted, &owners, |g| self.owned_node(g))
     }
 }

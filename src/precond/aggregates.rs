@@ -39,7 +39,7 @@ enum Src {
 }
 
 pub struct Aggregates {
-    /// Per owned node: its aggregate.
+    /// Per local node (owned, then ghosts): its aggregate.
     agg: Vec<u32>,
     /// Every aggregate's centre and scale: a node's offset is (x - centre) / scale, formed
     /// from the owned node's coordinates where it is used (not kept: 24 bytes per owned
@@ -65,6 +65,11 @@ fn scaled(x: &Vec3, centre: &Vec3, scale: f64) -> Vec3 {
 }
 
 impl Aggregates {
+    /// The aggregate of every local node (owned, then ghosts).
+    pub fn of_local_nodes(&self) -> &[u32] {
+        &self.agg
+    }
+
     /// Owned node l's scaled offset from its aggregate's centre (`x` the owned positions).
     #[inline]
     fn offset(&self, x: &[Vec3], l: usize) -> Vec3 {
@@ -94,8 +99,7 @@ impl Aggregates {
                 scale[agg[gid] as usize],
             )
         };
-        let owned = &mesh.node_global[..mesh.num_owned_nodes];
-        let own_agg = owned.iter().map(|&gid| agg[gid as usize]).collect();
+        let local_agg = mesh.node_global.iter().map(|&g| agg[g as usize]).collect();
         let mut members: Vec<Vec<u32>> = vec![Vec::new(); na];
         for (a, &k) in agg.iter().enumerate() {
             members[k as usize].push(a as u32);
@@ -105,7 +109,8 @@ impl Aggregates {
         let mut far_offset = Vec::new();
         let (mut sum_agg, mut sum_ptr, mut src) = (Vec::new(), vec![0u32], Vec::new());
         for (k, nodes) in members.iter().enumerate() {
-            if mesh.owner(nodes[0]) != comm.rank() {
+            // Summed by the owner of its first node.
+            if mesh.owned_node(nodes[0]).is_none() {
                 continue;
             }
             for &gid in nodes {
@@ -127,7 +132,7 @@ impl Aggregates {
             Vec::with_capacity(sum_agg.len() * (MODES + 1)),
         );
         Aggregates {
-            agg: own_agg,
+            agg: local_agg,
             centre,
             scale,
             sum_agg,

@@ -25,25 +25,28 @@ pub struct Colouring {
     by_colour: Vec<Vec<(u32, u32)>>,
 }
 
-/// Master and slave lists of every tie, in global node ids.
+/// Master and slave lists of every tie, in global node ids: the (slave, master) pairs
+/// sorted both ways, searched (their size is the ties', not the mesh's).
 #[derive(PartialEq)]
 pub struct Ties {
-    /// masters of node a: masters[ptr[a]..ptr[a + 1]].
-    m_ptr: Vec<usize>,
-    masters: Vec<u32>,
-    /// slaves of node a.
-    s_ptr: Vec<usize>,
-    slaves: Vec<u32>,
+    /// (slave, master), ascending.
+    by_slave: Vec<(u32, u32)>,
+    /// (master, slave), ascending.
+    by_master: Vec<(u32, u32)>,
+}
+
+/// The second members of the pairs whose first is `a` (`pairs` ascending).
+fn paired(pairs: &[(u32, u32)], a: u32) -> impl Iterator<Item = u32> + '_ {
+    let lo = pairs.partition_point(|p| p.0 < a);
+    pairs[lo..]
+        .iter()
+        .take_while(move |p| p.0 == a)
+        .map(|p| p.1)
 }
 
 impl Ties {
     /// Gathers the tie rows of every rank (collective).
-    pub fn gather<C: Comm + ?Sized>(
-        comm: &C,
-        cons: &Constraints,
-        mesh: &LocalMesh,
-        n: usize,
-    ) -> Self {
+    pub fn gather<C: Comm + ?Sized>(comm: &C, cons: &Constraints, mesh: &LocalMesh) -> Self {
         let mut mine = Vec::new();
         for l in 0..mesh.num_owned_nodes {
             let gid = mesh.node_global[l];
@@ -58,41 +61,84 @@ impl Ties {
         } else {
             message::all_gather(comm, &mine)
         };
-        Ties::from_pairs(n, pairs)
+        Ties::from_pairs(pairs)
     }
 
     /// From (slave, master) pairs in any order.
-    pub fn from_pairs(n: usize, mut pairs: Vec<(u32, u32)>) -> Self {
+    pub fn from_pairs(mut pairs: Vec<(u32, u32)>) -> Self {
         pairs.sort_unstable();
         pairs.dedup();
-        let csr = |p: &[(u32, u32)]| {
-            let mut ptr = vec![0usize; n + 1];
-            for &(a, _) in p {
-                ptr[a as usize + 1] += 1;
-            }
-            for i in 0..n {
-                ptr[i + 1] += ptr[i];
-            }
-            (ptr, p.iter().map(|&(_, b)| b).collect::<Vec<u32>>())
-        };
-        let (m_ptr, masters) = csr(&pairs);
-        let mut rev: Vec<(u32, u32)> = pairs.iter().map(|&(s, m)| (m, s)).collect();
-        rev.sort_unstable();
-        let (s_ptr, slaves) = csr(&rev);
+        let mut by_master: Vec<(u32, u32)> = pairs.iter().map(|&(s, m)| (m, s)).collect();
+        by_master.sort_unstable();
         Ties {
-            m_ptr,
-            masters,
-            s_ptr,
-            slaves,
+            by_slave: pairs,
+            by_master,
         }
     }
 
-    fn masters(&self, a: usize) -> &[u32] {
-        &self.masters[self.m_ptr[a]..self.m_ptr[a + 1]]
+    fn masters(&self, a: u32) -> impl Iterator<Item = u32> + '_ {
+        paired(&self.by_slave, a)
     }
 
-    fn slaves(&self, a: usize) -> &[u32] {
-        &self.slaves[self.s_ptr[a]..self.s_ptr[a + 1]]
+    fn slaves(&self, a: u32) -> impl Iterator<Item = u32> + '_ {
+        paired(&self.by_master, a)
+    }
+
+    /// Every node that is a master of some tie, ascending, once each.
+    fn master_nodes(&self) -> impl Iterator<Item = u32> + '_ {
+        let mut last = None;
+        self.by_master.iter().filter_map(move |&(m, _)| {
+            (last != Some(m)).then(|| {
+                last = Some(m);
+                m
+            })
+        })
+    }
+}
+
+/// The aggregate of every node a rank's colouring looks up: its local nodes' (owned, then
+/// ghosts, by local index) and the tie masters' wherever they are (gathered from their
+/// owners, ascending by global id): not every node of the mesh.
+pub struct NodeAggregates<'a> {
+    local: &'a [u32],
+    masters: Vec<(u32, u32)>,
+}
+
+impl<'a> NodeAggregates<'a> {
+    /// From the local nodes' aggregates and (master, aggregate) pairs in any order.
+    pub fn new(local: &'a [u32], mut masters: Vec<(u32, u32)>) -> Self {
+        masters.sort_unstable();
+        masters.dedup();
+        NodeAggregates { local, masters }
+    }
+
+    /// The local nodes' aggregates `local` (of `mesh`) with those of every tie's masters,
+    /// each sent by the rank that owns it (collective).
+    pub fn gather<C: Comm + ?Sized>(
+        comm: &C,
+        mesh: &LocalMesh,
+        local: &'a [u32],
+        ties: &Ties,
+    ) -> Self {
+        let mine: Vec<(u32, u32)> = ties
+            .master_nodes()
+            .filter_map(|m| mesh.owned_node(m).map(|l| (m, local[l])))
+            .collect();
+        let masters = if comm.size() == 1 {
+            mine
+        } else {
+            message::all_gather(comm, &mine)
+        };
+        Self::new(local, masters)
+    }
+
+    /// The aggregate of tie master `m`.
+    fn master(&self, m: u32) -> u32 {
+        let i = self
+            .masters
+            .binary_search_by_key(&m, |p| p.0)
+            .expect("every tie's master has its aggregate gathered");
+        self.masters[i].1
     }
 }
 
@@ -152,7 +198,9 @@ pub(super) fn reach_of(
             mark[a as usize] = stamp;
             set.push(a);
         }
-        close(&mut set, &mut mark, stamp, |a| ties.slaves(a).to_vec());
+        close(&mut set, &mut mark, stamp, |a| {
+            ties.slaves(a as u32).collect()
+        });
         let stamp2 = stamp + 1;
         let mut near: Vec<u32> = Vec::with_capacity(set.len() * 8);
         for &a in &set {
@@ -167,7 +215,9 @@ pub(super) fn reach_of(
                 }
             });
         }
-        close(&mut near, &mut mark, stamp2, |a| ties.masters(a).to_vec());
+        close(&mut near, &mut mark, stamp2, |a| {
+            ties.masters(a as u32).collect()
+        });
         for &a in &near {
             let k = agg_of[a as usize];
             if amark[k as usize] != j as u32 {
@@ -186,7 +236,7 @@ fn masters_closure(ties: &Ties, a: u32, out: &mut Vec<u32>) {
     out.push(a);
     let mut i = 0;
     while i < out.len() {
-        for &m in ties.masters(out[i] as usize) {
+        for m in ties.masters(out[i]) {
             if !out.contains(&m) {
                 out.push(m);
             }
@@ -205,15 +255,18 @@ fn masters_closure(ties: &Ties, a: u32, out: &mut Vec<u32>) {
 /// together are every pair of the whole node graph's reach, each at least once.
 pub(super) fn reach_pairs(
     mesh: &LocalMesh,
-    agg_of: &[u32],
+    aggs: &NodeAggregates,
     num_aggs: usize,
     ties: &Ties,
 ) -> Vec<(u32, u32)> {
     let owned = mesh.num_owned_nodes;
     let gid = |l: usize| mesh.node_global[l];
+    let agg_l = aggs.local;
+    // The aggregate of closure member i of local node c: c's own first, then masters.
+    let agg_in = |c: usize, i: usize, d: u32| if i == 0 { agg_l[c] } else { aggs.master(d) };
     // Owned nodes by aggregate, so that a mark per aggregate keeps each (j, k) once here.
     let mut order: Vec<u32> = (0..owned as u32).collect();
-    order.sort_unstable_by_key(|&l| (agg_of[gid(l as usize) as usize], l));
+    order.sort_unstable_by_key(|&l| (agg_l[l as usize], l));
     let around = NodeElements::of_connectivity(mesh.num_nodes(), &mesh.elements);
     let mut mark = vec![u32::MAX; num_aggs];
     let mut pairs = Vec::new();
@@ -221,16 +274,16 @@ pub(super) fn reach_pairs(
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for &l in &order {
         let b = gid(l as usize);
-        let j = agg_of[b as usize];
+        let j = agg_l[l as usize];
         near.clear();
-        near.push(b);
-        around.each_neighbour(&mesh.elements, l as usize, |c| near.push(gid(c as usize)));
-        let tied = !ties.masters(b as usize).is_empty();
+        near.push(l);
+        around.each_neighbour(&mesh.elements, l as usize, |c| near.push(c));
+        let tied = ties.masters(b).next().is_some();
         of_b.clear();
         for &c in &near {
-            masters_closure(ties, c, &mut closed);
-            for &d in &closed {
-                let k = agg_of[d as usize];
+            masters_closure(ties, gid(c as usize), &mut closed);
+            for (i, &d) in closed.iter().enumerate() {
+                let k = agg_in(c as usize, i, d);
                 if mark[k as usize] != j {
                     mark[k as usize] = j;
                     pairs.push((j, k));
@@ -244,7 +297,8 @@ pub(super) fn reach_pairs(
             // b is tied to masters in other aggregates: their probes reach R(b) too.
             masters_closure(ties, b, &mut closed);
             tied_to.clear();
-            tied_to.extend(closed.iter().map(|&d| agg_of[d as usize]));
+            let of = |(i, &d): (usize, &u32)| agg_in(l as usize, i, d);
+            tied_to.extend(closed.iter().enumerate().map(of));
             tied_to.sort_unstable();
             tied_to.dedup();
             of_b.sort_unstable();
@@ -280,11 +334,11 @@ pub(super) fn reach_from_pairs(
 pub(super) fn reach_of_ranks<C: Comm + ?Sized>(
     comm: &C,
     mesh: &LocalMesh,
-    agg_of: &[u32],
+    aggs: &NodeAggregates,
     num_aggs: usize,
     ties: &Ties,
 ) -> (Vec<usize>, Vec<u32>) {
-    let mine = reach_pairs(mesh, agg_of, num_aggs, ties);
+    let mine = reach_pairs(mesh, aggs, num_aggs, ties);
     let all = if comm.size() == 1 {
         mine
     } else {
@@ -336,16 +390,16 @@ impl Colouring {
         Self::of_reach(&reach_ptr, &reach, num_aggs)
     }
 
-    /// `new` of the whole node graph, from the ranks' local meshes (collective; see
-    /// `reach_of_ranks`).
+    /// `new` of the whole node graph, from the ranks' local meshes and the aggregates of
+    /// their nodes (collective; see `reach_of_ranks`).
     pub fn of_ranks<C: Comm + ?Sized>(
         comm: &C,
         mesh: &LocalMesh,
-        agg_of: &[u32],
+        aggs: &NodeAggregates,
         num_aggs: usize,
         ties: &Ties,
     ) -> Self {
-        let (reach_ptr, reach) = reach_of_ranks(comm, mesh, agg_of, num_aggs, ties);
+        let (reach_ptr, reach) = reach_of_ranks(comm, mesh, aggs, num_aggs, ties);
         Self::of_reach(&reach_ptr, &reach, num_aggs)
     }
 
@@ -395,10 +449,7 @@ mod tests {
         let edges: Vec<(u32, u32)> = (0..11).map(|i| (i, i + 1)).collect();
         let g = Graph::from_edges(12, &edges);
         let agg_of: Vec<u32> = (0..12).map(|a| a / 2).collect();
-        for ties in [
-            Ties::from_pairs(12, vec![]),
-            Ties::from_pairs(12, vec![(11, 0)]),
-        ] {
+        for ties in [Ties::from_pairs(vec![]), Ties::from_pairs(vec![(11, 0)])] {
             let c = Colouring::new(&g, &agg_of, 6, &ties);
             for k in 0..6 {
                 let s = c.seen(k);
@@ -414,7 +465,7 @@ mod tests {
         }
         // With the tie, aggregate 0 sees aggregate 5 (the slave's aggregate) and the
         // slave's neighbours; aggregate 5's probe reaches aggregate 0 through the master.
-        let c = Colouring::new(&g, &agg_of, 6, &Ties::from_pairs(12, vec![(11, 0)]));
+        let c = Colouring::new(&g, &agg_of, 6, &Ties::from_pairs(vec![(11, 0)]));
         assert!(c.seen(0).iter().any(|&(_, j)| j == 5));
         assert!(c.seen(5).iter().any(|&(_, j)| j == 0));
     }
@@ -473,7 +524,7 @@ mod tests {
             ],
         ];
         for pairs in tie_sets {
-            let ties = Ties::from_pairs(n, pairs);
+            let ties = Ties::from_pairs(pairs);
             let (ptr, reach) = reach_of(&graph, &agg_of, na, &ties);
             let whole = sorted(&ptr, &reach);
             for parts in 1..=3usize {
@@ -482,7 +533,14 @@ mod tests {
                 let mut all = Vec::new();
                 for r in 0..parts {
                     let mesh = LocalMesh::new(&g, &d, r);
-                    all.extend(reach_pairs(&mesh, &agg_of, na, &ties));
+                    let local: Vec<u32> = mesh
+                        .node_global
+                        .iter()
+                        .map(|&a| agg_of[a as usize])
+                        .collect();
+                    let masters = ties.master_nodes().map(|m| (m, agg_of[m as usize]));
+                    let aggs = NodeAggregates::new(&local, masters.collect());
+                    all.extend(reach_pairs(&mesh, &aggs, na, &ties));
                 }
                 let (p2, r2) = reach_from_pairs(na, all);
                 assert_eq!(sorted(&p2, &r2), whole, "{parts} parts");

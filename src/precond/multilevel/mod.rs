@@ -50,7 +50,7 @@ use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
-use colouring::{Colouring, Ties};
+use colouring::{Colouring, NodeAggregates, Ties};
 use cycle::Hierarchy;
 use prolongator::MODES;
 use smoother::{hash_value, Chebyshev, Space};
@@ -179,7 +179,8 @@ impl Multilevel {
     }
 
     /// Measures Kc, builds the coarse levels and the fine smoother (collective; `tmp` a
-    /// scratch vector of the local nodes, as for `apply`).
+    /// scratch vector of the local nodes, as for `apply`: freed while the coarse levels are
+    /// built and given back zeroed).
     #[allow(clippy::too_many_arguments)]
     pub fn setup<C: Comm + ?Sized, O: FineOperator>(
         &mut self,
@@ -189,7 +190,7 @@ impl Multilevel {
         minv: &[Mat3],
         op: &mut O,
         linear: bool,
-        tmp: &mut [Vec3],
+        tmp: &mut Vec<Vec3>,
     ) -> Result<(), O::Error> {
         // The old hierarchy goes first: held through the build, it doubled the peak memory
         // of a rebuild (block on block n = 80: 4761 MiB per rank instead of the estimated
@@ -200,12 +201,14 @@ impl Multilevel {
         let mut phases = [0.0f64; 4];
         let mut lap =
             |i: usize| phases[i] = clock.elapsed().as_secs_f64() - phases.iter().sum::<f64>();
-        let agg_of = &self.transfer.agg_of;
-        let ties = Ties::gather(comm, cons, mesh, agg_of.len());
+        let ties = Ties::gather(comm, cons, mesh);
+        let local = self.transfer.aggregates.of_local_nodes();
+        let aggs = NodeAggregates::gather(comm, mesh, local, &ties);
         let na = self.transfer.num_aggregates;
         // Each rank finds what its owned nodes reach in its local mesh; the colouring of the
         // gathered sets is every rank's (`colouring::reach_of_ranks`).
-        let col = Colouring::of_ranks(comm, mesh, agg_of, na, &ties);
+        let col = Colouring::of_ranks(comm, mesh, &aggs, na, &ties);
+        drop(aggs);
         lap(0);
         self.f.ensure_probes(mesh.num_nodes());
         let buf = measure::Probe {
@@ -230,6 +233,8 @@ impl Multilevel {
         let num_colours = col.num_colours;
         drop((col, ties));
         self.f = FineVectors::none();
+        let tmp_len = tmp.len();
+        *tmp = Vec::new();
         let b = self.transfer.nullspace(&self.origin, self.length);
         let body = self.transfer.body.clone();
         let mut h = first::build(comm, kc, held, na, b, body, COARSE_DEGREE, COARSE_SWEEPS);
@@ -247,6 +252,7 @@ impl Multilevel {
             h.finish(&mut cycle::Whole, 0, self.transfer.dim(), |own| own);
         }
         lap(2);
+        *tmp = vec![[0.0; 3]; tmp_len];
         self.f.ensure(mesh.num_nodes());
         self.fine = None;
         if self.degree > 0 && linear {

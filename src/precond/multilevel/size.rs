@@ -60,7 +60,7 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
     }
     let (agg_of, na) = fine_aggregates(mesh);
     let graph = Graph::of_mesh(mesh);
-    let (reach_ptr, reach) = reach_of(&graph, &agg_of, na, &Ties::from_pairs(n, Vec::new()));
+    let (reach_ptr, reach) = reach_of(&graph, &agg_of, na, &Ties::from_pairs(Vec::new()));
     drop(graph);
     let live = live_modes(mesh, fixed, &agg_of, na);
     let mut entries = 0u64;

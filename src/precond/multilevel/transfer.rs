@@ -25,10 +25,8 @@ pub const SINGLETON_NODES: usize = 300;
 
 pub struct Transfer {
     pub num_aggregates: usize,
-    /// Aggregate of every global node.
-    pub agg_of: Vec<u32>,
-    /// The aggregates (offsets scaled by each aggregate's size, their centres and sizes):
-    /// restriction, prolongation and probes.
+    /// The aggregates (the aggregate of each local node, offsets scaled by each aggregate's
+    /// size, their centres and sizes): restriction, prolongation, probes and colouring.
     pub aggregates: Aggregates,
     /// The body of every aggregate (aggregates follow mesh edges, so never span two).
     pub body: Vec<u32>,
@@ -84,7 +82,6 @@ impl Transfer {
         Transfer {
             body,
             num_aggregates: na,
-            agg_of,
             aggregates,
         }
     }

@@ -86,7 +86,7 @@ fn colour_nodes<C: Comm + ?Sized>(pb: &ModelProblem<C>, n: usize) -> Colouring {
     }
     let graph = Graph::from_edges(n, &edges);
     drop(edges);
-    let ties = Ties::gather(pb.comm, pb.cons, mesh, n);
+    let ties = Ties::gather(pb.comm, pb.cons, mesh);
     let identity: Vec<u32> = (0..n as u32).collect();
     let col = Colouring::new(&graph, &identity, n, &ties);
     drop(graph);

@@ -24,7 +24,7 @@ use super::failure::SolveFailure;
 use super::model::ModelProblem;
 use crate::comm::Comm;
 use crate::math::{dot, Vec3};
-use crate::precond::multilevel::colouring::{Colouring, Ties};
+use crate::precond::multilevel::colouring::{Colouring, NodeAggregates, Ties};
 use crate::precond::multilevel::sparse::Csr;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
 use crate::precond::multilevel::supernodal::Factor;
@@ -291,13 +291,14 @@ pub(super) struct Colours {
 impl Colours {
     /// The colouring for the ties of `pb` (collective: the ties are gathered).
     fn ensure<C: Comm + ?Sized>(&mut self, pb: &ModelProblem<C>, n: usize) -> &Colouring {
-        let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh, n);
+        let ties = Ties::gather(pb.comm, pb.cons, pb.asm.mesh);
         let kept = matches!(&self.last, Some((t, _)) if *t == ties);
         if !kept {
             // Every node its own aggregate: the node graph's colouring, from the ranks'
             // local meshes (`Colouring::of_ranks`).
-            let identity: Vec<u32> = (0..n as u32).collect();
-            let colouring = Colouring::of_ranks(pb.comm, pb.asm.mesh, &identity, n, &ties);
+            let mesh = pb.asm.mesh;
+            let identity = NodeAggregates::gather(pb.comm, mesh, &mesh.node_global, &ties);
+            let colouring = Colouring::of_ranks(pb.comm, mesh, &identity, n, &ties);
             self.last = Some((ties, colouring));
         }
         match &self.last {

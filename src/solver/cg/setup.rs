@@ -182,8 +182,15 @@ impl Cg {
         let mut op = fine_op!(self, pb, u, linear, s);
         let start = std::time::Instant::now();
         self.trace.ml_builds += 1;
+        // z and pu are written before they are read in every iteration (the preconditioned
+        // residual, the expanded direction): freed while the hierarchy is built, its peak
+        // (25 MiB per rank at n = 80 on 2 ranks); q, the cycle's scratch, the build frees
+        // and gives back itself.
+        let nl = self.z.len();
+        self.z = Vec::new();
+        self.pu = Vec::new();
         let q = &mut self.q;
-        ml.setup(
+        let built = ml.setup(
             pb.comm,
             pb.cons,
             pb.asm.mesh,
@@ -191,7 +198,10 @@ impl Cg {
             &mut op,
             linear,
             q,
-        )?;
+        );
+        self.z = vec![[0.0; 3]; nl];
+        self.pu = vec![[0.0; 3]; nl];
+        built?;
         self.rebuild_note = Some(format!(
             "{} (build {}: {why}; {:.3} s)",
             ml.summary,
