@@ -87,12 +87,10 @@ impl Ties {
     /// Every node that is a master of some tie, ascending, once each.
     fn master_nodes(&self) -> impl Iterator<Item = u32> + '_ {
         let mut last = None;
-        self.by_master.iter().filter_map(move |&(m, _)| {
-            (last != Some(m)).then(|| {
-                last = Some(m);
-                m
-            })
-        })
+        self.by_master
+            .iter()
+            .map(|&(m, _)| m)
+            .filter(move |&m| last.replace(m) != Some(m))
     }
 }
 
