@@ -158,7 +158,7 @@ impl Multilevel {
             global_ids: mesh.node_global.clone(),
             owned: mesh.num_owned_nodes,
             coarse: CoarseVectors::new(comm, transfer.num_aggregates),
-            f: FineVectors::new(nl),
+            f: FineVectors::new(nl, degree),
             origin: std::array::from_fn(|i| 0.5 * (lo[i] + hi[i])),
             length: g.bounding_diagonal().max(f64::MIN_POSITIVE),
             builds: 0,
@@ -253,7 +253,7 @@ impl Multilevel {
         }
         lap(2);
         *tmp = vec![[0.0; 3]; tmp_len];
-        self.f.ensure(mesh.num_nodes());
+        self.f.ensure(mesh.num_nodes(), self.degree);
         self.fine = None;
         if self.degree > 0 && linear {
             self.estimate_smoother(comm, minv, op, tmp)?;
@@ -363,13 +363,13 @@ impl Multilevel {
         let (zf, rf) = (z.as_flattened_mut(), v.r.as_flattened_mut());
         let (df, tf) = (v.d.as_flattened_mut(), v.t.as_flattened_mut());
         cheb.smooth(&mut f, rf, zf, df, tf)?;
-        residual(&mut f, r, zf, rf, tf)?;
+        residual(&mut f, r, zf, rf)?;
         self.coarse
             .correct(comm, h, &self.transfer, (cons, owned, x), &v.r, z);
         let (zf, rf) = (z.as_flattened_mut(), v.r.as_flattened_mut());
-        let tf = v.t.as_flattened_mut();
-        residual(&mut f, r, zf, rf, tf)?;
-        cheb.smooth(&mut f, rf, zf, v.d.as_flattened_mut(), tf)
+        residual(&mut f, r, zf, rf)?;
+        let (df, tf) = (v.d.as_flattened_mut(), v.t.as_flattened_mut());
+        cheb.smooth(&mut f, rf, zf, df, tf)
     }
 }
 
@@ -377,34 +377,38 @@ impl Multilevel {
 struct FineVectors {
     r: Vec<Vec3>,
     d: Vec<Vec3>,
+    /// The Chebyshev iteration's product, for a degree of 2 or more only (degree 1 applies
+    /// no operator, and the residual is formed in r).
     t: Vec<Vec3>,
 }
 
 impl FineVectors {
-    fn new(nodes: usize) -> Self {
-        let v = || vec![[0.0; 3]; nodes];
+    /// For `nodes` nodes and a fine smoother of `degree`.
+    fn new(nodes: usize, degree: usize) -> Self {
+        let v = |n: usize| vec![[0.0; 3]; n];
         FineVectors {
-            r: v(),
-            d: v(),
-            t: v(),
+            r: v(nodes),
+            d: v(nodes),
+            t: v(if degree > 1 { nodes } else { 0 }),
         }
     }
 
     fn none() -> Self {
-        FineVectors::new(0)
+        FineVectors::new(0, 0)
     }
 
     /// Allocates those that were freed (outside CG: its iterations allocate nothing).
-    fn ensure(&mut self, nodes: usize) {
-        for v in [&mut self.r, &mut self.d, &mut self.t] {
-            if v.len() != nodes {
-                *v = vec![[0.0; 3]; nodes];
+    fn ensure(&mut self, nodes: usize, degree: usize) {
+        let t = if degree > 1 { nodes } else { 0 };
+        for (v, n) in [(&mut self.r, nodes), (&mut self.d, nodes), (&mut self.t, t)] {
+            if v.len() != n {
+                *v = vec![[0.0; 3]; n];
             }
         }
     }
 
-    /// The two the measurement's probes use, the third freed: while the first coarse
-    /// level's entries arrive (a vector less, 12 MiB per rank at n = 80 on 2 ranks).
+    /// The two the measurement's probes use, the third (if any) freed: while the first
+    /// coarse level's entries arrive.
     fn ensure_probes(&mut self, nodes: usize) {
         for v in [&mut self.r, &mut self.d] {
             if v.len() != nodes {
@@ -467,17 +471,11 @@ impl CoarseVectors {
     }
 }
 
-/// rf = r - A z.
-fn residual<S: Space>(
-    f: &mut S,
-    r: &[Vec3],
-    z: &[f64],
-    rf: &mut [f64],
-    t: &mut [f64],
-) -> Result<(), S::Error> {
-    f.apply(z, t)?;
-    for ((a, b), c) in rf.iter_mut().zip(r.as_flattened()).zip(t.iter()) {
-        *a = b - c;
+/// rf = r - A z (A z formed in rf).
+fn residual<S: Space>(f: &mut S, r: &[Vec3], z: &[f64], rf: &mut [f64]) -> Result<(), S::Error> {
+    f.apply(z, rf)?;
+    for (a, b) in rf.iter_mut().zip(r.as_flattened()) {
+        *a = b - *a;
     }
     Ok(())
 }

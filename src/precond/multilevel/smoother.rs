@@ -78,7 +78,8 @@ impl Chebyshev {
     }
 
     /// x += p(D^-1 A) D^-1 r, the Chebyshev iteration from the residual r (destroyed):
-    /// degree - 1 operator applications. Buffers d and t have the level's length.
+    /// degree - 1 operator applications. Buffer d has the level's length, and so has t
+    /// where the degree is 2 or more (degree 1 does not touch it).
     pub fn smooth<S: Space>(
         &self,
         s: &mut S,
@@ -91,6 +92,7 @@ impl Chebyshev {
         let delta = 0.5 * (self.lmax - self.lmin);
         let sigma = theta / delta;
         let mut rho = 1.0 / sigma;
+        debug_assert!(self.degree < 2 || t.len() == r.len(), "the product's buffer");
         s.inv_diag(r, d);
         d.iter_mut().for_each(|v| *v /= theta);
         for k in 0..self.degree {
