@@ -60,11 +60,11 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations() {
 }
 
 #[test]
-fn auto_keeps_multilevel_on_standby_only_within_the_two_level_range() {
+fn auto_keeps_multilevel_on_standby_within_the_two_level_range_and_takes_it_above() {
     // Under `auto` a mesh of 20000 to 200000 nodes gets two-level with multilevel on standby,
-    // a larger one two-level alone (multilevel is faster there but takes more memory: see
-    // `MULTILEVEL_STANDBY_NODES`); the memory estimate counts the same choice. The block on
-    // block refined by 3 has 59582 nodes, by 6 453962.
+    // a larger one multilevel from the start (see `MULTILEVEL_STANDBY_NODES`); the memory
+    // estimate counts the same choice. The block on block refined by 3 has 59582 nodes, by
+    // 6 453962.
     use solver::comm::SerialComm;
     use solver::mesh::local::LocalMesh;
     use solver::solver::choice::choose_preconditioner;
@@ -78,11 +78,14 @@ fn auto_keeps_multilevel_on_standby_only_within_the_two_level_range() {
         let d = partition::Decomposition::partition(nodes, &p.mesh.elements, 1).unwrap();
         let local = LocalMesh::new(&p.mesh, &d, 0);
         let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, (&local, &p.mesh));
-        assert!(coarse.is_some(), "{note}");
+        assert_eq!(coarse.is_some(), !large, "{note}");
         let standby = multilevel.as_ref().map(|(_, standby)| *standby);
         if large {
-            assert!(note.starts_with("preconditioner: two-level; "), "{note}");
-            assert_eq!(standby, None, "{note}");
+            assert!(
+                note.starts_with("preconditioner: multilevel (453962 nodes, above 200000)"),
+                "{note}"
+            );
+            assert_eq!(standby, Some(false), "{note}");
         } else {
             assert!(
                 note.starts_with("preconditioner: two-level, multilevel from"),
@@ -93,6 +96,10 @@ fn auto_keeps_multilevel_on_standby_only_within_the_two_level_range() {
         let counts = solver::scene::counts::scene_size(scene, factor)
             .unwrap()
             .counts;
-        assert!(counts.two_level && !counts.multilevel, "{counts:?}");
+        assert_eq!(
+            (counts.two_level, counts.multilevel),
+            (!large, large),
+            "{counts:?}"
+        );
     }
 }

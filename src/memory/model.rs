@@ -105,33 +105,31 @@ const FRICTION_PER_NODE: f64 = 8.0 * 24.0;
 /// the cells cut by the bodies' bounds make more (128 at 18522 nodes: 1.5 x 18522 / 216).
 const COARSE_NODES_PER_AGGREGATE: f64 = 216.0 / 1.5;
 const COARSE_MAX_AGGREGATES: f64 = 400.0;
-/// The multilevel hierarchy at the peak of its build, per node of the whole mesh: a part
-/// split over the ranks, the rows of the first coarse operator each rank measures and
-/// keeps (about 34 entries per node, held in 6 x 6 blocks at 8.1 bytes each, a block below
-/// the diagonal read from its transpose where the rank holds that: about half of them;
-/// 409 bytes per node before, when every block was stored, n = 40 on 1 and 2 ranks then
-/// measured 190.5 and 133.8 MiB, now, with the fine vectors the measurement does not use
-/// freed, P in blocks, the measurement storing one block of each symmetric pair and the
-/// fine aggregates' offsets not kept, 170.4 and 119.1 against 182.0 and 126.2 estimated,
-/// n = 80 on 2 ranks 692.8 then and 527.2 now against 711.1: +35%, its peak now in the CG
-/// loops, not the build), a part
-/// every rank holds whole (the aggregates, the first coarse level's vectors and node
-/// blocks, the levels below it), and the smoothed prolongator of the first coarse level
-/// (about 5.5 entries per node at 12 bytes: P^T on one rank; on more, each rank holds its
-/// rows of P and of P^T, `multilevel::prolongation`; 9.08 MB for P^T at n = 40, heaptrack,
-/// part of the whole bytes before). The fine level's work vectors, the elements around every
-/// node and the step's output are not held through the build. How the bytes divide between
-/// the two was calibrated on the block on block with multilevel by name at n = 40 (137842
-/// nodes) on 1 and 2 ranks, 192.4 and 134.4 MiB against the estimated 192.4 and 134.4;
-/// then n = 20 on one rank 60.1 MiB against 51.6 (-14.1%), and n = 80 (1062882 nodes) on 2
-/// ranks 722.8 MiB against 833.3 (+15.3%: the model's per-node bytes outside the hierarchy
-/// count some that the build's peak does not hold, the step's fields among them). With the
-/// earlier calibration (610 and 209 bytes, when the fine vectors, the elements around every
-/// node and whole output fields were held) n = 40 on 1 and 2 ranks peaked at 216.6 and 149.1
-/// MiB and n = 80 on 2 ranks at 854.0; before each rank kept only its rows (1000 bytes per
-/// node on every rank): 71.0, 346.0 and 1575.5 MiB at n = 20, 40 on one rank and n = 80 on 2.
-const MULTILEVEL_SPLIT_PER_NODE: f64 = 330.0;
-const MULTILEVEL_WHOLE_PER_NODE: f64 = 129.0;
+/// The multilevel hierarchy per node of the whole mesh: a part split over the ranks and a
+/// part every rank holds whole, beside the first coarse level's prolongator (below). What
+/// the hierarchy holds through the CG loops, where its runs now peak (the build frees CG's
+/// z, pu and q and the fine level's vectors), counted at n = 80 on 2 ranks (heaptrack's
+/// sizes of 2026-11-30, per node of the mesh): split, the first coarse operator's rows
+/// (135: about 34 entries per node in 6 x 6 blocks, one of each symmetric pair, 8.1 bytes
+/// an entry), the fine smoother's two vectors (48), the fine aggregates' plan (20), the
+/// first coarse level's node-block inverses and vectors (23): 226; whole, the second
+/// coarse level's operator (15), the first coarse level's restricted residual, correction
+/// and gather buffer (5), the levels below (2): 22. Calibrated, the constants are 170 and
+/// 75 (the split's 56 moved to the whole part): the smallest largest error over the block
+/// on block with multilevel by name at n = 20 on 1 and 2 ranks, n = 40 on 1, 2, 3, 8, 16
+/// and n = 80 on 2 (55.3, 49.1, 155.0, 107.5, 91.6, 71.0, 69.1, 483.6 MiB measured; -17.6%
+/// to +18.9%). The whole part stands also for what every rank holds while the run is set
+/// up (the whole mesh, its aggregation, the partition), where runs on many ranks peak
+/// (n = 40 on 16 ranks: 66 MiB at the setup, 47 to 56 through the steps), and the rest of
+/// the model (the rank's share, the whole mesh's part) counts more per node at n = 80 than
+/// it holds: with the counted 226 and 22, n = 40 on 16 ranks would be estimated 28% low,
+/// n = 80 on 2 ranks 14% high. Before each rank kept only its rows of the first coarse
+/// level, the estimate was 1000 bytes per node on every rank (71.0, 346.0 and 1575.5 MiB
+/// at n = 20, 40 on one rank and n = 80 on 2 then); with 330 and 129 (its build's peak,
+/// calibrated when every rank held the whole mesh and the levels' vectors whole) n = 80
+/// on 2 ranks peaked at 527.2 MiB against 711.1 estimated.
+const MULTILEVEL_SPLIT_PER_NODE: f64 = 170.0;
+const MULTILEVEL_WHOLE_PER_NODE: f64 = 75.0;
 const MULTILEVEL_PROLONGATOR_PER_NODE: f64 = 69.0;
 /// The prolongator's rows split over more ranks than one, in full 6 x 6 blocks: 8.1 bytes
 /// per entry instead of 12 (`multilevel::prolongation`).
@@ -141,7 +139,7 @@ const MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE: f64 = MULTILEVEL_PROLONGATOR_PER_N
 /// 6 x 6 blocks it stores (`measure::Blocks`: the diagonal's and one of each symmetric
 /// pair), at least the per-node split above. On a poorly aggregated mesh it is larger:
 /// 8.2 MB on the Hertz example x2 when every block of its 27380 was stored (3.4 nodes per
-/// aggregate; heaptrack), against 2.0 MB at 330 bytes per node.
+/// aggregate; heaptrack), against 2.0 MB at the 330 bytes per node the split part then had.
 const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
 /// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
 /// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by
@@ -366,7 +364,7 @@ mod tests {
                 2.0 * 69.0 * 8.1 / 12.0 / r
             };
             // The same terms summed in another order: equal to rounding.
-            let want = n * (129.0 + p) + n * 330.0 / r;
+            let want = n * (75.0 + p) + n * 170.0 / r;
             assert!((per_node - want).abs() < 1e-12 * want, "{per_node} {want}");
             let few = Counts {
                 coarse_pairs: 1,
@@ -383,7 +381,7 @@ mod tests {
             };
             // The same terms summed in another order: equal to rounding.
             let want =
-                n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
+                n * (75.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             let got = estimate(&poor, ranks).coarse;
             assert!((got - want).abs() < 1e-12 * want, "{got} {want}");
             // Slow but too large to factor: the level whole and its analysis.
@@ -392,7 +390,7 @@ mod tests {
                 ..poor
             };
             let want =
-                n * (129.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+                n * (75.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
             assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
         }
     }

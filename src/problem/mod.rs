@@ -152,12 +152,11 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
 
 /// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
 /// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
-/// one model problem); above this size two-level runs alone, as the memory model assumes.
-/// There multilevel is faster but not leaner: the block on block at n = 80 (1062882 nodes)
-/// on 2 ranks takes 92 CG iterations, 78.7 s and 609.5 MiB per rank with multilevel by
-/// name against 716, 119.0 s and 401.4 MiB with two-level (one after the other on
-/// 2026-11-29; `run/bench --large`, with and without `--preconditioner multilevel`);
-/// `auto` keeps the run that fits in less memory.
+/// one model problem); larger meshes take multilevel from the start, as the memory model
+/// assumes. There it is the faster at less than 1000 bytes per element per rank: the block
+/// on block at n = 80 (1062882 nodes, 1024000 elements) on 2 ranks takes 92 CG
+/// iterations, 88.1 s and 483.6 MiB per rank with multilevel against 716, 136.7 s and
+/// 331.2 MiB with two-level (2026-11-30; `run/bench --large`).
 pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's

@@ -7,7 +7,8 @@ use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
 use crate::problem::{
-    uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
+    uses_full_tangent, Kinematics, Preconditioner, Problem, MULTILEVEL_STANDBY_NODES,
+    NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
 };
 use std::path::Path;
 
@@ -46,13 +47,15 @@ impl SceneSize {
 }
 
 /// Whether the multilevel hierarchy is built: by name, or under `auto` on meshes above the
-/// size it keeps Jacobi on and below the two-level threshold (solver::stepping), unless
-/// the full tangent preconditions instead.
+/// size it keeps Jacobi on and below the two-level range, or above that range
+/// (`solver::choice`), unless the full tangent preconditions instead.
 fn multilevel(p: Preconditioner, nodes: u64, plastic: bool) -> bool {
     match p {
         Preconditioner::Multilevel => true,
         Preconditioner::Auto => {
-            nodes > 300 && nodes < TWO_LEVEL_NODES as u64 && !uses_full_tangent(p, plastic, nodes)
+            let below = nodes > 300 && nodes < TWO_LEVEL_NODES as u64;
+            let above = nodes > MULTILEVEL_STANDBY_NODES as u64;
+            (below || above) && !uses_full_tangent(p, plastic, nodes)
         }
         _ => false,
     }
@@ -63,7 +66,9 @@ fn two_level(p: Preconditioner, nodes: u64) -> bool {
         Preconditioner::TwoLevel => true,
         Preconditioner::Multilevel => false,
         Preconditioner::Jacobi | Preconditioner::Tangent => false,
-        Preconditioner::Auto => nodes >= TWO_LEVEL_NODES as u64,
+        Preconditioner::Auto => {
+            nodes >= TWO_LEVEL_NODES as u64 && nodes <= MULTILEVEL_STANDBY_NODES as u64
+        }
     }
 }
 

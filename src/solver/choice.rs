@@ -10,9 +10,10 @@
 //! - below TWO_LEVEL_NODES: multilevel from the start when a body is held by contact alone
 //!   in some rigid-body motion (its stiffness there comes through the contact patch), else
 //!   block Jacobi with multilevel on standby for a model problem that stalls;
-//! - from TWO_LEVEL_NODES: two-level, with multilevel on standby up to
-//!   MULTILEVEL_STANDBY_NODES; where no coarse space can be built (several bodies in one of
-//!   its cells), multilevel as below TWO_LEVEL_NODES instead of Jacobi alone.
+//! - from TWO_LEVEL_NODES up to MULTILEVEL_STANDBY_NODES: two-level, with multilevel on
+//!   standby; where no coarse space can be built (several bodies in one of its cells),
+//!   multilevel as below TWO_LEVEL_NODES instead of Jacobi alone;
+//! - above MULTILEVEL_STANDBY_NODES: multilevel from the start.
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
@@ -82,8 +83,10 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh
                 small_mesh(comm, problem, mesh)
             } else if nodes < TWO_LEVEL_NODES {
                 medium_mesh(comm, problem, mesh)
-            } else {
+            } else if nodes <= MULTILEVEL_STANDBY_NODES {
                 two_level(comm, problem, mesh, false)
+            } else {
+                large_mesh(comm, mesh, nodes)
             };
             if let Some(Err(why)) = decision {
                 note.push_str(&format!("; not the full tangent: {why}"));
@@ -202,6 +205,16 @@ fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice
     (None, Some((m, false)), note)
 }
 
+/// `auto` above MULTILEVEL_STANDBY_NODES: multilevel from the start (see there).
+fn large_mesh<C: Comm + ?Sized>(comm: &C, mesh: At, nodes: usize) -> Choice {
+    let m = multilevel(comm, mesh);
+    let note = format!(
+        "preconditioner: multilevel ({nodes} nodes, above {MULTILEVEL_STANDBY_NODES}); {}",
+        m.summary
+    );
+    (None, Some((m, false)), note)
+}
+
 /// `auto` below TWO_LEVEL_NODES: multilevel from the start where a body is held by contact
 /// alone in some rigid-body motion, which stalls Jacobi from the first model problem on
 /// (Hertz x2: 791 CG iterations with the switch at 300, 496 with multilevel from the
@@ -228,14 +241,13 @@ fn medium_with(problem: &Problem, m: Multilevel) -> Choice {
     (None, Some((m, true)), note)
 }
 
-/// Two-level, asked for by name or under `auto` from TWO_LEVEL_NODES; under `auto` on
-/// meshes up to MULTILEVEL_STANDBY_NODES with multilevel on standby: a model problem that
+/// Two-level, asked for by name or under `auto` from TWO_LEVEL_NODES up to
+/// MULTILEVEL_STANDBY_NODES, then with multilevel on standby: a model problem that
 /// two-level does not solve in SWITCH_AFTER iterations goes on with multilevel (Hertz x4,
 /// a cylinder held only by contact: no first model problem in 400 s with two-level; 584 CG
 /// iterations in all, 36 s, with multilevel).
 fn two_level<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At, asked: bool) -> Choice {
-    let nodes = problem.mesh.num_nodes();
-    let standby = (!asked && nodes <= MULTILEVEL_STANDBY_NODES).then(|| multilevel(comm, mesh));
+    let standby = (!asked).then(|| multilevel(comm, mesh));
     match CoarseSpace::new(comm, problem, mesh.1, mesh.0) {
         Ok(c) => {
             let note = match &standby {

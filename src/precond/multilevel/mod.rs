@@ -141,7 +141,6 @@ impl Multilevel {
         degree: usize,
     ) -> Self {
         let transfer = Transfer::new(comm, g, mesh);
-        let nl = mesh.num_nodes();
         let dim = transfer.dim();
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
@@ -158,7 +157,7 @@ impl Multilevel {
             global_ids: mesh.node_global.clone(),
             owned: mesh.num_owned_nodes,
             coarse: CoarseVectors::new(comm, transfer.num_aggregates),
-            f: FineVectors::new(nl, degree),
+            f: FineVectors::none(),
             origin: std::array::from_fn(|i| 0.5 * (lo[i] + hi[i])),
             length: g.bounding_diagonal().max(f64::MIN_POSITIVE),
             builds: 0,

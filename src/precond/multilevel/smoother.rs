@@ -92,7 +92,10 @@ impl Chebyshev {
         let delta = 0.5 * (self.lmax - self.lmin);
         let sigma = theta / delta;
         let mut rho = 1.0 / sigma;
-        debug_assert!(self.degree < 2 || t.len() == r.len(), "the product's buffer");
+        debug_assert!(
+            self.degree < 2 || t.len() == r.len(),
+            "the product's buffer"
+        );
         s.inv_diag(r, d);
         d.iter_mut().for_each(|v| *v /= theta);
         for k in 0..self.degree {

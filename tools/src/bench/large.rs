@@ -1,5 +1,6 @@
-//! `--large`: the block on block at about 10^6 elements (n = 80) with the two-level (or,
-//! with `--preconditioner multilevel`, the multilevel) preconditioner, each rank count after a memory check from two pilot sizes. Its section
+//! `--large`: the block on block at about 10^6 elements (n = 80) under `auto` (multilevel
+//! at that size) or the preconditioner named, each rank count after a memory check from two
+//! pilot sizes (multilevel under `auto`: smaller, the pilots would run others). Its section
 //! is merged into the files of an earlier normal run (`report::large`); what it measured is
 //! `results::large`.
 
@@ -18,14 +19,19 @@ use std::time::Instant;
 /// The pilots, the memory check and the large run on `ranks` ranks.
 fn large_run(exe: &Path, dir: &Path, ranks: usize, precond: Precond) -> LargeRun {
     let limits = Limits::timeout(SOLVER_TIMEOUT_S);
+    // `auto` takes multilevel above MULTILEVEL_STANDBY_NODES only: the pilots name it.
+    let pilot_precond = match precond {
+        Precond::Auto => Precond::Multilevel,
+        p => p,
+    };
     eprintln!(
         "bench: large, {ranks} rank(s): pilot runs n = {:?} ({}) for the memory estimate",
         LARGE_PILOT.map(|f| BLOCK_BASE_N * f),
-        precond.label()
+        pilot_precond.label()
     );
     let pilot: Result<Vec<BlockCase>, String> = LARGE_PILOT
         .iter()
-        .map(|&f| block_case(exe, dir, f, ranks, precond, 1, &limits))
+        .map(|&f| block_case(exe, dir, f, ranks, pilot_precond, 1, &limits))
         .collect();
     let available = memory_available().map(|m| m / MIB);
     let estimate =

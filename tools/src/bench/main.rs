@@ -27,10 +27,11 @@
 //! Writes `<out>/results.json` and `<out>/report.md` (default `out/bench`) and prints the
 //! report. Usage: `bench [--quick] [--out DIR]`. Normally started by `run/bench`.
 //!
-//! `bench --large [--ranks 2|1|1,2] [--preconditioner two_level|multilevel] [--out DIR]` runs
-//! only the block on block at n = 80 (about 10^6 elements) with the two-level (or the
-//! multilevel) preconditioner, after a memory estimate from n = 20 and 40 on the same rank
-//! count, and puts it into the same two files as a section
+//! `bench --large [--ranks 2|1|1,2] [--preconditioner auto|two_level|multilevel] [--out DIR]`
+//! runs only the block on block at n = 80 (about 10^6 elements) with the solver's own choice
+//! (`auto`: multilevel at that size) or the preconditioner named, after a memory estimate
+//! from n = 20 and 40 on the same rank count (with multilevel under `auto`), and puts it
+//! into the same two files as a section
 //! of its own (the other sections are left as they are; a later normal run keeps it)
 //! (`large`).
 //!
@@ -111,7 +112,7 @@ const USAGE: &str = concat!(
     "       bench --tet [--quick] [--out DIR]\n",
     "       bench --general [--quick] [--out DIR]\n",
     "  --quick      smaller sizes and fewer repeats (a smoke test, about a minute)\n",
-    "  --large      only the block on block at n = 80 (about 10^6 elements), two-level, after\n",
+    "  --large      only the block on block at n = 80 (about 10^6 elements), after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
     "               its own\n",
     "  --ironing    only the ironing example beside CalculiX: die forces, a picture, in\n",
@@ -140,7 +141,8 @@ const USAGE: &str = concat!(
     "               contact update and its ratio, in <out>/general/\n",
     "  --ranks R,.. rank counts of --large, in order (default 2; 1,2 or 2,1 for both)\n",
     "  --preconditioner P\n",
-    "               two_level (default) or multilevel, for --large (its section replaces an\n",
+    "               auto (default: multilevel there), two_level or multilevel, for --large\n",
+    "               (its section replaces an\n",
     "               earlier one, whichever preconditioner that was)\n",
     "  --out DIR    where results.json and report.md go (default out/bench)",
 );
@@ -204,9 +206,10 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
                 }
             }
             "--preconditioner" => match args.next().as_deref() {
+                Some("auto") => precond = Some(Precond::Auto),
                 Some("two_level") => precond = Some(Precond::TwoLevel),
                 Some("multilevel") => precond = Some(Precond::Multilevel),
-                _ => return Err("--preconditioner needs two_level or multilevel".into()),
+                _ => return Err("--preconditioner needs auto, two_level or multilevel".into()),
             },
             "--out" => match args.next() {
                 Some(d) => out = PathBuf::from(d),
@@ -262,7 +265,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
     } else if large {
         Mode::Large {
             ranks: ranks.unwrap_or(results::large::LARGE_DEFAULT_RANKS.to_vec()),
-            precond: precond.unwrap_or(Precond::TwoLevel),
+            precond: precond.unwrap_or(Precond::Auto),
         }
     } else {
         Mode::Normal { quick }
@@ -327,7 +330,7 @@ mod tests {
             Ok(Some(Args {
                 mode: Mode::Large {
                     ranks: vec![2],
-                    precond: Precond::TwoLevel
+                    precond: Precond::Auto
                 },
                 out: PathBuf::from("out/bench"),
             }))
@@ -337,7 +340,7 @@ mod tests {
             Ok(Some(Args {
                 mode: Mode::Large {
                     ranks: vec![2, 1],
-                    precond: Precond::TwoLevel
+                    precond: Precond::Auto
                 },
                 out: PathBuf::from("out/bench"),
             }))
@@ -432,7 +435,7 @@ mod tests {
         ] {
             assert_eq!(
                 err(bad),
-                "--preconditioner needs two_level or multilevel",
+                "--preconditioner needs auto, two_level or multilevel",
                 "{bad:?}"
             );
         }

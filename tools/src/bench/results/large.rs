@@ -104,6 +104,7 @@ pub fn model_estimate_mib(ranks: usize, precond: Precond) -> Option<f64> {
     let scene = repo_root().join(BLOCK_SCENE);
     let named = match precond {
         Precond::Multilevel => Preconditioner::Multilevel,
+        Precond::Auto => Preconditioner::Auto,
         _ => Preconditioner::TwoLevel,
     };
     let size =
