@@ -169,6 +169,16 @@ struct Args {
 
 /// The command line (without the program name); `Ok(None)` asks for the usage. Arguments
 /// are taken in order: the first that is wrong, or `--help`, decides.
+/// The value of `--preconditioner` (for `--large`).
+fn large_precond(name: Option<&str>) -> Result<Precond, String> {
+    match name {
+        Some("auto") => Ok(Precond::Auto),
+        Some("two_level") => Ok(Precond::TwoLevel),
+        Some("multilevel") => Ok(Precond::Multilevel),
+        _ => Err("--preconditioner needs auto, two_level or multilevel".into()),
+    }
+}
+
 fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, String> {
     let mut quick = false;
     let mut large = false;
@@ -205,12 +215,7 @@ fn parse_args(args: impl IntoIterator<Item = String>) -> Result<Option<Args>, St
                     _ => return Err("--ranks needs rank counts such as 2 or 1,2".into()),
                 }
             }
-            "--preconditioner" => match args.next().as_deref() {
-                Some("auto") => precond = Some(Precond::Auto),
-                Some("two_level") => precond = Some(Precond::TwoLevel),
-                Some("multilevel") => precond = Some(Precond::Multilevel),
-                _ => return Err("--preconditioner needs auto, two_level or multilevel".into()),
-            },
+            "--preconditioner" => precond = Some(large_precond(args.next().as_deref())?),
             "--out" => match args.next() {
                 Some(d) => out = PathBuf::from(d),
                 None => return Err("--out needs a directory".into()),
