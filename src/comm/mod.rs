@@ -38,16 +38,12 @@ fn local_dot_fma(a: &[Vec3], b: &[Vec3], n: usize) -> ExactSum {
     local_dot(a, b, n)
 }
 
-/// The exact sum of the products of the first `n` nodes.
+/// The exact sum of the products of the first `n` nodes (`exact_dot`'s interleaved
+/// accumulators: the same exact sum as one accumulator's, without its chain of stores and
+/// loads on the limbs).
 #[inline(always)]
 fn local_dot(a: &[Vec3], b: &[Vec3], n: usize) -> ExactSum {
-    let mut acc = ExactSum::new();
-    for k in 0..n {
-        acc.add_product(a[k][0], b[k][0]);
-        acc.add_product(a[k][1], b[k][1]);
-        acc.add_product(a[k][2], b[k][2]);
-    }
-    acc
+    exact_sum::exact_dot(a[..n].as_flattened(), b[..n].as_flattened())
 }
 
 /// Rounds an exact local accumulator's global total once.

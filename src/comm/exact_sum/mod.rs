@@ -408,6 +408,7 @@ fn round_magnitude(limbs: &[i64]) -> f64 {
 ///
 /// # Panics
 /// If `a.len() != b.len()`.
+#[inline(always)]
 pub fn exact_dot(a: &[f64], b: &[f64]) -> ExactSum {
     assert_eq!(a.len(), b.len(), "exact_dot: length mismatch");
     let mut lanes: [ExactSum; LANES] = std::array::from_fn(|_| ExactSum::new());

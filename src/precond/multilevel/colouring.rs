@@ -266,6 +266,15 @@ pub(super) fn reach_pairs(
     let mut order: Vec<u32> = (0..owned as u32).collect();
     order.sort_unstable_by_key(|&l| (agg_l[l as usize], l));
     let around = NodeElements::of_connectivity(mesh.num_nodes(), &mesh.elements);
+    // The local nodes tied to masters.
+    let mut slave = vec![false; mesh.num_nodes()];
+    for l in ties
+        .by_slave
+        .iter()
+        .filter_map(|&(s, _)| mesh.local_node(s))
+    {
+        slave[l] = true;
+    }
     let mut mark = vec![u32::MAX; num_aggs];
     let mut pairs = Vec::new();
     let (mut near, mut closed, mut of_b, mut tied_to) =
@@ -276,10 +285,16 @@ pub(super) fn reach_pairs(
         near.clear();
         near.push(l);
         around.each_neighbour(&mesh.elements, l as usize, |c| near.push(c));
-        let tied = ties.masters(b).next().is_some();
+        let tied = slave[l as usize];
         of_b.clear();
         for &c in &near {
-            masters_closure(ties, gid(c as usize), &mut closed);
+            if slave[c as usize] {
+                masters_closure(ties, gid(c as usize), &mut closed);
+            } else {
+                // No masters: the closure is c alone (the search skipped).
+                closed.clear();
+                closed.push(gid(c as usize));
+            }
             for (i, &d) in closed.iter().enumerate() {
                 let k = agg_in(c as usize, i, d);
                 if mark[k as usize] != j {
