@@ -20,7 +20,8 @@ impl ExchangePlan {
     }
 
     /// The plan that brings remote values to this rank: `wanted` lists (global id, slot)
-    /// pairs, `owners` the rank holding each one's value and `local` its index there. Each owner learns what it is asked for. Collective.
+    /// pairs, `owners` the rank holding each one's value and `local` its index there. Each
+    /// owner learns what it is asked for. Collective.
     pub fn fetch<C: Comm + ?Sized>(
         comm: &C,
         wanted: &[(u32, u32)],

@@ -23,7 +23,7 @@ pub struct LocalMesh {
     pub body_kind: Vec<ElementKind>,
     /// Owned node values (local indices) to the ghost copies (local indices) on other ranks.
     pub halo: ExchangePlan,
-    /// The owners of a piece of the global nodes, `OWNER_PIECE` (contact constraints reach
+    /// The owners of a piece of the global nodes (`OwnerPiece`; contact constraints reach
     /// nodes of any rank: `owners` asks the rank that holds a node's piece).
     owners: OwnerPiece,
 }
