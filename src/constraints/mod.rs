@@ -43,8 +43,9 @@ struct Scratch {
 pub struct Constraints {
     /// Owned constrained nodes in dependency order (level, then global id).
     nodes: Vec<NodeRows>,
-    /// Position in `nodes` by local node, usize::MAX when free or not owned.
-    slot: Vec<usize>,
+    /// Position in `nodes` by local node, u32::MAX when free or not owned (4 bytes per
+    /// local node, not 8).
+    slot: Vec<u32>,
     num_rows: usize,
     levels: Vec<Level>,
     /// Force slots received by each node, grouped by node in key order.
@@ -63,7 +64,7 @@ impl Constraints {
     pub fn none(mesh: &LocalMesh) -> Self {
         Constraints {
             nodes: Vec::new(),
-            slot: vec![usize::MAX; mesh.num_nodes()],
+            slot: vec![u32::MAX; mesh.num_nodes()],
             num_rows: 0,
             levels: Vec::new(),
             incoming: Vec::new(),
@@ -99,7 +100,10 @@ impl Constraints {
         let (incoming, free_incoming) = incoming(arrivals, &slot, &mut nodes);
         Ok(Constraints {
             nodes,
-            slot,
+            slot: slot
+                .iter()
+                .map(|&s| if s == usize::MAX { u32::MAX } else { s as u32 })
+                .collect(),
             num_rows,
             levels,
             incoming,
@@ -116,19 +120,19 @@ impl Constraints {
     }
 
     pub fn is_constrained(&self, local: usize) -> bool {
-        self.slot[local] != usize::MAX
+        self.slot[local] != u32::MAX
     }
 
     /// Projector onto the free directions of an owned constrained node.
     pub fn projector(&self, local: usize) -> Option<&Mat3> {
         let s = self.slot[local];
-        (s != usize::MAX).then(|| &self.nodes[s].proj)
+        (s != u32::MAX).then(|| &self.nodes[s as usize].proj)
     }
 
     /// Rows of an owned node with their flat indices.
     pub fn rows(&self, local: usize) -> impl Iterator<Item = (usize, &Row)> {
         let s = self.slot[local];
-        let nr = (s != usize::MAX).then(|| &self.nodes[s]);
+        let nr = (s != u32::MAX).then(|| &self.nodes[s as usize]);
         nr.into_iter().flat_map(|nr| {
             nr.rows
                 .iter()

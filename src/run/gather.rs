@@ -6,9 +6,10 @@ use crate::mesh::local::LocalMesh;
 use std::ops::Range;
 
 /// Rounds of a gather: rank 0 receives the values of one range of global ids at a time, so
-/// that it holds an eighth of the array at a time (written as it comes, `Gather::stream`),
-/// or the whole array and an eighth (`Gather::place`), not the whole twice.
-const ROUNDS: usize = 8;
+/// that it holds a sixteenth of the array at a time (written as it comes,
+/// `Gather::stream`), or the whole array and a sixteenth (`Gather::place`), not the whole
+/// twice.
+const ROUNDS: usize = 16;
 
 /// The ids each round covers (a multiple of the result file's chunk, so that each chunk of
 /// a field written round by round is written once) and the number of rounds.
