@@ -153,10 +153,10 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
 /// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
 /// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
 /// one model problem); larger meshes take multilevel from the start, as the memory model
-/// assumes. There it is the faster at less than 1000 bytes per element per rank: the block
-/// on block at n = 80 (1062882 nodes, 1024000 elements) on 2 ranks takes 92 CG
-/// iterations, 88.1 s and 483.6 MiB per rank with multilevel against 716, 136.7 s and
-/// 331.2 MiB with two-level (2026-11-30; `run/bench --large`).
+/// assumes. There it is the faster, within 1000 bytes per element per rank: the block on
+/// block at n = 80 (1062882 nodes, 1024000 elements) on 2 ranks takes 92 CG iterations,
+/// 79 to 88 s and 479 to 488 MiB per rank with multilevel against 716, 136.7 s and 331.2
+/// MiB with two-level (2026-11-30; `run/bench --large`).
 pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
 
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
