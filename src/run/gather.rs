@@ -175,7 +175,8 @@ mod tests {
             assert!(count <= ROUNDS, "{total}: {count} rounds");
             assert!(count * per >= total && (count == 0 || (count - 1) * per < total));
         }
-        // The 10^6-element block's 1,061,208 nodes: 7 rounds of 5 chunks.
-        assert_eq!(rounds(1_061_208), (5 * chunk, 7));
+        // The 10^6-element block's 1,061,208 nodes: 66326 a sixteenth, 3 chunks a round
+        // (98304 ids), 11 rounds.
+        assert_eq!(rounds(1_061_208), (3 * chunk, 11));
     }
 }
