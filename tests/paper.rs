@@ -162,26 +162,39 @@ fn lookup(profile: &[(f64, f64)], s: f64) -> f64 {
         .expect("station present on the finer mesh")
 }
 
+/// Paper 4.2. With smoothing the node at the V's bottom has the facets' mean normal there;
+/// without it the paper's node flips between the facets, and here, back on the facet it
+/// left, it is held at their shared edge by both (a fold). Both pass the symmetry checks
+/// (1e-10, src/post/verify.rs), and they are the same answer: at the V's bottom the mean
+/// normal and the fold's two rows hold the node at the same point, the other slave nodes
+/// lie on flat faces. The 1e-10 of the largest displacement between them is a hundred
+/// times the solver's tolerance (1e-12, the scenes' own); measured 1.9e-15 at the last step.
 #[test]
 fn normal_smoothing_keeps_the_v_bottom_symmetric() {
-    let (on, _, f) = run_scene("normal_smoothing");
+    let (on, on_state, f) = run_scene("normal_smoothing");
     assert!(f.is_none(), "{f:?}");
     assert_passes(&on);
-    let (off, _, f_off) = run_scene("normal_smoothing_off");
-    // Without smoothing the run must end (converged, or stopped with a diagnosis); it must not
-    // hang: reaching this line is the check, and the diagnosis names the flipping nodes.
+    let (off, off_state, f_off) = run_scene("normal_smoothing_off");
+    assert!(f_off.is_none(), "{f_off:?}");
+    assert_passes(&off);
+    let scale = on_state
+        .displacement
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let diff = on_state
+        .displacement
+        .iter()
+        .zip(&off_state.displacement)
+        .flat_map(|(a, b)| (0..3).map(move |i| (a[i] - b[i]).abs()))
+        .fold(0.0f64, f64::max);
     println!(
-        "contact updates: smoothing on {}, smoothing off {} ({})",
+        "contact updates: smoothing on {}, off {}; max difference {:.1e} of max |u| {scale}",
         reported(&on, "contact updates"),
         reported(&off, "contact updates"),
-        f_off.as_deref().unwrap_or("converged")
+        diff / scale
     );
-    if let Some(msg) = f_off {
-        assert!(
-            msg.contains("15") && msg.contains("16"),
-            "the diagnosis should name nodes 15 and 16: {msg}"
-        );
-    }
+    assert!(diff <= 1e-10 * scale, "{diff:e} of {scale:e}");
 }
 
 #[test]

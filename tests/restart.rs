@@ -57,6 +57,14 @@ fn capture_release_killed_after_step_23_restarts_bitwise() {
 }
 
 #[test]
+fn normal_smoothing_off_killed_after_step_4_restarts_bitwise() {
+    // Nodes 15 and 16 held at the V's bottom edge by both facets (a fold) from the first
+    // step on: the restart state carries the second facet, its normal, the edge and the
+    // two facets' forces (the fold words of contact/codec.rs).
+    killed_and_restarted_is_identical("normal_smoothing_off", 4);
+}
+
+#[test]
 fn overhang_killed_after_step_1_restarts_bitwise() {
     // run/scenes/friction/overhang.toml: six bottom nodes stick beyond the edges of the
     // plate's faces, held at their offsets; the restart state carries the offsets (the

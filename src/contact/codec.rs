@@ -2,7 +2,7 @@
 //! ranks when the state is made whole, and stored in the restart file), and the whole state
 //! for a restart, read back checked against the problem.
 
-use super::active::{Active, ContactState, Mode};
+use super::active::{Active, ContactState, Fold, Mode};
 use super::mortar::Tie;
 use crate::comm::message::{self, Message, Reader, Writer};
 use crate::problem::Discretization;
@@ -14,10 +14,14 @@ use crate::problem::Problem;
 /// reversals; then, for a node beyond its face's edge now or at the step's start, its
 /// offset (3) and the start's (3), marked by the mode's tag plus EXTENDED. A node without
 /// offsets keeps the layout written before offsets were kept, so those files read as
-/// before and their words are unchanged.
+/// before and their words are unchanged. A node held at a fold, or that left a face in
+/// the step, takes FOLD_WORDS more after those: the fold (flag, face, s (2), normal (3),
+/// edge (3), forces (2)) and the face left (flag, face), marked by FOLDED added to the tag.
 const ACTIVE_WORDS: usize = 30;
 const OFFSET_WORDS: usize = 6;
+const FOLD_WORDS: usize = 14;
 const EXTENDED: u32 = 3;
+const FOLDED: u32 = 6;
 
 impl Message for Active {
     fn write(&self, w: &mut Writer<'_>) {
@@ -28,7 +32,8 @@ impl Message for Active {
         w.reals(&self.normal);
         let start_offset = self.start.map_or([0.0; 3], |(_, _, o)| o);
         let extended = self.offset != [0.0; 3] || start_offset != [0.0; 3];
-        let mark = if extended { EXTENDED } else { 0 };
+        let folded = self.fold.is_some() || self.left.is_some();
+        let mark = if extended { EXTENDED } else { 0 } + if folded { FOLDED } else { 0 };
         match self.mode {
             Mode::Free => {
                 w.id(mark);
@@ -68,6 +73,21 @@ impl Message for Active {
             w.reals(&self.offset);
             w.reals(&start_offset);
         }
+        if folded {
+            w.flag(self.fold.is_some());
+            match self.fold {
+                Some(f) => {
+                    w.id(f.face);
+                    w.reals(&f.s);
+                    w.reals(&f.normal);
+                    w.reals(&f.edge);
+                    w.reals(&f.forces);
+                }
+                None => w.pad(11),
+            }
+            w.flag(self.left.is_some());
+            w.id(self.left.unwrap_or(0));
+        }
     }
 
     fn read(r: &mut Reader) -> Option<Self> {
@@ -79,9 +99,13 @@ impl Message for Active {
         let tag = r.id()?;
         let dir = r.reals()?;
         let magnitude = r.real()?;
+        if tag >= 2 * FOLDED {
+            return None;
+        }
+        let folded = tag >= FOLDED;
+        let tag = tag % FOLDED;
         let extended = tag >= EXTENDED;
         let mode = match tag % EXTENDED {
-            _ if tag >= 2 * EXTENDED => return None,
             0 => Mode::Free,
             1 => Mode::Stick,
             _ => Mode::Slip { dir, magnitude },
@@ -102,6 +126,24 @@ impl Message for Active {
             true => (r.reals()?, r.reals()?),
             false => ([0.0; 3], [0.0; 3]),
         };
+        let (fold, left) = match folded {
+            true => {
+                let fold = match r.flag()? {
+                    true => Some(Fold {
+                        face: r.id()?,
+                        s: r.reals()?,
+                        normal: r.reals()?,
+                        edge: r.reals()?,
+                        forces: r.reals()?,
+                    }),
+                    false => r.skip(11).map(|_| None)?,
+                };
+                let has_left = r.flag()?;
+                let left = r.id()?;
+                (fold, has_left.then_some(left))
+            }
+            false => (None, None),
+        };
         Some(Active {
             pair,
             slave,
@@ -116,6 +158,8 @@ impl Message for Active {
             secant,
             start: start.map(|(f, s)| (f, s, start_offset)),
             reversals,
+            fold,
+            left,
         })
     }
 }
@@ -126,7 +170,9 @@ impl ContactState {
     pub fn encode(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let active = message::encode(&self.active);
         debug_assert!(active.len() >= ACTIVE_WORDS * self.active.len());
-        debug_assert!(active.len() <= (ACTIVE_WORDS + OFFSET_WORDS) * self.active.len());
+        debug_assert!(
+            active.len() <= (ACTIVE_WORDS + OFFSET_WORDS + FOLD_WORDS) * self.active.len()
+        );
         (
             active,
             message::encode(&self.released),
@@ -153,6 +199,8 @@ impl ContactState {
                 && (a.slave as usize) < nodes
                 && face_ok(a.pair, a.face)
                 && a.start.is_none_or(|(f, _, _)| face_ok(a.pair, f))
+                && a.fold.is_none_or(|f| face_ok(a.pair, f.face))
+                && a.left.is_none_or(|f| face_ok(a.pair, f))
                 && finite(a)
         };
         let released_ok = |&(s, p): &(u32, usize)| (s as usize) < nodes && p < pairs.len();
@@ -191,7 +239,7 @@ impl ContactState {
 }
 
 fn finite(a: &Active) -> bool {
-    let mut words = Vec::with_capacity(ACTIVE_WORDS + OFFSET_WORDS);
+    let mut words = Vec::with_capacity(ACTIVE_WORDS + OFFSET_WORDS + FOLD_WORDS);
     message::push(&mut words, a);
     words.iter().all(|x| x.is_finite())
 }
@@ -219,6 +267,8 @@ mod tests {
             secant: Some(([1.0, 0.0, 0.0], [0.01, 0.0, 0.0])),
             start: Some((2, [1.0, 0.5], start_offset)),
             reversals: 1,
+            fold: None,
+            left: None,
         }
     }
 
@@ -238,9 +288,35 @@ mod tests {
         let list = [plain, beyond, started, plain];
         let back: Vec<Active> = message::decode(&message::encode(&list)).expect("decodes");
         assert_eq!(back, list);
-        // A mode tag (word 8) beyond the extended ones is not a constraint.
+        // A mode tag (word 8) beyond the extended and folded ones is not a constraint.
         let mut words = message::encode(&[plain]);
-        words[8] = (2 * EXTENDED) as f64;
+        words[8] = (2 * FOLDED) as f64;
         assert!(message::decode::<Active>(&words).is_none());
+    }
+
+    /// A node held at a fold, or that left a face in the step, takes FOLD_WORDS more,
+    /// with or without offsets, and reads back exactly beside plain nodes.
+    #[test]
+    fn folds_and_faces_left_round_trip() {
+        let plain = active([0.0; 3], [0.0; 3]);
+        let mut folded = active([0.0; 3], [0.0; 3]);
+        folded.fold = Some(Fold {
+            face: 4,
+            s: [1.0, -0.5],
+            normal: [0.1, 0.99, 0.0],
+            edge: [0.0, 0.0, 1.0],
+            forces: [2.5, 1.25],
+        });
+        folded.left = Some(4);
+        let mut left = active([-0.02, 0.0, 0.0], [0.0; 3]);
+        left.left = Some(2);
+        assert_eq!(message::encode(&[folded]).len(), ACTIVE_WORDS + FOLD_WORDS);
+        assert_eq!(
+            message::encode(&[left]).len(),
+            ACTIVE_WORDS + OFFSET_WORDS + FOLD_WORDS
+        );
+        let list = [plain, folded, left, plain];
+        let back: Vec<Active> = message::decode(&message::encode(&list)).expect("decodes");
+        assert_eq!(back, list);
     }
 }

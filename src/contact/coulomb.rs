@@ -48,7 +48,7 @@ pub(super) fn step_slip(
     for j in 0..4 {
         d = sub(&d, &scale(&sub(&now[j], &then[j]), w[j]));
     }
-    Some(sub(&d, &scale(&a.normal, dot(&d, &a.normal))))
+    Some(a.along_surface(&d))
 }
 
 /// A sticking node: the onset of slip, or slip `driven` by prescribed motion (see

@@ -4,7 +4,7 @@
 //! `PairKind` (discretisation.rs; node_face/, mortar/). The state is made whole on every
 //! rank after each change.
 
-use super::active::{ContactCounts, ContactState, Mode};
+use super::active::{ContactCounts, ContactState, Mode, FOLD_COMPONENT};
 use super::audit::{self, Finding};
 use super::discretisation::Geometry;
 use super::enforcement::{Enforcement, SetEntry, TieSupport};
@@ -32,6 +32,7 @@ impl Enforcement for ContactState {
             a.secant = None;
             a.start = Some((a.face, a.s, a.offset));
             a.reversals = 0;
+            a.left = None;
         }
     }
 
@@ -96,6 +97,9 @@ impl Enforcement for ContactState {
         for a in self.active.iter_mut() {
             a.normal_force = 0.0;
             a.tangential_force = [0.0; 3];
+            if let Some(f) = a.fold.as_mut() {
+                f.forces = [0.0; 2];
+            }
         }
         let mut seen = vec![false; self.active.len()];
         let mut mine = Vec::new();
@@ -120,28 +124,46 @@ impl Enforcement for ContactState {
                     let act = &mut self.active[constraint];
                     if component == 0 {
                         act.normal_force = m;
+                    } else if component == FOLD_COMPONENT {
+                        if let Some(f) = act.fold.as_mut() {
+                            f.forces[1] = m;
+                        }
                     } else {
                         act.tangential_force = add(&act.tangential_force, &scale(&row.dir, m));
                     }
                 }
             }
         }
+        // A node at a fold: its normal force is the sum of its two faces'.
+        for &k in &mine {
+            let a = &mut self.active[k];
+            if let Some(f) = a.fold.as_mut() {
+                f.forces = f.face_forces(&a.normal, [a.normal_force, f.forces[1]]);
+                a.normal_force = f.forces[0] + f.forces[1];
+            }
+        }
         if comm.size() == 1 {
             return;
         }
-        let forces: Vec<(usize, f64, Vec3)> = mine
+        let forces: Vec<(usize, f64, Vec3, [f64; 2])> = mine
             .iter()
             .map(|&k| {
+                let a = &self.active[k];
                 (
                     k,
-                    self.active[k].normal_force,
-                    self.active[k].tangential_force,
+                    a.normal_force,
+                    a.tangential_force,
+                    a.fold.map_or([0.0; 2], |f| f.forces),
                 )
             })
             .collect();
-        for (k, normal, tangential) in message::all_gather(comm, &forces) {
-            self.active[k].normal_force = normal;
-            self.active[k].tangential_force = tangential;
+        for (k, normal, tangential, folded) in message::all_gather(comm, &forces) {
+            let a = &mut self.active[k];
+            a.normal_force = normal;
+            a.tangential_force = tangential;
+            if let Some(f) = a.fold.as_mut() {
+                f.forces = folded;
+            }
         }
     }
 
@@ -224,6 +246,8 @@ impl Enforcement for ContactState {
         self.active
             .iter()
             .enumerate()
+            // A node at a fold keeps its friction as held: its normal force is two rows'.
+            .filter(|(_, a)| a.fold.is_none())
             .filter_map(|(k, a)| match a.mode {
                 Mode::Slip { dir, magnitude } => Some(super::enforcement::SlipLink {
                     constraint: k,
@@ -281,7 +305,10 @@ impl Enforcement for ContactState {
     fn set(&self) -> Vec<SetEntry> {
         self.active
             .iter()
-            .map(|a| (a.slave, a.pair, a.face, matches!(a.mode, Mode::Stick) as u8))
+            .map(|a| {
+                let mode = matches!(a.mode, Mode::Stick) as u8 + 2 * a.fold.is_some() as u8;
+                (a.slave, a.pair, a.face, mode)
+            })
             .collect()
     }
 
@@ -335,9 +362,14 @@ impl Enforcement for ContactState {
                 |m| m.0,
             );
             let mut dirs = vec![a.normal];
-            if a.mode == Mode::Stick {
-                let (t1, t2) = tangents(&a.normal);
-                dirs.extend([t1, t2]);
+            match (a.fold, a.mode) {
+                (Some(f), Mode::Stick) => dirs.extend([f.normal, f.edge]),
+                (Some(f), _) => dirs.push(f.normal),
+                (None, Mode::Stick) => {
+                    let (t1, t2) = tangents(&a.normal);
+                    dirs.extend([t1, t2]);
+                }
+                (None, _) => {}
             }
             (a.slave, master, dirs)
         };
@@ -348,7 +380,7 @@ impl Enforcement for ContactState {
         let mut out = String::new();
         for a in &self.active {
             out += &format!(
-                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}\n",
+                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}{}\n",
                 a.slave + 1,
                 a.pair,
                 a.face,
@@ -356,7 +388,11 @@ impl Enforcement for ContactState {
                 a.normal,
                 a.mode,
                 a.normal_force,
-                a.tangential_force
+                a.tangential_force,
+                a.fold.map_or(String::new(), |f| format!(
+                    " fold: face {} n {:?} forces {:?}",
+                    f.face, f.normal, f.forces
+                ))
             );
         }
         out + &format!("  released {:?}", self.released())

@@ -57,6 +57,16 @@ pub fn clamp(triangle: bool, s: &[f64; 2]) -> [f64; 2] {
     c
 }
 
+/// Local coordinates of corner `k` of the facet.
+pub fn corner(triangle: bool, k: usize) -> [f64; 2] {
+    match (triangle, k) {
+        (true, 0) => [0.0, 0.0],
+        (true, 1) => [1.0, 0.0],
+        (true, _) => [0.0, 1.0],
+        (false, k) => face::corner(k),
+    }
+}
+
 /// Whether `s` lies beyond the facet's edge by more than `margin`, a fraction of the
 /// facet's extent in local coordinates (which span 2 on a quadrilateral, 1 on a triangle).
 pub fn beyond(triangle: bool, s: &[f64; 2], margin: f64) -> bool {

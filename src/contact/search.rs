@@ -49,6 +49,19 @@ pub struct Interaction {
     pub offset: Vec3,
 }
 
+/// Where a node sits on the edge shared by two master faces (`MasterSurface::fold`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoldPoint {
+    /// Local coordinates of the edge point on the first face, and on the second.
+    pub s: [f64; 2],
+    pub second_s: [f64; 2],
+    /// Each face's unit outward normal there (unsmoothed).
+    pub normal: Vec3,
+    pub second: Vec3,
+    /// The unit direction of the edge.
+    pub edge: Vec3,
+}
+
 /// The master surface of one pair at the current configuration: all of its faces, or on
 /// one rank of many, the faces near the rank's slave nodes.
 pub struct MasterSurface<'a> {
@@ -125,6 +138,11 @@ impl<'a> MasterSurface<'a> {
         };
         surface.node_normals = surface.self_normals();
         surface
+    }
+
+    /// Whether the surface is a self contact's.
+    pub fn is_self(&self) -> bool {
+        self.pair.is_self()
     }
 
     /// Whether the surface holds no face (on this rank): then no slave node finds one.
@@ -315,6 +333,43 @@ impl<'a> MasterSurface<'a> {
             return None;
         }
         self.project_on(k, x).map(|(_, it)| it)
+    }
+
+    /// Where a node at `x` sits on the edge that faces `a` and `b` (indices in the pair,
+    /// both held) share: the edge's point nearest to `x`, with each face's normal there
+    /// and the edge's direction. None when they share no edge, or the point of the edge's
+    /// line nearest to `x` lies beyond the edge's ends by more than `margin` of its length.
+    pub fn fold(&self, a: u32, b: u32, x: &Vec3, margin: f64) -> Option<FoldPoint> {
+        let edge = self.pair.neighbours[a as usize]
+            .iter()
+            .position(|n| n.is_some_and(|(g, _)| g == b))?;
+        let (&ka, &kb) = (self.index.get(&a)?, self.index.get(&b)?);
+        let c = &self.corners[ka as usize];
+        let triangle = facet::is_triangle(c);
+        let next = (edge + 1) % facet::edges(triangle);
+        let e = sub(&c[next], &c[edge]);
+        let length2 = dot(&e, &e);
+        if !(length2 > 0.0) {
+            return None;
+        }
+        let lambda = dot(&sub(x, &c[edge]), &e) / length2;
+        if !(lambda >= -margin && lambda <= 1.0 + margin) {
+            return None;
+        }
+        let lambda = lambda.clamp(0.0, 1.0);
+        let (p, q) = (facet::corner(triangle, edge), facet::corner(triangle, next));
+        let s = [p[0] + lambda * (q[0] - p[0]), p[1] + lambda * (q[1] - p[1])];
+        let xe = interpolate(c, &facet::shape(triangle, &s));
+        let cb = &self.corners[kb as usize];
+        let triangle_b = facet::is_triangle(cb);
+        let second_s = facet::clamp(triangle_b, &closest_point(cb, &xe).0);
+        Some(FoldPoint {
+            s,
+            second_s,
+            normal: normal(self.normal_corners(ka as usize), &s),
+            second: normal(self.normal_corners(kb as usize), &second_s),
+            edge: scale(&e, 1.0 / length2.sqrt()),
+        })
     }
 
     /// The interaction of a slave node at `x` with the nearest face held, however far
@@ -632,6 +687,50 @@ mod tests {
         assert!(surface.overlaps(&x, &[beyond, over]));
         assert!(!surface.overlaps(&x, &[[[-0.125, 0.0, 0.125], [-1.0, 0.0, 0.0]]]));
         assert!(!surface.overlaps(&x, &[[[-0.125, 0.0, 0.125], [0.0, 1.0, 0.0]]]));
+    }
+
+    /// The fold of a V-groove (two faces sloping down at 26.6 degrees to the line x = 0,
+    /// y = 0 along z): a point near the line sits on the edge point at its z, with each
+    /// face's outward normal and the edge's direction; beyond the edge's ends by more than
+    /// the margin, or for faces that share no edge, there is none.
+    #[test]
+    fn a_v_grooves_fold_is_its_bottom_line() {
+        let coords: Vec<Vec3> = vec![
+            [-1.0, 0.5, 0.0],
+            [0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [-1.0, 0.5, 1.0],
+            [1.0, 0.5, 0.0],
+            [1.0, 0.5, 1.0],
+        ];
+        // Face 0's edge 2 (corners 2 -> 3: nodes 2 -> 1) is face 1's edge 0 (nodes 1 -> 2).
+        let pair = ContactPair {
+            name: "groove".into(),
+            master_faces: Arc::new(vec![(0, 2), (1, 2)]),
+            face_nodes: Arc::new(vec![[0, 3, 2, 1], [1, 2, 5, 4]]),
+            neighbours: Arc::new(vec![
+                [None, None, Some((1, 0)), None],
+                [Some((0, 2)), None, None, None],
+            ]),
+            ..dome(1).0
+        };
+        let surface = MasterSurface::new(&pair, |n| coords[n as usize]);
+        let fp = surface
+            .fold(0, 1, &[0.01, -0.02, 0.3], 0.0)
+            .expect("near the bottom line");
+        let c = [coords[0], coords[3], coords[2], coords[1]];
+        let at = interpolate(&c, &facet::shape(false, &fp.s));
+        assert!(norm(&sub(&at, &[0.0, 0.0, 0.3])) < 1e-15, "{at:?}");
+        let r = 1.0 / 1.25f64.sqrt();
+        assert!(norm(&sub(&fp.normal, &[0.5 * r, r, 0.0])) < 1e-15);
+        assert!(norm(&sub(&fp.second, &[-0.5 * r, r, 0.0])) < 1e-15);
+        assert!((dot(&fp.edge, &[0.0, 0.0, 1.0]).abs() - 1.0).abs() < 1e-15);
+        let b = [coords[1], coords[2], coords[5], coords[4]];
+        let on_b = interpolate(&b, &facet::shape(false, &fp.second_s));
+        assert!(norm(&sub(&on_b, &at)) < 1e-15);
+        assert!(surface.fold(0, 1, &[0.0, 0.0, 1.01], 0.005).is_none());
+        assert!(surface.fold(0, 1, &[0.0, 0.0, 1.004], 0.005).is_some());
+        assert!(surface.fold(0, 0, &[0.0, 0.0, 0.5], 0.005).is_none());
     }
 
     /// Normal smoothing on triangles (two sub-triangles meeting at a crease, as across the

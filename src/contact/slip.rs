@@ -40,7 +40,7 @@ pub(super) fn driven_slip(
     }
     // Beyond its face's edge a node is held at its offset from the edge's point.
     let d = sub(&d, &a.offset);
-    let d = sub(&d, &scale(&a.normal, dot(&d, &a.normal)));
+    let d = a.along_surface(&d);
     let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
     (norm(&d) > noise).then_some(d)
 }
@@ -126,6 +126,10 @@ pub(super) fn coulomb_tangent(a: &Active) -> Option<(f64, Mat3)> {
     let Mode::Slip { dir, magnitude } = a.mode else {
         return None;
     };
+    // A node at a fold slides along its edge only: there is no direction across.
+    if a.fold.is_some() {
+        return None;
+    }
     let (_, slip) = a.secant?;
     let length = norm(&slip);
     if !(a.slip_stiffness * length > magnitude) {
@@ -183,7 +187,7 @@ pub(super) fn onset_spring(a: &Active, nodal: &Mat3) -> Option<(f64, Mat3, Vec3)
         return None;
     };
     let (_, slip) = a.secant?;
-    if !(magnitude > 0.0) {
+    if !(magnitude > 0.0) || a.fold.is_some() {
         return None;
     }
     let p = across_direction(&dir, &a.normal)?;
@@ -334,6 +338,9 @@ impl ContactState {
             let Mode::Slip { dir, .. } = a.mode else {
                 continue;
             };
+            if a.fold.is_some() {
+                continue;
+            }
             let Some(l) = mesh.owned_node(a.slave) else {
                 continue;
             };
@@ -422,6 +429,8 @@ mod tests {
             secant: Some(([-3.0, 0.0, 0.0], slip)),
             start: None,
             reversals: 0,
+            fold: None,
+            left: None,
         }
     }
 

@@ -5,7 +5,7 @@
 //! Gap removal happens when the new constraint rows are imposed. The rows of the active
 //! constraints and their master points are here too.
 
-use super::active::{Active, ContactState, Mode};
+use super::active::{Active, ContactState, Mode, FOLD_COMPONENT};
 use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, tensile};
 use super::discretisation::Geometry;
 use super::mortar::Tie;
@@ -22,6 +22,32 @@ use std::collections::HashSet;
 /// its capacity (the capacity's own change between model problems): the reversal of a
 /// slip is judged from then on.
 const SETTLED: f64 = 1e-8;
+
+/// A node at a fold whose row on one face pulls (beyond `force_tol`) while the other's
+/// pushes leaves the pulling face: it stays tied to the other alone, from the edge point,
+/// and slides off the edge onto that face if the model problem takes it there. Returns
+/// whether the fold was let go (a change of the set). Both rows pulling is the node's
+/// release (`tensile`, on the sum).
+fn let_go_of_fold(a: &mut Active, force_tol: f64) -> bool {
+    let Some(f) = a.fold else {
+        return false;
+    };
+    let [first, second] = f.forces;
+    if first.min(second) >= -force_tol || first.max(second) < -force_tol {
+        return false;
+    }
+    a.fold = None;
+    if second < -force_tol {
+        a.normal_force = first;
+    } else {
+        a.left = Some(a.face);
+        a.face = f.face;
+        a.s = f.s;
+        a.normal = f.normal;
+        a.normal_force = second;
+    }
+    true
+}
 
 impl ContactState {
     pub fn released(&self) -> &[(u32, usize)] {
@@ -60,11 +86,19 @@ impl ContactState {
                 }
             }
             let offset = sub(&problem.reference_position(a.slave), &xm);
-            let dirs = if tangents_pass {
-                let (t1, t2) = tangents(&a.normal);
-                vec![(1, t1), (2, t2)]
-            } else {
-                vec![(0, a.normal)]
+            // A node at a fold is tied along both faces' normals, and, sticking, along
+            // their edge.
+            let dirs = match (tangents_pass, a.fold) {
+                (true, Some(f)) => vec![(1, f.edge)],
+                (true, None) => {
+                    let (t1, t2) = tangents(&a.normal);
+                    vec![(1, t1), (2, t2)]
+                }
+                (false, Some(f)) => {
+                    let [d0, d1] = f.row_directions(&a.normal);
+                    vec![(0, d0), (FOLD_COMPONENT, d1)]
+                }
+                (false, None) => vec![(0, a.normal)],
             };
             // A sticking node is held where its tie put it relative to its master point:
             // a mortar tie's offset; a node-to-face tie point is the node's projection,
@@ -83,7 +117,7 @@ impl ContactState {
                         masters: masters.clone(),
                         kind: RowKind::Contact {
                             constraint: k,
-                            component: c as u8,
+                            component: c,
                         },
                     },
                 });
@@ -108,7 +142,8 @@ impl ContactState {
     pub(super) fn release_tensile(&mut self, problem: &Problem, force_tol: f64) -> bool {
         let mut changed = false;
         let mut kept = Vec::with_capacity(self.active.len());
-        for a in self.active.drain(..) {
+        for mut a in self.active.drain(..) {
+            changed |= let_go_of_fold(&mut a, force_tol);
             if tensile(&a, problem.contacts[a.pair].mu, force_tol) {
                 if !self.released.contains(&(a.slave, a.pair)) {
                     self.released.push((a.slave, a.pair));

@@ -169,15 +169,16 @@ pub fn verify(file: &ResultFile) -> Result<Verification, OutputError> {
                 bc_frictionless(file, &mesh, k, &mut v)?;
             }
         }
+        // Without smoothing the paper's node at the V flips between the two facets; here it
+        // is held at their shared edge by both (a fold, docs/contact.md), so the answer is
+        // the same symmetric one and is checked alike.
         "normal_smoothing" | "normal_smoothing_off" => {
             if attrs.exit_status == "completed" {
                 if let Some(k) = last {
-                    smoothing(file, &mesh, k, kind == "normal_smoothing", &mut v)?;
+                    smoothing(file, &mesh, k, &mut v)?;
                 }
-            } else if kind == "normal_smoothing" {
-                v.check("run completed (1 if not)", 1.0, 0.0);
             } else {
-                v.notes.push("without smoothing the run stops with a diagnosed non-convergence (the paper's instability)".into());
+                v.check("run completed (1 if not)", 1.0, 0.0);
             }
         }
         "capture_release" => capture_release(file, &mesh, &step_at, &mut v)?,
@@ -307,7 +308,6 @@ fn smoothing(
     file: &ResultFile,
     mesh: &OutputMesh,
     k: usize,
-    checked: bool,
     v: &mut Verification,
 ) -> Result<(), OutputError> {
     let u = file.displacement(k)?;
@@ -336,20 +336,12 @@ fn smoothing(
             }
         }
     }
-    if checked {
-        v.check("max |u_x| / |u_y| of nodes 15, 16", ratio, 1e-10);
-        v.check(
-            "mirror asymmetry about x = 1, relative to max |u|",
-            sym / umax,
-            1e-10,
-        );
-    } else {
-        v.report("max |u_x| / |u_y| of nodes 15, 16", ratio);
-        v.report(
-            "mirror asymmetry about x = 1, relative to max |u|",
-            sym / umax,
-        );
-    }
+    v.check("max |u_x| / |u_y| of nodes 15, 16", ratio, 1e-10);
+    v.check(
+        "mirror asymmetry about x = 1, relative to max |u|",
+        sym / umax,
+        1e-10,
+    );
     Ok(())
 }
 

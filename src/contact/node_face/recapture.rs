@@ -20,6 +20,7 @@ pub(super) fn recapture(state: &mut ContactState, problem: &Problem, findings: &
             a.face = it.face;
             a.s = it.s;
             a.normal = it.normal;
+            a.fold = None;
             continue;
         }
         state.active.push(Active {
@@ -40,6 +41,8 @@ pub(super) fn recapture(state: &mut ContactState, problem: &Problem, findings: &
             secant: None,
             start: None,
             reversals: 0,
+            fold: None,
+            left: None,
         });
     }
     state.active.sort_by_key(|a| (a.slave, a.pair));

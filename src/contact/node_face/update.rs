@@ -4,7 +4,7 @@
 //! moves or loses its contact point; one not in contact is captured), and the predicted
 //! slide of the slipping nodes at the start of an increment.
 
-use crate::contact::active::{new_active, ContactState, Mode, PENETRATION_NOISE};
+use crate::contact::active::{new_active, ContactState, Fold, Mode, PENETRATION_NOISE};
 use crate::contact::ghost;
 use crate::contact::search::{Interaction, MasterSurface};
 use crate::contact::self_contact::Sides;
@@ -17,6 +17,10 @@ use std::collections::{HashMap, HashSet};
 /// and keep the face: enough to absorb the solver's round-off of a node sliding along an
 /// edge, small enough that the tie point stays within 1e-4 face sizes of the face.
 const EDGE_HYSTERESIS: f64 = 1e-4;
+
+/// Two faces whose normals at their edge differ by less than this (coplanar, to
+/// round-off) make no fold: a node moves between them as on one face.
+const FOLD_NOISE: f64 = 1e-8;
 
 impl ContactState {
     /// Captures the owned slave nodes of the node-to-face pairs not in contact that
@@ -104,6 +108,13 @@ impl ContactState {
                     continue;
                 };
                 let x = ghost::position(mesh, u, l);
+                if let Some(&k) = index.get(&(s, p)) {
+                    match self.follow_fold(k, &surfaces[p], &x) {
+                        Some(true) => continue,
+                        Some(false) => changed = true,
+                        None => {}
+                    }
+                }
                 let current = index.get(&(s, p)).map(|&k| self.active[k].face);
                 let found = current
                     .and_then(|f| surfaces[p].stay_on(f, &x, EDGE_HYSTERESIS))
@@ -112,6 +123,12 @@ impl ContactState {
                 // A self contact keeps one side of a zone (self_contact.rs): a node is not
                 // captured, nor moved, onto a face that breaks it.
                 let admitted = found.is_none_or(|it| sides.admits(problem, p, s, it.face));
+                if let (Some(&k), Some(it), true) = (index.get(&(s, p)), &found, admitted) {
+                    if self.folds(k, it, &surfaces[p], &x) {
+                        changed = true;
+                        continue;
+                    }
+                }
                 match (index.get(&(s, p)), found) {
                     (Some(_), _) if !admitted => {}
                     (Some(&k), found) => {
@@ -146,6 +163,70 @@ impl ContactState {
         changed
     }
 
+    /// A node held at a fold (`Active::fold`) follows the shared edge: Some(true) while
+    /// it stays along the edge (its point and normals move with it, or it sticks), Some(false)
+    /// when it has slid past the edge's end and the fold is let go (a change of the set;
+    /// the search then places it as any node), None for a node not at a fold.
+    fn follow_fold(&mut self, k: usize, surface: &MasterSurface, x: &Vec3) -> Option<bool> {
+        let a = &mut self.active[k];
+        let fold = a.fold?;
+        if a.mode == Mode::Stick {
+            return Some(true);
+        }
+        match surface.fold(a.face, fold.face, x, 0.5 * EDGE_HYSTERESIS) {
+            Some(fp) => {
+                a.s = fp.s;
+                a.normal = fp.normal;
+                a.fold = Some(Fold {
+                    s: fp.second_s,
+                    normal: fp.second,
+                    edge: fp.edge,
+                    ..fold
+                });
+                Some(true)
+            }
+            None => {
+                a.fold = None;
+                a.normal_force = fold.forces[0];
+                Some(false)
+            }
+        }
+    }
+
+    /// Whether contact `k`, found by the search on face `it.face`, is held at a fold from
+    /// now on: a sliding node that moves back onto the face it left in this step, across
+    /// the edge the two share, is pushed by each face onto the other (on one, the rows
+    /// leave it where it penetrates the other; the updates would move it to and fro), so
+    /// it is held on their shared edge by both (`Active::fold`); each face's row is let go
+    /// when its force pulls (`release_tensile`). A node moving to another face notes the
+    /// face it left. Not for a self contact, whose sides are judged by their faces.
+    fn folds(&mut self, k: usize, it: &Interaction, surface: &MasterSurface, x: &Vec3) -> bool {
+        let self_contact = surface.is_self();
+        let a = &mut self.active[k];
+        if it.face == a.face || a.mode == Mode::Stick {
+            return false;
+        }
+        let fold = (a.left == Some(it.face) && !self_contact)
+            .then(|| surface.fold(a.face, it.face, x, 0.5 * EDGE_HYSTERESIS))
+            .flatten()
+            .filter(|fp| norm(&sub(&fp.normal, &fp.second)) > FOLD_NOISE);
+        let Some(fp) = fold else {
+            a.left = Some(a.face);
+            return false;
+        };
+        a.s = fp.s;
+        a.normal = fp.normal;
+        a.offset = [0.0; 3];
+        a.fold = Some(Fold {
+            face: it.face,
+            s: fp.second_s,
+            normal: fp.second,
+            edge: fp.edge,
+            forces: [a.normal_force, 0.0],
+        });
+        true
+    }
+
     /// The slipping nodes this rank owns (node-to-face pairs) move their contact points to
     /// where the search finds them at `u`, the predicted configuration of an increment: the
     /// ties of its first model problem are then those of the predicted slide, not of the
@@ -161,6 +242,7 @@ impl ContactState {
         let sides = Sides::of(self, problem);
         for a in &mut self.active {
             if !matches!(a.mode, Mode::Slip { .. })
+                || a.fold.is_some()
                 || problem.contacts[a.pair].discretization != Discretization::NodeFace
             {
                 continue;

@@ -39,8 +39,7 @@ impl Paper {
         table(&header, &rows)
     }
 
-    /// What the report notes without failing: pictures and figures not drawn, an
-    /// unexpected completion.
+    /// What the report notes without failing: pictures and figures not drawn.
     pub fn warnings(&self, render: &Render) -> Vec<String> {
         let mut warnings = Vec::new();
         if let Some(why) = &render.absent {
@@ -64,15 +63,6 @@ impl Paper {
                     crate::record::read_trim(&logs.join(format!("{fig}.log")))
                 ));
             }
-        }
-        if self.runs.iter().any(|r| r.0 == "normal_smoothing_off")
-            && self.pair("normal_smoothing_off").0.completed()
-        {
-            warnings.push(
-                "normal_smoothing_off completed, though the paper expects it to fail without \
-                 normal smoothing"
-                    .into(),
-            );
         }
         warnings
     }

@@ -2,7 +2,7 @@
 //! error of each scene, the summary table's cells, and what fails the job.
 
 use super::model::{first, Comparison, PaperRun};
-use super::results::{Paper, BASE, DRAWN_EXAMPLES, EXPECTED_FAILURE};
+use super::results::{Paper, BASE, CHECKED_VARIANTS, DRAWN_EXAMPLES};
 use crate::text::{cell, num, number_between};
 
 /// The number of contact updates a cycling diagnosis names (`after N contact updates`).
@@ -76,26 +76,10 @@ impl Paper {
             "bc_interaction_frictionless" => {
                 format!("\\|U_x(0)\\|/d = {}", num(first("|U_x(s = 0)|", &checks)))
             }
-            "normal_smoothing" => format!(
+            "normal_smoothing" | "normal_smoothing_off" => format!(
                 "max \\|u_x\\|/\\|u_y\\| at x = 1: {}",
                 num(first("max |u_x|", &checks))
             ),
-            "normal_smoothing_off" => {
-                let msg = r1.message();
-                let key = "cycles between two states: ";
-                let nodes = msg
-                    .find(key)
-                    .and_then(|i| slave_nodes(&msg[i + key.len()..]));
-                match nodes {
-                    Some(nodes) if !r1.completed() => format!("cycling diagnosed ({nodes})"),
-                    _ => match first("max |u_x|", rep) {
-                        Some(val) => {
-                            format!("max \\|u_x\\|/\\|u_y\\| at x = 1: {}", num(Some(val)))
-                        }
-                        None => "-".into(),
-                    },
-                }
-            }
             "capture_release" => {
                 let errs: Vec<f64> = v
                     .checks
@@ -134,23 +118,6 @@ impl Paper {
 
     pub fn checks_cell(&self, name: &str) -> String {
         let r1 = &self.pair(name).0;
-        if EXPECTED_FAILURE.contains(&name) {
-            if r1.rec.rc_is("1")
-                && r1
-                    .result
-                    .as_deref()
-                    .is_some_and(|r| r.ends_with(".failed.h5"))
-            {
-                return "failed as expected".into();
-            }
-            if r1.completed() {
-                return format!(
-                    "{}/{}; UNEXPECTEDLY completed",
-                    r1.passed(),
-                    r1.checks().len()
-                );
-            }
-        }
         if r1.rec.not_run() {
             return "NOT RUN".into();
         }
@@ -227,23 +194,8 @@ impl Paper {
     fn scene_failures(&self, name: &str, failures: &mut Vec<String>) {
         let (r1, r2) = self.pair(name);
         let verdict2 = self.two_ranks(name);
-        let expected = EXPECTED_FAILURE.contains(&name);
-        if !(verdict2 == "bitwise identical"
-            || (expected
-                && verdict2.starts_with("failed as on 1 rank")
-                && verdict2.ends_with("bitwise identical to 1 rank's")))
-        {
+        if verdict2 != "bitwise identical" {
             failures.push(format!("{name}: 2 ranks: {verdict2}"));
-        }
-        if expected {
-            if !(r1.rec.rc_is("0") || r1.rec.rc_is("1")) {
-                failures.push(format!(
-                    "{name}: the 1-rank run ended with exit {}: {}",
-                    r1.rec.rc.as_deref().unwrap_or("None"),
-                    r1.message()
-                ));
-            }
-            return;
         }
         if !r1.completed() {
             failures.push(format!(
@@ -253,7 +205,7 @@ impl Paper {
         }
         // The base scenes' checks must pass, and so must every mortar variant's (mortar
         // contact passes each test it applies to, the non-matching patch test included).
-        if BASE.contains(&name) || name.ends_with("_mortar") {
+        if BASE.contains(&name) || CHECKED_VARIANTS.contains(&name) || name.ends_with("_mortar") {
             for r in [r1, r2] {
                 verification_failures(name, r, failures);
             }
@@ -323,20 +275,6 @@ fn verification_failures(name: &str, r: &PaperRun, failures: &mut Vec<String>) {
     }
 }
 
-/// `slave node(s) 15, 16` at the start of `text`, as the cycling diagnosis names them.
-fn slave_nodes(text: &str) -> Option<String> {
-    let rest = text.strip_prefix("slave node")?;
-    let rest = rest.strip_prefix('s').unwrap_or(rest);
-    let rest = rest.strip_prefix(' ')?;
-    let list: String = rest
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || *c == ',' || *c == ' ')
-        .collect();
-    let list = list.trim_end_matches([',', ' ']);
-    (!list.is_empty() && list.ends_with(|c: char| c.is_ascii_digit()))
-        .then(|| format!("{}{list}", &text[..text.len() - rest.len()]))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -348,16 +286,6 @@ mod tests {
                    (between master faces)";
         assert_eq!(cycle_updates(msg), Some(4));
         assert_eq!(cycle_updates("no number"), None);
-        let i = msg.find("states: ").unwrap() + 8;
-        assert_eq!(
-            slave_nodes(&msg[i..]).as_deref(),
-            Some("slave nodes 15, 16")
-        );
-        assert_eq!(
-            slave_nodes("slave node 7, then").as_deref(),
-            Some("slave node 7")
-        );
-        assert_eq!(slave_nodes("master faces"), None);
     }
 }
 
