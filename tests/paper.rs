@@ -10,6 +10,8 @@ use solver::scene::parse_scene;
 use solver::scene::refine::refine_scene_text;
 use std::path::PathBuf;
 
+mod common;
+
 fn out_dir() -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paper");
     std::fs::create_dir_all(&d).unwrap();
@@ -177,17 +179,7 @@ fn normal_smoothing_keeps_the_v_bottom_symmetric() {
     let (off, off_state, f_off) = run_scene("normal_smoothing_off");
     assert!(f_off.is_none(), "{f_off:?}");
     assert_passes(&off);
-    let scale = on_state
-        .displacement
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
-    let diff = on_state
-        .displacement
-        .iter()
-        .zip(&off_state.displacement)
-        .flat_map(|(a, b)| (0..3).map(move |i| (a[i] - b[i]).abs()))
-        .fold(0.0f64, f64::max);
+    let (diff, scale) = common::max_displacement_difference(&off_state, &on_state);
     println!(
         "contact updates: smoothing on {}, off {}; max difference {:.1e} of max |u| {scale}",
         reported(&on, "contact updates"),
