@@ -124,14 +124,14 @@ pub(super) fn depths<C: Comm + ?Sized>(
     comm: &C,
     mesh: &LocalMesh,
     nodes: &[NodeRows],
-    remote_global: &[u32],
+    (remote_global, remote_owner): (&[u32], &[usize]),
 ) -> Result<Vec<usize>, CircularDependency> {
     let everything: Vec<(u32, u32)> = remote_global
         .iter()
         .enumerate()
         .map(|(k, &g)| (g, k as u32))
         .collect();
-    let all = mesh.fetch_plan(comm, &everything);
+    let all = ExchangePlan::fetch(comm, &everything, remote_owner, |g| mesh.owned_node(g));
     let mut depth = vec![0usize; nodes.len()];
     let mut own = vec![[-1.0f64]; mesh.num_owned_nodes];
     let mut far = vec![[-1.0f64]; remote_global.len()];
@@ -212,14 +212,15 @@ pub(super) type Key = (u32, u32, u32);
 pub(super) type Arrival = (usize, Key, u32);
 
 /// Per level: the remote masters it reads, and the forces its ties pass on. A force slot
-/// per (node, row, master); a received force gets a slot of its own. Returns the levels,
-/// the number of slots and every force's arrival. Collective.
+/// per (node, row, master); a received force gets a slot of its own. `remote_owner`: the
+/// owner of each remote master (by its index in the node rows' `Src::Remote`). Returns
+/// the levels, the number of slots and every force's arrival. Collective.
 pub(super) fn force_routes<C: Comm + ?Sized>(
     comm: &C,
     mesh: &LocalMesh,
     nodes: &mut [NodeRows],
-    level_of: &[usize],
-    num_levels: usize,
+    (level_of, num_levels): (&[usize], usize),
+    remote_owner: &[usize],
 ) -> (Vec<Level>, usize, Vec<Arrival>) {
     let mut levels = Vec::with_capacity(num_levels);
     let mut num_slots = 0usize;
@@ -231,16 +232,6 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
         // (master node, key of the row entry) to the master's owner.
         let mut push: Vec<Vec<(u32, Key)>> = vec![Vec::new(); comm.size()];
         let mut push_slots: Vec<Vec<u32>> = vec![Vec::new(); comm.size()];
-        // The owners of the level's remote masters, in the order they come below.
-        let remote: Vec<u32> = nodes[start..end]
-            .iter()
-            .flat_map(|nr| nr.rows.iter().zip(&nr.refs))
-            .flat_map(|(row, refs)| row.masters.iter().zip(refs))
-            .filter(|(_, src)| matches!(src, Src::Remote(_)))
-            .map(|(&(m, _), _)| m)
-            .collect();
-        let mut owners = mesh.owners(comm, &remote).into_iter();
-        drop(remote);
         for nr in &mut nodes[start..end] {
             let mut out = Vec::with_capacity(nr.rows.len());
             for (i, (row, refs)) in nr.rows.iter().zip(&nr.refs).enumerate() {
@@ -254,7 +245,7 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
                         Src::Local(l) => arrivals.push((l as usize, key, k)),
                         Src::Remote(q) => {
                             wanted.push((m, q));
-                            let r = owners.next().expect("an owner per remote master");
+                            let r = remote_owner[q as usize];
                             push[r].push((m, key));
                             push_slots[r].push(k);
                         }
@@ -266,7 +257,11 @@ pub(super) fn force_routes<C: Comm + ?Sized>(
         }
         wanted.sort_unstable_by_key(|&(_, q)| q);
         wanted.dedup();
-        let fetch = mesh.fetch_plan(comm, &wanted);
+        let owners: Vec<usize> = wanted
+            .iter()
+            .map(|&(_, q)| remote_owner[q as usize])
+            .collect();
+        let fetch = ExchangePlan::fetch(comm, &wanted, &owners, |g| mesh.owned_node(g));
         let received = message::all_to_all(comm, &push);
         let mut plan = ExchangePlan {
             send: plan::nonempty(push_slots),

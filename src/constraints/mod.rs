@@ -91,12 +91,19 @@ impl Constraints {
         let (nodes, bases, mut slot, dropped) = node_rows(mesh, specs);
         let (nodes, remote_global) = locate_masters(mesh, nodes, &bases);
         let num_remote = remote_global.len();
-        let depth = depths(comm, mesh, &nodes, &remote_global)?;
+        // Each remote master's owner, asked once for the depths and every level's plans.
+        let remote_owner = mesh.owners(comm, &remote_global);
+        let depth = depths(comm, mesh, &nodes, (&remote_global, &remote_owner))?;
         let local_levels = depth.iter().map(|&d| d + 1).max().unwrap_or(0);
         let num_levels = comm::max_f64(comm, local_levels as f64) as usize;
         let (mut nodes, level_of, num_rows) = order_by_level(nodes, &depth, &mut slot);
-        let (levels, num_slots, arrivals) =
-            force_routes(comm, mesh, &mut nodes, &level_of, num_levels);
+        let (levels, num_slots, arrivals) = force_routes(
+            comm,
+            mesh,
+            &mut nodes,
+            (&level_of, num_levels),
+            &remote_owner,
+        );
         let (incoming, free_incoming) = incoming(arrivals, &slot, &mut nodes);
         Ok(Constraints {
             nodes,
