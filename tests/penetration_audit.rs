@@ -93,6 +93,22 @@ fn driven_past_the_search_tolerance(with_mortar: bool) {
     );
 }
 
+/// The same ironing with general contact (run/scenes/general/sliding/ironing_block.toml:
+/// the slab's skin against the die's whole skin, every die face a master face): a slab
+/// node the die's front edge ploughs meets the front face at right angles to its own
+/// surface, which the search does not capture it by (general contact ties a node only to
+/// faces its surface lies over), so the audit must find it inside and tie it back. A node
+/// whose own surface around it is inside the die is not an edge touch, however shallow
+/// (the audit once left such nodes out: the run completed with slab nodes 0.15 inside
+/// the die's front face). No silent loss; a stop is a diagnosis.
+#[test]
+fn general_ironing_never_loses_the_pressed_slab_silently() {
+    let path = repo("run/scenes/general/sliding/ironing_block.toml");
+    let text = std::fs::read_to_string(&path).expect("the scene is in the repository");
+    let says = ["inside the master body", "contact did not settle"];
+    never_lost_silently_with("general ironing_block", text, &says);
+}
+
 /// Runs a scene of run/scenes/sliding/ and checks that contact is never lost silently: every
 /// completed step holds contact (the die is pressed in from the first step on) with no
 /// slave node deeper than the capture tolerance; a run that stops says why, and the

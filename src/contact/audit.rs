@@ -10,7 +10,7 @@ use super::ghost::{self, position};
 use super::search::{Interaction, MasterSurface};
 use crate::comm::{message, Comm};
 use crate::fem::hex8;
-use crate::math::{inverse, matvec, norm, sub, Vec3};
+use crate::math::{add, inverse, matvec, norm, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -136,13 +136,27 @@ pub fn audit<C: Comm + ?Sized>(
     }
     let pairs: Vec<(usize, u32)> = found.iter().map(|&(p, s, _)| (p, s)).collect();
     let surfaces = gather_masters(comm, problem, mesh, u, &pairs);
-    let mut findings: Vec<(Finding, Vec3)> = found
+    let measured: Vec<(Finding, Vec3, bool)> = found
         .into_iter()
         .filter_map(|(p, s, x)| {
             let surface = surfaces[p].as_ref()?;
             let f = measured(problem, surface, p, s, &x)?;
-            (!edge_only(problem, surface, &f, &x)).then_some((f, x))
+            let edge = edge_only(problem, surface, &f, &x);
+            Some((f, x, edge))
         })
+        .collect();
+    // A node that looks like an edge touch but whose own surface around it is inside the
+    // master body too went in, through a face its surface does not lie over (a die's
+    // front face, at right angles to the slab top it ploughs): kept.
+    let beside: Vec<(usize, u32, Vec3)> = (measured.iter())
+        .filter(|m| m.2)
+        .map(|(f, x, _)| (f.pair, f.slave, *x))
+        .collect();
+    let surrounded = surface_inside(comm, problem, mesh, u, &beside);
+    let mut findings: Vec<(Finding, Vec3)> = measured
+        .into_iter()
+        .filter(|(f, _, edge)| !edge || surrounded.binary_search(&(f.pair, f.slave)).is_ok())
+        .map(|(f, x, _)| (f, x))
         .collect();
     // The face a node entered by is named only in what the step does with a node too deep
     // (`too_deep`), so only those are measured against the master bodies' other faces
@@ -173,59 +187,131 @@ fn inside(
     p: usize,
     slaves_p: &BTreeMap<u32, Vec3>,
 ) -> Vec<u32> {
-    let bodies = master_bodies(problem, p);
     if slaves_p.is_empty() {
         return Vec::new();
     }
-    // Only the master elements whose box meets the box of the pair's slave nodes can
-    // hold one (a point of a hexahedron is a convex combination of its corners): the
-    // others are left out of the tree (a whole master body's corners were a step's
-    // largest transient at 10^6 elements).
-    let near = bounding_box_of(slaves_p.values());
-    let mut elements: Vec<usize> = Vec::new();
-    let mut corners: Vec<Vec<Vec3>> = Vec::new();
-    let mut aabbs: Vec<Aabb> = Vec::new();
-    for e in 0..mesh.elements.len() {
-        if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
-            continue;
-        }
-        let x: Vec<Vec3> = mesh
-            .elements
-            .element(e)
-            .iter()
-            .map(|&n| position(mesh, u, n as usize))
-            .collect();
-        let b = bounding_box(&x);
-        if b.intersects(&near) {
-            elements.push(e);
-            corners.push(x);
-            aabbs.push(b);
-        }
-    }
-    if elements.is_empty() {
+    let Some(masters) = MasterElements::near(problem, mesh, u, p, slaves_p.values()) else {
         return Vec::new();
-    }
-    let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
-    let mut found = Vec::new();
-    for (&s, x) in slaves_p.iter() {
-        if tied.binary_search(&(s, p)).is_ok() {
-            continue;
+    };
+    (slaves_p.iter())
+        .filter(|&(&s, x)| tied.binary_search(&(s, p)).is_err() && masters.hold(mesh, s, x))
+        .map(|(&s, _)| s)
+        .collect()
+}
+
+/// The owned elements of a pair's master bodies whose boxes meet the box of some points,
+/// in a tree. Only those can hold one of the points (a point of a hexahedron is a convex
+/// combination of its corners): the others are left out of the tree (a whole master
+/// body's corners were a step's largest transient at 10^6 elements).
+struct MasterElements {
+    elements: Vec<usize>,
+    corners: Vec<Vec<Vec3>>,
+    bvh: Bvh,
+}
+
+impl MasterElements {
+    fn near<'a>(
+        problem: &Problem,
+        mesh: &LocalMesh,
+        u: &[Vec3],
+        p: usize,
+        points: impl Iterator<Item = &'a Vec3>,
+    ) -> Option<MasterElements> {
+        let bodies = master_bodies(problem, p);
+        let near = bounding_box_of(points);
+        let mut elements: Vec<usize> = Vec::new();
+        let mut corners: Vec<Vec<Vec3>> = Vec::new();
+        let mut aabbs: Vec<Aabb> = Vec::new();
+        for e in 0..mesh.elements.len() {
+            if !(mesh.element_owned[e] && bodies.contains(&mesh.element_body[e])) {
+                continue;
+            }
+            let x: Vec<Vec3> = mesh
+                .elements
+                .element(e)
+                .iter()
+                .map(|&n| position(mesh, u, n as usize))
+                .collect();
+            let b = bounding_box(&x);
+            if b.intersects(&near) {
+                elements.push(e);
+                corners.push(x);
+                aabbs.push(b);
+            }
         }
+        if elements.is_empty() {
+            return None;
+        }
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs);
+        Some(MasterElements {
+            elements,
+            corners,
+            bvh,
+        })
+    }
+
+    /// Whether `x` lies inside one of the elements that does not hold node `s`.
+    fn hold(&self, mesh: &LocalMesh, s: u32, x: &Vec3) -> bool {
         let probe = Aabb::new(Point::new(x[0], x[1], x[2]), Point::new(x[0], x[1], x[2]));
-        let inside = bvh.intersect_aabb(&probe).any(|k| {
-            let e = elements[k as usize];
+        let held = self.bvh.intersect_aabb(&probe).any(|k| {
+            let e = self.elements[k as usize];
             let own = mesh
                 .elements
                 .element(e)
                 .iter()
                 .any(|&l| mesh.node_global[l as usize] == s);
-            !own && contains_any(&corners[k as usize], x)
+            !own && contains_any(&self.corners[k as usize], x)
         });
-        if inside {
-            found.push(s);
-        }
+        held
     }
-    found
+}
+
+/// Of the general contact nodes `beside` (pair, slave node, position), found inside a
+/// master body but within the normal tolerance and with no slave area over a master face
+/// (`edge_only`), those with a point of their own surface inside an element of the master
+/// body too: one of the points halfway from the node to the centres of its slave facets
+/// (the reference offsets added to its position, as `MasterSurface::overlaps` takes them).
+/// A node where two bodies meet along an edge has its surface beside the other body, not
+/// in it. Ascending (pair, node); every rank returns the same. Collective when `beside`
+/// is not empty (alike on every rank).
+fn surface_inside<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: &LocalMesh,
+    u: &[Vec3],
+    beside: &[(usize, u32, Vec3)],
+) -> Vec<(usize, u32)> {
+    if beside.is_empty() {
+        return Vec::new();
+    }
+    let mut mine: Vec<(usize, u32)> = Vec::new();
+    for p in 0..problem.contacts.len() {
+        let pair = &problem.contacts[p];
+        let around: Vec<(u32, Vec<Vec3>)> = (beside.iter())
+            .filter(|b| b.0 == p)
+            .filter_map(|&(_, s, x)| {
+                let i = pair.slave_nodes.binary_search(&s).ok()?;
+                let points = pair.tributary(i)?.iter().map(|[d, _]| add(&x, d));
+                Some((s, points.collect()))
+            })
+            .collect();
+        if around.is_empty() {
+            continue;
+        }
+        let points = around.iter().flat_map(|(_, q)| q.iter());
+        let Some(masters) = MasterElements::near(problem, mesh, u, p, points) else {
+            continue;
+        };
+        mine.extend(
+            (around.iter())
+                .filter(|(s, q)| q.iter().any(|x| masters.hold(mesh, *s, x)))
+                .map(|(s, _)| (p, *s)),
+        );
+    }
+    let mut all: Vec<(usize, u32)> = message::all_gather(comm, &mine);
+    all.sort_unstable();
+    all.dedup();
+    all
 }
 
 /// Slave node `s` of pair `p` at `x`, found inside: its depth below the nearest point of
