@@ -136,7 +136,7 @@ pub fn audit<C: Comm + ?Sized>(
     }
     let pairs: Vec<(usize, u32)> = found.iter().map(|&(p, s, _)| (p, s)).collect();
     let surfaces = gather_masters(comm, problem, mesh, u, &pairs);
-    let measured: Vec<(Finding, Vec3, bool)> = found
+    let checked: Vec<(Finding, Vec3, bool)> = found
         .into_iter()
         .filter_map(|(p, s, x)| {
             let surface = surfaces[p].as_ref()?;
@@ -148,12 +148,12 @@ pub fn audit<C: Comm + ?Sized>(
     // A node that looks like an edge touch but whose own surface around it is inside the
     // master body too went in, through a face its surface does not lie over (a die's
     // front face, at right angles to the slab top it ploughs): kept.
-    let beside: Vec<(usize, u32, Vec3)> = (measured.iter())
+    let beside: Vec<(usize, u32, Vec3)> = (checked.iter())
         .filter(|m| m.2)
         .map(|(f, x, _)| (f.pair, f.slave, *x))
         .collect();
     let surrounded = surface_inside(comm, problem, mesh, u, &beside);
-    let mut findings: Vec<(Finding, Vec3)> = measured
+    let mut findings: Vec<(Finding, Vec3)> = checked
         .into_iter()
         .filter(|(f, _, edge)| !edge || surrounded.binary_search(&(f.pair, f.slave)).is_ok())
         .map(|(f, x, _)| (f, x))
