@@ -160,6 +160,9 @@ pub struct ContactState {
     /// Per pair, whether its master nodes are all prescribed (`slip::held_masters`),
     /// found at the first use.
     pub(super) held_masters: Option<Vec<bool>>,
+    /// The directions held at zero at the friction pairs' surface nodes
+    /// (`held::HeldDirections`), found at the first use.
+    pub(super) held_directions: Option<super::held::HeldDirections>,
     /// The turn of each slipping node's friction direction (owned nodes) in the last
     /// update that followed a model problem with its onset spring.
     pub(super) spring_turns: HashMap<(u32, usize), f64>,

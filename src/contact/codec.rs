@@ -231,6 +231,7 @@ impl ContactState {
             onset_springs: Default::default(),
             steady: false,
             held_masters: None,
+            held_directions: None,
             spring_turns: Default::default(),
             newton_turns: Default::default(),
             newton_off: Default::default(),

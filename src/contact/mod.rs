@@ -14,6 +14,7 @@ mod dispatch;
 pub mod enforcement;
 pub mod facet;
 pub mod ghost;
+mod held;
 pub mod mortar;
 mod node_face;
 pub mod project;

@@ -8,20 +8,43 @@
 use super::active::{Active, ContactState, Mode, FOLD_COMPONENT};
 use super::coulomb::{exceeds, judge_slip, judge_stick, newton_applies, tensile};
 use super::discretisation::Geometry;
+use super::held::{across, HeldDirections};
 use super::mortar::Tie;
 use super::project::tangents;
 use super::slip::SLIP_NOISE;
 use crate::comm::{message, Comm};
 use crate::constraints::{Row, RowKind, RowSpec};
-use crate::math::{dot, norm, sub, Vec3};
+use crate::math::{dot, norm, scale, sub, Vec3};
 use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use std::collections::HashSet;
+
+/// A node's measured slip and the slip prescribed motion drives (`slip::driven_slip`).
+type Slips = (Option<Vec3>, Option<Vec3>);
 
 /// Slipping nodes' friction forces count as settled once each is within this fraction of
 /// its capacity (the capacity's own change between model problems): the reversal of a
 /// slip is judged from then on.
 const SETTLED: f64 = 1e-8;
+
+/// A slipping node's friction force across the directions `held` (that it and its master
+/// point both hold at zero): its direction without its parts along them, kept as it
+/// is when it has none across them.
+fn friction_across(a: &mut Active, held: &[Vec3]) {
+    if held.is_empty() {
+        return;
+    }
+    if let Mode::Slip { dir, magnitude } = a.mode {
+        let d = across(held, &dir);
+        let l = norm(&d);
+        if l > 1e-9 {
+            a.mode = Mode::Slip {
+                dir: scale(&d, 1.0 / l),
+                magnitude,
+            };
+        }
+    }
+}
 
 /// A node at a fold whose row on one face pulls (beyond `force_tol`) while the other's
 /// pushes leaves the pulling face: it stays tied to the other alone, from the edge point,
@@ -200,6 +223,10 @@ impl ContactState {
                 ),
             })
             .collect();
+        // Along a direction that the node and its master point both hold at zero there is
+        // no slip (`held`): the slips are measured across it, the friction force set across
+        // it.
+        let (common, slips) = self.across_held(problem, mesh, slips);
         let mut changed = false;
         let mut resticks = Vec::new();
         for (k, a) in self.active.iter_mut().enumerate() {
@@ -207,7 +234,11 @@ impl ContactState {
             let was_slipping = matches!(a.mode, Mode::Slip { .. });
             changed |= match a.mode {
                 Mode::Free => false,
-                Mode::Stick => judge_stick(a, problem, measured, driven, force_tol),
+                Mode::Stick => {
+                    let slips = judge_stick(a, problem, measured, driven, force_tol);
+                    friction_across(a, &common[k]);
+                    slips
+                }
                 Mode::Slip { dir, magnitude } => match measured {
                     Some(slip) => {
                         let pair = &problem.contacts[a.pair];
@@ -223,6 +254,7 @@ impl ContactState {
                             .flatten();
                         let judge = (judge_reversal, applied, spring);
                         let sticks = judge_slip(a, pair, (dir, magnitude), slip, judge, force_tol);
+                        friction_across(a, &common[k]);
                         if let Mode::Slip { dir: new, .. } = a.mode {
                             let turn = norm(&sub(&new, &dir));
                             let last = self.newton_turns.insert(key, turn);
@@ -251,6 +283,49 @@ impl ContactState {
             kind.restick(self, k, mesh, geometry);
         }
         changed
+    }
+
+    /// Per active node, the directions it and its master point both hold at zero (on the
+    /// rank that owns the node; empty elsewhere and for most nodes), and the slips
+    /// `slips` (of `coulomb`) across them: a driven slip no larger than round-off across
+    /// them is none.
+    pub(super) fn across_held(
+        &mut self,
+        problem: &Problem,
+        mesh: &LocalMesh,
+        slips: Vec<Slips>,
+    ) -> (Vec<Vec<Vec3>>, Vec<Slips>) {
+        let held = self
+            .held_directions
+            .take()
+            .unwrap_or_else(|| HeldDirections::of(problem));
+        let common: Vec<Vec<Vec3>> = self
+            .active
+            .iter()
+            .map(|a| {
+                let owned = mesh.owned_node(a.slave).is_some();
+                if a.mode == Mode::Free || !held.holds(a.slave) || !owned {
+                    Vec::new()
+                } else {
+                    held.common(a.slave, &self.masters(problem, a))
+                }
+            })
+            .collect();
+        self.held_directions = Some(held);
+        let slips = slips
+            .into_iter()
+            .zip(&common)
+            .zip(&self.active)
+            .map(|((s, c), a)| {
+                if c.is_empty() {
+                    return s;
+                }
+                let noise = SLIP_NOISE * problem.contacts[a.pair].face_size;
+                let driven = s.1.map(|d| across(c, &d)).filter(|d| norm(d) > noise);
+                (s.0.map(|m| across(c, &m)), driven)
+            })
+            .collect();
+        (common, slips)
     }
 
     pub(super) fn released_set(&self) -> HashSet<(u32, usize)> {
