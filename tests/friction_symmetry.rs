@@ -20,32 +20,13 @@
 
 mod common;
 
-use common::{fresh_dir, repo, solve};
+use common::{fresh_dir, gmsh, solve};
 use solver::scene::load_scene;
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
 const E: f64 = 210000.0;
 const NU: f64 = 0.3;
 const R: f64 = 10.0;
-
-/// Meshes run/tet/sphere_on_block.geo at its defaults with 10-node tetrahedra into `dir`.
-fn sphere_mesh(dir: &Path) -> PathBuf {
-    let mesh = dir.join("sphere_on_block.msh");
-    let out = Command::new("gmsh")
-        .args(["-3", "-order", "2", "-format", "msh41"])
-        .arg(repo("run/tet/sphere_on_block.geo"))
-        .arg("-o")
-        .arg(&mesh)
-        .output()
-        .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
-    assert!(
-        out.status.success(),
-        "gmsh failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    mesh
-}
 
 /// The scene: both bodies of steel, mortar with Coulomb friction, 4 steps.
 fn scene(mesh: &Path) -> String {
@@ -113,7 +94,11 @@ segments = [{{ end = 1.0, steps = 4 }}]
 #[test]
 fn friction_on_symmetry_planes_settles_and_the_sphere_meets_hertz() {
     let dir = fresh_dir("friction_symmetry");
-    let mesh = sphere_mesh(&dir);
+    let mesh = gmsh(
+        "run/tet/sphere_on_block.geo",
+        &["-order", "2"],
+        dir.join("sphere_on_block.msh"),
+    );
     let scene = scene(&mesh);
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene).unwrap();

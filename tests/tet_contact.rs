@@ -9,10 +9,9 @@
 
 mod common;
 
-use common::{fresh_dir, repo, solve};
+use common::{fresh_dir, gmsh, solve};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const E: f64 = 1000.0;
 const NU: f64 = 0.3;
@@ -21,21 +20,12 @@ const P: f64 = 10.0;
 /// Meshes run/tet/stack.geo into `dir/NAME.msh`; `lower_tet` makes the lower cube of
 /// tetrahedra too.
 fn stack_mesh(dir: &Path, lower_tet: bool) -> PathBuf {
-    let out = dir.join(format!("stack_{}.msh", u8::from(lower_tet)));
-    let status = Command::new("gmsh")
-        .args(["-3", "-format", "msh41", "-setnumber", "lower_tet"])
-        .arg(if lower_tet { "1" } else { "0" })
-        .arg(repo("run/tet/stack.geo"))
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
-    assert!(
-        status.status.success(),
-        "gmsh failed: {}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    out
+    let flag = if lower_tet { "1" } else { "0" };
+    gmsh(
+        "run/tet/stack.geo",
+        &["-setnumber", "lower_tet", flag],
+        dir.join(format!("stack_{}.msh", u8::from(lower_tet))),
+    )
 }
 
 /// The stacked cubes' scene with the given master and slave side sets and discretization.

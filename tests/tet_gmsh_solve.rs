@@ -9,28 +9,18 @@
 
 mod common;
 
-use common::{fresh_dir, repo, solve};
+use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Meshes run/tet/cube.geo into `dir/cube_o{order}.msh` with element size `h`.
 fn cube_mesh(dir: &Path, h: f64, order: u32) -> PathBuf {
-    let out = dir.join(format!("cube_o{order}.msh"));
-    let status = Command::new("gmsh")
-        .args(["-3", "-format", "msh41", "-setnumber", "h", &h.to_string()])
-        .args(["-setnumber", "order", &order.to_string()])
-        .arg(repo("run/tet/cube.geo"))
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
-    assert!(
-        status.status.success(),
-        "gmsh failed: {}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    out
+    let (h, order) = (h.to_string(), order.to_string());
+    gmsh(
+        "run/tet/cube.geo",
+        &["-setnumber", "h", &h, "-setnumber", "order", &order],
+        dir.join(format!("cube_o{order}.msh")),
+    )
 }
 
 /// The stretched cube's scene: `material` on the tet10 body, the top moved by `stretch`.

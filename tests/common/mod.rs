@@ -12,7 +12,7 @@ pub mod synthetic;
 pub mod tets;
 
 #[allow(unused_imports)]
-pub use paths::{fresh_dir, paper_scene, repo, solver, stderr_text};
+pub use paths::{fresh_dir, gmsh, paper_scene, repo, solver, stderr_text};
 
 use std::path::PathBuf;
 

@@ -30,6 +30,26 @@ pub fn fresh_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Meshes the repository's `geo` into `out` with the Gmsh that run/setup installs (3-D,
+/// MSH 4.1, then `args`: `-setnumber NAME VALUE`, `-order 2`); panics with Gmsh's message
+/// when it fails.
+pub fn gmsh(geo: &str, args: &[&str], out: PathBuf) -> PathBuf {
+    let run = Command::new("gmsh")
+        .args(["-3", "-format", "msh41"])
+        .args(args)
+        .arg(repo(geo))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
+    assert!(
+        run.status.success(),
+        "gmsh failed on {geo}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    out
+}
+
 /// A command's standard error, trimmed.
 pub fn stderr_text(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).trim().to_string()
