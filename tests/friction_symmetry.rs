@@ -20,7 +20,7 @@
 
 mod common;
 
-use common::{fresh_dir, gmsh, solve};
+use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::Path;
 
@@ -95,7 +95,7 @@ segments = [{{ end = 1.0, steps = 4 }}]
 fn friction_on_symmetry_planes_settles_and_the_sphere_meets_hertz() {
     let dir = fresh_dir("friction_symmetry");
     let mesh = gmsh(
-        "run/tet/sphere_on_block.geo",
+        &repo("run/tet/sphere_on_block.geo"),
         &["-order", "2"],
         dir.join("sphere_on_block.msh"),
     );

@@ -7,15 +7,14 @@
 
 mod common;
 
-use common::fresh_dir;
 use common::hill::{material, p_of_c, sides_and_load, to_sector, ub_of_c, A, B, FRONTS, W};
+use common::{fresh_dir, gmsh};
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;
 use solver::scene::load_scene;
 use solver::solver::Stepper;
 use std::path::Path;
-use std::process::Command;
 
 /// The box [a, b] x [-W, W]^2 meshed by Gmsh (OpenCASCADE) with tetrahedra of size h.
 fn mesh(dir: &Path, h: f64) -> std::path::PathBuf {
@@ -31,20 +30,7 @@ fn mesh(dir: &Path, h: f64) -> std::path::PathBuf {
         ),
     )
     .unwrap();
-    let out = dir.join("sector.msh");
-    let run = Command::new("gmsh")
-        .args(["-3", "-format", "msh41"])
-        .arg(&geo)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
-    assert!(
-        run.status.success(),
-        "gmsh failed: {}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    out
+    gmsh(&geo, &[], dir.join("sector.msh"))
 }
 
 fn scene(msh: &Path, element: &str) -> String {

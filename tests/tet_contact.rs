@@ -9,7 +9,7 @@
 
 mod common;
 
-use common::{fresh_dir, gmsh, solve};
+use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};
 
@@ -22,7 +22,7 @@ const P: f64 = 10.0;
 fn stack_mesh(dir: &Path, lower_tet: bool) -> PathBuf {
     let flag = if lower_tet { "1" } else { "0" };
     gmsh(
-        "run/tet/stack.geo",
+        &repo("run/tet/stack.geo"),
         &["-setnumber", "lower_tet", flag],
         dir.join(format!("stack_{}.msh", u8::from(lower_tet))),
     )

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 fn cube_mesh(dir: &Path, h: f64, order: u32) -> PathBuf {
     let (h, order) = (h.to_string(), order.to_string());
     gmsh(
-        "run/tet/cube.geo",
+        &repo("run/tet/cube.geo"),
         &["-setnumber", "h", &h, "-setnumber", "order", &order],
         dir.join(format!("cube_o{order}.msh")),
     )

@@ -30,21 +30,21 @@ pub fn fresh_dir(name: &str) -> PathBuf {
     d
 }
 
-/// Meshes the repository's `geo` into `out` with the Gmsh that run/setup installs (3-D,
-/// MSH 4.1, then `args`: `-setnumber NAME VALUE`, `-order 2`); panics with Gmsh's message
-/// when it fails.
-pub fn gmsh(geo: &str, args: &[&str], out: PathBuf) -> PathBuf {
+/// Meshes `geo` into `out` with the Gmsh that run/setup installs (3-D, MSH 4.1, then
+/// `args`: `-setnumber NAME VALUE`, `-order 2`); panics with Gmsh's message when it fails.
+pub fn gmsh(geo: &Path, args: &[&str], out: PathBuf) -> PathBuf {
     let run = Command::new("gmsh")
         .args(["-3", "-format", "msh41"])
         .args(args)
-        .arg(repo(geo))
+        .arg(geo)
         .arg("-o")
         .arg(&out)
         .output()
         .unwrap_or_else(|e| panic!("gmsh did not start ({e}): install it with run/setup --gmsh"));
     assert!(
         run.status.success(),
-        "gmsh failed on {geo}: {}",
+        "gmsh failed on {}: {}",
+        geo.display(),
         String::from_utf8_lossy(&run.stderr)
     );
     out
