@@ -12,8 +12,7 @@
 //!   bolt, is pressed into it (prying);
 //! - no slave node ends a step inside the plate by more than the capture tolerance.
 
-mod common;
-
+use crate::common;
 use common::{fresh_dir, repo, run_serial};
 use solver::output::{contact_status, ResultFile};
 use solver::problem::Problem;

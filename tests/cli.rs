@@ -1,8 +1,7 @@
 //! The command line on bad input: a clear message naming the file and the key, a non-zero
 //! exit code, never a panic.
 
-mod common;
-
+use crate::common;
 use common::{bad_scene, solver};
 
 /// Refused with exit code 2 naming the file and each of `needles`.

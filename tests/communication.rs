@@ -5,7 +5,7 @@
 //! message per iteration, each holding three values of every shared node), and takes at
 //! least two global reductions (r.z and p.Ap); a one-rank run sends no message.
 
-mod common;
+use crate::common;
 use common::{fresh_dir, repo};
 use std::process::Command;
 

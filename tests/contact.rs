@@ -12,8 +12,7 @@
 //!   (about 1e2 to 1e3 on these few-element meshes) times the relative residual: < 1e-9,
 //!   asserted at 1e-8.
 
-mod common;
-
+use crate::common;
 use common::stacked::{nodes_at_y, pressure_top, stacked};
 use common::{problem, run_serial, solve};
 use solver::problem::Problem;

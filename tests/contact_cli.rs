@@ -1,8 +1,7 @@
 //! Bad contact input through the command line: `solver check` and `solver run` exit with
 //! code 2 and a message naming the file and the key, never a panic, never a result file.
 
-mod common;
-
+use crate::common;
 use common::bad_scene;
 
 /// Refused with exit code 2 naming the file and each of `needles`.

@@ -8,8 +8,7 @@
 //! force differs from its exact value by at most the condition number of the stiffness
 //! (1e2 to 1e3 on these meshes) times that (see tests/contact.rs): asserted at 1e-8.
 
-mod common;
-
+use crate::common;
 use common::stacked::{nodes_at_y, pressure_top, stacked, TWO_STEPS};
 use common::{fresh_dir, problem, run_serial};
 use solver::output::ResultFile;

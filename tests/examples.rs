@@ -6,8 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
-
+use crate::common;
 use common::repo;
 
 /// The commands of the first fenced block after `heading`: `\` continuations joined, `#`

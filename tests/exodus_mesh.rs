@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{repo, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {

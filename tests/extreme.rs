@@ -4,8 +4,7 @@
 //! clean stop of a load that cannot be carried, and Coulomb friction where it is hardest
 //! (a block dragged across many faces; a slope just steeper than the friction angle).
 
-mod common;
-
+use crate::common;
 use common::{problem, solve};
 use solver::math::{add, norm, Vec3};
 use solver::problem::Problem;

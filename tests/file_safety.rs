@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 use common::{fresh_dir, repo, scenes, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {

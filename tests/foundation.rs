@@ -1,8 +1,7 @@
 //! The foundation's acceptance: exact bar, patch tests, neo-Hookean kernel checks,
 //! volumetric locking, and the scene layer's error messages.
 
-mod common;
-
+use crate::common;
 use common::{problem, solve, Rng};
 use solver::fem::element::{average_cauchy, diagonal_blocks, internal_force};
 use solver::fem::{Formulation, Stabilization};

@@ -15,8 +15,7 @@
 //! residual tolerance: the sum of friction forces is mu N to about 1e-12 of N. Both are
 //! asserted at the acceptance tolerance 1e-8 of the load, well above that round-off.
 
-mod common;
-
+use crate::common;
 use common::{problem, solve};
 use solver::problem::Problem;
 use solver::run::GlobalState;

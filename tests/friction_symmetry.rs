@@ -18,8 +18,7 @@
 //! changing"). Coulomb's law now acts across a direction both surfaces hold at zero
 //! (`contact::held`): measured, the run completes in 12 s (4 steps, no cut-back).
 
-mod common;
-
+use crate::common;
 use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::Path;

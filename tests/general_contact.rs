@@ -2,8 +2,7 @@
 //! are compared with the same scenes' explicit `[[contact]]` pairs (an independent
 //! reference: the pairs are named by hand there, found by the general contact here).
 
-mod common;
-
+use crate::common;
 use common::{max_displacement_difference, repo, run_serial};
 use solver::scene::load_scene;
 

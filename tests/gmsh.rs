@@ -2,8 +2,7 @@
 //! Gmsh mesh, every refusal (exit code 2, a message naming the scene file, the mesh file and
 //! the group or element), and a run of the example scene.
 
-mod common;
-
+use crate::common;
 use common::{bad_scene, repo, run_serial};
 
 use solver::fem::hex8::min_jacobian_ratio;

@@ -5,8 +5,7 @@
 //! meshes written through the output layer, read by `solver post` and by ParaView.
 //! The fixtures are made by tests/fixtures/gmsh/make_tet.
 
-mod common;
-
+use crate::common;
 use common::{bad_scene, repo, solver};
 use solver::fem::ElementKind;
 use solver::math::Vec3;

@@ -11,8 +11,7 @@
 //! leave room for, while node-to-face contact on the same meshes is at +8.1%, 4.9% (x2) and
 //! +6.7%, 4.3% (x4): the node-by-node oscillation the bounds exclude.
 
-mod common;
-
+use crate::common;
 use common::paths::repo;
 use std::process::Command;
 

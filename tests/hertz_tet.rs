@@ -10,8 +10,7 @@
 //! the peak picks up, and meshes of 3432 to 4926 nodes measured +3.4%, +2.6%, +4.6%.
 //! Hertz is itself the half-space, small-strain limit (the block is 20 a deep, 27 a wide).
 
-mod common;
-
+use crate::common;
 use common::paths::{fresh_dir, repo};
 use std::process::Command;
 

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-mod common;
+use crate::common;
 use common::{fresh_dir, paper_scene, restart, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {

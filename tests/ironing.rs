@@ -17,8 +17,7 @@
 //! drag, after the slab ahead of the die has bulged. Half the steady vertical force is the
 //! bound the issue names: a lost contact drops it to zero.
 
-mod common;
-
+use crate::common;
 use common::{fresh_dir, problem, repo, run_serial};
 use solver::output::ResultFile;
 

@@ -5,8 +5,7 @@
 //! load: the run must end with a diagnosed stop that names the plastic body, the last
 //! converged time and the region that flows, under the punch; never an endless solve.
 
-mod common;
-
+use crate::common;
 use common::punch::{self, A, L};
 
 const SY: f64 = 100.0;

@@ -10,8 +10,7 @@
 //! stabilisation by name, takes the incremental one of plastic bodies
 //! (`fem::element::hourglass`) and must give the same deflection.
 
-mod common;
-
+use crate::common;
 const E: f64 = 1000.0;
 const L: f64 = 8.0;
 const H: f64 = 1.0;

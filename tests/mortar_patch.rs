@@ -28,8 +28,7 @@
 //! (`cargo test --release --test mortar_patch -- --nocapture`); the patch test is asserted
 //! for mortar only (node-to-face is known not to pass it on non-matching meshes).
 
-mod common;
-
+use crate::common;
 use std::fmt::Write;
 
 use common::{problem, solve};

@@ -4,8 +4,7 @@
 //! (see run/bench). Rank independence: mpi-tests (block_on_block_multilevel,
 //! cylinder_on_block_multilevel).
 
-mod common;
-
+use crate::common;
 use common::scenes::with_preconditioner;
 use common::{cg_iterations, max_displacement_difference};
 

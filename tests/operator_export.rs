@@ -3,8 +3,7 @@
 //! pseudo-random vector to round-off, is symmetric, and its right-hand side is CG's
 //! starting residual.
 
-mod common;
-
+use crate::common;
 use solver::comm::SerialComm;
 use solver::run::{run, RunOptions};
 use std::path::Path;

@@ -9,8 +9,7 @@ use solver::output::{
 };
 use solver::post;
 
-mod common;
-
+use crate::common;
 use common::synthetic::{
     synthetic_info, synthetic_mesh, synthetic_step, test_dir, write_synthetic,
 };

@@ -8,8 +8,7 @@ use clap::Parser;
 use solver::output::{layout, OutputError, ResultFile, ResultWriter, StepStats};
 use solver::post::{self, PostCommand};
 
-mod common;
-
+use crate::common;
 use common::synthetic::{
     synthetic_info, synthetic_mesh, synthetic_step, test_dir, write_synthetic,
 };

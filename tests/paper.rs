@@ -10,8 +10,7 @@ use solver::scene::parse_scene;
 use solver::scene::refine::refine_scene_text;
 use std::path::PathBuf;
 
-mod common;
-
+use crate::common;
 fn out_dir() -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("paper");
     std::fs::create_dir_all(&d).unwrap();

@@ -11,8 +11,7 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
-mod common;
-
+use crate::common;
 /// A block pressed onto a wider base, then pushed sideways with Coulomb friction: at the
 /// last step every result array is non-zero, nodes stick and slip, and all six stress
 /// components differ (so a reordered tensor would show).

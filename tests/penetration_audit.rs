@@ -14,8 +14,7 @@
 //! the reference force; summed over the 93 nodes at most 1e-9 of it): asserted at 1e-6 of
 //! the contact force, well above that round-off and far below any lost node's share (1/16).
 
-mod common;
-
+use crate::common;
 use common::{problem, repo, run_serial, solve};
 
 #[test]

@@ -3,8 +3,7 @@
 //! and yielded in compression, reloaded in tension, against the closed form of linear
 //! isotropic and of linear kinematic hardening at every step.
 
-mod common;
-
+use crate::common;
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;

@@ -5,8 +5,7 @@
 //! eps_p = (E eps - sigma_y)/(E + K), tau = E (eps - eps_p), lateral logarithmic strain
 //! -nu tau/E - eps_p/2, Cauchy stress tau / J.
 
-mod common;
-
+use crate::common;
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;

@@ -6,8 +6,7 @@
 //! for a rough one); the same punch as a prescribed displacement of the block's top nodes
 //! gives the same curve, and that one is compared with CalculiX.
 
-mod common;
-
+use crate::common;
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;

@@ -1,8 +1,7 @@
 //! Scene keys of `j2_plastic`: a bad value is an error naming the file and the key, with a
 //! non-zero exit from `solver check` and `solver run`; a good plastic scene passes.
 
-mod common;
-
+use crate::common;
 use common::bad_scene;
 
 const GOOD: &str = r#"

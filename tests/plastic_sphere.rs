@@ -2,8 +2,7 @@
 //! the thin sector whose flat sides carry u . n = 0) on hexahedra: a box of n elements along
 //! the radius, mapped onto the sector.
 
-mod common;
-
+use crate::common;
 use common::hill::{material, p_of_c, sides_and_load, to_sector, ub_of_c, A, B, FRONTS, SY};
 use partition::Decomposition;
 use solver::comm::SerialComm;

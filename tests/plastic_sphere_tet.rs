@@ -5,8 +5,7 @@
 //! so the elements follow the spheres. Flat sides carry u . n = 0, the inner sphere the
 //! pressure on its 6-node faces.
 
-mod common;
-
+use crate::common;
 use common::hill::{material, p_of_c, sides_and_load, to_sector, ub_of_c, A, B, FRONTS, W};
 use common::{fresh_dir, gmsh};
 use partition::Decomposition;

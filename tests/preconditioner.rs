@@ -2,8 +2,7 @@
 //! answer is exact), in fewer CG iterations. Iteration counts are deterministic, so they
 //! are compared; times are not (see run/bench).
 
-mod common;
-
+use crate::common;
 use common::scenes::with_preconditioner;
 use common::{cg_iterations, max_displacement_difference};
 

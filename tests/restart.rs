@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 use common::{fresh_dir, paper_scene, repo, restart, solver};
 
 fn dir(name: &str) -> PathBuf {

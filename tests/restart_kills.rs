@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-mod common;
+use crate::common;
 use common::{fresh_dir, restart, scenes, solver, stderr_text};
 
 fn dir(name: &str) -> PathBuf {

@@ -5,8 +5,7 @@
 //! (u_half.toml, an explicit pair against a prescribed block), which involves no self
 //! contact at all.
 
-mod common;
-
+use crate::common;
 use common::bad_scene::expect_error;
 use common::{fresh_dir, repo, run_serial};
 use solver::contact::audit::contains;

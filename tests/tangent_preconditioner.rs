@@ -1,8 +1,7 @@
 //! The full tangent preconditioner (`solver.preconditioner = "tangent"`): the same answers
 //! as the nodal preconditioners, in far fewer CG iterations where a body yields.
 
-mod common;
-
+use crate::common;
 use partition::Decomposition;
 use solver::comm::SerialComm;
 use solver::mesh::local::LocalMesh;

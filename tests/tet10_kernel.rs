@@ -5,8 +5,7 @@
 //! blocks against central differences of the force, the nodal volumes against their closed
 //! form, and a flipped element refused.
 
-mod common;
-
+use crate::common;
 use common::tets::{boundary, distorted_cube};
 use solver::fem::tet10;
 use solver::fem::{ElementFailure, Formulation};

@@ -6,8 +6,7 @@
 //! (The problem comes from a scene of one hexahedral block whose mesh is then replaced;
 //! the scene layer makes hexahedral bodies only until the Gmsh reader takes tetrahedra.)
 
-mod common;
-
+use crate::common;
 use common::tets::{boundary, distorted_cube};
 use solver::fem::ElementKind;
 use solver::material::PlasticState;

@@ -7,8 +7,7 @@
 //! the linear field u = (nu p x / E, nu p y / E, -p z / E), a contact pressure p on the
 //! whole interface and a total contact force p (the interface's area is 1).
 
-mod common;
-
+use crate::common;
 use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};

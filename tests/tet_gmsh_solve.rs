@@ -7,8 +7,7 @@
 //! composite tetrahedron reproduces a linear field exactly on any mesh (its patch test), so
 //! the computed field must be linear in x to the solver's tolerance.
 
-mod common;
-
+use crate::common;
 use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
 use std::path::{Path, PathBuf};

@@ -21,10 +21,17 @@ pub fn paper_scene(name: &str) -> String {
         .to_string()
 }
 
-/// An empty directory `name` under cargo's temporary directory for tests (emptied if an
-/// earlier run left it).
+/// An empty directory `name` under cargo's temporary directory for tests, in a directory
+/// named after the calling test file (the tests of all files run at once in one binary),
+/// emptied if an earlier run left it.
+#[track_caller]
 pub fn fresh_dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let caller = Path::new(std::panic::Location::caller().file());
+    let file = caller
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("tests");
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(file).join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -8,6 +8,7 @@ use solver::output::{
 };
 
 /// A fresh, empty directory for one test.
+#[track_caller]
 pub fn test_dir(name: &str) -> PathBuf {
     super::fresh_dir(&format!("output-tests/{name}"))
 }
