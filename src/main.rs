@@ -429,7 +429,7 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
             return 2;
         }
     }
-    let p = match load_scene_refined(scene, refine) {
+    let mut p = match load_scene_refined(scene, refine) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -437,6 +437,10 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
         }
     };
     println!("{}", solver::problem::summary(&p));
+    let adjusted = solver::contact::adjust::adjust(&mut p);
+    for line in solver::contact::adjust::describe(&p, &adjusted) {
+        println!("{line}");
+    }
     let refused = sized
         .as_ref()
         .is_some_and(|s| solver::preflight::two_level_refused(&p, s));

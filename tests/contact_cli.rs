@@ -164,6 +164,21 @@ fn slave_body_with_a_free_direction_is_not_fully_prescribed() {
 }
 
 #[test]
+fn adjust_outside_zero_to_the_normal_tolerance() {
+    expect_error(
+        "contact_adjust_negative",
+        &with_keys("adjust = -0.001"),
+        &["contact[0].adjust", ">= 0", "-0.001"],
+    );
+    // The default normal tolerance is half the master face size (0.5 here).
+    expect_error(
+        "contact_adjust_beyond",
+        &with_keys("adjust = 0.6"),
+        &["contact[0].adjust", "normal search tolerance"],
+    );
+}
+
+#[test]
 fn capture_tolerance_beyond_normal_tolerance() {
     expect_error(
         "contact_capture_tol",

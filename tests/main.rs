@@ -6,6 +6,7 @@
 
 mod common;
 
+mod adjust;
 mod bracket;
 mod cli;
 mod communication;

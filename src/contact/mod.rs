@@ -5,6 +5,7 @@
 //! the equilibrium query, Coulomb stick/slip).
 
 pub mod active;
+pub mod adjust;
 pub mod area;
 pub mod audit;
 mod codec;

@@ -61,6 +61,9 @@ pub struct ContactPair {
     pub normal_tolerance: f64,
     pub tangential_tolerance: f64,
     pub capture_tolerance: f64,
+    /// Slave nodes within this distance of the master surface in the reference
+    /// configuration are moved onto it before the run (`contact::adjust`); 0: none.
+    pub adjust: f64,
     pub smoothing_width: Option<f64>,
     /// Mean sqrt(area) of the master faces: the length the defaults scale with.
     pub face_size: f64,
@@ -179,6 +182,7 @@ impl ContactPair {
             normal_tolerance,
             tangential_tolerance,
             capture_tolerance,
+            adjust: 0.0,
             smoothing_width,
             face_size,
             secondary: false,

@@ -215,6 +215,9 @@ pub struct ContactDef {
     pub tangential_tolerance: Option<f64>,
     /// A node within this distance outside the master surface is pulled onto it.
     pub capture_tolerance: Option<f64>,
+    /// Slave nodes within this distance of the master surface (inside or outside it) in
+    /// the reference configuration are moved onto it before the run, strain-free.
+    pub adjust: Option<f64>,
     /// Normal smoothing width as a fraction of the face size; absent: no smoothing.
     pub smoothing_width: Option<f64>,
     /// "node_face" (default: each slave node tied to one master point) or "mortar"

@@ -80,7 +80,17 @@ impl Builder {
         let face_size = mean_face_size(mesh, &master_faces);
         let (normal, tangential, capture, smoothing) = self.tolerances(key, c, face_size)?;
         let discretization = self.discretization(key, c)?;
-        Ok(ContactPair::new(
+        let adjust = match c.adjust {
+            None => 0.0,
+            Some(d) if d.is_finite() && d >= 0.0 && d <= normal => d,
+            Some(d) => {
+                return Err(self.err(
+                    format!("{key}.adjust"),
+                    format!("expected a length >= 0 and at most the normal search tolerance ({normal:e}), got {d}"),
+                ))
+            }
+        };
+        let mut pair = ContactPair::new(
             name,
             mesh,
             master_faces,
@@ -92,7 +102,9 @@ impl Builder {
             smoothing,
             face_size,
         )
-        .with_slave_faces(mesh, side_sets[slave].faces.clone(), discretization))
+        .with_slave_faces(mesh, side_sets[slave].faces.clone(), discretization);
+        pair.adjust = adjust;
+        Ok(pair)
     }
 
     /// How the pair's constraints are formed: node-to-face (default) or mortar.

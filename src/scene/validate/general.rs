@@ -335,6 +335,8 @@ pub(super) fn interaction(g: &GeneralContactDef, over: Option<&GeneralPairDef>) 
             g.tangential_tolerance,
         ),
         capture_tolerance: pick(o.and_then(|p| p.capture_tolerance), g.capture_tolerance),
+        // The exterior faces of general contact are not adjusted: `adjust` is a pair's.
+        adjust: None,
         smoothing_width: pick(o.and_then(|p| p.smoothing_width), g.smoothing_width),
         discretization: o
             .and_then(|p| p.discretization.clone())

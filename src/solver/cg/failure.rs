@@ -45,6 +45,9 @@ pub enum SolveFailure {
         /// A boundary face of the master body outside the master surface that is nearer to
         /// the node than the master surface: element (1-based), local face, distance.
         entry: Option<Box<(u64, u8, f64)>>,
+        /// Whether the pair's slave nodes were moved onto the master surface before the
+        /// run (`adjust`): if not, the message names it.
+        adjusted: bool,
     },
 }
 
@@ -81,13 +84,18 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::ContactNotSettled { updates, detail } => {
                 write!(f, "contact did not settle after {updates} contact updates: {detail}")
             }
-            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics, entry } => {
+            SolveFailure::Penetration { node, pair, depth, tolerance, small_kinematics, entry, adjusted } => {
                 write!(
                     f,
                     "slave node {node} of contact '{pair}' is inside the master body by {depth:.3e} (capture tolerance {tolerance:.3e}) and gap removal did not bring it out"
                 )?;
-                if let Some((element, face, distance)) = entry.as_deref() {
-                    write!(f, "; it is nearer ({distance:.3e}) to a face of the master body that is not in the master surface, faces = [[{element}, {face}]]: nothing holds a slave node there, so it entered the body unresisted; add the master body's faces the slave surface can reach (e.g. a die's front face) to the master side set")?;
+                match entry.as_deref() {
+                    Some((element, face, distance)) if *distance <= *tolerance => write!(f, "; it lies on a face of the master body that is not in the master surface, faces = [[{element}, {face}]] (the bodies' faces are coplanar there, as on a symmetry or plane-strain plane)")?,
+                    Some((element, face, distance)) => write!(f, "; it is nearer ({distance:.3e}) to a face of the master body that is not in the master surface, faces = [[{element}, {face}]]: nothing holds a slave node there, so it entered the body unresisted; add the master body's faces the slave surface can reach (e.g. a die's front face) to the master side set")?,
+                    None => {}
+                }
+                if !*adjusted {
+                    write!(f, "; if the two surfaces were meshed apart on one curved shape (a pin in a hole), the master facets cut into the slave body by their sagitta before any load: `adjust = <distance>` in the contact moves the slave nodes onto the master surface before the run, strain-free")?;
                 }
                 if *small_kinematics {
                     write!(f, "; small sliding was exceeded: under kinematics = \"small\" the master faces keep their reference normals, which holds only while the bodies slide and rotate little; kinematics = \"large\" follows the sliding")?;

@@ -299,6 +299,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 entry: f
                     .entry
                     .map(|e| Box::new((e.element as u64 + 1, e.face, e.distance))),
+                adjusted: pair.adjust > 0.0,
             });
         }
         if !deep.is_empty() {
