@@ -17,11 +17,12 @@ use crate::precond::aggregates::modes;
 /// V-cycle is slow (its rate above `cycle::SLOW_RATE`), and it is factored. Measured: the
 /// generated blocks aggregate 25 to 27 nodes each (rate 0.56, not factored); the Hertz
 /// example 3.8 and x2 3.4 (one element thick), its tetrahedral version 6.2, the Gmsh
-/// plate with a hole (hexahedra split from tetrahedra) 10.9 and the bracket (10-node
-/// tetrahedra on a block of hexahedra) 17.4 (rates 0.66 to 0.84, factored). The rate
-/// that decides is known only once the level is built: this is a threshold between the
-/// measured cases, not a bound.
-pub const POOR_AGGREGATE_NODES: f64 = 20.0;
+/// plate with a hole (hexahedra split from tetrahedra) 10.9, the bracket (10-node
+/// tetrahedra on a block of hexahedra) 17.4 and two rings of 10-node tetrahedra
+/// (tests/adjust.rs's, 17064 nodes) 21.0 (rates 0.66 to 0.84, factored). The rate that
+/// decides is known only once the level is built: this is a threshold between the
+/// measured cases, not a bound (it was 20 until the rings, estimated 36% low at 20).
+pub const POOR_AGGREGATE_NODES: f64 = 23.0;
 
 /// What the estimate needs of the first coarse level.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
