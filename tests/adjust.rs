@@ -28,7 +28,20 @@ const A: f64 = 5.0;
 const C: f64 = 7.5;
 const B: f64 = 10.0;
 
-fn scene(mesh: &Path) -> String {
+/// Gmsh's options for the rings' mesh: 10-node tetrahedra of 0.25 (inner) and 0.35 (outer).
+pub const FINE: [&str; 8] = [
+    "-order",
+    "2",
+    "-setnumber",
+    "hi",
+    "0.25",
+    "-setnumber",
+    "ho",
+    "0.35",
+];
+
+/// The scene on the rings' mesh `mesh` (also tests/memory.rs's).
+pub fn scene(mesh: &Path) -> String {
     format!(
         r#"
 name = "rings"
@@ -98,20 +111,7 @@ segments = [{{ end = 1.0, steps = 1 }}]
 #[test]
 fn rings_meshed_apart_meet_lame_once_adjusted() {
     let dir = fresh_dir("rings");
-    let mesh = gmsh(
-        &repo("run/tet/rings.geo"),
-        &[
-            "-order",
-            "2",
-            "-setnumber",
-            "hi",
-            "0.25",
-            "-setnumber",
-            "ho",
-            "0.35",
-        ],
-        dir.join("rings.msh"),
-    );
+    let mesh = gmsh(&repo("run/tet/rings.geo"), &FINE, dir.join("rings.msh"));
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene(&mesh)).unwrap();
     let p = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
