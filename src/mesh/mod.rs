@@ -12,7 +12,6 @@ pub mod sets;
 use crate::fem::kind::ElementKind;
 use crate::math::Vec3;
 pub use connectivity::Connectivity;
-use std::collections::HashMap;
 
 /// A body: a contiguous range of nodes and elements of one kind with one material.
 #[derive(Clone, Debug)]
@@ -117,25 +116,51 @@ impl GlobalMesh {
     }
 
     /// Faces that belong to exactly one element, as (element, local face), in element
-    /// then face order.
+    /// then face order. Two elements share a face when they have its corners; every face
+    /// is listed under its smallest corner node, so only the faces of one node's list are
+    /// compared (a few each) and the lists take one index per face.
     pub fn boundary_faces(&self) -> Vec<(u32, u8)> {
-        let mut count: HashMap<[u32; 4], u32> = HashMap::new();
-        for e in 0..self.elements.len() {
-            let (kind, el) = (self.kind(e), self.elements.element(e));
-            for k in 0..kind.faces() {
-                *count.entry(face_key(kind, el, k)).or_insert(0) += 1;
-            }
+        let n = self.elements.len();
+        let key = |id: u64| {
+            let (e, k) = ((id / MAX_FACES) as usize, (id % MAX_FACES) as usize);
+            face_key(self.kind(e), self.elements.element(e), k)
+        };
+        let ids = || {
+            (0..n).flat_map(move |e| {
+                (0..self.kind(e).faces()).map(move |k| e as u64 * MAX_FACES + k as u64)
+            })
+        };
+        let mut start = vec![0usize; self.coords.len() + 1];
+        for id in ids() {
+            start[key(id)[0] as usize + 1] += 1;
         }
-        let mut out = Vec::new();
-        for e in 0..self.elements.len() {
-            let (kind, el) = (self.kind(e), self.elements.element(e));
-            for k in 0..kind.faces() {
-                if count[&face_key(kind, el, k)] == 1 {
-                    out.push((e as u32, k as u8));
+        for a in 0..self.coords.len() {
+            start[a + 1] += start[a];
+        }
+        let mut listed = vec![0u64; start[self.coords.len()]];
+        let mut next = start.clone();
+        for id in ids() {
+            let a = key(id)[0] as usize;
+            listed[next[a]] = id;
+            next[a] += 1;
+        }
+        drop(next);
+        let mut shared = vec![false; n * MAX_FACES as usize];
+        for a in 0..self.coords.len() {
+            let list = &listed[start[a]..start[a + 1]];
+            for (i, &p) in list.iter().enumerate() {
+                for &q in &list[i + 1..] {
+                    if key(p) == key(q) {
+                        shared[p as usize] = true;
+                        shared[q as usize] = true;
+                    }
                 }
             }
         }
-        out
+        ids()
+            .filter(|&id| !shared[id as usize])
+            .map(|id| ((id / MAX_FACES) as u32, (id % MAX_FACES) as u8))
+            .collect()
     }
 
     /// Global node indices of a face, ordered with an outward normal (the face kind's
@@ -182,6 +207,13 @@ impl GlobalMesh {
 
 /// A face's key: its sorted corner nodes (the same from either element that shares it),
 /// padded for faces of fewer corners.
+/// Faces of an element, at most: a face's index in `boundary_faces` is element x this +
+/// face.
+const MAX_FACES: u64 = {
+    let (hex, tet) = (ElementKind::Hex8.faces(), ElementKind::Tet10.faces());
+    (if hex > tet { hex } else { tet }) as u64
+};
+
 fn face_key(kind: ElementKind, el: &[u32], k: usize) -> [u32; 4] {
     let f = kind.face(k);
     let mut key = [u32::MAX; 4];
