@@ -205,8 +205,6 @@ impl GlobalMesh {
     }
 }
 
-/// A face's key: its sorted corner nodes (the same from either element that shares it),
-/// padded for faces of fewer corners.
 /// Faces of an element, at most: a face's index in `boundary_faces` is element x this +
 /// face.
 const MAX_FACES: u64 = {
@@ -214,6 +212,8 @@ const MAX_FACES: u64 = {
     (if hex > tet { hex } else { tet }) as u64
 };
 
+/// A face's key: its sorted corner nodes (the same from either element that shares it),
+/// padded for faces of fewer corners.
 fn face_key(kind: ElementKind, el: &[u32], k: usize) -> [u32; 4] {
     let f = kind.face(k);
     let mut key = [u32::MAX; 4];
