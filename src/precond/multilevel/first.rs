@@ -188,19 +188,36 @@ pub fn build<C: Comm + ?Sized>(
     if diag.iter().filter(|&&d| d > 0.0).count() <= cycle::COARSEST {
         return whole(blocks.to_csr());
     }
-    let mut view = View::new(&blocks);
-    // Node-block relaxation, the strength graph and the aggregates of the next level.
-    let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
-    let all = gather(comm, &inv);
-    drop(inv);
-    let dinv = BlockInverse::from_inverses(&node_ptr, all);
+    // The strength graph and the aggregates of the next level.
     let ks = first..first + MODES * held.len();
-    let (agg, nc) = next_aggregates(comm, &mut view, ks.clone(), &diag, &node_ptr, &body);
+    let (agg, nc) = next_aggregates(
+        comm,
+        &mut View::new(&blocks),
+        ks.clone(),
+        &diag,
+        &node_ptr,
+        &body,
+    );
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
     let tent = tentative(&agg, nc, &node_ptr, &b);
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }
+    // A level the cycle smooths: its values in f32, raised on the diagonal to stay at
+    // least the measured operator (`BlockRows::round_dominant`), for every use below (the
+    // node blocks, the smoother's bound, P^T A P) and the cycle's products, whose bytes
+    // bound their time on large meshes; on every rank or none.
+    let mut blocks = blocks;
+    let rounding = blocks.rounding(&diag);
+    if !crate::comm::any(comm, rounding.is_none()) {
+        blocks.round_dominant(rounding.expect("every rank can round"));
+    }
+    let mut view = View::new(&blocks);
+    // Node-block relaxation.
+    let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
+    let all = gather(comm, &inv);
+    drop(inv);
+    let dinv = BlockInverse::from_inverses(&node_ptr, all);
     // The smoother's bound, by products of the held rows gathered (`Split`).
     let per = rows_per_rank(comm, aggregates);
     let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);

@@ -14,11 +14,23 @@
 //! held too keeps no values of its own: it is read from that block, transposed (only
 //! where the two are the same bits, value by value and entry by entry: checked when rows
 //! are made from sparse rows, `of_rows`; the measurement makes them so, every measured
-//! value going to both entries of its pair, and stores one of each, `from_placed`). Products and rows read the same values in the same order, so the same
-//! bits; about half the values of a rank's rows are not stored twice (block on block at
-//! n = 80 on 2 ranks: 137 MiB of blocks per rank before).
+//! value going to both entries of its pair, and stores one of each, `from_placed`).
+//! Products and rows read the same values in the same order, so the same bits; about half
+//! the values of a rank's rows are not stored twice (block on block at n = 80 on 2 ranks:
+//! 137 MiB of blocks per rank before).
+//!
+//! A level the multilevel cycle smooths is then rounded to f32 (`round_dominant`, with
+//! its diagonal raised so that the rounded operator is never less than the measured one)
+//! and every block stored again, its own, column-major, in the order the product reads
+//! them: the same bytes as the f64 values one of each pair, read once from start to end
+//! (the mirrored blocks' transposed reads and the direct blocks' strided columns took
+//! most of the product's instructions), each column of a block the next terms of the six
+//! row sums.
 
 use super::sparse::{Csr, Rows};
+
+mod round;
+pub use round::Rounding;
 
 /// Unknowns per block: the rigid-body modes of an aggregate.
 pub const B: usize = 6;
@@ -37,13 +49,55 @@ pub struct BlockRows {
     /// that block transposed).
     slot: Vec<u32>,
     /// B x B values of the blocks stored, row-major.
-    val: Vec<f64>,
+    val: Values,
     /// One bit per value of `val`: whether the sparse rows held it (`to_csr`).
     present: Vec<u64>,
     /// Entries of the sparse rows held.
     entries: usize,
     /// Columns of the operator.
     columns: usize,
+}
+
+/// The values of the blocks stored: in f64 as made (B x B, row-major, a block read from
+/// another transposed where its slot says so), or in f32 once `round_dominant` rounded
+/// them, every block its own, column-major, in the order of the blocks (`Columns`: a
+/// product reads them once from start to end, each column of a block the six row sums'
+/// next terms together; as many bytes as the f64 values one of each symmetric pair).
+enum Values {
+    Wide(Vec<f64>),
+    Columns(Vec<f32>),
+}
+
+impl Values {
+    #[inline]
+    fn get(&self, i: usize) -> f64 {
+        match self {
+            Values::Wide(v) => v[i],
+            Values::Columns(v) => f64::from(v[i]),
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            Values::Wide(v) => v.len(),
+            Values::Columns(v) => v.len(),
+        }
+    }
+
+    fn bytes(&self) -> usize {
+        match self {
+            Values::Wide(v) => 8 * v.len(),
+            Values::Columns(v) => 4 * v.len(),
+        }
+    }
+
+    /// The values as made (before `round_dominant`).
+    fn wide(&mut self) -> &mut Vec<f64> {
+        match self {
+            Values::Wide(v) => v,
+            Values::Columns(_) => unreachable!("BlockRows: blocks are mirrored as made, in f64"),
+        }
+    }
 }
 
 /// A block read from another one, transposed.
@@ -118,7 +172,7 @@ impl BlockRows {
             slot: Vec::new(),
             ptr,
             col: cols,
-            val,
+            val: Values::Wide(val),
             present,
             entries: 0,
             columns,
@@ -162,7 +216,7 @@ impl BlockRows {
             ptr,
             col,
             slot,
-            val,
+            val: Values::Wide(val),
             present,
             entries,
             columns,
@@ -189,7 +243,7 @@ impl BlockRows {
             (0..B).all(|r| {
                 (0..B).all(|c| {
                     let (x, y) = (BB * b + B * r + c, BB * t + B * c + r);
-                    rows.val[x].to_bits() == rows.val[y].to_bits()
+                    rows.val.get(x).to_bits() == rows.val.get(y).to_bits()
                         && bit(&rows.present, x) == bit(&rows.present, y)
                 })
             })
@@ -225,13 +279,13 @@ impl BlockRows {
                 }
             }
             // kept <= b: the block moves forward over ones already read.
-            rows.val.copy_within(BB * b..BB * (b + 1), BB * kept);
+            rows.val.wide().copy_within(BB * b..BB * (b + 1), BB * kept);
             slot[b] = kept as u32;
             kept += 1;
         }
         assert!(kept < MIRROR as usize, "BlockRows: blocks to number");
-        rows.val.truncate(BB * kept);
-        rows.val.shrink_to_fit();
+        rows.val.wide().truncate(BB * kept);
+        rows.val.wide().shrink_to_fit();
         present.shrink_to_fit();
         rows.present = present;
         rows.slot = slot;
@@ -243,14 +297,22 @@ impl BlockRows {
         self.entries
     }
 
-    /// The first row held.
-    pub fn first(&self) -> usize {
-        self.first
+    /// Blocks whose values are stored (the others are read from them, transposed).
+    pub fn stored_blocks(&self) -> usize {
+        self.val.len() / (B * B)
+    }
+
+    /// Whether the values are f32s (`round_dominant`).
+    pub fn is_rounded(&self) -> bool {
+        matches!(self.val, Values::Columns(_))
     }
 
     /// Where the value of row r, column c of block b is: its index in `val`.
     #[inline]
     fn at(&self, b: usize, r: usize, c: usize) -> usize {
+        if let Values::Columns(_) = self.val {
+            return B * B * b + B * c + r;
+        }
         let s = self.slot[b];
         if s & MIRROR == 0 {
             B * B * s as usize + B * r + c
@@ -274,7 +336,7 @@ impl BlockRows {
                 let at = self.at(b, r, c);
                 if self.present[at / 64] & (1 << (at % 64)) != 0 {
                     cols.push(B as u32 * self.col[b] + c as u32);
-                    vals.push(self.val[at]);
+                    vals.push(self.val.get(at));
                 }
             }
         }
@@ -296,7 +358,8 @@ impl BlockRows {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        8 * (self.ptr.len() + self.val.len() + self.present.len())
+        8 * (self.ptr.len() + self.present.len())
+            + self.val.bytes()
             + 4 * (self.col.len() + self.slot.len())
     }
 
@@ -308,16 +371,55 @@ impl BlockRows {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2, checked just above.
-            return unsafe { self.mul_rows_avx2(x, y) };
+            return unsafe {
+                match &self.val {
+                    Values::Wide(v) => self.mul_rows_avx2(v, x, y),
+                    Values::Columns(v) => self.mul_columns_avx2(v, x, y),
+                }
+            };
         }
-        self.mul_rows_body(x, y)
+        match &self.val {
+            Values::Wide(v) => self.mul_rows_body(v, x, y),
+            Values::Columns(v) => self.mul_columns_body(v, x, y),
+        }
     }
 
     /// `mul_rows_body` compiled for AVX2 (the caller checks the processor has it).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn mul_rows_avx2(&self, x: &[f64], y: &mut [f64]) {
-        self.mul_rows_body(x, y)
+    fn mul_rows_avx2(&self, val: &[f64], x: &[f64], y: &mut [f64]) {
+        self.mul_rows_body(val, x, y)
+    }
+
+    /// `mul_columns_body` compiled for AVX2 (the caller checks the processor has it).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn mul_columns_avx2(&self, val: &[f32], x: &[f64], y: &mut [f64]) {
+        self.mul_columns_body(val, x, y)
+    }
+
+    /// `mul_rows_body` for the rounded values, every block column-major in the order of
+    /// the blocks: the same products (of the values widened, exactly) and sums in the
+    /// same order, read from start to end.
+    #[inline(always)]
+    fn mul_columns_body(&self, val: &[f32], x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for i in 0..self.ptr.len() - 1 {
+            let mut s = [0.0f64; B];
+            let (lo, hi) = (self.ptr[i], self.ptr[i + 1]);
+            let blocks = val[B * B * lo..B * B * hi].chunks_exact(B * B);
+            for (v, &j) in blocks.zip(&self.col[lo..hi]) {
+                let xj: &[f64; B] = x[B * j as usize..][..B]
+                    .try_into()
+                    .expect("a block's B values");
+                for (column, &xc) in v.chunks_exact(B).zip(xj) {
+                    for (sr, &a) in s.iter_mut().zip(column) {
+                        *sr += f64::from(a) * xc;
+                    }
+                }
+            }
+            self.store_rows(i, &s, y);
+        }
     }
 
     /// Each entry of a block row is its own sum, in the order of the blocks and, within a
@@ -325,7 +427,7 @@ impl BlockRows {
     /// a block (a vector of the six rows' products at each column: the same products and
     /// sums as entry after entry).
     #[inline(always)]
-    fn mul_rows_body(&self, x: &[f64], y: &mut [f64]) {
+    fn mul_rows_body(&self, val: &[f64], x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
         for i in 0..self.ptr.len() - 1 {
             let mut s = [0.0f64; B];
@@ -334,7 +436,7 @@ impl BlockRows {
                     .try_into()
                     .expect("a block's B values");
                 let t = self.slot[b];
-                let v: &[f64; B * B] = self.val[B * B * (t & !MIRROR) as usize..][..B * B]
+                let v: &[f64; B * B] = val[B * B * (t & !MIRROR) as usize..][..B * B]
                     .try_into()
                     .expect("a block's B x B values");
                 // The same products in the same order either way: row r of the block is
@@ -353,13 +455,19 @@ impl BlockRows {
                     }
                 }
             }
-            for (r, &sr) in s.iter().enumerate() {
-                let row = B * (self.block_first + i) + r;
-                if row >= self.first && row < self.first + self.len {
-                    let k = row - self.first;
-                    if k < y.len() {
-                        y[k] = sr;
-                    }
+            self.store_rows(i, &s, y);
+        }
+    }
+
+    /// Block row i's sums into y, for the rows held that y covers.
+    #[inline(always)]
+    fn store_rows(&self, i: usize, s: &[f64; B], y: &mut [f64]) {
+        for (r, &sr) in s.iter().enumerate() {
+            let row = B * (self.block_first + i) + r;
+            if row >= self.first && row < self.first + self.len {
+                let k = row - self.first;
+                if k < y.len() {
+                    y[k] = sr;
                 }
             }
         }
@@ -397,7 +505,7 @@ mod tests {
     /// `a`'s rows split as over 1 to 5 ranks (at rows within blocks too): each rank's
     /// product and rows are the sparse ones bit for bit; `more` checks each rank's rows
     /// further (ranks, rank, its rows, them as sparse rows).
-    fn split_rows_give_the_sparse_bits(
+    pub(super) fn split_rows_give_the_sparse_bits(
         a: &Csr,
         mut more: impl FnMut(usize, usize, &BlockRows, &Csr),
     ) {
@@ -482,7 +590,7 @@ mod tests {
         let a = Csr::from_triplets(n, n, t);
         let mut mirrored_somewhere = false;
         split_rows_give_the_sparse_bits(&a, |ranks, _, rows, back| {
-            let stored = rows.val.len() / (B * B);
+            let stored = rows.stored_blocks();
             let mirrored = rows.slot.iter().filter(|&&s| s & MIRROR != 0).count();
             assert_eq!(stored + mirrored, rows.col.len());
             mirrored_somewhere |= mirrored > 0;
