@@ -29,9 +29,6 @@
 
 use super::sparse::{Csr, Rows};
 
-mod round;
-pub use round::Rounding;
-
 /// Unknowns per block: the rigid-body modes of an aggregate.
 pub const B: usize = 6;
 
@@ -46,9 +43,10 @@ pub struct BlockRows {
     /// Block column of every block.
     col: Vec<u32>,
     /// Where every block's values are: the index of a block of `val` (with `MIRROR` set:
-    /// that block transposed).
+    /// that block transposed). Empty once rounded: `Values::Columns` has every block, in
+    /// order.
     slot: Vec<u32>,
-    /// B x B values of the blocks stored, row-major.
+    /// The values of the blocks (`Values`).
     val: Values,
     /// One bit per value of `val`: whether the sparse rows held it (`to_csr`).
     present: Vec<u64>,
@@ -498,114 +496,132 @@ impl Rows for View<'_> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// By how much at least `BlockRows::round_dominant` raises each held row's diagonal entry
+/// (None: a row without one, and nothing off its diagonal to make up for).
+pub struct Rounding(Vec<Option<f64>>);
 
-    /// `a`'s rows split as over 1 to 5 ranks (at rows within blocks too): each rank's
-    /// product and rows are the sparse ones bit for bit; `more` checks each rank's rows
-    /// further (ranks, rank, its rows, them as sparse rows).
-    pub(super) fn split_rows_give_the_sparse_bits(
-        a: &Csr,
-        mut more: impl FnMut(usize, usize, &BlockRows, &Csr),
-    ) {
-        let n = a.rows;
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        let x: Vec<f64> = (0..n).map(|j| (j as f64 * 0.37).sin()).collect();
-        let mut whole = vec![0.0; n];
-        a.mul_into(&x, &mut whole);
-        for ranks in 1..=5usize {
-            let l = n.div_ceil(ranks);
-            for r in 0..ranks {
-                let rows = BlockRows::new(a, r * l, l).expect("grouped in blocks");
-                let mut y = vec![f64::NAN; l];
-                rows.mul_rows_into(&x, r * l, &mut y);
-                for (k, &v) in y.iter().enumerate() {
-                    let want = whole.get(r * l + k).copied().unwrap_or(0.0);
-                    assert_eq!(
-                        v.to_bits(),
-                        want.to_bits(),
-                        "ranks {ranks} rank {r} row {k}"
-                    );
-                }
-                // The sparse rows come back: the same entries (an explicit zero
-                // included) and bits.
-                let back = rows.to_csr();
-                assert_eq!(
-                    (back.rows, back.cols),
-                    ((n.min((r + 1) * l)).saturating_sub(r * l), n)
-                );
-                for k in 0..back.rows {
-                    let ((c, v), (wc, wv)) = (back.row(k), a.row(r * l + k));
-                    assert_eq!(c, wc, "ranks {ranks} rank {r} row {k}");
-                    assert_eq!(bits(v), bits(wv));
-                }
-                more(ranks, r, &rows, &back);
-            }
+impl BlockRows {
+    /// How `round_dominant` would change the values (`diag` the whole operator's
+    /// diagonal, row by row): for each held row i, at least how much its diagonal entry
+    /// must rise, the sum over the row's entries off the diagonal of |e_ij| sqrt(d_i /
+    /// d_j), e_ij an entry's change, summed in the order of the row's entries. None where
+    /// the values cannot be so rounded: one not finite or beyond f32's range, a held row
+    /// with values off the diagonal and no diagonal entry, or a change in a row or column
+    /// whose diagonal is not positive.
+    pub fn rounding(&self, diag: &[f64]) -> Option<Rounding> {
+        let Values::Wide(val) = &self.val else {
+            return Some(Rounding(Vec::new()));
+        };
+        if val
+            .iter()
+            .any(|v| !v.is_finite() || v.abs() > 0.5 * f64::from(f32::MAX))
+        {
+            return None;
         }
-    }
-
-    /// Rows of blocks give the bits of the sparse product, whole or split at rows that do
-    /// not fall on block boundaries, with entries whose sums round and zeros the sparse
-    /// rows leave out.
-    #[test]
-    fn block_rows_give_the_sparse_product_bit_for_bit() {
-        let n = 4 * B;
-        let mut t = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                let h = (i * 31 + j * 17) % 7;
-                if h < 3 && (i / B + j / B) % 3 != 2 {
-                    t.push((i as u32, j as u32, 1.0 / (h as f64 + 3.0) - 0.1 * j as f64));
+        let mut raise = Vec::with_capacity(self.len);
+        for r in self.first..self.first + self.len {
+            let i = r / B - self.block_first;
+            let (mut diagonal, mut sum) = (None, 0.0f64);
+            for b in self.ptr[i]..self.ptr[i + 1] {
+                for c in 0..B {
+                    let at = self.at(b, r % B, c);
+                    if self.present[at / 64] & (1 << (at % 64)) == 0 {
+                        continue;
+                    }
+                    let j = B * self.col[b] as usize + c;
+                    let change = (val[at] - f64::from(val[at] as f32)).abs();
+                    if j == r {
+                        diagonal = Some(at);
+                    } else if change > 0.0 {
+                        let (di, dj) = (diag[r], diag[j]);
+                        if !(di > 0.0 && dj > 0.0) {
+                            return None;
+                        }
+                        sum += change * (di / dj).sqrt();
+                    }
                 }
             }
+            match diagonal {
+                Some(_) => raise.push(Some(sum)),
+                None if sum > 0.0 => return None,
+                None => raise.push(None),
+            }
         }
-        t.push((1, 2, 0.0));
-        split_rows_give_the_sparse_bits(&Csr::from_triplets(n, n, t), |_, _, _, _| {});
-        assert!(BlockRows::new(&Csr::from_triplets(7, 7, vec![]), 0, 7).is_none());
+        Some(Rounding(raise))
     }
 
-    /// A symmetric operator: the blocks below the diagonal whose transposes are held are
-    /// not stored again, and the product and the rows are the sparse ones bit for bit,
-    /// whole and split (at rows within blocks too). One entry breaks the symmetry of its
-    /// block pair, which is then stored twice.
-    #[test]
-    fn symmetric_rows_store_a_mirrored_block_once_and_give_the_same_bits() {
-        let n = 6 * B;
-        let mut t = Vec::new();
-        for i in 0..n {
-            for j in 0..=i {
-                let h = (i * 31 + j * 17 + i * j) % 7;
-                if h < 4 && (i / B + j / B) % 3 != 2 {
-                    let v = 1.0 / (h as f64 + 3.0) - 0.1 * (i + j) as f64;
-                    t.push((i as u32, j as u32, v));
-                    if i != j {
-                        t.push((j as u32, i as u32, v));
+    /// Stores the values in f32, every block its own and column-major in the order of the
+    /// blocks (`Values::Columns`; `rounding` the change, of these rows): every value off
+    /// the diagonal rounded to the nearest f32, and every diagonal entry of a held row
+    /// raised to an f32 at or above d_i + sum_j |e_ij| sqrt(d_i / d_j). The change
+    /// E = A' - A, scaled as D^-1/2 E D^-1/2, is then diagonally dominant with a non-negative
+    /// diagonal, so E is positive semi-definite (Gershgorin's theorem; the operator is
+    /// symmetric, its values mirrored bit for bit, and a value rounds alike wherever it
+    /// stands) and A' is at least A: positive definite where A is, however nearly
+    /// singular A is (a body held only by contact). Scaled so, each diagonal rises by at
+    /// most 2^-24 times the row's entries in relative terms (|a_ij| <= sqrt(d_i d_j)), a
+    /// few parts in 10^6 of it, however different the rows' scales (a row's own sum of
+    /// changes can exceed a small diagonal by far). Each row's change is a function of
+    /// that row's values and the diagonal alone, so every split of the rows over the ranks
+    /// gives the same bits.
+    pub fn round_dominant(&mut self, rounding: Rounding) {
+        const BB: usize = B * B;
+        if self.is_rounded() {
+            return;
+        }
+        // A diagonal entry d raised to an f32 at or above d + sum (the sum's own rounding,
+        // a few ulps of each term over a row's entries, covered by a margin of 2^-40 of
+        // it): the nearest f32 to d + need, then the next ones up until it is above (one
+        // or two steps).
+        let raise = |d: f64, sum: f64| {
+            let need = sum * (1.0 + f64::from(1u32 << 12) * f64::EPSILON);
+            let mut t = (d + need) as f32;
+            for _ in 0..8 {
+                if f64::from(t) >= d + need && f64::from(t) - d >= need {
+                    break;
+                }
+                t = t.next_up();
+            }
+            t
+        };
+        let blocks = self.col.len();
+        let mut columns = vec![0.0f32; BB * blocks];
+        let mut present = vec![0u64; (BB * blocks).div_ceil(64)];
+        for i in 0..self.ptr.len() - 1 {
+            for b in self.ptr[i]..self.ptr[i + 1] {
+                for r in 0..B {
+                    let row = B * (self.block_first + i) + r;
+                    let held = (self.first..self.first + self.len).contains(&row);
+                    for c in 0..B {
+                        let at = self.at(b, r, c);
+                        let to = BB * b + B * c + r;
+                        let v = self.val.get(at);
+                        let on = self.present[at / 64] & (1 << (at % 64)) != 0;
+                        columns[to] = match rounding.0.get(row.wrapping_sub(self.first)) {
+                            Some(&Some(sum))
+                                if held && on && B * self.col[b] as usize + c == row =>
+                            {
+                                raise(v, sum)
+                            }
+                            _ => v as f32,
+                        };
+                        if on {
+                            present[to / 64] |= 1 << (to % 64);
+                        }
                     }
                 }
             }
         }
-        // Not symmetric: row 4 * B, column B (block (4, 1)) against block (1, 4).
-        t.push((4 * B as u32, B as u32 + 1, 0.25));
-        let a = Csr::from_triplets(n, n, t);
-        let mut mirrored_somewhere = false;
-        split_rows_give_the_sparse_bits(&a, |ranks, _, rows, back| {
-            let stored = rows.stored_blocks();
-            let mirrored = rows.slot.iter().filter(|&&s| s & MIRROR != 0).count();
-            assert_eq!(stored + mirrored, rows.col.len());
-            mirrored_somewhere |= mirrored > 0;
-            if ranks == 1 {
-                assert_eq!(rows.nnz(), back.idx.len());
-                // Every block below the diagonal but the broken pair's is mirrored.
-                let below = (0..n / B)
-                    .map(|i| {
-                        let cols = &rows.col[rows.ptr[i]..rows.ptr[i + 1]];
-                        cols.iter().filter(|&&j| (j as usize) < i).count()
-                    })
-                    .sum::<usize>();
-                assert_eq!(mirrored, below - 1);
-            }
-        });
-        assert!(mirrored_somewhere);
+        self.val = Values::Columns(columns);
+        self.present = present;
+        self.slot = Vec::new();
+    }
+
+    /// The first row held.
+    pub fn first(&self) -> usize {
+        self.first
     }
 }
+
+#[cfg(test)]
+mod tests;
