@@ -203,15 +203,9 @@ pub fn build<C: Comm + ?Sized>(
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }
-    // A level the cycle smooths: its values in f32, raised on the diagonal to stay at
-    // least the measured operator (`BlockRows::round_dominant`), for every use below (the
-    // node blocks, the smoother's bound, P^T A P) and the cycle's products, whose bytes
-    // bound their time on large meshes; on every rank or none.
-    let mut blocks = blocks;
-    let rounding = blocks.rounding(&diag);
-    if !crate::comm::any(comm, rounding.is_none()) {
-        blocks.round_dominant(rounding.expect("every rank can round"));
-    }
+    // A level the cycle smooths: in f32 for every use below (the node blocks, the
+    // smoother's bound, P^T A P) and the cycle's products.
+    let blocks = rounded(comm, blocks, &diag);
     let mut view = View::new(&blocks);
     // Node-block relaxation.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
@@ -263,6 +257,17 @@ pub fn build<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest)
+}
+
+/// This rank's rows of the level in f32, raised on the diagonal to stay at least the
+/// measured operator (`BlockRows::round_dominant`; `diag` the level's whole diagonal), on
+/// every rank or, where one cannot round them, on none (collective).
+fn rounded<C: Comm + ?Sized>(comm: &C, mut blocks: BlockRows, diag: &[f64]) -> BlockRows {
+    let rounding = blocks.rounding(diag);
+    if !crate::comm::any(comm, rounding.is_none()) {
+        blocks.round_dominant(rounding.expect("every rank can round"));
+    }
+    blocks
 }
 
 /// The aggregates of the level below (and their number), from the strength graph's edges
