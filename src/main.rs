@@ -301,11 +301,11 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
     if let Some(p) = args.preconditioner {
         problem.solver.preconditioner = p;
     }
-    // Counted from the divisions, the two-level preconditioner's refusal under `auto` is
-    // known only now: checked again with what runs instead.
+    // Counted from the divisions, whether `auto` passes over the two-level preconditioner
+    // is known only now: checked again with what runs instead.
     let refused = sized
         .as_ref()
-        .is_some_and(|s| solver::preflight::two_level_refused(&problem, s));
+        .is_some_and(|s| solver::preflight::two_level_passed_over(&problem, s).is_some());
     if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&problem);
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
@@ -441,15 +441,13 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
     for line in solver::contact::adjust::describe(&p, &adjusted) {
         println!("{line}");
     }
-    let refused = sized
+    let passed_over = sized
         .as_ref()
-        .is_some_and(|s| solver::preflight::two_level_refused(&p, s));
-    if refused {
-        println!(
-            "the two-level preconditioner will be refused ({}): counted with the multilevel one",
-            solver::precond::coarse::refusal(&p).unwrap_or_default()
-        );
+        .and_then(|s| solver::preflight::two_level_passed_over(&p, s));
+    if let Some(why) = &passed_over {
+        println!("multilevel instead of two-level ({why}): counted with the multilevel one");
     }
+    let refused = passed_over.is_some();
     if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&p);
         let fit =

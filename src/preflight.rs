@@ -37,7 +37,7 @@ pub fn ranks_on_this_machine<C: Comm + ?Sized>(comm: &C) -> usize {
 /// generated blocks' 27 nodes, and a poorly aggregated level is factored.
 pub fn loaded_size(p: &Problem) -> SceneSize {
     let mut size = problem_size(p);
-    if two_level_refused(p, &size) {
+    if two_level_passed_over(p, &size).is_some() {
         size.counts.two_level = false;
         size.counts.multilevel = true;
     }
@@ -51,15 +51,23 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     size
 }
 
-/// Whether `auto` chose the two-level preconditioner for the scene's size and its coarse
-/// space will be refused (several bodies in one coarse cell): the run then builds the
-/// multilevel hierarchy instead (`solver::choice`), and the estimate counts it (a stack of
-/// 128 blocks, 146112 nodes, on 2 ranks: 139.8 MiB estimated with two-level, 1616 MiB
-/// measured).
-pub fn two_level_refused(p: &Problem, size: &SceneSize) -> bool {
-    size.counts.two_level
-        && p.solver.preconditioner == crate::problem::Preconditioner::Auto
-        && crate::precond::coarse::refusal(p).is_some()
+/// Why `auto`, which chose the two-level preconditioner for the scene's size, builds the
+/// multilevel hierarchy instead (`solver::choice`), if it does: a coarse space that will be
+/// refused (several bodies in one coarse cell), or a body held by contact alone (two-level
+/// stalls on it). The estimate then counts the multilevel hierarchy (a stack of 128 blocks,
+/// 146112 nodes, on 2 ranks: 139.8 MiB estimated with two-level, 1616 MiB measured).
+pub fn two_level_passed_over(p: &Problem, size: &SceneSize) -> Option<String> {
+    if !size.counts.two_level || p.solver.preconditioner != crate::problem::Preconditioner::Auto {
+        return None;
+    }
+    let refusal = crate::precond::coarse::refusal(p);
+    refusal
+        .map(|why| format!("two-level refused: {why}"))
+        .or_else(|| {
+            let held = crate::solver::support::held_by_contact_alone(p);
+            held.first()
+                .map(|body| format!("body '{body}' is held by contact alone"))
+        })
 }
 
 /// Bits 0, 1, 2 of every node: held in x, y, z by a displacement along that axis (one

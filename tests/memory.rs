@@ -344,7 +344,7 @@ fn a_refused_two_level_preconditioner_is_estimated_as_the_multilevel_one() {
     assert_eq!(size.counts.nodes, 24 * 21 * 21 * 2);
     assert!(size.counts.two_level && !size.counts.multilevel);
     let p = solver::scene::load_scene(&scene).unwrap();
-    assert!(solver::preflight::two_level_refused(&p, &size));
+    assert!(solver::preflight::two_level_passed_over(&p, &size).is_some());
     let loaded = solver::preflight::loaded_size(&p);
     assert!(loaded.counts.multilevel && !loaded.counts.two_level);
     let (two, multi) = (
@@ -359,7 +359,7 @@ fn a_refused_two_level_preconditioner_is_estimated_as_the_multilevel_one() {
     let (out, err) = text(&o);
     assert_eq!(o.status.code(), Some(0), "{out}{err}");
     assert!(
-        out.contains("the two-level preconditioner will be refused (")
+        out.contains("multilevel instead of two-level (two-level refused: ")
             && out.contains("bodies share one coarse cell"),
         "{out}"
     );

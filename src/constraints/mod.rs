@@ -23,9 +23,11 @@
 
 mod build;
 mod rows;
+mod untied;
 
 pub use rows::{CircularDependency, Row, RowKind, RowSpec};
 use rows::{Level, NodeRows, Src};
+use untied::{Shape, Untied};
 
 use crate::comm::{self, Comm};
 use crate::math::{dot, matvec, Mat3, Vec3, IDENTITY};
@@ -52,6 +54,11 @@ pub struct Constraints {
     incoming: Vec<u32>,
     /// Owned unconstrained nodes that receive forces, with their range of `incoming`.
     free_incoming: Vec<(usize, Range<usize>)>,
+    /// The first level's nodes whose rows have no masters, packed (`untied`), their
+    /// shapes, and the indices in `nodes` of that level's other nodes.
+    untied: Vec<Untied>,
+    shapes: Vec<Shape>,
+    tied0: Vec<u32>,
     num_remote: usize,
     num_slots: usize,
     scratch: RefCell<Scratch>,
@@ -69,6 +76,9 @@ impl Constraints {
             levels: Vec::new(),
             incoming: Vec::new(),
             free_incoming: Vec::new(),
+            untied: Vec::new(),
+            shapes: Vec::new(),
+            tied0: Vec::new(),
             num_remote: 0,
             num_slots: 0,
             scratch: RefCell::new(Scratch::default()),
@@ -105,6 +115,8 @@ impl Constraints {
             &remote_owner,
         );
         let (incoming, free_incoming) = incoming(arrivals, &slot, &mut nodes);
+        let level0 = levels.first().map_or(0..0, |l| l.nodes.clone());
+        let (untied, shapes, tied0) = untied::split(&nodes, level0);
         Ok(Constraints {
             nodes,
             slot: slot
@@ -115,6 +127,9 @@ impl Constraints {
             levels,
             incoming,
             free_incoming,
+            untied,
+            shapes,
+            tied0,
             num_remote,
             num_slots,
             scratch: RefCell::new(Scratch::default()),
@@ -164,9 +179,12 @@ impl Constraints {
     fn apply<C: Comm + ?Sized>(&self, comm: &C, u: &mut [Vec3], with_values: bool) {
         let mut scratch = self.scratch.borrow_mut();
         scratch.remote.resize(self.num_remote, [0.0; 3]);
-        for level in &self.levels {
+        for (depth, level) in self.levels.iter().enumerate() {
             level.fetch.run(comm, u, &mut scratch.remote);
-            for nr in &self.nodes[level.nodes.clone()] {
+            if depth == 0 {
+                untied::apply(&self.untied, &self.shapes, u, with_values);
+            }
+            for nr in self.level_nodes(depth, level) {
                 let k = nr.rows.len();
                 let mut b = [0.0; 3];
                 for (i, (row, refs)) in nr.rows.iter().zip(&nr.refs).enumerate() {
@@ -204,8 +222,13 @@ impl Constraints {
         let mut scratch = self.scratch.borrow_mut();
         scratch.force.resize(self.num_slots, [0.0; 3]);
         let force = &mut scratch.force;
-        for level in self.levels.iter().rev() {
-            for nr in &self.nodes[level.nodes.clone()] {
+        for (depth, level) in self.levels.iter().enumerate().rev() {
+            if depth == 0 {
+                let packed = (&self.untied[..], &self.shapes[..]);
+                let out = multipliers.as_deref_mut();
+                untied::reduce(packed, &self.incoming, force, r, out);
+            }
+            for nr in self.level_nodes(depth, level) {
                 for &k in &self.incoming[nr.incoming.clone()] {
                     let f = force[k as usize];
                     for d in 0..3 {
@@ -240,6 +263,20 @@ impl Constraints {
                     r[*t][d] += f[d];
                 }
             }
+        }
+    }
+
+    /// The nodes of a level that `apply` and `reduce` take one by one: on the first level
+    /// those with masters (the others are packed in `untied`), on the others all.
+    fn level_nodes<'a>(
+        &'a self,
+        depth: usize,
+        level: &Level,
+    ) -> Box<dyn Iterator<Item = &'a NodeRows> + 'a> {
+        if depth == 0 {
+            Box::new(self.tied0.iter().map(|&s| &self.nodes[s as usize]))
+        } else {
+            Box::new(self.nodes[level.nodes.clone()].iter())
         }
     }
 

@@ -17,6 +17,7 @@ use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
 use super::sparse::{node_of, Csr, Offset, Rows};
 use super::sparse_cholesky::SparseCholesky;
+use super::supernodal::Factor;
 use super::triple::{triple_product, TRIPLE_BLOCKS};
 use std::convert::Infallible;
 
@@ -206,7 +207,7 @@ impl<P: Product> Space for Sparse<'_, P> {
 /// The direct solve of the coarsest level.
 enum Coarsest {
     Dense(Compressed),
-    Sparse(SparseCholesky),
+    Sparse(Factor),
 }
 
 impl Coarsest {
@@ -469,7 +470,7 @@ impl Hierarchy {
         let Some((perm, counts)) = SparseCholesky::analyse(a, &node_ptr, FILL * a.nnz()) else {
             return;
         };
-        let f = SparseCholesky::new(a, perm, &counts);
+        let f = Factor::dropping(a, perm, &counts);
         self.factored = Some(f.nnz());
         self.cb = vec![0.0; a.rows];
         self.coarsest = Coarsest::Sparse(f);

@@ -6,9 +6,11 @@
 //!   (the middle level of a breadth-first search from a pseudo-peripheral node separates
 //!   the rest; both sides are ordered first, the separator last), node by node with the
 //!   node's unknowns together. No coordinates, only the graph: any level of any mesh.
-//! - Factor: up-looking (row by row) sparse Cholesky on the elimination tree. A pivot lost
+//! - Factor: by supernodes (`supernodal::Factor::dropping`, dense blocks). A pivot lost
 //!   to cancellation (a mode the earlier ones span) or an unknown without stiffness drops
-//!   out, as in the dense factor: its solution component is zero.
+//!   out, as in the dense factor: its solution component is zero. The up-looking (row by
+//!   row) factor on the elimination tree here is its reference in the tests, and counts
+//!   the factor's entries without factoring (`analyse`).
 //!
 //! Everything is a fixed sequence of operations on data every rank holds alike: bitwise the
 //! same factor and solves on every rank.
@@ -167,8 +169,10 @@ impl SparseCholesky {
         })
     }
 
-    /// Factors `a` in the order `perm` (from `analyse`, with its column counts).
-    pub fn new(a: &Csr, perm: Vec<usize>, counts: &[usize]) -> Self {
+    /// Factors `a` in the order `perm` (from `analyse`, with its column counts), column by
+    /// column: the reference of `supernodal::Factor::dropping`, which the coarse levels use.
+    #[cfg(test)]
+    pub(super) fn new(a: &Csr, perm: Vec<usize>, counts: &[usize]) -> Self {
         Self::factor(a, perm, counts, None)
     }
 
@@ -180,6 +184,7 @@ impl SparseCholesky {
         Self::factor(a, perm, counts, Some(floor))
     }
 
+    #[cfg(test)]
     fn factor(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: Option<f64>) -> Self {
         let n = a.rows;
         let mut inv = vec![0usize; n];

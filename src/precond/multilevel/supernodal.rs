@@ -1,12 +1,14 @@
-//! The modified sparse Cholesky factor of the full tangent (a pivot below a fraction of
-//! its diagonal entry is raised to that: the factor of a positive definite matrix near an
-//! indefinite or singular one) computed and held by supernodes: runs of columns of L with
+//! A sparse Cholesky factor computed and held by supernodes, with one of two pivot rules:
+//! the full tangent's modified factor (a pivot below a fraction of its diagonal entry is
+//! raised to that: the factor of a positive definite matrix near an indefinite or singular
+//! one), or the coarse level's (a pivot lost to cancellation, or an unknown without
+//! stiffness, drops out: its solution component is zero). Supernodes: runs of columns of L with
 //! the same rows below them (a column whose parent in the elimination tree is the next
 //! column and which has one more entry than it), each a dense block factored by dense
 //! loops, left-looking: a supernode takes the updates of every earlier one whose rows reach
 //! its columns, each as a dense product scattered once. The same order, the same rows and
-//! the same pivot rule as `SparseCholesky::column_modified` (its reference), in a different
-//! order of additions. The solves run by the same blocks: within a supernode's columns a
+//! the same pivot rules as `SparseCholesky::column_modified` and `SparseCholesky::new`
+//! (their references), in a different order of additions. The solves run by the same blocks: within a supernode's columns a
 //! dense triangular solve, below them one dense product whose result is scattered (forward)
 //! or gathered (backward) once per supernode instead of once per column. A fixed sequence
 //! of operations on data every rank holds alike: bitwise the same on every rank.
@@ -39,15 +41,26 @@ impl Supernode {
     }
 }
 
+/// What a pivot too small becomes.
+#[derive(Clone, Copy)]
+enum Pivot {
+    /// Raised to this fraction of its diagonal entry of A.
+    Floor(f64),
+    /// Dropped (its column zero, its solution component zero) where it fell below 1e-10 of
+    /// its diagonal entry of A (lost to cancellation: a mode the earlier columns span) or
+    /// that entry is below 1e-14 of A's largest diagonal entry (no stiffness).
+    Drop,
+}
+
 /// The factor of `a` in the order `perm` as its supernodes, with `counts` entries below the
-/// diagonal in each column, a pivot at least `floor` times its diagonal entry of `a`.
-fn supernodes(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
+/// diagonal in each column, small pivots by `rule`.
+fn supernodes(a: &Csr, perm: &[usize], counts: &[usize], rule: Pivot) -> Vec<Supernode> {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { supernodes_avx2(a, perm, counts, floor) };
+        return unsafe { supernodes_avx2(a, perm, counts, rule) };
     }
-    supernodes_body(a, perm, counts, floor)
+    supernodes_body(a, perm, counts, rule)
 }
 
 /// `supernodes_body` compiled for AVX2 (the caller checks the processor has it). Every
@@ -55,12 +68,12 @@ fn supernodes(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supe
 /// multiply-adds, independent lanes): the factor is bitwise the same either way.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn supernodes_avx2(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
-    supernodes_body(a, perm, counts, floor)
+fn supernodes_avx2(a: &Csr, perm: &[usize], counts: &[usize], rule: Pivot) -> Vec<Supernode> {
+    supernodes_body(a, perm, counts, rule)
 }
 
 #[inline(always)]
-fn supernodes_body(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec<Supernode> {
+fn supernodes_body(a: &Csr, perm: &[usize], counts: &[usize], rule: Pivot) -> Vec<Supernode> {
     let n = a.rows;
     let mut inv = vec![0usize; n];
     for (k, &i) in perm.iter().enumerate() {
@@ -102,7 +115,7 @@ fn supernodes_body(a: &Csr, perm: &[usize], counts: &[usize], floor: f64) -> Vec
                 waiting[owner[dn.row(p2)]].push(d);
             }
         }
-        factor_block(sn, &akk, floor, scale);
+        factor_block(sn, &akk, rule, scale);
         next_row[s] = sn.width;
         if !sn.rows.is_empty() {
             waiting[owner[sn.rows[0]]].push(s);
@@ -214,16 +227,23 @@ fn apply_update(
 }
 
 /// The dense factor of the supernode's block: its diagonal block by Cholesky with the
-/// pivot rule of `SparseCholesky::new_modified` (`akk`: the diagonal of A in the factor's
-/// order), the rows below by the triangular solve, column by column.
+/// pivot rule `rule` (`akk`: the diagonal of A in the factor's order), the rows below by
+/// the triangular solve, column by column. A dropped pivot leaves its column zero.
 #[inline(always)]
-fn factor_block(sn: &mut Supernode, akk: &[f64], floor: f64, scale: f64) {
+fn factor_block(sn: &mut Supernode, akk: &[f64], rule: Pivot, scale: f64) {
     let m = sn.height();
     let b = &mut sn.block;
     for c in 0..sn.width {
         let j = sn.first + c;
         let d = b[c + c * m];
-        let pivot = d.max(floor * akk[j].abs().max(1e-14 * scale)).sqrt();
+        let pivot = match rule {
+            Pivot::Floor(floor) => d.max(floor * akk[j].abs().max(1e-14 * scale)).sqrt(),
+            Pivot::Drop if d > 1e-10 * akk[j] && akk[j] > 1e-14 * scale => d.sqrt(),
+            Pivot::Drop => {
+                b[c * m + c..(c + 1) * m].fill(0.0);
+                continue;
+            }
+        };
         b[c + c * m] = pivot;
         for i in c + 1..m {
             b[i + c * m] /= pivot;
@@ -243,7 +263,7 @@ fn factor_block(sn: &mut Supernode, akk: &[f64], floor: f64, scale: f64) {
     }
 }
 
-/// The modified factor by supernodes (see the module), with its work vectors.
+/// The factor by supernodes (see the module), with its work vectors.
 pub struct Factor {
     /// `perm[k]` is the unknown eliminated k-th.
     perm: Vec<usize>,
@@ -258,7 +278,18 @@ impl Factor {
     /// Factors `a` in the order `perm` (from `SparseCholesky::analyse`, with its column
     /// counts), every pivot at least `floor` times its diagonal entry of `a`.
     pub fn new(a: &Csr, perm: Vec<usize>, counts: &[usize], floor: f64) -> Self {
-        let supers = supernodes(a, &perm, counts, floor);
+        Self::with(a, perm, counts, Pivot::Floor(floor))
+    }
+
+    /// Factors `a` in the order `perm` (from `SparseCholesky::analyse`, with its column
+    /// counts), dropping the pivots `SparseCholesky::new` drops: the unknowns left out
+    /// solve to zero.
+    pub fn dropping(a: &Csr, perm: Vec<usize>, counts: &[usize]) -> Self {
+        Self::with(a, perm, counts, Pivot::Drop)
+    }
+
+    fn with(a: &Csr, perm: Vec<usize>, counts: &[usize], rule: Pivot) -> Self {
+        let supers = supernodes(a, &perm, counts, rule);
         let nnz = supers
             .iter()
             .map(|s| s.width * (s.width - 1) / 2 + s.width * s.rows.len())
@@ -321,7 +352,12 @@ fn forward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     let b = &sn.block;
     for c in 0..w {
         let col = &b[c * m..(c + 1) * m];
-        let yc = y[f + c] / col[c];
+        // A dropped pivot: its component zero (its column is zero below it too).
+        let yc = if col[c] == 0.0 {
+            0.0
+        } else {
+            y[f + c] / col[c]
+        };
         y[f + c] = yc;
         for i in c + 1..w {
             y[f + i] -= col[i] * yc;
@@ -355,6 +391,10 @@ fn backward(sn: &Supernode, y: &mut [f64], below: &mut [f64]) {
     }
     for c in (0..w).rev() {
         let col = &b[c * m..(c + 1) * m];
+        if col[c] == 0.0 {
+            y[f + c] = 0.0;
+            continue;
+        }
         let s = y[f + c] - dot4(&col[w..], g) - dot4(&col[c + 1..w], &y[f + c + 1..f + w]);
         y[f + c] = s / col[c];
     }
@@ -412,6 +452,87 @@ mod tests {
         let n = 3 * m * m * m;
         let node_ptr = (0..=m * m * m).map(|i| 3 * i).collect();
         (Csr::from_triplets(n, n, t), node_ptr)
+    }
+
+    /// The 3-D 7-point Laplacian on an m^3 grid without boundary conditions (singular: the
+    /// constant is its null space), 2 unknowns per node, the second one of node 5 without
+    /// any stiffness.
+    fn floating(m: usize) -> (Csr, Vec<usize>) {
+        let id = |i: usize, j: usize, k: usize| i + m * (j + m * k);
+        let dead = |node: usize, c: u32| node == 5 && c == 1;
+        let mut t = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    for (x, y, z) in [(i + 1, j, k), (i, j + 1, k), (i, j, k + 1)] {
+                        if x >= m || y >= m || z >= m {
+                            continue;
+                        }
+                        for c in 0..2u32 {
+                            let (p, q) = (id(i, j, k), id(x, y, z));
+                            if dead(p, c) || dead(q, c) {
+                                continue;
+                            }
+                            let (a, b) = (2 * p as u32 + c, 2 * q as u32 + c);
+                            t.extend([(a, a, 1.0), (b, b, 1.0), (a, b, -1.0), (b, a, -1.0)]);
+                        }
+                    }
+                }
+            }
+        }
+        let n = 2 * m * m * m;
+        t.push((11, 11, 0.0));
+        let node_ptr = (0..=m * m * m).map(|i| 2 * i).collect();
+        (Csr::from_triplets(n, n, t), node_ptr)
+    }
+
+    #[test]
+    fn dropped_pivots_are_the_column_factors() {
+        // A singular operator: each component's constant mode is lost to cancellation at its
+        // last pivot (left at round-off, about 1e-15 of its diagonal entry, against the
+        // rule's 1e-10) and the dead unknown has no stiffness. The supernodal factor drops
+        // the same pivots as the column one: the same unknowns solve to exactly zero, and
+        // on a right-hand side in the range both solve A x = b (to round-off times the
+        // condition number of the rest, about 1e2 here: 1e-11 of the largest entry of b)
+        // and the solutions agree to 1e-9 of the largest component.
+        let (a, node_ptr) = floating(8);
+        let n = a.rows;
+        let (perm, counts) = SparseCholesky::analyse(&a, &node_ptr, usize::MAX).unwrap();
+        let mut col = SparseCholesky::new(&a, perm.clone(), &counts);
+        let mut sup = Factor::dropping(&a, perm, &counts);
+        assert_eq!(col.nnz(), sup.nnz());
+        let x_true: Vec<f64> = (0..n)
+            .map(|i| if i == 11 { 0.0 } else { hash_value(i as u64) })
+            .collect();
+        let mut b = vec![0.0; n];
+        a.mul_into(&x_true, &mut b);
+        let (mut x, mut y) = (b.clone(), b.clone());
+        col.solve(&mut x);
+        sup.solve(&mut y);
+        let zeros = |v: &[f64]| (0..n).filter(|&i| v[i] == 0.0).collect::<Vec<_>>();
+        // Three unknowns drop out: the dead one and one per component's constant mode.
+        assert_eq!(zeros(&x).len(), 3, "{:?}", zeros(&x));
+        assert_eq!(zeros(&x), zeros(&y));
+        let norm = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            assert!(
+                (x[i] - y[i]).abs() < 1e-9 * norm,
+                "{i}: {} vs {}",
+                x[i],
+                y[i]
+            );
+        }
+        let mut r = vec![0.0; n];
+        a.mul_into(&y, &mut r);
+        let bn = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            assert!(
+                (r[i] - b[i]).abs() < 1e-11 * bn,
+                "{i}: {} vs {}",
+                r[i],
+                b[i]
+            );
+        }
     }
 
     #[test]
