@@ -49,10 +49,12 @@ use metis::Idx;
 mod cells;
 mod graph;
 mod groups;
+mod ordering;
 pub use cells::Cells;
 pub use graph::DualGraph;
 use graph::NodeElements;
 pub use groups::{grouped, Groups, GROUPED_RANKS, GROUP_PARTS};
+pub use ordering::nested_dissection;
 
 /// Errors from partitioning or building a decomposition.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -26,6 +26,44 @@ pub(super) fn etree(a: &Csr, perm: &[usize], inv: &[usize]) -> Vec<usize> {
     parent
 }
 
+/// A postorder of the elimination tree `parent`: every column after its descendants, each
+/// subtree's columns together (roots and children taken in increasing order). Renumbering
+/// the columns by it keeps the factor's fill and entries as they are (every column keeps
+/// its ancestors after it), but puts each chain of the tree's columns side by side, where a
+/// supernode can hold them: the unknowns of a node that decouple into groups (in-plane and
+/// out-of-plane ones on a plane-strain slab) otherwise alternate and break every chain.
+/// `post[k]` is the column placed k-th.
+pub(super) fn postorder(parent: &[usize]) -> Vec<usize> {
+    let n = parent.len();
+    // Children lists, each in increasing order (columns visited in increasing order).
+    let mut head = vec![usize::MAX; n];
+    let mut next = vec![usize::MAX; n];
+    for j in (0..n).rev() {
+        let p = parent[j];
+        if p != usize::MAX {
+            next[j] = head[p];
+            head[p] = j;
+        }
+    }
+    let mut post = Vec::with_capacity(n);
+    let mut stack = Vec::new();
+    for root in (0..n).filter(|&j| parent[j] == usize::MAX) {
+        stack.push(root);
+        while let Some(&j) = stack.last() {
+            let c = head[j];
+            if c == usize::MAX {
+                post.push(j);
+                stack.pop();
+            } else {
+                // The first child not yet visited: unlinked, then descended into.
+                head[j] = next[c];
+                stack.push(c);
+            }
+        }
+    }
+    post
+}
+
 /// The columns j < k of row k of L in topological order (each column before the columns
 /// its updates reach): the union of the tree paths from the entries of A's row k to k.
 #[allow(clippy::too_many_arguments)]

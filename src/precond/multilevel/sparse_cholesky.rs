@@ -5,7 +5,9 @@
 //! - Ordering: nested dissection of the level's node graph by breadth-first level sets
 //!   (the middle level of a breadth-first search from a pseudo-peripheral node separates
 //!   the rest; both sides are ordered first, the separator last), node by node with the
-//!   node's unknowns together. No coordinates, only the graph: any level of any mesh.
+//!   node's unknowns together, then postordered on the elimination tree (the same fill,
+//!   each chain of columns side by side for the supernodes). No coordinates, only the
+//!   graph: any level of any mesh.
 //! - Factor: by supernodes (`supernodal::Factor::dropping`, dense blocks). A pivot lost
 //!   to cancellation (a mode the earlier ones span) or an unknown without stiffness drops
 //!   out, as in the dense factor: its solution component is zero. The up-looking (row by
@@ -16,7 +18,7 @@
 //! same factor and solves on every rank.
 
 use super::aggregation::Graph;
-use super::elimination::{etree, reach};
+use super::elimination::{etree, postorder, reach};
 use super::sparse::{node_of, Csr};
 
 /// Node sets at most this large are not dissected further.
@@ -34,8 +36,14 @@ pub struct SparseCholesky {
     work: Vec<f64>,
 }
 
-/// The nested-dissection order of the nodes of a graph.
+/// The nested-dissection order of the nodes of a graph: METIS's (`METIS_NodeND`), or the
+/// breadth-first one below where METIS fails.
 fn dissection_order(g: &Graph) -> Vec<usize> {
+    partition::nested_dissection(&g.ptr, &g.adj).unwrap_or_else(|| level_set_order(g))
+}
+
+/// The nested-dissection order of the nodes of a graph by breadth-first level sets.
+fn level_set_order(g: &Graph) -> Vec<usize> {
     let n = g.len();
     let mut order = Vec::with_capacity(n);
     let mut mark = vec![u32::MAX; n];
@@ -140,10 +148,20 @@ impl SparseCholesky {
             }
         }
         let g = Graph::from_edges(nodes, &edges);
-        let mut perm = Vec::with_capacity(a.rows);
+        let mut dissected = Vec::with_capacity(a.rows);
         for i in dissection_order(&g) {
-            perm.extend(node_ptr[i]..node_ptr[i + 1]);
+            dissected.extend(node_ptr[i]..node_ptr[i + 1]);
         }
+        // Postordered (`elimination::postorder`): the same fill, wider supernodes.
+        let mut inv = vec![0usize; a.rows];
+        for (k, &i) in dissected.iter().enumerate() {
+            inv[i] = k;
+        }
+        let parent = etree(a, &dissected, &inv);
+        let perm: Vec<usize> = postorder(&parent)
+            .into_iter()
+            .map(|k| dissected[k])
+            .collect();
         let counts = column_counts(a, &perm, budget)?;
         Some((perm, counts))
     }
@@ -361,6 +379,52 @@ fn column_counts(a: &Csr, perm: &[usize], budget: usize) -> Option<Vec<usize>> {
 mod tests {
     use super::*;
     use crate::precond::multilevel::smoother::hash_value;
+
+    #[test]
+    fn metis_orders_a_grid_with_less_fill_than_level_sets() {
+        // The node graph of a 16^3 hexahedral grid (27-point neighbourhoods): the factor's
+        // entries below the diagonal in METIS's nested-dissection order against the level
+        // sets' (measured 0.49 against 0.94 million; on the Hertz example x4's first
+        // coarse level 2.36 against 4.74 million). METIS must not do worse: the coarse
+        // levels and the full tangent take its order for that.
+        let m = 16;
+        let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
+        let mut edges = Vec::new();
+        for k in 0..m {
+            for j in 0..m {
+                for i in 0..m {
+                    // Every node within one cell in each axis (i + a - 1 for a in 0..3).
+                    for c in 0..27 {
+                        let (a, b, d) = (c % 3, (c / 3) % 3, c / 9);
+                        let (x, y, z) = (i + a, j + b, k + d);
+                        if c != 13
+                            && (1..=m).contains(&x)
+                            && (1..=m).contains(&y)
+                            && (1..=m).contains(&z)
+                        {
+                            edges.push((id(i, j, k), id(x - 1, y - 1, z - 1)));
+                        }
+                    }
+                }
+            }
+        }
+        let g = Graph::from_edges(m * m * m, &edges);
+        let count = |perm: Vec<usize>| {
+            let n = g.len();
+            let mut t = Vec::new();
+            for i in 0..n {
+                t.push((i as u32, i as u32, 1.0));
+                t.extend(g.neighbours(i).iter().map(|&j| (i as u32, j, 1.0)));
+            }
+            let a = Csr::from_triplets(n, n, t);
+            column_counts(&a, &perm, usize::MAX)
+                .unwrap()
+                .iter()
+                .sum::<usize>()
+        };
+        let (metis, levels) = (count(dissection_order(&g)), count(level_set_order(&g)));
+        assert!(metis <= levels, "METIS {metis} against level sets {levels}");
+    }
 
     #[test]
     fn solves_a_grid_laplacian_and_drops_a_dead_unknown() {
