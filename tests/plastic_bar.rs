@@ -80,11 +80,18 @@ fn closed_form(k: f64, h: f64, start: (f64, f64), eps: f64, s: f64) -> (f64, f64
 /// strain with the closed form after every step. Returns the worst errors (stress relative
 /// to sigma_y, eqps relative to its final value) and the CG iterations.
 fn check(p: &Problem, k: f64, h: f64, path: [f64; 3]) -> (f64, f64, u64) {
+    let (es, ee, _, cg) = check_split(p, k, h, path);
+    (es, ee, cg)
+}
+
+/// `check`, with the error of the elements' mean equivalent plastic strain beside the
+/// largest element's: (stress, eqps, mean eqps, CG iterations).
+fn check_split(p: &Problem, k: f64, h: f64, path: [f64; 3]) -> (f64, f64, f64, u64) {
     let comm = SerialComm;
     let d = Decomposition::partition(p.mesh.num_nodes(), &p.mesh.elements, 1).unwrap();
     let local = LocalMesh::new(&p.mesh, &d, 0);
     let mut st = Stepper::new(&comm, p, &local, &p.mesh).expect("the stepper is built");
-    let (mut es, mut ee, mut cg) = (0.0f64, 0.0f64, 0);
+    let (mut es, mut ee, mut em, mut cg) = (0.0f64, 0.0f64, 0.0f64, 0);
     let mut seg_start = (0.0, 0.0);
     let mut prev = 0.0;
     let mut plastic_steps = 0;
@@ -106,6 +113,7 @@ fn check(p: &Problem, k: f64, h: f64, path: [f64; 3]) -> (f64, f64, u64) {
             es = es.max(sv[1].abs().max(sv[2].abs()) / SY);
             ee = ee.max((q - alpha).abs());
         }
+        em = em.max((eqps.iter().sum::<f64>() / eqps.len() as f64 - alpha).abs());
         if alpha > prev {
             plastic_steps += 1;
         }
@@ -121,7 +129,7 @@ fn check(p: &Problem, k: f64, h: f64, path: [f64; 3]) -> (f64, f64, u64) {
     );
     // The equivalent plastic strain relative to its value at the end of the path (about
     // 23 eps_y): the quantity compared, accumulated over all three segments.
-    (es, ee / prev, cg)
+    (es, ee / prev, em / prev, cg)
 }
 
 const PATH: [f64; 3] = [5.0 * EY, -5.0 * EY, 6.0 * EY];
@@ -156,24 +164,30 @@ fn bar_isotropic_and_kinematic_every_formulation() {
     ] {
         for (k, h) in [(10e3, 0.0), (0.0, 20e3), (0.0, 0.0)] {
             let p = common::problem(&scene(8, 8.0, k, h, PATH, 7, extra));
-            let (es, ee, cg) = check(&p, k, h, PATH);
-            println!("bar [{extra}] K {k} H {h}: stress error {es:.2e} sigma_y, eqps error {ee:.2e}, {cg} CG iterations");
+            let (es, ee, em, cg) = check_split(&p, k, h, PATH);
+            println!("bar [{extra}] K {k} H {h}: stress error {es:.2e} sigma_y, eqps error {ee:.2e} (mean {em:.2e}), {cg} CG iterations");
             assert!(es < 1e-10, "[{extra}] K {k} H {h}");
-            assert!(ee < eqps_tolerance(k, h), "[{extra}] K {k} H {h}");
+            assert!(em < 1e-10, "[{extra}] K {k} H {h}: mean eqps {em:e}");
+            assert!(
+                ee < eqps_tolerance(k, h),
+                "[{extra}] K {k} H {h}: eqps {ee:e}"
+            );
         }
     }
 }
 
-/// The tolerance of the equivalent plastic strain: 1e-10 (above) with hardening. Without
-/// it (K = H = 0) the axial tangent vanishes once the bar yields, so equilibrium fixes the
-/// stress but not how the elongation divides among the elements: each element's plastic
-/// strain is set by where the solver stops along that null direction, not by the
-/// residual's tolerance (measured: 2.9e-9 of the path's value for `mean` elements with the
-/// full tangent preconditioner, whose factor raises the vanishing pivots; 1e-12 and below
-/// with block Jacobi). 1e-8 still catches a wrong return map (errors of order 1).
+/// The tolerance of each element's equivalent plastic strain: 1e-10 (above) with hardening.
+/// Without it (K = H = 0) the axial tangent vanishes once the bar yields, so equilibrium
+/// fixes the stress, and the prescribed elongation the elements' mean plastic strain
+/// (checked to 1e-10 in every case), but not how the elongation divides among the
+/// elements: each element's plastic strain is set by where the solver stops along that
+/// null direction, not by the residual's tolerance (measured for `mean` elements with the
+/// full tangent preconditioner, whose factor raises the vanishing pivots: 2.9e-9 and 5.7e-8
+/// of the path's value under two orderings of the factor; 1e-12 and below with block
+/// Jacobi). 1e-6 still catches a wrong return map (errors of order 1).
 fn eqps_tolerance(k: f64, h: f64) -> f64 {
     if k == 0.0 && h == 0.0 {
-        1e-8
+        1e-6
     } else {
         1e-10
     }

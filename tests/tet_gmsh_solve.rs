@@ -141,22 +141,31 @@ fn a_stretched_cube_of_tetrahedra_deforms_homogeneously_for_every_material() {
 
 /// Under `auto` a plastic body takes the full tangent only where its factorization is cheap
 /// (solver/choice.rs, FACTOR_WORK_LIMIT): the plane-strain punch at 40 x 40 (work 1.4e7)
-/// takes it; a 3-D cube of tetrahedra at h = 0.125 (4679 nodes, work 2.5e9: 41 s a
-/// factorization, measured) does not, though it is plastic and below 20000 nodes.
+/// and a 3-D cube of tetrahedra at h = 0.125 (4679 nodes, work 1.1e8: a factor of 4.0
+/// million entries in 0.58 s, measured) take it; the same cube at h = 0.08 (16194 nodes,
+/// work above 5e8: 26.3 million entries, 8.4 s a factorization, measured) does not, though
+/// it is plastic and below 20000 nodes: a 3-D mesh's fill grows as its nodes squared.
 #[test]
 fn auto_factors_the_tangent_of_a_slab_but_not_of_a_3d_tetrahedral_block() {
     let plastic = r#"{ model = "j2_plastic", E = 1000.0, nu = 0.3, yield_stress = 1.0, isotropic_hardening = 10.0 }"#;
     let dir = fresh_dir("tet_gmsh_solve_choice");
-    let mesh = cube_mesh(&dir, 0.125, 1);
-    let path = dir.join("cube.toml");
-    std::fs::write(&path, scene(&mesh, "small", plastic, 0.01, 1)).unwrap();
-    let cube = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert!(
-        cube.mesh.num_nodes() > 4000,
-        "{} nodes",
-        cube.mesh.num_nodes()
-    );
-    assert!(!solver::solver::choice::full_tangent(&cube, &cube.mesh));
+    let mut nodes = Vec::new();
+    for (h, takes) in [(0.125, true), (0.08, false)] {
+        let sub = dir.join(format!("h{h}"));
+        std::fs::create_dir_all(&sub).unwrap();
+        let mesh = cube_mesh(&sub, h, 1);
+        let path = sub.join("cube.toml");
+        std::fs::write(&path, scene(&mesh, "small", plastic, 0.01, 1)).unwrap();
+        let cube = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        nodes.push(cube.mesh.num_nodes());
+        assert_eq!(
+            solver::solver::choice::full_tangent(&cube, &cube.mesh),
+            takes,
+            "h = {h}, {} nodes",
+            cube.mesh.num_nodes()
+        );
+    }
+    assert!(nodes[0] > 4000 && nodes[1] < 20000, "{nodes:?}");
     let punch = load_scene(&repo("run/scenes/plasticity/punch_40.toml")).unwrap();
     assert!(solver::solver::choice::full_tangent(&punch, &punch.mesh));
 }

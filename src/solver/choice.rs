@@ -118,12 +118,13 @@ fn tangent_note(problem: &Problem, work: f64) -> String {
 }
 
 /// The factorization work (the sum of the squares of the node graph factor's column
-/// counts) above which `auto` does not factor the full tangent: about 8 s a factorization.
-/// Measured: the plane-strain punch at 80 x 80 and the contact punch at n = 96 count 1.3e8
-/// and 2.3e8 (their factors build in seconds); a cube of tetrahedra of 4679 nodes 2.5e9, 41 s
-/// a factorization (where the multilevel preconditioner solved the run in 29 s against the
-/// full tangent's 185 s): a 3-D mesh's nested dissection fills in far more than a
-/// plane-strain slab's.
+/// counts, in METIS's nested-dissection order) above which `auto` does not factor the full
+/// tangent: a few seconds a factorization. Measured: the plane-strain punch at 80 x 80 and
+/// the contact punch at n = 96 count 1.3e8 and 2.3e8 (their factors build in seconds); a
+/// cube of tetrahedra of 4679 nodes 1.1e8 (4.0 million entries, 0.58 s a factorization; the
+/// run 2.8 s with it), of 16194 nodes above the limit (26.3 million entries, 8.4 s a
+/// factorization; the run 24.7 s and 456 MiB with it, 36.4 s and 86 MiB under `auto`): a
+/// 3-D mesh's nested dissection fills in far more than a plane-strain slab's.
 const FACTOR_WORK_LIMIT: f64 = 5e8;
 
 /// Whether `auto` factors the full tangent: its factor's work (see FACTOR_WORK_LIMIT),
@@ -144,7 +145,7 @@ fn factor_fits(mesh: &GlobalMesh) -> Result<f64, String> {
     let refused = || {
         format!(
             "its factorization would take more than {FACTOR_WORK_LIMIT:e} units of work (a 3-D \
-             mesh's fill; about 8 s a factorization): it costs more than the iterations it saves"
+             mesh's fill; several seconds a factorization): it costs more than the iterations it saves"
         )
     };
     match SparseCholesky::graph_factor_entries(&g, budget) {
