@@ -173,13 +173,7 @@ impl SparseCholesky {
     /// factorization's work, up to a constant). None as soon as the entries exceed
     /// `budget`.
     pub fn graph_factor_entries(g: &Graph, budget: usize) -> Option<(usize, f64)> {
-        let n = g.len();
-        let mut t = Vec::new();
-        for i in 0..n {
-            t.push((i as u32, i as u32, 1.0));
-            t.extend(g.neighbours(i).iter().map(|&j| (i as u32, j, 1.0)));
-        }
-        let a = Csr::from_triplets(n, n, t);
+        let a = pattern(g);
         let perm = dissection_order(g);
         column_counts(&a, &perm, budget).map(|c| {
             let flops = c.iter().map(|&k| (k * k) as f64).sum();
@@ -341,6 +335,17 @@ impl SparseCholesky {
     }
 }
 
+/// The matrix of a graph's pattern: every node coupled to itself and its neighbours (ones).
+fn pattern(g: &Graph) -> Csr {
+    let n = g.len();
+    let mut t = Vec::new();
+    for i in 0..n {
+        t.push((i as u32, i as u32, 1.0));
+        t.extend(g.neighbours(i).iter().map(|&j| (i as u32, j, 1.0)));
+    }
+    Csr::from_triplets(n, n, t)
+}
+
 /// Entries below the diagonal in each column of L (its row patterns by `reach`); None once
 /// their total passes `budget`.
 fn column_counts(a: &Csr, perm: &[usize], budget: usize) -> Option<Vec<usize>> {
@@ -410,14 +415,7 @@ mod tests {
         }
         let g = Graph::from_edges(m * m * m, &edges);
         let count = |perm: Vec<usize>| {
-            let n = g.len();
-            let mut t = Vec::new();
-            for i in 0..n {
-                t.push((i as u32, i as u32, 1.0));
-                t.extend(g.neighbours(i).iter().map(|&j| (i as u32, j, 1.0)));
-            }
-            let a = Csr::from_triplets(n, n, t);
-            column_counts(&a, &perm, usize::MAX)
+            column_counts(&pattern(&g), &perm, usize::MAX)
                 .unwrap()
                 .iter()
                 .sum::<usize>()
