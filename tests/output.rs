@@ -427,8 +427,9 @@ fn a_field_written_in_parts_is_the_field_written_whole() {
 fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
     // The run gives rank 0's writer the restart state's two displacements a range of nodes
     // at a time (`write_restart_part`) and then the rest of the state with both left empty;
-    // the state read back must be the one written whole, and a state whose displacements
-    // were not all written refused.
+    // likewise the plastic history (`write_restart_history_part`); the state read back must
+    // be the one written whole, and a state whose displacements or history were not all
+    // written refused.
     let dir = test_dir("restart_parts");
     let mesh = synthetic_mesh();
     let n = mesh.coordinates.len();
@@ -444,7 +445,7 @@ fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
         contact: vec![1.0, 2.0, 3.0],
         released: vec![4.0],
         ties: Vec::new(),
-        history: Vec::new(),
+        history: (0..40).map(|i| i as f64 * 0.125 - rows as f64).collect(),
     };
     let mut read = Vec::new();
     for parts in [false, true] {
@@ -463,6 +464,12 @@ fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
                 }
                 r.displacement.clear();
                 r.previous_displacement.clear();
+                let h = std::mem::take(&mut r.history);
+                for first in (0..h.len()).step_by(9) {
+                    let part = &h[first..(first + 9).min(h.len())];
+                    w.write_restart_history_part(rows, (h.len(), first), part)
+                        .unwrap();
+                }
             }
             w.write_restart(&r).unwrap();
         }
@@ -487,6 +494,24 @@ fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
     let err = w.write_restart(&r).unwrap_err();
     assert!(
         err.to_string().contains("without its displacements"),
+        "{err}"
+    );
+    // The displacements whole (again: the refused state's parts are gone), the history not.
+    w.write_restart_part(1, false, 0, &u).unwrap();
+    w.write_restart_part(1, true, 0, &u).unwrap();
+    let h = std::mem::take(&mut r.history);
+    let err = w
+        .write_restart_history_part(1, (h.len(), 9), &h[9..])
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("expected one starting at 0"),
+        "{err}"
+    );
+    w.write_restart_history_part(1, (h.len(), 0), &h[..30])
+        .unwrap();
+    let err = w.write_restart(&r).unwrap_err();
+    assert!(
+        err.to_string().contains("with 30 of its 40 history values"),
         "{err}"
     );
 }

@@ -17,10 +17,13 @@ use crate::math::Vec3;
 #[inline]
 pub fn points(form: Formulation) -> usize {
     match form {
-        Formulation::Mean { .. } => 1 + SLOTS,
+        Formulation::Mean { .. } => MEAN_POINTS,
         _ => 8,
     }
 }
+
+/// History states of a plastic hexahedron of the mean formulation (`points`).
+pub const MEAN_POINTS: usize = 1 + SLOTS;
 
 /// History states of a plastic element of `kind`: `points` for a hexahedron, one per
 /// stress point of a composite tetrahedron.

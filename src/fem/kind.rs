@@ -56,6 +56,14 @@ impl ElementKind {
         }
     }
 
+    /// Corner (vertex) nodes, the element's first nodes.
+    pub const fn corners(self) -> usize {
+        match self {
+            ElementKind::Hex8 => 8,
+            ElementKind::Tet10 => 4,
+        }
+    }
+
     /// Faces per element.
     pub const fn faces(self) -> usize {
         match self {

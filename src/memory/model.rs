@@ -41,6 +41,10 @@ pub struct Counts {
     /// hold its elastic matrix (`Assembly::mark_elastic`) where the full tangent is built
     /// or friction couples a nonlinear body's model problem.
     pub plastic_point_elements: u64,
+    /// Integration-point states of the plastic bodies' elements (`fem::history`: 8 per
+    /// fully integrated hexahedron, 1 + hourglass slots per mean one, 4 per composite
+    /// tetrahedron).
+    pub history_points: u64,
     /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
     /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement stores, its
     /// entries, and those of its sparse factor where it is predicted factored (0 when
@@ -92,6 +96,10 @@ const ELASTIC_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0 + 2.0;
 /// The consistent tangent of such an element while the full tangent is built
 /// (`assembly::Tangents`: 24 x 24 and its offset; a tet10's 30 x 30 is 7200).
 const TANGENT_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0;
+/// A plastic element's state at one integration point, committed and the scratch a step's
+/// commit fills (`Assembly::history`, `scratch`: 13 f64 each). The restart file takes it a
+/// round of elements at a time (`run::plastic::stream_history`), so rank 0 adds no copy.
+const HISTORY_PER_POINT: f64 = 2.0 * 13.0 * 8.0;
 /// The rank's nodes: coordinates, global id, owner (32); the CG vectors (7 x 24) and the
 /// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
@@ -258,7 +266,13 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     } else {
         c.plastic_point_elements as f64 / e
     };
+    let history_share = if c.elements == 0 {
+        0.0
+    } else {
+        c.history_points as f64 / e
+    };
     let per_element = LOCAL_PER_ELEMENT
+        + history_share * HISTORY_PER_POINT
         + shaped_share * (SHAPE_PER_ELEMENT + full_share * GAUSS_PER_ELEMENT)
         + matrix_share * ELASTIC_MATRIX_PER_ELEMENT
         + if c.tangent {

@@ -32,6 +32,9 @@ pub(super) struct RestartSlots {
     /// The state (by its rows) whose displacements `write_part` is writing, and the entries
     /// of each (the displacement, the previous one) written so far.
     parts: Option<(u64, [usize; 2])>,
+    /// The state (by its rows) whose plastic history `write_history_part` is writing: the
+    /// values written so far and in all.
+    history: Option<(u64, usize, usize)>,
 }
 
 fn create_slot(file: &hdf5::File, p: &Path, k: usize, nodes: usize) -> Result<Slot, OutputError> {
@@ -139,6 +142,44 @@ impl RestartSlots {
         Ok(())
     }
 
+    /// Writes values `first..` of the plastic history (`total` values in all) of the state
+    /// after `rows` written steps into its slot, before `write` writes the rest of that state
+    /// (whose history is then empty). Parts come in order from value 0.
+    pub(super) fn write_history_part(
+        &mut self,
+        file: &hdf5::File,
+        p: &Path,
+        (rows, nodes): (u64, usize),
+        (total, first): (usize, usize),
+        part: &[f64],
+    ) -> Result<(), OutputError> {
+        let done = match self.history {
+            Some((r, done, t)) if r == rows && t == total => done,
+            _ => 0,
+        };
+        let hname = format!(
+            "{}/{}",
+            layout::restart_slot((rows % 2) as usize),
+            layout::SLOT_HISTORY
+        );
+        if first != done || first + part.len() > total {
+            return Err(OutputError::Invalid {
+                file: p.to_path_buf(),
+                dataset: hname,
+                message: format!(
+                    "a part of values {first}..{} of {total}, expected one starting at {done}",
+                    first + part.len()
+                ),
+            });
+        }
+        self.slot(file, p, rows, nodes)?;
+        let ds = history_dataset(file, p, &hname, total)?;
+        ds.write_slice::<_, f64, _, _>(part, first..first + part.len())
+            .at(p, &hname)?;
+        self.history = Some((rows, first + part.len(), total));
+        Ok(())
+    }
+
     /// Writes `r` into slot `r.rows % 2` (of a mesh of `nodes` nodes): the arrays, a
     /// flush, then the state, a flush. Displacements left empty must have been written by
     /// `write_part`, whole.
@@ -164,6 +205,19 @@ impl RestartSlots {
                 ),
             });
         }
+        let history = self.history.take().filter(|&(rows, _, _)| rows == r.rows);
+        if let Some((_, done, total)) = history.filter(|_| r.history.is_empty()) {
+            if done != total {
+                return Err(OutputError::Invalid {
+                    file: p.to_path_buf(),
+                    dataset: name(layout::SLOT_HISTORY),
+                    message: format!(
+                        "the restart state after {} rows was written with {done} of its {total} history values",
+                        r.rows
+                    ),
+                });
+            }
+        }
         let Slot([contact, released, u, up, state]) = self.slot(file, p, r.rows, nodes)?;
         for (ds, d, v) in [
             (contact, layout::SLOT_CONTACT, &r.contact),
@@ -187,16 +241,7 @@ impl RestartSlots {
         }
         if !r.history.is_empty() {
             let hname = name(layout::SLOT_HISTORY);
-            let ds = match file.dataset(&hname) {
-                Ok(ds) => ds,
-                Err(_) => file
-                    .new_dataset::<f64>()
-                    .chunk((r.history.len().clamp(1, CHUNK),))
-                    .fletcher32()
-                    .shape((r.history.len(),))
-                    .create(hname.as_str())
-                    .at(p, &hname)?,
-            };
+            let ds = history_dataset(file, p, &hname, r.history.len())?;
             ds.write_raw(&r.history).at(p, &hname)?;
         }
         let tname = name(layout::SLOT_TIES);
@@ -226,6 +271,26 @@ impl RestartSlots {
         ];
         state.write_raw(&head).at(p, &name(layout::SLOT_STATE))?;
         file.flush().at(p, "/ (flush)")
+    }
+}
+
+/// A slot's history dataset of `len` values: the one the slot has (its plastic elements do
+/// not change within a run), or a new one.
+fn history_dataset(
+    file: &hdf5::File,
+    p: &Path,
+    hname: &str,
+    len: usize,
+) -> Result<hdf5::Dataset, OutputError> {
+    match file.dataset(hname) {
+        Ok(ds) => Ok(ds),
+        Err(_) => file
+            .new_dataset::<f64>()
+            .chunk((len.clamp(1, CHUNK),))
+            .fletcher32()
+            .shape((len,))
+            .create(hname)
+            .at(p, hname),
     }
 }
 

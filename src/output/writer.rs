@@ -413,6 +413,31 @@ impl ResultWriter {
         self.check(res)
     }
 
+    /// Writes values `first..` of the plastic history (`total` values in all) of the restart
+    /// state after `rows` written steps, so that rank 0 need not hold it whole: parts in
+    /// order from value 0, then [`write_restart`] with the history left empty writes the
+    /// rest of the state (and refuses it unless the history was written whole).
+    ///
+    /// [`write_restart`]: Self::write_restart
+    pub fn write_restart_history_part(
+        &mut self,
+        rows: u64,
+        (total, first): (usize, usize),
+        part: &[f64],
+    ) -> Result<(), OutputError> {
+        let ok = self.check(Ok(()));
+        ok?;
+        let nodes = self.nodes;
+        let res = self.restart.write_history_part(
+            &self.file,
+            &self.tmp,
+            (rows, nodes),
+            (total, first),
+            part,
+        );
+        self.check(res)
+    }
+
     /// Writes the closing attributes and closes the file.
     fn close(self, wall_time: f64, status: &str) -> Result<Closed, OutputError> {
         let p = self.tmp.clone();

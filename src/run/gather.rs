@@ -75,6 +75,14 @@ impl Gather {
         out
     }
 
+    /// The ranges of global element ids of the rounds in which rank 0 receives per-element
+    /// values (`stream`'s rounds).
+    pub(super) fn element_rounds(&self) -> impl Iterator<Item = Range<u32>> {
+        let total = self.elements.total;
+        let (per, count) = rounds(total);
+        (0..count).map(move |r| (r * per) as u32..((r + 1) * per).min(total) as u32)
+    }
+
     /// The array whose owned entries are `local` (as `place` takes them), given on rank 0 to
     /// `put` a range of global ids at a time, in order: `put(first, values of ids first..)`.
     /// Collective.

@@ -3,7 +3,7 @@
 //! continues from, both in global element order so that they do not depend on the ranks.
 
 use super::Gather;
-use crate::comm::{message, Comm};
+use crate::comm::Comm;
 use crate::fem::history;
 use crate::material::{PlasticState, STATE_LEN};
 use crate::problem::Problem;
@@ -21,28 +21,52 @@ pub(super) fn history_len(problem: &Problem) -> usize {
         .sum()
 }
 
-/// The committed history of every plastic element, on rank 0 in global element order
-/// (empty elsewhere and without plastic bodies).
-pub(super) fn gather_history<C: Comm + ?Sized>(comm: &C, stepper: &Stepper<C>) -> Vec<f64> {
+/// The committed history of every plastic element in global element order (the layout of
+/// `history_len`), given to rank 0's `put` a round of element ids at a time
+/// (`Gather::element_rounds`), so that rank 0 holds a round's states, not every element's
+/// several times over (a cube of 10356 tet10 elements: five copies of 4.3 MB at the
+/// restart's write). `put(total, first, values)`: the number of values in all, and the
+/// round's values, entries `first..` of them. Collective.
+pub(super) fn stream_history<C: Comm + ?Sized>(
+    comm: &C,
+    stepper: &Stepper<C>,
+    gather: &Gather,
+    mut put: impl FnMut(usize, usize, &[f64]),
+) {
     if !stepper.assembly().has_history() {
-        return Vec::new();
+        return;
     }
-    // (global id, the values of each integration point) per owned plastic element.
-    let mine: Vec<(u32, Vec<[f64; STATE_LEN]>)> = stepper
-        .assembly()
-        .owned_history()
-        .into_iter()
-        .map(|(g, states)| (g as u32, states.iter().map(|s| s.to_array()).collect()))
-        .collect();
-    let mut elements = message::gather(comm, &mine);
-    if !comm.is_root() {
-        return Vec::new();
+    let mut total = [stepper.assembly().owned_history_len() as i64];
+    comm.sum_i64(&mut total);
+    let total = total[0] as usize;
+    let mut send = Vec::new();
+    let mut round = Vec::new();
+    let mut written = 0;
+    for range in gather.element_rounds() {
+        send.clear();
+        stepper.assembly().owned_history_words(&range, &mut send);
+        let parts = comm.gather_f64(&send);
+        if !comm.is_root() {
+            continue;
+        }
+        // Each part: (global id, n, n values) per element.
+        let mut entries: Vec<(u32, &[f64])> = Vec::new();
+        for part in &parts {
+            let mut at = 0;
+            while at < part.len() {
+                let n = part[at + 1] as usize;
+                entries.push((part[at] as u32, &part[at + 2..at + 2 + n]));
+                at += 2 + n;
+            }
+        }
+        entries.sort_unstable_by_key(|e| e.0);
+        round.clear();
+        for (_, values) in entries {
+            round.extend_from_slice(values);
+        }
+        put(total, written, &round);
+        written += round.len();
     }
-    elements.sort_by_key(|e| e.0);
-    elements
-        .iter()
-        .flat_map(|e| e.1.iter().flatten().copied())
-        .collect()
 }
 
 /// Sets the stepper's committed history from a restart state's `history` (of length

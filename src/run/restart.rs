@@ -255,6 +255,14 @@ pub(super) fn write_restart<C: Comm + ?Sized>(
             }
         });
     }
+    plastic::stream_history(comm, stepper, gather, |total, first, part| {
+        if let (Some(w), None) = (writer.as_deref_mut(), &err) {
+            err = w
+                .write_restart_history_part(rows, (total, first), part)
+                .err()
+                .map(|e| e.to_string());
+        }
+    });
     let (time, dt_prev, reference_floor) = stepper.scalars();
     let (contact, released, ties) = stepper.contact.encode();
     let r = RestartState {
@@ -270,7 +278,8 @@ pub(super) fn write_restart<C: Comm + ?Sized>(
         contact,
         released,
         ties,
-        history: plastic::gather_history(comm, stepper),
+        // Written above.
+        history: Vec::new(),
     };
     match (writer, err) {
         (Some(w), None) => w.write_restart(&r).err().map(|e| e.to_string()),

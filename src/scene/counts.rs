@@ -40,6 +40,15 @@ impl SceneSize {
         self
     }
 
+    /// Counted without the full tangent: `auto` refused its factorization
+    /// (`solver::choice`: a 3-D mesh's fill) and preconditions the plastic body as it would
+    /// any other.
+    pub fn without_tangent(mut self) -> Self {
+        self.counts.tangent = false;
+        self.counts.multilevel = multilevel(self.preconditioner, self.counts.nodes, false);
+        self
+    }
+
     /// The id-range error, if any, as a `Result`.
     pub fn ids(&self) -> Result<(), SceneError> {
         self.beyond_ids.clone().map_or(Ok(()), Err)
@@ -126,6 +135,14 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         {
             counts.plastic_point_elements = counts.plastic_point_elements.saturating_add(e);
         }
+        if material.is_plastic() {
+            let points = if b.integration == Integration::Full {
+                crate::fem::history::points(Formulation::Full)
+            } else {
+                crate::fem::history::MEAN_POINTS
+            };
+            counts.history_points = counts.history_points.saturating_add(e * points as u64);
+        }
         plastic |= material.is_plastic();
         counts.nonlinear |= !material.is_linear() || raw.kinematics != Kinematics::Small;
         if beyond_ids.is_none() && (counts.elements > MAX_IDS || counts.nodes > MAX_IDS) {
@@ -204,6 +221,16 @@ pub fn problem_size(p: &Problem) -> SceneSize {
                         && !matches!(model.formulation, Formulation::Mean { .. })
                 })
                 .map(|(b, _)| b.num_elements as u64)
+                .sum(),
+            history_points: m
+                .bodies
+                .iter()
+                .zip(&p.body_models)
+                .filter(|(_, model)| model.material.is_plastic())
+                .map(|(b, model)| {
+                    (b.num_elements * crate::fem::history::points_of(b.kind, model.formulation))
+                        as u64
+                })
                 .sum(),
             ..Counts::default()
         },

@@ -161,6 +161,12 @@ pub fn full_tangent(problem: &Problem, whole: &GlobalMesh) -> bool {
     matches!(tangent_decision(problem, whole), Some(Ok(_)))
 }
 
+/// Why `auto` does not factor the full tangent though a body is plastic on fewer than
+/// TANGENT_NODES nodes (its factorization's work), if so.
+pub fn tangent_refused(problem: &Problem, whole: &GlobalMesh) -> Option<String> {
+    tangent_decision(problem, whole).and_then(Result::err)
+}
+
 /// None where the full tangent is not considered; else whether it is used (with its
 /// factorization's work under `auto`), or why not.
 fn tangent_decision(problem: &Problem, whole: &GlobalMesh) -> Option<Result<Option<f64>, String>> {

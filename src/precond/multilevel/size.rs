@@ -13,15 +13,20 @@ use super::transfer::fine_aggregates;
 use crate::mesh::GlobalMesh;
 use crate::precond::aggregates::modes;
 
-/// Aggregates of fewer nodes than this on average make a first coarse level whose
-/// V-cycle is slow (its rate above `cycle::SLOW_RATE`), and it is factored. Measured: the
-/// generated blocks aggregate 25 to 27 nodes each (rate 0.56, not factored); the Hertz
-/// example 3.8 and x2 3.4 (one element thick), its tetrahedral version 6.2, the Gmsh
-/// plate with a hole (hexahedra split from tetrahedra) 10.9, the bracket (10-node
-/// tetrahedra on a block of hexahedra) 17.4 and two rings of 10-node tetrahedra
-/// (tests/adjust.rs's, 17064 nodes) 21.0 (rates 0.66 to 0.84, factored). The rate that
-/// decides is known only once the level is built: this is a threshold between the
-/// measured cases, not a bound (it was 20 until the rings, estimated 36% low at 20).
+/// Aggregates of fewer corner nodes (elements' vertices: every node of a hexahedral mesh,
+/// a tet10 mesh's but its edge midpoints) than this on average make a first coarse level
+/// whose V-cycle is slow (its rate above `cycle::SLOW_RATE`), and it is factored. Measured
+/// in nodes of every kind per aggregate: the generated blocks aggregate 25 to 27 nodes
+/// each (rate 0.56, not factored); the Hertz example 3.8 and x2 3.4 (one element thick),
+/// its tetrahedral version 6.2, the Gmsh plate with a hole (hexahedra split from
+/// tetrahedra) 10.9, the bracket (10-node tetrahedra on a block of hexahedra) 17.4, two
+/// rings of 10-node tetrahedra (tests/adjust.rs's, 17064 nodes) 21.0 and a cube of them
+/// (run/tet/cube.geo at h = 0.08, 16194 nodes, 2314 corners) 25.0, 3.6 corners (rates
+/// 0.66 to 0.93, factored). Counted in all nodes, the cube's aggregates looked as large as
+/// the blocks' (estimated 37% low): a tetrahedral mesh's aggregates span a few vertices
+/// and their edges' midpoints. The rate that decides is known only once the level is
+/// built: this is a threshold between the measured cases, not a bound (it was 20 until
+/// the rings, estimated 36% low at 20).
 pub const POOR_AGGREGATE_NODES: f64 = 23.0;
 
 /// What the estimate needs of the first coarse level.
@@ -76,7 +81,15 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
     }
     let pairs = reach.len() as u64;
     drop(reach);
-    let poor = (n as f64) < POOR_AGGREGATE_NODES * na as f64;
+    let mut corner = vec![false; n];
+    for (e, nodes) in mesh.elements.iter().enumerate() {
+        for &a in &nodes[..mesh.kind(e).corners()] {
+            corner[a as usize] = true;
+        }
+    }
+    let corners = corner.iter().filter(|&&c| c).count();
+    drop(corner);
+    let poor = (corners as f64) < POOR_AGGREGATE_NODES * na as f64;
     let factor_entries = if poor {
         let g = Graph::from_edges(na, &edges);
         drop(edges);

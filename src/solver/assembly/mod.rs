@@ -215,17 +215,30 @@ impl<'a> Assembly<'a> {
         Some(out)
     }
 
-    /// The committed states of the owned plastic elements, flattened in local element order
-    /// with each element's global id: what a restart file keeps.
-    pub fn owned_history(&self) -> Vec<(u64, Vec<PlasticState>)> {
-        let mut out = Vec::new();
+    /// The number of values `owned_history_words` gives over all ids (without the words of
+    /// id and count).
+    pub fn owned_history_len(&self) -> usize {
+        (0..self.mesh.elements.len())
+            .filter(|&e| self.mesh.element_owned[e])
+            .map(|e| self.hist(e).len() * crate::material::STATE_LEN)
+            .sum()
+    }
+
+    /// The committed states of the owned plastic elements whose global ids are in `range`
+    /// (what a restart file keeps), appended to `out` in local element order as words: the
+    /// element's global id, the number of its values, its values.
+    pub fn owned_history_words(&self, range: &std::ops::Range<u32>, out: &mut Vec<f64>) {
         for e in 0..self.mesh.elements.len() {
+            let g = self.mesh.element_global[e];
             let h = self.hist(e);
-            if self.mesh.element_owned[e] && !h.is_empty() {
-                out.push((self.mesh.element_global[e] as u64, h.to_vec()));
+            if self.mesh.element_owned[e] && !h.is_empty() && range.contains(&g) {
+                out.push(f64::from(g));
+                out.push((h.len() * crate::material::STATE_LEN) as f64);
+                for state in h {
+                    out.extend_from_slice(&state.to_array());
+                }
             }
         }
-        out
     }
 
     /// Sets the committed states of every local plastic element from `lookup` (by global
