@@ -40,6 +40,9 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     if tangent_passed_over(p, &size).is_some() {
         size = size.without_tangent();
     }
+    if size.counts.tangent {
+        size.counts.tangent_entries = tangent_entries(&p.mesh);
+    }
     if two_level_passed_over(p, &size).is_some() {
         size.counts.two_level = false;
         size.counts.multilevel = true;
@@ -52,6 +55,43 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
         size.counts.coarse_factor_entries = first.factor_entries;
     }
     size
+}
+
+/// The full tangent's entries on `mesh`: 9 per ordered pair of nodes that share an element,
+/// each node with itself included.
+fn tangent_entries(mesh: &crate::mesh::GlobalMesh) -> u64 {
+    let n = mesh.num_nodes();
+    let mut first = vec![0usize; n + 1];
+    for nodes in mesh.elements.iter() {
+        for &a in nodes {
+            first[a as usize + 1] += 1;
+        }
+    }
+    for a in 0..n {
+        first[a + 1] += first[a];
+    }
+    let mut at = first.clone();
+    let mut around = vec![0u32; first[n]];
+    for (e, nodes) in mesh.elements.iter().enumerate() {
+        for &a in nodes {
+            around[at[a as usize]] = e as u32;
+            at[a as usize] += 1;
+        }
+    }
+    drop(at);
+    let mut seen = vec![usize::MAX; n];
+    let mut pairs = 0u64;
+    for a in 0..n {
+        for &e in &around[first[a]..first[a + 1]] {
+            for &b in mesh.elements.element(e as usize) {
+                if seen[b as usize] != a {
+                    seen[b as usize] = a;
+                    pairs += 1;
+                }
+            }
+        }
+    }
+    9 * pairs
 }
 
 /// Why `auto`, which takes the full tangent for a plastic body of the scene's size, does

@@ -45,6 +45,13 @@ pub struct Counts {
     /// fully integrated hexahedron, 1 + hourglass slots per mean one, 4 per composite
     /// tetrahedron).
     pub history_points: u64,
+    /// Nodes held by a prescribed displacement (counted on a loaded mesh; 0 from the
+    /// divisions alone, where they are a block's faces and the per-node bytes cover them).
+    pub constrained_nodes: u64,
+    /// The full tangent's entries: 9 per ordered pair of nodes that share an element (a node
+    /// with itself included), counted from the blocks' divisions or on a loaded mesh; 0 when
+    /// not counted (then `TANGENT_ENTRIES_PER_NODE` per node).
+    pub tangent_entries: u64,
     /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
     /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement stores, its
     /// entries, and those of its sparse factor where it is predicted factored (0 when
@@ -100,6 +107,11 @@ const TANGENT_MATRIX_PER_ELEMENT: f64 = 4608.0 + 8.0;
 /// commit fills (`Assembly::history`, `scratch`: 13 f64 each). The restart file takes it a
 /// round of elements at a time (`run::plastic::stream_history`), so rank 0 adds no copy.
 const HISTORY_PER_POINT: f64 = 2.0 * 13.0 * 8.0;
+/// A node with constraint rows (`constraints::NodeRows`: the node's Gram inverse and
+/// projector, its rows' lists, 256; a row, 72; the row's master references and force slots,
+/// about 40): a plane-strain slab holds every node along z (the Hertz example x4, 24886
+/// rows: 9 MB).
+const CONSTRAINED_PER_NODE: f64 = 256.0 + 72.0 + 40.0;
 /// The rank's nodes: coordinates, global id, owner (32); the CG vectors (7 x 24) and the
 /// inverse 3x3 diagonal blocks (72); the displacement and its previous value and the
 /// step's reaction, contact force, status and gap (2 x 24 + 88).
@@ -162,7 +174,7 @@ const FACTOR_PER_ENTRY: f64 = 12.0;
 const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
 /// The full tangent preconditioner on every rank, per node of the whole mesh: the
 /// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
-/// node graph), held at the build's peak as the gathered (row, column, value) triples
+/// node graph; a slab one element thick, 18; counted where known: `Counts::tangent_entries`), held at the build's peak as the gathered (row, column, value) triples
 /// (24 bytes) and their u32 copy (16); then the matrix (12) beside its Cholesky factor
 /// (12 bytes per entry). The factor's entries by nested dissection grow as n^(4/3) on a
 /// 3-D mesh; TANGENT_FILL x n^(4/3) bounds the measured ones: the plane-strain punch at
@@ -172,9 +184,14 @@ const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
 const TANGENT_ENTRIES_PER_NODE: f64 = 27.0 * 9.0;
 const TANGENT_FILL: f64 = 13.5;
 
-/// The full tangent's bytes at its build's peak for `nodes` nodes.
-fn tangent_bytes(nodes: f64) -> f64 {
-    let a = TANGENT_ENTRIES_PER_NODE * nodes;
+/// The full tangent's bytes at its build's peak for `nodes` nodes and `entries` entries
+/// (0: not counted).
+fn tangent_bytes(nodes: f64, entries: u64) -> f64 {
+    let a = if entries > 0 {
+        entries as f64
+    } else {
+        TANGENT_ENTRIES_PER_NODE * nodes
+    };
     let factor = TANGENT_FILL * nodes.powf(4.0 / 3.0);
     (40.0 * a).max(12.0 * (a + factor)) + 4.0 * a
 }
@@ -283,9 +300,15 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     let per_node = LOCAL_PER_NODE
         + if c.friction { FRICTION_PER_NODE } else { 0.0 }
         + if c.nonlinear { NONLINEAR_PER_NODE } else { 0.0 };
+    let constrained_share = if c.nodes == 0 {
+        0.0
+    } else {
+        c.constrained_nodes as f64 / n
+    };
+    let per_node = per_node + constrained_share * CONSTRAINED_PER_NODE;
     let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
     let coarse = if c.tangent {
-        tangent_bytes(n)
+        tangent_bytes(n, c.tangent_entries)
     } else if c.two_level {
         let aggregates = (n / COARSE_NODES_PER_AGGREGATE)
             .ceil()

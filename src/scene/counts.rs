@@ -110,6 +110,10 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
     let mut beyond_ids = None;
     for (i, b) in raw.body.iter().enumerate() {
         let (e, n) = block_counts(b)?;
+        // A node's neighbours along one axis of d divisions: 3 inside, 2 at the ends; the
+        // block's (node, neighbour) pairs are the product over the axes of 3 d + 1.
+        let pairs: u64 = b.divisions?.iter().map(|&d| 3 * d as u64 + 1).product();
+        counts.tangent_entries = counts.tangent_entries.saturating_add(9 * pairs);
         counts.elements = counts.elements.saturating_add(e);
         counts.nodes = counts.nodes.saturating_add(n);
         if b.integration == Integration::Full {
@@ -232,10 +236,22 @@ pub fn problem_size(p: &Problem) -> SceneSize {
                         as u64
                 })
                 .sum(),
+            constrained_nodes: constrained_nodes(p),
             ..Counts::default()
         },
         preconditioner: pre,
         plastic,
         beyond_ids: None,
     }
+}
+
+/// The nodes of a loaded scene that a prescribed displacement holds.
+fn constrained_nodes(p: &Problem) -> u64 {
+    let mut held = vec![false; p.mesh.num_nodes()];
+    for d in &p.dirichlet {
+        for &a in &p.node_sets[d.node_set].nodes {
+            held[a as usize] = true;
+        }
+    }
+    held.iter().filter(|&&h| h).count() as u64
 }
