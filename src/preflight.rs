@@ -60,36 +60,16 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
 /// The full tangent's entries on `mesh`: 9 per ordered pair of nodes that share an element,
 /// each node with itself included.
 fn tangent_entries(mesh: &crate::mesh::GlobalMesh) -> u64 {
-    let n = mesh.num_nodes();
-    let mut first = vec![0usize; n + 1];
-    for nodes in mesh.elements.iter() {
-        for &a in nodes {
-            first[a as usize + 1] += 1;
-        }
-    }
-    for a in 0..n {
-        first[a + 1] += first[a];
-    }
-    let mut at = first.clone();
-    let mut around = vec![0u32; first[n]];
-    for (e, nodes) in mesh.elements.iter().enumerate() {
-        for &a in nodes {
-            around[at[a as usize]] = e as u32;
-            at[a as usize] += 1;
-        }
-    }
-    drop(at);
-    let mut seen = vec![usize::MAX; n];
+    let around = crate::precond::multilevel::aggregation::NodeElements::of_mesh(mesh);
+    let mut seen = vec![usize::MAX; around.len()];
     let mut pairs = 0u64;
-    for a in 0..n {
-        for &e in &around[first[a]..first[a + 1]] {
-            for &b in mesh.elements.element(e as usize) {
-                if seen[b as usize] != a {
-                    seen[b as usize] = a;
-                    pairs += 1;
-                }
+    for a in 0..around.len() {
+        around.each_neighbour(&mesh.elements, a, |b| {
+            if seen[b as usize] != a {
+                seen[b as usize] = a;
+                pairs += 1;
             }
-        }
+        });
     }
     9 * pairs
 }
