@@ -139,11 +139,11 @@ fn check_mesh(num_nodes: usize, elements: &dyn Cells) -> Result<(), PartitionErr
 }
 
 /// Seed passed to METIS so the partition is reproducible.
-const METIS_SEED: Idx = 4321;
+pub(crate) const METIS_SEED: Idx = 4321;
 /// METIS keeps its random-number state in process-global variables, so two
 /// threads partitioning at the same time corrupt each other's sequence and
 /// the result stops being reproducible. All METIS calls take this lock.
-static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+pub(crate) static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// Candidate partitions within this imbalance count as "balanced"; among
 /// balanced ones the smaller edge cut wins.
 const ACCEPTABLE_IMBALANCE: f64 = 1.05;
