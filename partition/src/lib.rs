@@ -49,11 +49,13 @@ use metis::Idx;
 mod cells;
 mod graph;
 mod groups;
+mod metis_lock;
 mod ordering;
 pub use cells::Cells;
 pub use graph::DualGraph;
 use graph::NodeElements;
 pub use groups::{grouped, Groups, GROUPED_RANKS, GROUP_PARTS};
+use metis_lock::{METIS_LOCK, METIS_SEED};
 pub use ordering::nested_dissection;
 
 /// Errors from partitioning or building a decomposition.
@@ -138,12 +140,6 @@ fn check_mesh(num_nodes: usize, elements: &dyn Cells) -> Result<(), PartitionErr
     Ok(())
 }
 
-/// Seed passed to METIS so the partition is reproducible.
-pub(crate) const METIS_SEED: Idx = 4321;
-/// METIS keeps its random-number state in process-global variables, so two
-/// threads partitioning at the same time corrupt each other's sequence and
-/// the result stops being reproducible. All METIS calls take this lock.
-pub(crate) static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// Candidate partitions within this imbalance count as "balanced"; among
 /// balanced ones the smaller edge cut wins.
 const ACCEPTABLE_IMBALANCE: f64 = 1.05;

@@ -3,6 +3,7 @@
 //! METIS is deterministic for the same graph and options (its default seed): every rank
 //! that orders the same graph gets the same order.
 
+use crate::metis_lock::{METIS_LOCK, METIS_SEED};
 use metis_sys as m;
 
 /// The vertices of the graph (`xadj`/`adjncy`: each vertex's neighbours, without itself,
@@ -30,10 +31,10 @@ pub fn nested_dissection(xadj: &[usize], adjncy: &[u32]) -> Option<Vec<usize>> {
     // writes them.
     unsafe { m::METIS_SetDefaultOptions(options.as_mut_ptr()) };
     options[m::moptions_et_METIS_OPTION_NUMBERING as usize] = 0;
-    options[m::moptions_et_METIS_OPTION_SEED as usize] = crate::METIS_SEED as m::idx_t;
+    options[m::moptions_et_METIS_OPTION_SEED as usize] = METIS_SEED as m::idx_t;
     // METIS's random state is process-global: a partition or another order computed at
     // the same time on another thread would change this one (the tests run in threads).
-    let _guard = crate::METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let _guard = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     // SAFETY: xadj has n + 1 entries, adjncy xadj[n] entries below n, perm and iperm n
     // entries each; METIS reads the graph and writes perm and iperm only (no vertex
     // weights: null).
