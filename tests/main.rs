@@ -42,6 +42,7 @@ mod multilevel;
 mod operator_export;
 mod outline;
 mod output;
+mod output_header;
 mod output_post;
 mod paper;
 mod paraview;

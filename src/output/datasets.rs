@@ -101,26 +101,6 @@ pub(super) fn write_rows<T: H5Type, const N: usize>(
     b.with_data::<_, T, _>(rows).create(name).at(path, name)
 }
 
-/// Elements' connectivity as a `[elements, nodes_per_element]` dataset, chunked as
-/// `write_rows` chunks rows (with checksums unless empty).
-pub(super) fn write_table(
-    file: &hdf5::File,
-    path: &Path,
-    name: &str,
-    cells: &super::cells::ElementNodes,
-) -> Result<hdf5::Dataset, OutputError> {
-    let (rows, k) = (cells.len(), cells.nodes_per_element);
-    let b = file.new_dataset::<u64>().shape((rows, k));
-    let b = if rows == 0 {
-        b
-    } else {
-        b.chunk((rows.min(CHUNK_ROWS), k)).fletcher32()
-    };
-    let ds = b.create(name).at(path, name)?;
-    ds.write_raw(&cells.flat).at(path, name)?;
-    Ok(ds)
-}
-
 /// A fixed-size one-dimensional dataset, chunked with checksums unless empty.
 pub(super) fn write_vec<T: H5Type>(
     file: &hdf5::File,

@@ -3,15 +3,16 @@
 use std::path::{Path, PathBuf};
 
 use super::data::{
-    check_finite, check_stats, check_time, NodeIds, OutputMesh, RestartState, RunInfo, StepField,
-    StepOutput, StepStats,
+    check_finite, check_stats, check_time, NodeIds, RestartState, RunInfo, StepField, StepOutput,
+    StepStats,
 };
-use super::datasets::{set_attr, set_str_attr, write_rows, write_table, write_vec, StepDatasets};
+use super::datasets::{set_attr, set_str_attr, StepDatasets};
 use super::error::{Hdf5Context, OutputError};
 use super::layout::{self, ResultPaths};
 use super::lock::OutputLock;
 use super::publish::Closed;
 use super::restart::RestartSlots;
+use super::source::MeshSource;
 use super::xdmf::Topology;
 
 /// Writes a result file: created with the mesh and run metadata, one [`StepOutput`] appended
@@ -68,62 +69,6 @@ impl NodeIds for FileNodeIds<'_> {
     }
 }
 
-/// Writes the mesh, the partition and the run's attributes into a new file.
-fn write_header(
-    file: &hdf5::File,
-    tmp: &Path,
-    info: &RunInfo,
-    mesh: &OutputMesh,
-) -> Result<(), OutputError> {
-    let root: &hdf5::Location = file;
-    set_attr(
-        tmp,
-        root,
-        layout::ATTR_FORMAT_VERSION,
-        layout::FORMAT_VERSION,
-    )?;
-    set_str_attr(tmp, root, layout::ATTR_SOLVER_VERSION, &info.solver_version)?;
-    set_attr(tmp, root, layout::ATTR_RANKS, info.ranks)?;
-    set_str_attr(tmp, root, layout::ATTR_SCENE, &info.scene_text)?;
-    set_str_attr(tmp, root, layout::ATTR_SCENE_NAME, &info.scene_name)?;
-    set_str_attr(tmp, root, layout::ATTR_UNITS, layout::UNITS_NOTE)?;
-    set_str_attr(tmp, root, layout::ATTR_START_TIME, &info.start_time)?;
-    set_str_attr(tmp, root, layout::ATTR_EXIT_STATUS, layout::STATUS_RUNNING)?;
-
-    write_rows(file, tmp, layout::COORDINATES, &mesh.coordinates)?;
-    write_vec(file, tmp, layout::NODE_IDS, &mesh.node_ids)?;
-    let mut first = 0u64;
-    for (i, body) in mesh.bodies.iter().enumerate() {
-        let conn = layout::body_connectivity(&body.name);
-        write_table(file, tmp, &conn, &body.connectivity)?;
-        let ids = layout::body_element_ids(&body.name);
-        write_vec(file, tmp, &ids, &body.element_ids)?;
-        let gname = layout::body_group(&body.name);
-        let group = file.group(&gname).at(tmp, &gname)?;
-        set_attr(tmp, &group, layout::BODY_INDEX_ATTR, i as u64)?;
-        set_attr(tmp, &group, layout::FIRST_ELEMENT_ATTR, first)?;
-        first += body.connectivity.len() as u64;
-    }
-    match mesh.all_connectivity() {
-        Ok(all) => write_table(file, tmp, layout::ALL_CONNECTIVITY, &all)?,
-        Err(mixed) => write_vec(file, tmp, layout::ALL_CONNECTIVITY, &mixed)?,
-    };
-    for name in [layout::NODE_SETS, layout::SIDE_SETS] {
-        file.create_group(name).at(tmp, name)?;
-    }
-    for (i, (name, ids)) in mesh.node_sets.iter().enumerate() {
-        let ds = write_vec(file, tmp, &layout::node_set(name), ids)?;
-        set_attr(tmp, &ds, layout::SET_INDEX_ATTR, i as u64)?;
-    }
-    for (i, (name, faces)) in mesh.side_sets.iter().enumerate() {
-        let rows: Vec<[u64; 2]> = faces.iter().map(|&(e, f)| [e, u64::from(f)]).collect();
-        let ds = write_rows(file, tmp, &layout::side_set(name), &rows)?;
-        set_attr(tmp, &ds, layout::SET_INDEX_ATTR, i as u64)?;
-    }
-    write_vec(file, tmp, layout::ELEMENT_RANK, &info.element_rank)?;
-    Ok(())
-}
-
 /// Whether an error means the file can no longer be trusted (a failed write), as opposed to
 /// data refused before anything was written (non-finite values, wrong lengths).
 fn breaks_the_file(e: &OutputError) -> bool {
@@ -139,22 +84,26 @@ impl ResultWriter {
     ///
     /// Files an earlier run left under this run's names stay as they are until this run
     /// publishes its own file under one of them, by renaming.
-    pub fn create(path: &Path, info: &RunInfo, mesh: &OutputMesh) -> Result<Self, OutputError> {
+    ///
+    /// The mesh is read from `mesh` a round of rows at a time (`super::header`).
+    pub fn create(
+        path: &Path,
+        info: &RunInfo,
+        mesh: &impl MeshSource,
+    ) -> Result<Self, OutputError> {
         let first_tmp = ResultPaths::new(path).tmp;
-        mesh.validate(&first_tmp)?;
+        super::header::check(mesh, &first_tmp)?;
         let elements = mesh.num_elements();
+        let nodes = mesh.num_nodes();
         let invalid = |dataset: &str, message: String| OutputError::Invalid {
             file: first_tmp.clone(),
             dataset: dataset.into(),
             message,
         };
-        if mesh.coordinates.is_empty() || elements == 0 {
+        if nodes == 0 || elements == 0 {
             return Err(invalid(
                 "/mesh",
-                format!(
-                    "a result needs nodes and elements ({} nodes, {elements} elements)",
-                    mesh.coordinates.len()
-                ),
+                format!("a result needs nodes and elements ({nodes} nodes, {elements} elements)"),
             ));
         }
         if info.element_rank.len() != elements {
@@ -168,8 +117,7 @@ impl ResultWriter {
         drop(reserved);
         let created = (|| {
             let file = super::open::create(&tmp).at(&tmp, "/ (creating the file)")?;
-            write_header(&file, &tmp, info, mesh)?;
-            let nodes = mesh.coordinates.len();
+            super::header::write(&file, &tmp, info, mesh)?;
             let datasets = StepDatasets::create(&file, &tmp, nodes, elements)?;
             file.flush().at(&tmp, "/ (flush)")?;
             Ok((file, datasets))
@@ -186,16 +134,9 @@ impl ResultWriter {
             tmp,
             file,
             datasets,
-            nodes: mesh.node_ids.len(),
+            nodes,
             elements,
-            topology: match mesh.all_connectivity() {
-                Ok(t) => Topology::Uniform {
-                    nodes_per_element: t.nodes_per_element,
-                },
-                Err(mixed) => Topology::Mixed {
-                    length: mixed.len(),
-                },
-            },
+            topology: super::source::topology(&mesh.bodies()),
             times: Vec::new(),
             restart: RestartSlots::default(),
             broken: None,

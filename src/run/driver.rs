@@ -4,7 +4,7 @@
 
 use super::fields::{write_fields, LocalFields};
 use super::gather::Gather;
-use super::mesh::output_mesh;
+use super::mesh::RunMesh;
 use super::outcome::{peak_memory, ActiveConstraint, GlobalState, RunOptions, RunSummary};
 use super::plastic;
 use super::restart::{self, Continued};
@@ -318,7 +318,14 @@ fn open_writer<C: Comm + ?Sized>(
             }
         }
         if local_err.is_none() {
-            match ResultWriter::create(path, &info, &output_mesh(problem, whole)) {
+            match ResultWriter::create(
+                path,
+                &info,
+                &RunMesh {
+                    problem,
+                    mesh: whole,
+                },
+            ) {
                 Ok(w) => writer = Some(w),
                 Err(e) => local_err = Some(e.to_string()),
             }
