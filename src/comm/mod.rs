@@ -21,27 +21,10 @@ use crate::math::Vec3;
 /// Reproducible global dot product of the first `n` nodes (the owned ones) of two nodal
 /// vectors: summed exactly, rounded once, identical on any number of ranks.
 pub fn dot<C: Comm + ?Sized>(comm: &C, a: &[Vec3], b: &[Vec3], n: usize) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("fma") {
-        // SAFETY: the processor has FMA, checked just above.
-        return global_sum(comm, unsafe { local_dot_fma(a, b, n) });
-    }
     global_sum(comm, local_dot(a, b, n))
 }
 
-/// `local_dot` compiled with the processor's fused multiply-add: the exact product's error
-/// term `fma(a, b, -a b)` in one instruction instead of a call to the C library's `fma`.
-/// Both round the same exact value once, so the sum is bitwise the same.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "fma")]
-fn local_dot_fma(a: &[Vec3], b: &[Vec3], n: usize) -> ExactSum {
-    local_dot(a, b, n)
-}
-
-/// The exact sum of the products of the first `n` nodes (`exact_dot`'s interleaved
-/// accumulators: the same exact sum as one accumulator's, without its chain of stores and
-/// loads on the limbs).
-#[inline(always)]
+/// The exact sum of the products of the first `n` nodes.
 fn local_dot(a: &[Vec3], b: &[Vec3], n: usize) -> ExactSum {
     exact_sum::exact_dot(a[..n].as_flattened(), b[..n].as_flattened())
 }

@@ -74,9 +74,11 @@
 //!
 //! `add` is about 25 integer instructions (bit-level decomposition of the
 //! double, one 128-bit shift, three limb additions) plus one predictable
-//! branch for the load check.  [`exact_dot`] and [`exact_sum`] interleave the
-//! terms over 4 independent partial accumulators to avoid store-to-load
-//! dependency chains on the limbs, then merge them.  `to_f64` costs about a
+//! branch for the load check.  [`exact_sum`] interleaves the terms over 4
+//! independent partial accumulators to avoid store-to-load dependency chains on
+//! the limbs, then merges them.  [`exact_dot`] first sums blocks of products
+//! exactly in floating point by error-free extraction (`dot.rs`, AVX2), so only a
+//! few partial sums per block reach the limbs.  `to_f64` costs about a
 //! hundred nanoseconds (two carry propagations over 67 limbs).
 //!
 //! # Exactness of products
@@ -404,12 +406,20 @@ fn round_magnitude(limbs: &[i64]) -> f64 {
 }
 
 /// Exact dot product `sum_i a[i]*b[i]` (see [`ExactSum::add_product`] for the
-/// exactness of products below `2^-969`).
+/// exactness of products below `2^-969`): blocks of products summed exactly in floating
+/// point, four at a time where the processor has AVX2 (`dot.rs`), otherwise term by term;
+/// the same exact sum either way.
 ///
 /// # Panics
 /// If `a.len() != b.len()`.
-#[inline(always)]
 pub fn exact_dot(a: &[f64], b: &[f64]) -> ExactSum {
+    dot::dot(a, b)
+}
+
+/// The exact dot product term by term into interleaved superaccumulators: the reference
+/// `exact_dot` is checked against, and its path without AVX2.
+#[inline(always)]
+fn scalar_dot(a: &[f64], b: &[f64]) -> ExactSum {
     assert_eq!(a.len(), b.len(), "exact_dot: length mismatch");
     let mut lanes: [ExactSum; LANES] = std::array::from_fn(|_| ExactSum::new());
     for (ca, cb) in a.chunks(LANES * DOT_BLOCK).zip(b.chunks(LANES * DOT_BLOCK)) {
@@ -465,5 +475,6 @@ fn combine(lanes: [ExactSum; LANES]) -> ExactSum {
     first
 }
 
+mod dot;
 #[cfg(test)]
 mod tests;
