@@ -152,8 +152,10 @@ fn matrix_force_body(k: &ElementMatrix, u: &[Vec3; 8], f: &mut [Vec3; 8]) {
             d[3 * a + i] = ua[i] - u[0][i];
         }
     }
+    // The first node's three columns meet d = u_1 - u_1 = 0: they would add c 0 = +-0 to
+    // sums that start at +0 (the sum stays +0), so they are left out, bitwise alike.
     let mut acc = [0.0; 24];
-    for (j, &uj) in d.iter().enumerate() {
+    for (j, &uj) in d.iter().enumerate().skip(3) {
         let col = &k[j * 24..(j + 1) * 24];
         for (a, &c) in acc.iter_mut().zip(col) {
             *a += c * uj;
