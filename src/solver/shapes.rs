@@ -20,7 +20,7 @@
 //! read as a hexahedron's (or a hexahedron's matrix).
 
 use crate::fem::{element, tet10, ElementFailure, ElementKind};
-use crate::math::Vec3;
+use crate::math::{Mat3, Vec3};
 use crate::memory::{try_with_capacity, AllocError};
 use crate::mesh::GlobalMesh;
 use crate::problem::{nearly_incompressible, BodyModel};
@@ -164,6 +164,10 @@ pub struct Shapes {
     /// The stiffness matrix of each shape of a body evaluated by matrices (shorter than
     /// the shapes when the last ones have none).
     matrix: Vec<Option<Box<element::ElementMatrix>>>,
+    /// The diagonal 3 x 3 blocks of each shape that has a matrix: a linear body's tangent
+    /// does not depend on the displacement, so every element of the shape has these
+    /// blocks, the bits `element::diagonal_blocks_with` gives it.
+    diagonal: Vec<Option<[Mat3; 8]>>,
     /// The geometry of each composite tetrahedron.
     tet: Vec<tet10::Geometry>,
 }
@@ -224,6 +228,7 @@ impl Shapes {
             "the Gauss-point gradients",
         )?;
         let mut matrix = Vec::new();
+        let mut diagonal = Vec::new();
         // Shape number -> its index among the shapes whose geometry did not fail.
         let mut kept = Vec::with_capacity(first.len());
         for &e in &first {
@@ -243,6 +248,18 @@ impl Shapes {
                         // A linear element's kernel does not fail on a valid geometry;
                         // should it, the element keeps its kernel (which reports).
                         let k = element::element_matrix(&g, Some(&gg), &m.material, m.formulation);
+                        let mut d = [[[0.0; 3]; 3]; 8];
+                        let blocks = element::diagonal_blocks_with(
+                            &g,
+                            Some(&gg),
+                            &[[0.0; 3]; 8],
+                            &m.material,
+                            m.formulation,
+                            &[],
+                            &mut d,
+                        );
+                        diagonal.resize(geometry.len(), None);
+                        diagonal.push(k.is_ok().then_some(d).filter(|_| blocks.is_ok()));
                         matrix.push(k.ok());
                     }
                     kept.push(Ok(geometry.len() as u32));
@@ -272,6 +289,7 @@ impl Shapes {
             geometry,
             gauss: gauss_table,
             matrix,
+            diagonal,
             tet,
         })
     }
@@ -301,6 +319,13 @@ impl Shapes {
     pub fn matrix(&self, e: usize) -> Option<&element::ElementMatrix> {
         let s = *self.index[e].as_ref().ok()? as usize;
         self.matrix.get(s)?.as_deref()
+    }
+
+    /// The diagonal blocks of local element `e`, when its body is evaluated by matrices.
+    #[inline(always)]
+    pub fn diagonal(&self, e: usize) -> Option<&[Mat3; 8]> {
+        let s = *self.index[e].as_ref().ok()? as usize;
+        self.diagonal.get(s)?.as_ref()
     }
 
     /// How many distinct hexahedral shapes are kept.

@@ -537,14 +537,16 @@ impl<'a> Assembly<'a> {
         let (mut ut, mut ft) = ([[0.0; 3]; 10], [[0.0; 3]; 10]);
         for e in 0..self.mesh.elements.len() {
             if self.mesh.kind(e) == ElementKind::Tet10 {
-                self.tet_force(e, &self.gather(e, u), &mut ft)?;
+                self.gather_into(e, u, &mut ut);
+                self.tet_force(e, &ut, &mut ft)?;
                 self.scatter(e, &ft, f);
                 continue;
             }
             if self.shapes.matrix(e).is_some() || elastic.get(e).is_some() {
                 continue;
             }
-            self.element_force(e, &self.gather(e, u), &mut fe)?;
+            self.gather_into(e, u, &mut ue);
+            self.element_force(e, &ue, &mut fe)?;
             self.scatter(e, &fe, f);
         }
         Ok(())
@@ -685,19 +687,25 @@ impl<'a> Assembly<'a> {
                 add_blocks(self.mesh.elements.fixed::<10>(e), &dt, d);
                 continue;
             }
-            let ue = self.gather(e, u);
-            let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
-            let hist = self.hist(e);
-            element::diagonal_blocks_with(
-                geo,
-                gauss,
-                &ue,
-                &m.material,
-                m.formulation,
-                hist,
-                &mut de,
-            )
-            .map_err(|k| self.fail(e, k))?;
+            let de = match self.shapes.diagonal(e) {
+                Some(shared) => shared,
+                None => {
+                    let ue = self.gather(e, u);
+                    let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
+                    let hist = self.hist(e);
+                    element::diagonal_blocks_with(
+                        geo,
+                        gauss,
+                        &ue,
+                        &m.material,
+                        m.formulation,
+                        hist,
+                        &mut de,
+                    )
+                    .map_err(|k| self.fail(e, k))?;
+                    &de
+                }
+            };
             for (a, &n) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
                 for i in 0..3 {
                     for k in 0..3 {
