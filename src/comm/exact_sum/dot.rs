@@ -27,7 +27,16 @@
 //! term, as the scalar dot does. Each term is added exactly either way, so the value is the
 //! same exact sum as `scalar_dot`'s, bit for bit, whatever the processor.
 
-use super::ExactSum;
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
+/// An exact accumulator (the superaccumulator, `ExactSum`) as this file adds to it.
+pub trait Exact {
+    /// Adds `x` exactly.
+    fn add(&mut self, x: f64);
+    /// Adds `p = a b` and `e = fma(a, b, -p)` exactly.
+    fn add_product(&mut self, a: f64, b: f64);
+}
 
 /// Products per vector lane in a block (the extraction's headroom: 2^10 terms of at most
 /// `2^(b-12)` each).
@@ -44,19 +53,19 @@ const LEVELS: usize = 3;
 const MIN_EXP: i32 = -890;
 const MAX_EXP: i32 = 1000;
 
-/// Exact `sum_i a[i] b[i]`, the same value as `scalar_dot`.
-pub fn dot(a: &[f64], b: &[f64]) -> ExactSum {
+/// Adds the exact `sum_i a[i] b[i]` to `total` where the processor has AVX2 and FMA and
+/// says so; false (nothing added) where it has not.
+pub fn add_dot(a: &[f64], b: &[f64], total: &mut impl Exact) -> bool {
     assert_eq!(a.len(), b.len(), "exact_dot: length mismatch");
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-        let mut total = ExactSum::new();
         for (ca, cb) in a.chunks(BLOCK).zip(b.chunks(BLOCK)) {
             // SAFETY: the processor has AVX2 and FMA, checked just above.
-            unsafe { avx2::block(ca, cb, &mut total) };
+            unsafe { block(ca, cb, total) };
         }
-        return total;
+        return true;
     }
-    super::scalar_dot(a, b)
+    false
 }
 
 /// The block's bound exponent `E` (every product below `2^E`), or `None` where the fast
@@ -92,107 +101,105 @@ fn anchors(e: i32) -> ([f64; LEVELS], [f64; LEVELS]) {
 }
 
 /// The block term by term into the superaccumulator (the scalar dot's way).
-fn slow(a: &[f64], b: &[f64], total: &mut ExactSum) {
+fn slow(a: &[f64], b: &[f64], total: &mut impl Exact) {
     for (&x, &y) in a.iter().zip(b) {
         total.add_product(x, y);
     }
 }
 
+/// Adds the exact sum of a block's products (at most `BLOCK`) to `total`.
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::{anchors, bound_exponent, slow, ExactSum, LEVELS};
-    use std::arch::x86_64::*;
-
-    /// Adds the exact sum of a block's products (at most `BLOCK`) to `total`.
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) fn block(a: &[f64], b: &[f64], total: &mut ExactSum) {
-        let n4 = a.len() / 4 * 4;
-        let (largest, finite) = largest_product(&a[..n4], &b[..n4]);
-        let e = match bound_exponent(largest, finite) {
-            None => return slow(a, b, total),
-            Some(None) => return slow(&a[n4..], &b[n4..], total),
-            Some(Some(e)) => e,
-        };
-        let (cp, ce) = anchors(e);
-        let mut sp = cp.map(|c| _mm256_set1_pd(c));
-        let mut se = ce.map(|c| _mm256_set1_pd(c));
-        let zero = _mm256_setzero_pd();
-        for (xa, xb) in a[..n4].chunks_exact(4).zip(b[..n4].chunks_exact(4)) {
-            // SAFETY: each chunk holds four f64 (unaligned loads).
-            let (x, y) = unsafe { (_mm256_loadu_pd(xa.as_ptr()), _mm256_loadu_pd(xb.as_ptr())) };
-            let p = _mm256_mul_pd(x, y);
-            let err = _mm256_fmsub_pd(x, y, p);
-            let rp = extract(&mut sp, p);
-            let re = extract(&mut se, err);
-            let left = _mm256_or_pd(
-                _mm256_cmp_pd::<_CMP_NEQ_OQ>(rp, zero),
-                _mm256_cmp_pd::<_CMP_NEQ_OQ>(re, zero),
-            );
-            if _mm256_movemask_pd(left) != 0 {
-                add_lanes(rp, total);
-                add_lanes(re, total);
-            }
+#[target_feature(enable = "avx2,fma")]
+fn block(a: &[f64], b: &[f64], total: &mut impl Exact) {
+    let n4 = a.len() / 4 * 4;
+    let (largest, finite) = largest_product(&a[..n4], &b[..n4]);
+    let e = match bound_exponent(largest, finite) {
+        None => return slow(a, b, total),
+        Some(None) => return slow(&a[n4..], &b[n4..], total),
+        Some(Some(e)) => e,
+    };
+    let (cp, ce) = anchors(e);
+    let mut sp = cp.map(|c| _mm256_set1_pd(c));
+    let mut se = ce.map(|c| _mm256_set1_pd(c));
+    let zero = _mm256_setzero_pd();
+    for (xa, xb) in a[..n4].chunks_exact(4).zip(b[..n4].chunks_exact(4)) {
+        // SAFETY: each chunk holds four f64 (unaligned loads).
+        let (x, y) = unsafe { (_mm256_loadu_pd(xa.as_ptr()), _mm256_loadu_pd(xb.as_ptr())) };
+        let p = _mm256_mul_pd(x, y);
+        let err = _mm256_fmsub_pd(x, y, p);
+        let rp = extract(&mut sp, p);
+        let re = extract(&mut se, err);
+        let left = _mm256_or_pd(
+            _mm256_cmp_pd::<_CMP_NEQ_OQ>(rp, zero),
+            _mm256_cmp_pd::<_CMP_NEQ_OQ>(re, zero),
+        );
+        if _mm256_movemask_pd(left) != 0 {
+            add_lanes(rp, total);
+            add_lanes(re, total);
         }
-        for (s, c) in sp.iter().zip(&cp).chain(se.iter().zip(&ce)) {
-            add_lanes(_mm256_sub_pd(*s, _mm256_set1_pd(*c)), total);
-        }
-        slow(&a[n4..], &b[n4..], total);
     }
-
-    /// The largest `|a_i b_i|` and whether every product is finite.
-    #[target_feature(enable = "avx2,fma")]
-    fn largest_product(a: &[f64], b: &[f64]) -> (f64, bool) {
-        let sign = _mm256_set1_pd(-0.0);
-        let max = _mm256_set1_pd(f64::MAX);
-        let mut m = _mm256_setzero_pd();
-        let mut bad = _mm256_setzero_pd();
-        for (xa, xb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
-            // SAFETY: each chunk holds four f64 (unaligned loads).
-            let (x, y) = unsafe { (_mm256_loadu_pd(xa.as_ptr()), _mm256_loadu_pd(xb.as_ptr())) };
-            let p = _mm256_andnot_pd(sign, _mm256_mul_pd(x, y));
-            m = _mm256_max_pd(m, p);
-            bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_NLE_UQ>(p, max));
-        }
-        let lanes = to_array(m);
-        let largest = lanes.iter().fold(0.0f64, |acc, &v| acc.max(v));
-        (largest, _mm256_movemask_pd(bad) == 0)
+    for (s, c) in sp.iter().zip(&cp).chain(se.iter().zip(&ce)) {
+        add_lanes(_mm256_sub_pd(*s, _mm256_set1_pd(*c)), total);
     }
+    slow(&a[n4..], &b[n4..], total);
+}
 
-    /// Extracts `x` level by level; returns what is left below the last.
-    #[target_feature(enable = "avx2,fma")]
-    fn extract(s: &mut [__m256d; LEVELS], mut x: __m256d) -> __m256d {
-        for level in s.iter_mut() {
-            let t = _mm256_add_pd(*level, x);
-            let q = _mm256_sub_pd(t, *level);
-            *level = t;
-            x = _mm256_sub_pd(x, q);
-        }
-        x
+/// The largest `|a_i b_i|` and whether every product is finite.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn largest_product(a: &[f64], b: &[f64]) -> (f64, bool) {
+    let sign = _mm256_set1_pd(-0.0);
+    let max = _mm256_set1_pd(f64::MAX);
+    let mut m = _mm256_setzero_pd();
+    let mut bad = _mm256_setzero_pd();
+    for (xa, xb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        // SAFETY: each chunk holds four f64 (unaligned loads).
+        let (x, y) = unsafe { (_mm256_loadu_pd(xa.as_ptr()), _mm256_loadu_pd(xb.as_ptr())) };
+        let p = _mm256_andnot_pd(sign, _mm256_mul_pd(x, y));
+        m = _mm256_max_pd(m, p);
+        bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_NLE_UQ>(p, max));
     }
+    let lanes = to_array(m);
+    let largest = lanes.iter().fold(0.0f64, |acc, &v| acc.max(v));
+    (largest, _mm256_movemask_pd(bad) == 0)
+}
 
-    #[target_feature(enable = "avx2,fma")]
-    fn to_array(v: __m256d) -> [f64; 4] {
-        let mut out = [0.0; 4];
-        // SAFETY: `out` holds four f64 (unaligned store).
-        unsafe { _mm256_storeu_pd(out.as_mut_ptr(), v) };
-        out
+/// Extracts `x` level by level; returns what is left below the last.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn extract(s: &mut [__m256d; LEVELS], mut x: __m256d) -> __m256d {
+    for level in s.iter_mut() {
+        let t = _mm256_add_pd(*level, x);
+        let q = _mm256_sub_pd(t, *level);
+        *level = t;
+        x = _mm256_sub_pd(x, q);
     }
+    x
+}
 
-    /// Adds the non-zero lanes of `v` to `total`, exactly.
-    #[target_feature(enable = "avx2,fma")]
-    fn add_lanes(v: __m256d, total: &mut ExactSum) {
-        for x in to_array(v) {
-            if x != 0.0 {
-                total.add(x);
-            }
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn to_array(v: __m256d) -> [f64; 4] {
+    let mut out = [0.0; 4];
+    // SAFETY: `out` holds four f64 (unaligned store).
+    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), v) };
+    out
+}
+
+/// Adds the non-zero lanes of `v` to `total`, exactly.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn add_lanes(v: __m256d, total: &mut impl Exact) {
+    for x in to_array(v) {
+        if x != 0.0 {
+            total.add(x);
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::scalar_dot;
-    use super::*;
+    use super::super::{exact_dot as dot, scalar_dot};
 
     /// xorshift64*: a reproducible stream of test values.
     struct Rng(u64);

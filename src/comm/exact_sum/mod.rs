@@ -413,7 +413,23 @@ fn round_magnitude(limbs: &[i64]) -> f64 {
 /// # Panics
 /// If `a.len() != b.len()`.
 pub fn exact_dot(a: &[f64], b: &[f64]) -> ExactSum {
-    dot::dot(a, b)
+    let mut total = ExactSum::new();
+    if dot::add_dot(a, b, &mut total) {
+        return total;
+    }
+    scalar_dot(a, b)
+}
+
+impl dot::Exact for ExactSum {
+    #[inline(always)]
+    fn add(&mut self, x: f64) {
+        ExactSum::add(self, x);
+    }
+
+    #[inline(always)]
+    fn add_product(&mut self, a: f64, b: f64) {
+        ExactSum::add_product(self, a, b);
+    }
 }
 
 /// The exact dot product term by term into interleaved superaccumulators: the reference

@@ -6,12 +6,13 @@
 
 use crate::fem::{element, hex8, history, tet10, ElementFailure, ElementKind, Formulation};
 use crate::material::PlasticState;
-use crate::math::{Mat3, Vec3, ZERO33};
+use crate::math::Vec3;
 use crate::memory::{try_filled, AllocError};
 use crate::mesh::local::LocalMesh;
 use crate::problem::BodyModel;
 use crate::solver::shapes::{Elements, Plan, Shapes};
 
+mod diagonal;
 mod elastic;
 mod tangents;
 pub use elastic::{Elastic, ElasticMatrices};
@@ -672,51 +673,6 @@ impl<'a> Assembly<'a> {
         }
     }
 
-    /// Nodal 3x3 diagonal blocks of the tangent at u.
-    pub fn diagonal(&self, u: &[Vec3], d: &mut [Mat3]) -> Result<(), ElementError> {
-        d.iter_mut().for_each(|v| *v = ZERO33);
-        let mut de = [ZERO33; 8];
-        let mut dt = [ZERO33; 10];
-        for e in 0..self.mesh.elements.len() {
-            let m = &self.models[self.mesh.element_body[e] as usize];
-            if self.mesh.kind(e) == ElementKind::Tet10 {
-                let geo = self.shapes.tet(e).map_err(|k| self.fail(e, k))?;
-                let ue = self.gather(e, u);
-                tet10::diagonal_blocks(geo, &ue, &m.material, m.formulation, self.hist(e), &mut dt)
-                    .map_err(|k| self.fail(e, k))?;
-                add_blocks(self.mesh.elements.fixed::<10>(e), &dt, d);
-                continue;
-            }
-            let de = match self.shapes.diagonal(e) {
-                Some(shared) => shared,
-                None => {
-                    let ue = self.gather(e, u);
-                    let (geo, gauss) = self.shapes.get(e).map_err(|k| self.fail(e, k))?;
-                    let hist = self.hist(e);
-                    element::diagonal_blocks_with(
-                        geo,
-                        gauss,
-                        &ue,
-                        &m.material,
-                        m.formulation,
-                        hist,
-                        &mut de,
-                    )
-                    .map_err(|k| self.fail(e, k))?;
-                    &de
-                }
-            };
-            for (a, &n) in self.mesh.elements.fixed::<8>(e).iter().enumerate() {
-                for i in 0..3 {
-                    for k in 0..3 {
-                        d[n as usize][i][k] += de[a][i][k];
-                    }
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// Adds the consistent nodal body force `scale * force_density` of every element of
     /// `body` to `f`.
     pub fn add_body_force(
@@ -804,17 +760,5 @@ impl<'a> Assembly<'a> {
             out.push(s.map_err(|k| self.fail(e, k))?);
         }
         Ok(out)
-    }
-}
-
-/// Adds an element's nodal diagonal blocks `de` into `d` at its nodes `el`.
-#[inline]
-fn add_blocks<const N: usize>(el: &[u32; N], de: &[Mat3; N], d: &mut [Mat3]) {
-    for (a, &n) in el.iter().enumerate() {
-        for i in 0..3 {
-            for k in 0..3 {
-                d[n as usize][i][k] += de[a][i][k];
-            }
-        }
     }
 }
