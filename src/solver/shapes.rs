@@ -151,6 +151,29 @@ fn shape_on_grid(x: &[Vec3; 8], grid: f64) -> [Vec3; 8] {
     element::reference_shape(&y)
 }
 
+/// A shared shape's stiffness matrix and diagonal blocks (a linear body's: neither depends
+/// on the displacement). A linear element's kernel does not fail on a valid geometry;
+/// should it, the shape keeps neither and its elements their kernel (which reports).
+fn shared_shape(
+    g: &element::Geometry,
+    gg: &element::GaussGeometry,
+    m: &BodyModel,
+) -> (Option<Box<element::ElementMatrix>>, Option<[Mat3; 8]>) {
+    let k = element::element_matrix(g, Some(gg), &m.material, m.formulation).ok();
+    let mut d = [[[0.0; 3]; 3]; 8];
+    let blocks = element::diagonal_blocks_with(
+        g,
+        Some(gg),
+        &[[0.0; 3]; 8],
+        &m.material,
+        m.formulation,
+        &[],
+        &mut d,
+    );
+    let d = (k.is_some() && blocks.is_ok()).then_some(d);
+    (k, d)
+}
+
 /// The bit that marks an index into the composite tetrahedra's geometry.
 const TET: u32 = 1 << 31;
 
@@ -243,24 +266,11 @@ impl Shapes {
             match element::geometry(&x) {
                 Ok((g, gg)) => {
                     if shared {
-                        let m = &models[b];
+                        let (k, d) = shared_shape(&g, &gg, &models[b]);
                         matrix.resize(geometry.len(), None);
-                        // A linear element's kernel does not fail on a valid geometry;
-                        // should it, the element keeps its kernel (which reports).
-                        let k = element::element_matrix(&g, Some(&gg), &m.material, m.formulation);
-                        let mut d = [[[0.0; 3]; 3]; 8];
-                        let blocks = element::diagonal_blocks_with(
-                            &g,
-                            Some(&gg),
-                            &[[0.0; 3]; 8],
-                            &m.material,
-                            m.formulation,
-                            &[],
-                            &mut d,
-                        );
+                        matrix.push(k);
                         diagonal.resize(geometry.len(), None);
-                        diagonal.push(k.is_ok().then_some(d).filter(|_| blocks.is_ok()));
-                        matrix.push(k.ok());
+                        diagonal.push(d);
                     }
                     kept.push(Ok(geometry.len() as u32));
                     geometry.push(g);
