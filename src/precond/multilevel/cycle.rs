@@ -33,9 +33,10 @@ const SLOW_RATE: f64 = 0.6;
 /// Cycles of that measurement.
 const RATE_CYCLES: usize = 8;
 /// The fill budget of that factor, in entries of the level's operator: a solve with L costs
-/// about 4 nnz(L) flops, the V-cycle it replaces sweeps x (2 degree + 2) level products, 36
-/// nnz(A) flops with the defaults, so up to 9 nnz(A) the solve costs no more per
-/// application. (Hertz x2 and x4: 3.1-4.4.)
+/// about 4 nnz(L) flops, the V-cycles it replace sweeps x (2 degree + 1) - 1 level products
+/// of 2 nnz(A) flops (18 nnz(A) with the defaults), so a factor at the budget costs up to
+/// twice as much per application; it replaces only a V-cycle too slow to serve (Hertz x2
+/// and x4: 3.1-4.4, and far fewer CG iterations, above).
 pub(super) const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;

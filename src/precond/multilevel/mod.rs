@@ -59,9 +59,14 @@ use transfer::Transfer;
 
 /// Chebyshev degree on the coarse levels.
 const COARSE_DEGREE: usize = 2;
-/// V-cycles on the first coarse level per application (cheap next to one fine operator
-/// application; block on block n = 20: 114 CG iterations with one, 94 with three).
-const COARSE_SWEEPS: usize = 3;
+/// V-cycles on the first coarse level per application. A V-cycle costs that level
+/// 2 degree products (4), each sweep after the first one more: at n = 80 (block on
+/// block, 2 ranks) its 35 million entries made the 14 products of three sweeps most of a
+/// CG iteration. Two sweeps (9 products) keep the iterations within 1.2 times n = 20's
+/// (79, 81, 93, 94 at n = 20, 40, 60, 80, against 79, 79, 89, 92 with three); one sweep
+/// (4 products) is faster still at n = 80 (103 iterations, CG loops 26-30 s against
+/// 39-40 s with three) but takes 1.29 times n = 20's iterations (80).
+const COARSE_SWEEPS: usize = 2;
 /// Chebyshev degree on the fine level: each degree costs two operator applications per
 /// CG iteration (Hertz x2: 756 CG iterations with degree 1, 720 with 2).
 pub const FINE_DEGREE: usize = 1;
