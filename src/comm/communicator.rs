@@ -23,6 +23,13 @@ pub trait Comm {
     fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>>;
     /// Broadcasts bytes from `root` to every rank.
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>);
+    /// Hands `items` along the ranks in order (collective): for each item in turn, rank r
+    /// receives what rank r - 1 made of it (`None` on rank 0), `step(item, received)`
+    /// makes this rank's, and that goes on to rank r + 1 (the last rank's is not sent)
+    /// without waiting for rank r + 1 to take it, so a rank goes on with its next items
+    /// while the ranks after it work on the earlier ones. Every send has completed when
+    /// the call returns.
+    fn chain(&self, items: usize, step: &mut dyn FnMut(usize, Option<Vec<u8>>) -> Vec<u8>);
     /// Every rank sends `send[r]` (possibly empty) to rank r and receives one buffer from
     /// every rank, in rank order.
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;

@@ -10,6 +10,8 @@ use mpi::Count;
 use std::cell::Cell;
 
 const HALO_TAG: i32 = 17;
+/// The tag of `chain`'s messages (apart from the halo's).
+const CHAIN_TAG: i32 = 18;
 
 pub struct MpiComm {
     _universe: mpi::environment::Universe,
@@ -233,6 +235,36 @@ impl Comm for MpiComm {
         if len > 0 {
             p.broadcast_into(&mut data[..]);
         }
+    }
+
+    fn chain(&self, items: usize, step: &mut dyn FnMut(usize, Option<Vec<u8>>) -> Vec<u8>) {
+        let (rank, size) = (self.rank(), self.size());
+        // Each item's bytes stay in their slot until every send has completed.
+        let mut slots: Vec<Vec<u8>> = vec![Vec::new(); items];
+        mpi::request::scope(|scope| {
+            let mut sends = Vec::new();
+            for (item, slot) in slots.iter_mut().enumerate() {
+                let received = (rank > 0).then(|| {
+                    self.world
+                        .process_at_rank(rank as i32 - 1)
+                        .receive_vec_with_tag::<u8>(CHAIN_TAG)
+                        .0
+                });
+                *slot = step(item, received);
+                if rank + 1 < size {
+                    self.count_messages(1, slot.len());
+                    let data: &Vec<u8> = slot;
+                    sends.push(
+                        self.world
+                            .process_at_rank(rank as i32 + 1)
+                            .immediate_send_with_tag(scope, &data[..], CHAIN_TAG),
+                    );
+                }
+            }
+            for send in sends {
+                send.wait();
+            }
+        });
     }
 
     fn traffic(&self) -> Traffic {

@@ -28,6 +28,11 @@ impl Comm for SerialComm {
         vec![local.to_vec()]
     }
     fn broadcast_bytes(&self, _root: usize, _data: &mut Vec<u8>) {}
+    fn chain(&self, items: usize, step: &mut dyn FnMut(usize, Option<Vec<u8>>) -> Vec<u8>) {
+        for item in 0..items {
+            step(item, None);
+        }
+    }
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
         vec![send[0].clone()]
     }

@@ -10,7 +10,8 @@
 //!   P^T for the cycle and P's rows to form P^T A P);
 //! - P^T A P in turns: rank 0 sums the terms of its rows of A, each rank then goes on
 //!   from the sums the rank before it sent, in the order of the rows, so every entry is
-//!   the one sum the whole product forms (`triple::triple_product_part`).
+//!   the one sum the whole product forms (`triple::triple_product_part`); by groups of
+//!   the product's rows, so that the ranks work at once on different groups (`pipelined`).
 //!
 //! The levels below are built whole on every rank, as before. A rank so holds its rows
 //! of the first coarse operator instead of all of them (on the block on block at n = 80,
@@ -66,6 +67,10 @@ pub fn gather_rows<C: Comm + ?Sized>(comm: &C, rows: &Csr) -> Csr {
     }
     whole
 }
+
+/// The least number of groups of its rows P^T A P is formed in on more ranks than one
+/// (`pipelined`).
+const PIPELINE_GROUPS: usize = 8;
 
 /// Rows of P a rank sends at a time while P^T is formed.
 const TRANSPOSE_PIECE: usize = 4096;
@@ -353,31 +358,10 @@ fn galerkin<C: Comm + ?Sized>(
     });
     let own_cols = own_p.cols;
     drop(own_p);
-    // The sums so far (of the whole next level's size): the ones before go as soon as
-    // they have seeded this rank's part or the next arrive, so that a rank holds two such
-    // matrices at a time, not three.
-    let mut sums: Option<Csr> = None;
-    for r in 0..size {
-        let mut bytes = Vec::new();
-        if r == comm.rank() {
-            let part = triple_product_part(
-                local.as_ref().unwrap_or(&pt),
-                view,
-                ks.clone(),
-                &p,
-                TRIPLE_BLOCKS,
-                sums.take().as_ref(),
-            );
-            if size == 1 {
-                sums = Some(part);
-                continue;
-            }
-            bytes = part.to_bytes();
-        }
-        drop(sums.take());
-        comm.broadcast_bytes(r, &mut bytes);
-        sums = Some(Csr::from_bytes(&bytes));
-    }
+    let sums = match &local {
+        None => triple_product_part((&pt, 0..pt.rows), view, ks.clone(), &p, TRIPLE_BLOCKS, None),
+        Some(local) => pipelined(comm, local, view, ks.clone(), &p),
+    };
     drop(p);
     let transfer = match local {
         None => Prolongation::Whole(pt),
@@ -392,10 +376,75 @@ fn galerkin<C: Comm + ?Sized>(
             Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank())
         }
     };
-    (
-        transfer,
-        sums.expect("one rank at least").into_symmetric_part(),
-    )
+    (transfer, sums.into_symmetric_part())
+}
+
+/// P^T A P on more ranks than one, by groups of its rows (`pt`'s rows, the product's: at
+/// least 8, and 4 per rank), each group's sums handed on rank after rank: rank r forms
+/// its part of a group (the terms of its rows `ks` of A) on from the sums rank r - 1
+/// sent it and sends them on to rank r + 1, so every entry is the one sum the whole
+/// product forms, while the ranks work at once on different groups (a pipeline, instead
+/// of each rank waiting for the whole product of the ranks before it). A group's terms
+/// come mostly from one rank (the next level's aggregates are numbered as the rows the
+/// ranks hold), so the groups go through the pipeline in the order of that rank, the last
+/// rank's first: the ranks before it pass them on at little cost, and each rank has its
+/// own groups' terms to sum while the ranks after it sum theirs. The last rank holds the
+/// whole product and gives it to every rank a group at a time (collective).
+fn pipelined<C: Comm + ?Sized>(
+    comm: &C,
+    pt: &Csr,
+    view: &mut View,
+    ks: Range<usize>,
+    p: &Picked,
+) -> Csr {
+    let (rank, last) = (comm.rank(), comm.size() - 1);
+    let per = pt
+        .rows
+        .div_ceil(PIPELINE_GROUPS.max(4 * comm.size()))
+        .max(1);
+    let groups = || (0..pt.rows).step_by(per).map(|g| g..(g + per).min(pt.rows));
+    // Each group's terms on this rank (its entries of P^T, all in `ks`), every rank's.
+    let terms: Vec<f64> = groups()
+        .map(|g| (pt.ptr[g.end] - pt.ptr[g.start]) as f64)
+        .collect();
+    let all = comm.all_gather_f64(&terms);
+    let mut order: Vec<(usize, usize)> = (0..terms.len())
+        .map(|g| {
+            let home = (0..all.len()).fold(0, |h, r| if all[r][g] > all[h][g] { r } else { h });
+            (last - home, g)
+        })
+        .collect();
+    order.sort_unstable();
+    let range = |g: usize| g * per..((g + 1) * per).min(pt.rows);
+    let mut parts: Vec<Option<Csr>> = vec![None; terms.len()];
+    comm.chain(order.len(), &mut |i, received| {
+        let g = order[i].1;
+        let seed = received.map(|b| Csr::from_bytes(&b));
+        let part = triple_product_part((pt, range(g)), view, ks.clone(), p, 1, seed.as_ref());
+        drop(seed);
+        if rank < last {
+            part.to_bytes()
+        } else {
+            parts[g] = Some(part);
+            Vec::new()
+        }
+    });
+    let mut whole = Csr::empty(pt.rows);
+    for part in parts.into_iter().flatten() {
+        whole.append(&part);
+    }
+    for range in groups() {
+        let mut bytes = if rank == last {
+            whole.rows_to_bytes(range)
+        } else {
+            Vec::new()
+        };
+        comm.broadcast_bytes(last, &mut bytes);
+        if rank != last {
+            whole.append_bytes(&bytes);
+        }
+    }
+    whole
 }
 
 #[cfg(test)]

@@ -454,6 +454,16 @@ impl Csr {
         .to_bytes()
     }
 
+    /// Appends the rows of `rows` (of the same columns).
+    pub fn append(&mut self, rows: &Csr) {
+        assert_eq!(rows.cols, self.cols, "append: one number of columns");
+        let base = self.idx.len();
+        self.ptr.extend(rows.ptr[1..].iter().map(|&x| base + x));
+        self.idx.extend_from_slice(&rows.idx);
+        self.val.extend_from_slice(&rows.val);
+        self.rows += rows.rows;
+    }
+
     /// Appends the rows of a matrix written by `to_bytes` (of the same columns).
     pub fn append_bytes(&mut self, b: &[u8]) {
         let u64_at =

@@ -55,7 +55,8 @@ pub fn triple_product(pt: &Csr, a: &Csr, p: &Csr, blocks: usize) -> Csr {
         (a.rows, a.cols, p.rows),
         "triple_product: shapes"
     );
-    triple_product_part(pt, &mut Offset { a, first: 0 }, 0..a.rows, p, blocks, None)
+    let rows = &mut Offset { a, first: 0 };
+    triple_product_part((pt, 0..pt.rows), rows, 0..a.rows, p, blocks, None)
 }
 
 /// The part of P^T A P that the rows `ks` of A contribute (`a`: the rows of A, asked only
@@ -63,9 +64,11 @@ pub fn triple_product(pt: &Csr, a: &Csr, p: &Csr, blocks: usize) -> Csr {
 /// entry's sum goes on from the seed's value over the terms of k in `ks`, in the order of
 /// k, so the parts of consecutive ranges of rows, each seeded with the one before, end
 /// with `triple_product`'s bits. An entry some term reached is kept (also when it sums to
-/// zero), as the whole product keeps it.
+/// zero), as the whole product keeps it. Only the rows `range` of the product are formed
+/// (of P^T, `pt`; the seed holds those rows, numbered from 0): each row's sums are its
+/// own, so the product's rows may be formed in groups.
 pub fn triple_product_part(
-    pt: &Csr,
+    (pt, range): (&Csr, std::ops::Range<usize>),
     a: &mut impl Rows,
     ks: std::ops::Range<usize>,
     p: &impl RowsOf,
@@ -83,7 +86,7 @@ pub fn triple_product_part(
     let mut need: Vec<u32> = Vec::new();
     let mut ap = Csr::empty(cols);
     let mut out = Csr::empty(cols);
-    out.ptr.reserve(pt.rows);
+    out.ptr.reserve(range.len());
     // Row i of P^T restricted to `ks` (its columns are sorted).
     let part = |i: usize| {
         let (c, v) = pt.row(i);
@@ -96,11 +99,11 @@ pub fn triple_product_part(
     // row of A P is its own sum whichever block forms it), and the rows of P^T that reach
     // none of `ks` cost nothing.
     let per = ks.len().div_ceil(blocks.max(1)).max(1);
-    let mut start = 0;
+    let mut start = range.start;
     let mut block = 0usize;
-    while start < pt.rows {
+    while start < range.end {
         let mut end = start;
-        while end < pt.rows && need.len() < per {
+        while end < range.end && need.len() < per {
             for &k in part(end).0 {
                 let s = k as usize - ks.start;
                 if want[s] != block {
@@ -143,7 +146,7 @@ pub fn triple_product_part(
         }
         for i in start..end {
             if let Some(seed) = seed {
-                outer.seed(seed.row(i));
+                outer.seed(seed.row(i - range.start));
             }
             let row = |k: usize| ap.row(slot[k - ks.start] as usize);
             outer.push_row(part(i), row, &mut out);
@@ -207,54 +210,65 @@ mod tests {
     fn the_product_in_turns_with_the_rows_of_p_it_reaches_is_the_whole_product() {
         // As the first level forms it: the rows of A split in consecutive ranges (the
         // ranks), each range's part seeded with the parts before, P given only by the rows
-        // the range's rows of A reach (`Picked`), P^T only by its columns in the range.
+        // the range's rows of A reach (`Picked`), P^T only by its columns in the range;
+        // the product's rows formed whole or in groups (`first::pipelined`), stacked.
         let a = rounding(13, 13, 1).symmetric_part();
         let p = rounding(13, 5, 2);
         let pt = p.transpose();
         let whole = pt.matmul(&a.matmul(&p));
         for cuts in [vec![0, 13], vec![0, 6, 13], vec![0, 4, 4, 9, 13]] {
-            for blocks in [1, 3, 8] {
-                let mut sums: Option<Csr> = None;
-                for w in cuts.windows(2) {
-                    let ks = w[0]..w[1];
-                    let mut reached: Vec<u32> =
-                        ks.clone().flat_map(|k| a.row(k).0.to_vec()).collect();
-                    reached.sort_unstable();
-                    reached.dedup();
-                    let mut slot = vec![u32::MAX; p.rows];
-                    let mut held = Csr::empty(p.cols);
-                    for (s, &m) in reached.iter().enumerate() {
-                        slot[m as usize] = s as u32;
-                        let (c, v) = p.row(m as usize);
-                        held.idx.extend_from_slice(c);
-                        held.val.extend_from_slice(v);
-                        held.ptr.push(held.idx.len());
-                        held.rows += 1;
+            let ranges: Vec<_> = cuts.windows(2).map(|w| w[0]..w[1]).collect();
+            let parts: Vec<_> = ranges.iter().map(|ks| in_range(&a, &p, ks)).collect();
+            for groups in [vec![0, 5], vec![0, 2, 5], vec![0, 1, 1, 3, 5]] {
+                for blocks in [1, 3, 8] {
+                    let mut t = Csr::empty(5);
+                    for g in groups.windows(2) {
+                        let mut sums: Option<Csr> = None;
+                        for (ks, (picked, pt_ks)) in ranges.iter().zip(&parts) {
+                            let rows = &mut Offset { a: &a, first: 0 };
+                            sums = Some(triple_product_part(
+                                (pt_ks, g[0]..g[1]),
+                                rows,
+                                ks.clone(),
+                                picked,
+                                blocks,
+                                sums.as_ref(),
+                            ));
+                        }
+                        t.append(&sums.unwrap());
                     }
-                    let picked = Picked::new(slot, held);
-                    let range: Vec<_> = (0..p.rows)
-                        .flat_map(|m| {
-                            let (c, v) = p.row(m);
-                            c.iter().zip(v).map(move |(&j, &x)| (m as u32, j, x))
-                        })
-                        .filter(|&(m, _, _)| ks.contains(&(m as usize)))
-                        .collect();
-                    let pt_ks = Csr::from_triplets(p.rows, p.cols, range).transpose();
-                    let rows = &mut Offset { a: &a, first: 0 };
-                    sums = Some(triple_product_part(
-                        &pt_ks,
-                        rows,
-                        ks,
-                        &picked,
-                        blocks,
-                        sums.as_ref(),
-                    ));
+                    let what = format!("{cuts:?}, groups {groups:?}, {blocks} blocks");
+                    assert_eq!((&t.ptr, &t.idx), (&whole.ptr, &whole.idx), "{what}");
+                    assert_eq!(bits(&t.val), bits(&whole.val), "{what}");
                 }
-                let t = sums.unwrap();
-                let what = format!("{cuts:?}, {blocks} blocks");
-                assert_eq!((&t.ptr, &t.idx), (&whole.ptr, &whole.idx), "{what}");
-                assert_eq!(bits(&t.val), bits(&whole.val), "{what}");
             }
         }
+    }
+
+    /// What a rank holding the rows `ks` of A has: the rows of P they reach, and P^T's
+    /// columns in `ks`.
+    fn in_range(a: &Csr, p: &Csr, ks: &std::ops::Range<usize>) -> (Picked, Csr) {
+        let mut reached: Vec<u32> = ks.clone().flat_map(|k| a.row(k).0.to_vec()).collect();
+        reached.sort_unstable();
+        reached.dedup();
+        let mut slot = vec![u32::MAX; p.rows];
+        let mut held = Csr::empty(p.cols);
+        for (s, &m) in reached.iter().enumerate() {
+            slot[m as usize] = s as u32;
+            let (c, v) = p.row(m as usize);
+            held.idx.extend_from_slice(c);
+            held.val.extend_from_slice(v);
+            held.ptr.push(held.idx.len());
+            held.rows += 1;
+        }
+        let range: Vec<_> = (0..p.rows)
+            .flat_map(|m| {
+                let (c, v) = p.row(m);
+                c.iter().zip(v).map(move |(&j, &x)| (m as u32, j, x))
+            })
+            .filter(|&(m, _, _)| ks.contains(&(m as usize)))
+            .collect();
+        let pt_ks = Csr::from_triplets(p.rows, p.cols, range).transpose();
+        (Picked::new(slot, held), pt_ks)
     }
 }
