@@ -156,9 +156,18 @@ impl Aggregates {
             let mut acc = [0.0; MODES];
             let range = self.sum_ptr[i] as usize..self.sum_ptr[i + 1] as usize;
             for s in &self.src[range] {
-                let (v, d) = match *s {
-                    Src::Local(l) => (&r[l as usize], self.offset(x, l as usize)),
-                    Src::Remote(q) => (&far[q as usize], self.far_offset[q as usize]),
+                let v = match *s {
+                    Src::Local(l) => &r[l as usize],
+                    Src::Remote(q) => &far[q as usize],
+                };
+                // A node without force adds +-0 to sums that start at +0 (a probe's
+                // response is zero at most nodes): the same bits without it.
+                if *v == [0.0; 3] {
+                    continue;
+                }
+                let d = match *s {
+                    Src::Local(l) => self.offset(x, l as usize),
+                    Src::Remote(q) => self.far_offset[q as usize],
                 };
                 for (m, phi) in modes(&d).iter().enumerate() {
                     acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
