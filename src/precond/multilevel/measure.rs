@@ -46,15 +46,23 @@ pub fn measure<C: Comm + ?Sized, E>(
     mut apply: impl FnMut(&mut [Vec3], &mut [Vec3]) -> Result<(), E>,
 ) -> Result<BlockRows, E> {
     let mut kc = Blocks::new(col, tr.num_aggregates, held);
+    let mut slots = Vec::new();
     for c in 0..col.num_colours {
+        // The places of the colour's pairs, found once for its six probes.
+        slots.clear();
+        slots.extend(
+            col.pairs(c)
+                .iter()
+                .map(|&(k, j)| kc.slots(k as usize, j as usize)),
+        );
         for m in 0..MODES {
             tr.aggregates
                 .probe(cons, &col.colour, c, m, (owned, x), buf.v);
             apply(buf.v, buf.av)?;
             tr.aggregates.restrict(comm, x, buf.av, buf.coeff);
-            for &(k, j) in col.pairs(c) {
+            for (&(k, j), &places) in col.pairs(c).iter().zip(&slots) {
                 let (k, j) = (k as usize, j as usize);
-                kc.take(k, j, m, &buf.coeff[MODES * k..MODES * (k + 1)]);
+                kc.take((k, j), places, m, &buf.coeff[MODES * k..MODES * (k + 1)]);
             }
         }
     }
@@ -146,23 +154,40 @@ impl Blocks {
     /// The coefficients `coeff` (six) at aggregate k of the probe of j's colour in mode m:
     /// column (j, m) of row k and, as its mirror, row (j, m) at column k, where held and
     /// stored (not read from a transpose, which takes the same values).
-    fn take(&mut self, k: usize, j: usize, m: usize, coeff: &[f64]) {
-        if self.holds(k) {
-            let t = self.slot(k, j);
+    /// `places` are `slots(k, j)`.
+    fn take(&mut self, (k, j): (usize, usize), places: [usize; 2], m: usize, coeff: &[f64]) {
+        let [t, s] = places;
+        if t != usize::MAX {
             for (l, &x) in coeff.iter().enumerate() {
                 if let Some(p) = self.at(k, l, t, m) {
                     self.arrive(p, x, MEASURED);
                 }
             }
         }
-        if self.holds(j) {
-            let s = self.slot(j, k);
+        if s != usize::MAX {
             for (l, &x) in coeff.iter().enumerate() {
                 if let Some(q) = self.at(j, m, s, l) {
                     self.arrive(q, x, MIRRORED);
                 }
             }
         }
+    }
+
+    /// The place of j among the couplings of row k and of k among those of row j, each
+    /// where the row is held (usize::MAX where it is not).
+    fn slots(&self, k: usize, j: usize) -> [usize; 2] {
+        [
+            if self.holds(k) {
+                self.slot(k, j)
+            } else {
+                usize::MAX
+            },
+            if self.holds(j) {
+                self.slot(j, k)
+            } else {
+                usize::MAX
+            },
+        ]
     }
 
     fn holds(&self, k: usize) -> bool {
@@ -397,7 +422,8 @@ mod tests {
             for (l, &x) in coeff.iter().enumerate() {
                 came.entry((k, l, j, m)).or_insert(x);
             }
-            blocks.take(k, j, m, &coeff);
+            let places = blocks.slots(k, j);
+            blocks.take((k, j), places, m, &coeff);
         }
         let sparse = spec_rows(&came, &sees, &held);
         let (first, len) = (MODES * held.start, MODES * held.len());
