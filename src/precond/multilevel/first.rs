@@ -402,9 +402,13 @@ fn pipelined<C: Comm + ?Sized>(
         .rows
         .div_ceil(PIPELINE_GROUPS.max(4 * comm.size()))
         .max(1);
-    let groups = || (0..pt.rows).step_by(per).map(|g| g..(g + per).min(pt.rows));
+    let groups: Vec<Range<usize>> = (0..pt.rows)
+        .step_by(per)
+        .map(|g| g..(g + per).min(pt.rows))
+        .collect();
     // Each group's terms on this rank (its entries of P^T, all in `ks`), every rank's.
-    let terms: Vec<f64> = groups()
+    let terms: Vec<f64> = groups
+        .iter()
         .map(|g| (pt.ptr[g.end] - pt.ptr[g.start]) as f64)
         .collect();
     let all = comm.all_gather_f64(&terms);
@@ -415,12 +419,12 @@ fn pipelined<C: Comm + ?Sized>(
         })
         .collect();
     order.sort_unstable();
-    let range = |g: usize| g * per..((g + 1) * per).min(pt.rows);
     let mut parts: Vec<Option<Csr>> = vec![None; terms.len()];
     comm.chain(order.len(), &mut |i, received| {
         let g = order[i].1;
         let seed = received.map(|b| Csr::from_bytes(&b));
-        let part = triple_product_part((pt, range(g)), view, ks.clone(), p, 1, seed.as_ref());
+        let rows = groups[g].clone();
+        let part = triple_product_part((pt, rows), view, ks.clone(), p, 1, seed.as_ref());
         drop(seed);
         if rank < last {
             part.to_bytes()
@@ -433,7 +437,7 @@ fn pipelined<C: Comm + ?Sized>(
     for part in parts.into_iter().flatten() {
         whole.append(&part);
     }
-    for range in groups() {
+    for range in groups {
         let mut bytes = if rank == last {
             whole.rows_to_bytes(range)
         } else {
