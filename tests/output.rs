@@ -445,6 +445,7 @@ fn a_restart_state_written_in_parts_reads_back_as_written_whole() {
         contact: vec![1.0, 2.0, 3.0],
         released: vec![4.0],
         ties: Vec::new(),
+        hierarchy: vec![1.0, 0.0, 0.0, 0.0 - rows as f64],
         history: (0..40).map(|i| i as f64 * 0.125 - rows as f64).collect(),
     };
     let mut read = Vec::new();

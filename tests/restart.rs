@@ -233,3 +233,25 @@ fn a_tet_on_hex_contact_run_restarts_bitwise() {
         .to_string();
     restart::killed_and_restarted_is_identical(&scene, &dir("tet_on_hex_mortar"), 1);
 }
+
+#[test]
+fn a_hierarchy_kept_across_increments_is_rebuilt_from_the_restart_file() {
+    // The block on block with the multilevel preconditioner (mpi-tests' scene, n = 10):
+    // the contact ties' weights move a little from step 1 to step 2 (so the constrained
+    // operator differs and its fingerprint too), their master faces do not, and step 2
+    // keeps the hierarchy step 1 built. The continued run holds no hierarchy; it must
+    // build it from the rows step 1 built it on, which the restart file keeps (built
+    // from step 2's own rows instead, the results differed by up to 3e-14 of the
+    // displacement and 2.8e-10 of the stress).
+    let d = dir("kept_across_increments");
+    let scene = repo("mpi-tests/block_on_block_multilevel.toml");
+    let text = logged_run(&scene, &d);
+    assert!(
+        text.contains("multilevel builds 1 (kept at 0 new increments)")
+            && text.contains("multilevel builds 0 (kept at 1 new increments)"),
+        "{text}"
+    );
+    let (full, _) = restart::killed_and_restarted_is_identical(scene.to_str().unwrap(), &d, 1);
+    let f = hdf5::File::open(&full).unwrap();
+    assert!(f.link_exists("/restart/slot1/hierarchy"));
+}

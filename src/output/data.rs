@@ -407,6 +407,10 @@ pub struct RestartState {
     /// The mortar ties of the active constraints, encoded by the contact module; empty
     /// without mortar pairs (and then not written).
     pub ties: Vec<f64>,
+    /// The constraint rows and slip springs the multilevel hierarchy in use was built
+    /// from, encoded by the solver (`Stepper::hierarchy_words`); empty when no hierarchy
+    /// of linear bodies is kept (and then not written).
+    pub hierarchy: Vec<f64>,
     /// Committed integration-point history of the plastic elements in global element order
     /// (`STATE_LEN` values per point); empty when no body is plastic.
     pub history: Vec<f64>,

@@ -92,6 +92,10 @@ pub const SLOT_HISTORY: &str = "history";
 /// The mortar ties of the active constraints (words of the contact module; present once a
 /// mortar tie was written).
 pub const SLOT_TIES: &str = "ties";
+/// The constraint rows the multilevel hierarchy in use was built from (words of the
+/// solver; present once a hierarchy of linear bodies was kept: a continued run builds the
+/// same one).
+pub const SLOT_HIERARCHY: &str = "hierarchy";
 /// The datasets of a slot, the state last (the order they are written in).
 /// Layout of the words of the restart slots' `contact` dataset (the contact module's
 /// encoding of an active constraint: how many words, in which order), written as the

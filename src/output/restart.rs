@@ -244,21 +244,26 @@ impl RestartSlots {
             let ds = history_dataset(file, p, &hname, r.history.len())?;
             ds.write_raw(&r.history).at(p, &hname)?;
         }
-        let tname = name(layout::SLOT_TIES);
-        let exists = file.link_exists(&tname);
-        if exists || !r.ties.is_empty() {
-            let ds = if exists {
-                file.dataset(&tname).at(p, &tname)?
-            } else {
-                file.new_dataset::<f64>()
-                    .chunk((1024,))
-                    .fletcher32()
-                    .shape((0..,))
-                    .create(tname.as_str())
-                    .at(p, &tname)?
-            };
-            ds.resize((r.ties.len(),)).at(p, &tname)?;
-            ds.write_raw(&r.ties).at(p, &tname)?;
+        for (d, words) in [
+            (layout::SLOT_TIES, &r.ties),
+            (layout::SLOT_HIERARCHY, &r.hierarchy),
+        ] {
+            let tname = name(d);
+            let exists = file.link_exists(&tname);
+            if exists || !words.is_empty() {
+                let ds = if exists {
+                    file.dataset(&tname).at(p, &tname)?
+                } else {
+                    file.new_dataset::<f64>()
+                        .chunk((1024,))
+                        .fletcher32()
+                        .shape((0..,))
+                        .create(tname.as_str())
+                        .at(p, &tname)?
+                };
+                ds.resize((words.len(),)).at(p, &tname)?;
+                ds.write_raw(words).at(p, &tname)?;
+            }
         }
         file.flush().at(p, "/ (flush)")?;
         let head = [
@@ -388,17 +393,22 @@ impl ResultFile {
         } else {
             Vec::new()
         };
-        let tname = format!("{group}/{}", layout::SLOT_TIES);
-        let ties = if self.hdf5().link_exists(&tname) {
-            let t = self.read_f64(&tname)?;
-            non_finite(p, &tname, &t)?;
-            t
-        } else {
-            Vec::new()
+        let optional = |d: &str| -> Result<Vec<f64>, OutputError> {
+            let tname = format!("{group}/{d}");
+            if self.hdf5().link_exists(&tname) {
+                let t = self.read_f64(&tname)?;
+                non_finite(p, &tname, &t)?;
+                Ok(t)
+            } else {
+                Ok(Vec::new())
+            }
         };
+        let ties = optional(layout::SLOT_TIES)?;
+        let hierarchy = optional(layout::SLOT_HIERARCHY)?;
         Ok(Some(RestartState {
             history,
             ties,
+            hierarchy,
             step: head[0] as u64,
             time: head[1],
             dt_prev: head[2],

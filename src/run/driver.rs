@@ -359,7 +359,7 @@ fn continue_from<C: Comm + ?Sized>(
         &state.displacement,
         &state.previous_displacement,
         (state.time, state.dt_prev, state.reference_floor),
-        state.multilevel_switched,
+        (state.multilevel_switched, c.state.hierarchy.clone()),
         c.contact,
     );
     plastic::restore(stepper, problem, &state.history);

@@ -123,6 +123,15 @@ fn restart_of(file: &ResultFile, path: &Path, problem: &Problem) -> Result<Resta
             plastic::history_len(problem)
         ));
     }
+    if !state.hierarchy.is_empty()
+        && !crate::solver::cg::hierarchy_words_fit(&state.hierarchy, problem.mesh.num_nodes())
+    {
+        return Err(format!(
+            "{shown}: the restart state's preconditioner rows (dataset `{}`) do not fit {}",
+            crate::output::layout::SLOT_HIERARCHY,
+            problem.file
+        ));
+    }
     if ContactState::decode(problem, &state.contact, &state.released, &state.ties).is_none() {
         return Err(format!(
             "{shown}: the restart state's contact constraints do not fit {}",
@@ -144,6 +153,7 @@ fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
         r.released.len() as f64,
         r.history.len() as f64,
         r.ties.len() as f64,
+        r.hierarchy.len() as f64,
     ];
     v.extend(r.displacement.iter().flatten());
     v.extend(r.previous_displacement.iter().flatten());
@@ -151,6 +161,7 @@ fn encode_restart(r: &RestartState, steps: &[StepOutput]) -> Vec<u8> {
     v.extend(&r.released);
     v.extend(&r.history);
     v.extend(&r.ties);
+    v.extend(&r.hierarchy);
     for s in steps {
         let t = &s.stats;
         v.extend([
@@ -177,7 +188,8 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
         .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
         .collect();
     let (nc, nr, nh, nt) = (v[6] as usize, v[7] as usize, v[8] as usize, v[9] as usize);
-    let mut at = 10;
+    let nk = v[10] as usize;
+    let mut at = 11;
     let mut take = |n: usize| {
         let out = v[at..at + n].to_vec();
         at += n;
@@ -192,9 +204,11 @@ fn decode_restart(bytes: &[u8], nodes: usize) -> (RestartState, Vec<(f64, StepSt
     let released = take(nr);
     let history = take(nh);
     let ties = take(nt);
+    let hierarchy = take(nk);
     let state = RestartState {
         history,
         ties,
+        hierarchy,
         step: v[0] as u64,
         time: v[1],
         dt_prev: v[2],
@@ -265,6 +279,7 @@ pub(super) fn write_restart<C: Comm + ?Sized>(
     });
     let (time, dt_prev, reference_floor) = stepper.scalars();
     let (contact, released, ties) = stepper.contact.encode();
+    let hierarchy = stepper.hierarchy_words();
     let r = RestartState {
         step: step as u64,
         time,
@@ -278,6 +293,7 @@ pub(super) fn write_restart<C: Comm + ?Sized>(
         contact,
         released,
         ties,
+        hierarchy,
         // Written above.
         history: Vec::new(),
     };

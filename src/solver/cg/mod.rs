@@ -45,6 +45,7 @@ mod exported;
 mod failure;
 mod full_tangent;
 mod iteration;
+mod kept;
 mod links;
 mod model;
 mod newton;
@@ -56,6 +57,7 @@ mod trace;
 
 pub use exported::{free_basis, ModelExport};
 pub use failure::SolveFailure;
+pub use kept::words_fit as hierarchy_words_fit;
 pub use links::{self_coupling, FrictionLink};
 pub use model::{CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
 pub use state::Cg;

@@ -3,9 +3,11 @@
 
 use super::failure::SolveFailure;
 use super::full_tangent::{FullTangent, MODEL_START};
+use super::kept::BuildRows;
 use super::model::{agree, agree_alloc, max_abs, CgSettings, ModelProblem};
 use super::state::Cg;
 use crate::comm::{self, Comm};
+use crate::constraints::Constraints;
 use crate::math::Vec3;
 use crate::memory::try_filled;
 use crate::solver::assembly::{Elastic, Tangents};
@@ -115,23 +117,19 @@ impl Cg {
         linear: bool,
         s: &CgSettings,
     ) -> Result<(), SolveFailure> {
-        let Some(ml) = self.multilevel.as_mut().filter(|_| !self.ml_standby) else {
+        if self.ml_standby || self.multilevel.is_none() {
             return Ok(());
-        };
+        }
         // Contact rows counted apart: a body held only by contact has its rigid modes in
         // the coarse levels only through them.
-        let mut counts = [0i64; 2];
-        for l in 0..pb.owned() {
-            for (_, row) in pb.cons.rows(l) {
-                let contact = matches!(row.kind, crate::constraints::RowKind::Contact { .. });
-                counts[contact as usize] += 1;
-            }
+        let [rows, contact] = row_counts(pb);
+        if linear && self.resume_kept(pb, u, [rows, contact], s)? {
+            return Ok(());
         }
-        pb.comm.sum_i64(&mut counts);
-        let rows = (counts[0] + counts[1]) as usize;
-        let contact = counts[1] as usize;
+        let Some(ml) = self.multilevel.as_mut() else {
+            return Ok(());
+        };
         let (old, old_contact) = (self.coarse_rows, self.ml_contact_rows);
-        let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 0.1 * b as f64;
         let similar = near(rows, old) && near(contact, old_contact);
         let mut fp = None;
         if ml.is_set_up() && self.coarse_stale && linear && self.coarse_fp.is_some() {
@@ -148,6 +146,26 @@ impl Cg {
                     let mut op = fine_op!(self, pb, u, linear, s);
                     ml.estimate_smoother(pb.comm, &self.minv, &mut op, &mut self.q)?;
                 }
+                return Ok(());
+            }
+        }
+        if let Some(built) = self
+            .ml_built
+            .as_ref()
+            .filter(|_| ml.is_set_up() && self.coarse_stale && linear && similar)
+        {
+            if keeps(pb, built, [rows, contact], [old, old_contact]) {
+                // A new increment on a constraint set close to the one the hierarchy was
+                // built on: kept (a valid preconditioner of the operator as it is now,
+                // as within an increment), its fine smoother measured on this operator.
+                self.coarse_stale = false;
+                self.ml_smoother_rows = [rows, contact];
+                self.ml_smoother_fp = Some(fp.unwrap_or_else(|| operator_fingerprint(pb)));
+                if ml.smooths_fine() {
+                    let mut op = fine_op!(self, pb, u, linear, s);
+                    ml.estimate_smoother(pb.comm, &self.minv, &mut op, &mut self.q)?;
+                }
+                self.trace.ml_kept += 1;
                 return Ok(());
             }
         }
@@ -189,6 +207,7 @@ impl Cg {
         let nl = self.z.len();
         self.z = Vec::new();
         self.pu = Vec::new();
+        self.ml_built = None;
         let q = &mut self.q;
         let built = ml.setup(
             pb.comm,
@@ -202,6 +221,7 @@ impl Cg {
         self.z = vec![[0.0; 3]; nl];
         self.pu = vec![[0.0; 3]; nl];
         built?;
+        self.ml_built = linear.then(|| BuildRows::record(pb));
         self.rebuild_note = Some(format!(
             "{} (build {}: {why}; {:.3} s)",
             ml.summary,
@@ -210,6 +230,143 @@ impl Cg {
         ));
         Ok(())
     }
+}
+
+impl Cg {
+    /// A continued run's first use of the hierarchy (`resume_hierarchy`): when the
+    /// uninterrupted run would have kept the hierarchy it was using here, builds that one
+    /// from the rows the restart file keeps (`rebuild_kept`) and says so. `now`: the
+    /// model problem's rows and contact rows. Collective.
+    fn resume_kept<C: Comm + ?Sized>(
+        &mut self,
+        pb: &ModelProblem<C>,
+        u: &[Vec3],
+        now: [usize; 2],
+        s: &CgSettings,
+    ) -> Result<bool, SolveFailure> {
+        if self.multilevel.as_ref().is_none_or(|m| m.is_set_up()) {
+            return Ok(false);
+        }
+        let Some(words) = self.ml_resume.take() else {
+            return Ok(false);
+        };
+        let Some(built) = BuildRows::of_words(&words, pb.asm.mesh) else {
+            return Ok(false);
+        };
+        let mut was = built.counts();
+        pb.comm.sum_i64(&mut was);
+        let was = [was[0] as usize, was[1] as usize];
+        if !keeps(pb, &built, now, was) {
+            return Ok(false);
+        }
+        let specs = built.specs(pb.asm.mesh);
+        let Ok(cons) = Constraints::new(pb.comm, pb.asm.mesh, specs) else {
+            return Ok(false);
+        };
+        self.rebuild_kept(pb, u, (built, cons), [was, now], s)?;
+        Ok(true)
+    }
+
+    /// Builds the multilevel hierarchy from the rows and springs an earlier run built it
+    /// from (a continued run, `resume_hierarchy`; `cons` their constraint set), then
+    /// measures the fine smoother on the operator as it is now: the state the
+    /// uninterrupted run had at this point, bit for bit. `counts`: the rows and contact
+    /// rows then and now.
+    fn rebuild_kept<C: Comm + ?Sized>(
+        &mut self,
+        pb: &ModelProblem<C>,
+        u: &[Vec3],
+        (built, cons): (BuildRows, Constraints),
+        [was, now]: [[usize; 2]; 2],
+        s: &CgSettings,
+    ) -> Result<(), SolveFailure> {
+        let springs = built.springs(pb.asm.mesh);
+        let then = ModelProblem {
+            cons: &cons,
+            springs: &springs,
+            ..*pb
+        };
+        let then_fp = operator_fingerprint(&then);
+        let now_fp = operator_fingerprint(pb);
+        let Some(ml) = self.multilevel.as_mut() else {
+            return Ok(());
+        };
+        let start = std::time::Instant::now();
+        let nl = self.z.len();
+        self.z = Vec::new();
+        self.pu = Vec::new();
+        let mut op = fine_op!(self, &then, u, true, s);
+        let made = ml.setup(
+            pb.comm,
+            &cons,
+            pb.asm.mesh,
+            &self.minv,
+            &mut op,
+            true,
+            &mut self.q,
+        );
+        self.z = vec![[0.0; 3]; nl];
+        self.pu = vec![[0.0; 3]; nl];
+        made?;
+        self.trace.ml_builds += 1;
+        self.trace.ml_kept += 1;
+        [self.coarse_rows, self.ml_contact_rows] = was;
+        self.coarse_stale = false;
+        self.built_rate = None;
+        self.coarse_fp = Some(then_fp);
+        self.ml_built = Some(built);
+        self.ml_smoother_rows = now;
+        self.ml_smoother_fp = Some(now_fp);
+        if ml.smooths_fine() {
+            let mut op = fine_op!(self, pb, u, true, s);
+            ml.estimate_smoother(pb.comm, &self.minv, &mut op, &mut self.q)?;
+        }
+        self.rebuild_note = Some(format!(
+            "{} (build {}: a continued run, from the rows the earlier run built its hierarchy on; {:.3} s)",
+            ml.summary,
+            ml.builds,
+            start.elapsed().as_secs_f64()
+        ));
+        Ok(())
+    }
+}
+
+/// The model problem's constraint rows and, of them, contact rows (collective).
+fn row_counts<C: Comm + ?Sized>(pb: &ModelProblem<C>) -> [usize; 2] {
+    let mut counts = [0i64; 2];
+    for l in 0..pb.owned() {
+        for (_, row) in pb.cons.rows(l) {
+            let contact = matches!(row.kind, crate::constraints::RowKind::Contact { .. });
+            counts[0] += 1;
+            counts[1] += i64::from(contact);
+        }
+    }
+    pb.comm.sum_i64(&mut counts);
+    [counts[0] as usize, counts[1] as usize]
+}
+
+/// Whether two row counts are within a tenth of the second.
+fn near(a: usize, b: usize) -> bool {
+    a.abs_diff(b) as f64 <= 0.1 * b as f64
+}
+
+/// Whether a hierarchy built on `built` (whose counts of rows and contact rows were `was`)
+/// still serves the model problem (whose counts are `now`) from one increment to the next:
+/// the counts within a tenth, as within an increment, and at most a tenth of the contact
+/// rows tied to other master nodes than at the build (a sliding contact moves its ties
+/// face by face: the coarse levels' coupling of the bodies moves with them). Collective.
+fn keeps<C: Comm + ?Sized>(
+    pb: &ModelProblem<C>,
+    built: &BuildRows,
+    now: [usize; 2],
+    was: [usize; 2],
+) -> bool {
+    if !(near(now[0], was[0]) && near(now[1], was[1])) {
+        return false;
+    }
+    let mut moved = [built.moved_ties(pb)];
+    pb.comm.sum_i64(&mut moved);
+    moved[0] as f64 <= 0.1 * now[1] as f64
 }
 
 /// A fingerprint of the constrained operator of linear bodies (collective, the same on

@@ -5,6 +5,7 @@
 
 use super::exported::ExportState;
 use super::full_tangent::{Colours, FullTangent, Order};
+use super::kept::{self, BuildRows};
 use super::links::Work;
 use super::model::ModelProblem;
 use super::trace::CgTrace;
@@ -52,6 +53,12 @@ pub struct Cg {
     pub(super) ml_standby: bool,
     /// Contact rows when the multilevel hierarchy was built.
     pub(super) ml_contact_rows: usize,
+    /// Linear bodies: the rows and springs the multilevel hierarchy was built from (kept
+    /// from one increment to the next while close to them; a restart file carries them).
+    pub(super) ml_built: Option<BuildRows>,
+    /// A continued run: the earlier run's `ml_built` (its words), until the first model
+    /// problem that needs the hierarchy.
+    pub(super) ml_resume: Option<Vec<f64>>,
     /// The standby took over (for the rest of the run).
     pub(super) ml_switched: bool,
     /// Constraint rows and contact rows when the fine smoother's bound was measured.
@@ -121,6 +128,8 @@ impl Cg {
             multilevel: None,
             ml_contact_rows: 0,
             ml_switched: false,
+            ml_built: None,
+            ml_resume: None,
             ml_smoother_rows: [0; 2],
             ml_smoother_fp: None,
             ml_standby: false,
@@ -162,6 +171,28 @@ impl Cg {
             self.ml_switched = true;
             self.coarse = None;
         }
+    }
+
+    /// The rows the multilevel hierarchy in use was built from, as a restart file keeps
+    /// them (collective; on rank 0, empty elsewhere and when no hierarchy of linear bodies
+    /// is in use).
+    pub fn hierarchy_words<C: Comm + ?Sized>(&self, comm: &C) -> Vec<f64> {
+        let set_up = self.multilevel.as_ref().is_some_and(Multilevel::is_set_up);
+        match self
+            .ml_built
+            .as_ref()
+            .filter(|_| set_up && !self.ml_standby)
+        {
+            Some(b) => kept::merge(comm, &b.local_words()),
+            None => Vec::new(),
+        }
+    }
+
+    /// Continues a run whose hierarchy was built from these rows (`hierarchy_words`): the
+    /// first model problem that needs the hierarchy builds it from them when the
+    /// uninterrupted run would have kept it there.
+    pub fn resume_hierarchy(&mut self, words: Vec<f64>) {
+        self.ml_resume = (!words.is_empty()).then_some(words);
     }
 
     /// Adds a line to the notes the log shows at -vv (`rebuild_note`).

@@ -32,6 +32,8 @@ pub struct CgTrace {
     /// Multilevel hierarchy builds, coarse-operator builds.
     pub ml_builds: usize,
     pub coarse_builds: usize,
+    /// Load increments that kept the multilevel hierarchy of an earlier one.
+    pub ml_kept: usize,
     /// log10 of the residual's reduction per window of iterations, per model problem (the
     /// first MAX_PROBLEMS, at most 400 windows each).
     pub rates: Vec<Vec<f64>>,
@@ -94,7 +96,7 @@ impl CgTrace {
     /// One line for the log.
     pub fn summary(&self) -> String {
         let mut s = format!(
-            "CG trace: {} model problem(s), {} iterations, {} force evaluations; restarts: Polak-Ribiere {}, descent {}, Jacobi rebuilds {}; halvings {}, secants {} (refused {}); multilevel builds {}, coarse builds {}",
+            "CG trace: {} model problem(s), {} iterations, {} force evaluations; restarts: Polak-Ribiere {}, descent {}, Jacobi rebuilds {}; halvings {}, secants {} (refused {}); multilevel builds {} (kept at {} new increments), coarse builds {}",
             self.model_problems,
             self.iterations,
             self.force_evaluations,
@@ -105,6 +107,7 @@ impl CgTrace {
             self.secants,
             self.secants_refused,
             self.ml_builds,
+            self.ml_kept,
             self.coarse_builds
         );
         for (k, r) in self.rates.iter().enumerate().filter(|(_, r)| !r.is_empty()) {

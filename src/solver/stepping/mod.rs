@@ -223,19 +223,26 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         self.cg.multilevel_switched()
     }
 
+    /// The rows the multilevel hierarchy in use was built from, for a restart file
+    /// (collective; on rank 0; empty when none is kept: `Cg::hierarchy_words`).
+    pub fn hierarchy_words(&self) -> Vec<f64> {
+        self.cg.hierarchy_words(self.comm)
+    }
+
     /// The displacement before the last step (the predictor's second point).
     pub fn previous_displacement(&self) -> &[Vec3] {
         &self.u_prev
     }
 
     /// Continues from a saved state: displacements in global node order, the scalars of
-    /// `scalars`, whether the multilevel standby had taken over, and the contact state.
+    /// `scalars`, whether the multilevel standby had taken over and the rows its hierarchy
+    /// was built from (`hierarchy_words`), and the contact state.
     pub fn restore(
         &mut self,
         u: &[Vec3],
         u_prev: &[Vec3],
         (time, dt_prev, reference_floor): (f64, f64, f64),
-        multilevel_switched: bool,
+        (multilevel_switched, hierarchy): (bool, Vec<f64>),
         contact: E,
     ) {
         for (l, &g) in self.mesh.node_global.iter().enumerate() {
@@ -249,6 +256,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         if multilevel_switched {
             self.cg.resume_switched();
         }
+        self.cg.resume_hierarchy(hierarchy);
     }
 
     /// What the multilevel preconditioner's last rebuild made and why, once.
