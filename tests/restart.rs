@@ -255,4 +255,27 @@ fn a_hierarchy_kept_across_increments_is_rebuilt_from_the_restart_file() {
     let (full, _) = restart::killed_and_restarted_is_identical(scene.to_str().unwrap(), &d, 1);
     let f = hdf5::File::open(&full).unwrap();
     assert!(f.link_exists("/restart/slot1/hierarchy"));
+    // Words that do not parse (a node count with no nodes after it), written with a valid
+    // checksum: refused by name, not misread and not a panic.
+    let tmp = d.join("cut.h5.tmp");
+    let ds = hdf5::File::open_rw(&tmp)
+        .unwrap()
+        .dataset("/restart/slot1/hierarchy")
+        .unwrap();
+    ds.resize((2,)).unwrap();
+    ds.write_raw(&[1.0, 5.0]).unwrap();
+    drop(ds);
+    let out = solver()
+        .args(["run", scene.to_str().unwrap(), "--restart"])
+        .arg(&tmp)
+        .arg("-o")
+        .arg(d.join("refused.h5"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the restart state's preconditioner rows (dataset `hierarchy`) do not fit"),
+        "{err}"
+    );
 }
