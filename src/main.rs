@@ -301,12 +301,11 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
     if let Some(p) = args.preconditioner {
         problem.solver.preconditioner = p;
     }
-    // Counted from the divisions, whether `auto` passes over the two-level preconditioner
-    // is known only now: checked again with what runs instead.
-    let refused = sized.as_ref().is_some_and(|s| {
-        solver::preflight::two_level_passed_over(&problem, s).is_some()
-            || solver::preflight::tangent_passed_over(&problem, s).is_some()
-    });
+    // Counted from the divisions, whether `auto` passes over the full tangent is known only
+    // now: checked again with what runs instead.
+    let refused = sized
+        .as_ref()
+        .is_some_and(|s| solver::preflight::tangent_passed_over(&problem, s).is_some());
     if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&problem);
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
@@ -442,18 +441,12 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
     for line in solver::contact::adjust::describe(&p, &adjusted) {
         println!("{line}");
     }
-    let passed_over = sized
-        .as_ref()
-        .and_then(|s| solver::preflight::two_level_passed_over(&p, s));
-    if let Some(why) = &passed_over {
-        println!("multilevel instead of two-level ({why}): counted with the multilevel one");
-    }
     let counted = solver::scene::counts::problem_size(&p);
     let tangent = solver::preflight::tangent_passed_over(&p, sized.as_ref().unwrap_or(&counted));
     if let Some(why) = &tangent {
         println!("{why}: counted with what runs instead");
     }
-    let refused = passed_over.is_some() || tangent.is_some();
+    let refused = tangent.is_some();
     if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&p);
         let fit =

@@ -43,10 +43,6 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     if size.counts.tangent {
         size.counts.tangent_entries = tangent_entries(&p.mesh);
     }
-    if two_level_passed_over(p, &size).is_some() {
-        size.counts.two_level = false;
-        size.counts.multilevel = true;
-    }
     if size.counts.multilevel && !size.counts.two_level && !size.counts.tangent {
         let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p));
         size.counts.coarse_pairs = first.measured_blocks();
@@ -84,25 +80,6 @@ pub fn tangent_passed_over(p: &Problem, size: &SceneSize) -> Option<String> {
     }
     crate::solver::choice::tangent_refused(p, &p.mesh)
         .map(|why| format!("not the full tangent: {why}"))
-}
-
-/// Why `auto`, which chose the two-level preconditioner for the scene's size, builds the
-/// multilevel hierarchy instead (`solver::choice`), if it does: a coarse space that will be
-/// refused (several bodies in one coarse cell), or a body held by contact alone (two-level
-/// stalls on it). The estimate then counts the multilevel hierarchy (a stack of 128 blocks,
-/// 146112 nodes, on 2 ranks: 139.8 MiB estimated with two-level, 1616 MiB measured).
-pub fn two_level_passed_over(p: &Problem, size: &SceneSize) -> Option<String> {
-    if !size.counts.two_level || p.solver.preconditioner != crate::problem::Preconditioner::Auto {
-        return None;
-    }
-    let refusal = crate::precond::coarse::refusal(p);
-    refusal
-        .map(|why| format!("two-level refused: {why}"))
-        .or_else(|| {
-            let held = crate::solver::support::held_by_contact_alone(p);
-            held.first()
-                .map(|body| format!("body '{body}' is held by contact alone"))
-        })
 }
 
 /// Bits 0, 1, 2 of every node: held in x, y, z by a displacement along that axis (one

@@ -59,11 +59,11 @@ fn block_on_block_agrees_with_jacobi_in_fewer_iterations() {
 }
 
 #[test]
-fn auto_keeps_multilevel_on_standby_within_the_two_level_range_and_takes_it_above() {
-    // Under `auto` a mesh of 20000 to 200000 nodes gets two-level with multilevel on standby,
-    // a larger one multilevel from the start (see `MULTILEVEL_STANDBY_NODES`); the memory
-    // estimate counts the same choice. The block on block refined by 3 has 59582 nodes, by
-    // 6 453962.
+fn auto_keeps_multilevel_on_standby_below_20000_nodes_and_takes_it_from_the_start_above() {
+    // Under `auto` a mesh of fewer than 20000 nodes gets block Jacobi with multilevel on
+    // standby, a larger one multilevel from the start (see `MULTILEVEL_NODES`), never
+    // two-level; the memory estimate counts the same choice. The block on block refined by
+    // 2 has 18522 nodes, by 3 59582, by 6 453962.
     use solver::comm::SerialComm;
     use solver::mesh::local::LocalMesh;
     use solver::solver::choice::choose_preconditioner;
@@ -71,23 +71,25 @@ fn auto_keeps_multilevel_on_standby_within_the_two_level_range_and_takes_it_abov
         env!("CARGO_MANIFEST_DIR"),
         "/run/scenes/bench/block_on_block.toml"
     ));
-    for (factor, nodes, large) in [(3, 59582, false), (6, 453962, true)] {
+    for (factor, nodes) in [(2, 18522), (3, 59582), (6, 453962)] {
         let p = solver::scene::load_scene_refined(scene, factor).unwrap();
         assert_eq!(p.mesh.num_nodes(), nodes);
         let d = partition::Decomposition::partition(nodes, &p.mesh.elements, 1).unwrap();
         let local = LocalMesh::new(&p.mesh, &d, 0);
         let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, (&local, &p.mesh));
-        assert_eq!(coarse.is_some(), !large, "{note}");
+        assert!(coarse.is_none(), "{note}");
         let standby = multilevel.as_ref().map(|(_, standby)| *standby);
-        if large {
+        if nodes >= 20000 {
             assert!(
-                note.starts_with("preconditioner: multilevel (453962 nodes, above 200000)"),
+                note.starts_with(&format!(
+                    "preconditioner: multilevel ({nodes} nodes, from 20000 up)"
+                )),
                 "{note}"
             );
             assert_eq!(standby, Some(false), "{note}");
         } else {
             assert!(
-                note.starts_with("preconditioner: two-level, multilevel from"),
+                note.starts_with("preconditioner: nodal block Jacobi, multilevel from"),
                 "{note}"
             );
             assert_eq!(standby, Some(true), "{note}");
@@ -97,7 +99,7 @@ fn auto_keeps_multilevel_on_standby_within_the_two_level_range_and_takes_it_abov
             .counts;
         assert_eq!(
             (counts.two_level, counts.multilevel),
-            (!large, large),
+            (false, true),
             "{counts:?}"
         );
     }

@@ -112,7 +112,9 @@ impl NonlinearSolver {
 /// The CG preconditioner.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Preconditioner {
-    /// Two-level on meshes of at least `TWO_LEVEL_NODES` nodes, Jacobi below.
+    /// By the mesh and its bodies (`solver::choice`): multilevel from `MULTILEVEL_NODES`
+    /// nodes up, block Jacobi with multilevel on standby below, the full tangent for small
+    /// plastic meshes.
     #[default]
     Auto,
     /// Nodal block Jacobi.
@@ -150,15 +152,6 @@ pub fn linear_models(models: &[BodyModel]) -> bool {
     models.iter().all(|m| m.material.linear().is_some())
 }
 
-/// Under `auto`, meshes of TWO_LEVEL_NODES up to this many nodes keep the multilevel
-/// preconditioner on standby beside two-level (a switch after SWITCH_AFTER iterations of
-/// one model problem); larger meshes take multilevel from the start, as the memory model
-/// assumes. There it is the faster, within 1000 bytes per element per rank: the block on
-/// block at n = 80 (1062882 nodes, 1024000 elements) on 2 ranks takes 92 CG iterations,
-/// 79 to 88 s and 479 to 488 MiB per rank with multilevel against 716, 136.7 s and 331.2
-/// MiB with two-level (2026-11-30; `run/bench --large`).
-pub const MULTILEVEL_STANDBY_NODES: usize = 200_000;
-
 /// Bulk over shear modulus from which a body counts as nearly incompressible (Poisson's
 /// ratio 0.49 and above): `auto` then picks the multilevel preconditioner
 /// (`solver::choice`), and the body is not evaluated by element matrices
@@ -172,14 +165,24 @@ pub fn nearly_incompressible(material: &crate::material::Material) -> bool {
     lambda + 2.0 * mu / 3.0 >= NEARLY_INCOMPRESSIBLE * mu
 }
 
-/// Meshes from this many nodes up use the two-level preconditioner by default.
-pub const TWO_LEVEL_NODES: usize = 20_000;
+/// Under `auto`, meshes from this many nodes up take the multilevel preconditioner from
+/// the start (`solver::choice`). Up to 200000 nodes they took two-level with multilevel on
+/// standby, until multilevel was the faster and the leaner there too (2026-12-01, the
+/// block on block under `auto` against `--preconditioner multilevel`: n = 30, 59582 nodes,
+/// 264 against 77 CG iterations, 10.3 against 4.5 s and 158.1 against 89.0 MiB on one
+/// rank, 9.8 against 3.0 s and 147.0 against 69.1 MiB per rank on two; n = 40, 137842
+/// nodes, on two ranks 377 against 81 CG iterations, 9.8 against 5.4 s, 120.8 against 97.2
+/// MiB; the same at n = 30 with neo-Hookean blocks under large kinematics, 378 against 236
+/// CG iterations, 39.1 against 21.1 s, 198.5 against 122.2 MiB). At n = 80 (1062882 nodes)
+/// on 2 ranks: 94 CG iterations, 478.8 MiB per rank, 981 bytes per element, against 716
+/// iterations, 136.7 s and 331.2 MiB with two-level (2026-11-30).
+pub const MULTILEVEL_NODES: usize = 20_000;
 
 /// Under `auto`, a mesh with a plastic body and fewer nodes than this uses the full tangent
 /// preconditioner (`solver::choice`). Every rank holds the whole factor, so the bound is
 /// that of a factor one machine holds many times over: the plane-strain punch at 80 x 80
 /// (13122 nodes) factors into 3.7 million entries (45 MiB).
-pub const TANGENT_NODES: usize = TWO_LEVEL_NODES;
+pub const TANGENT_NODES: usize = MULTILEVEL_NODES;
 
 /// Whether a run uses the full tangent preconditioner: by name, or under `auto` where a
 /// body is plastic (its tangent softens by orders of magnitude where it yields, which

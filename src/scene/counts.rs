@@ -7,8 +7,7 @@ use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
 use crate::problem::{
-    uses_full_tangent, Kinematics, Preconditioner, Problem, MULTILEVEL_STANDBY_NODES,
-    NEARLY_INCOMPRESSIBLE, TWO_LEVEL_NODES,
+    uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE,
 };
 use std::path::Path;
 
@@ -33,7 +32,7 @@ impl SceneSize {
     pub fn with_override(mut self, p: Option<Preconditioner>) -> Self {
         if let Some(p) = p {
             self.preconditioner = p;
-            self.counts.two_level = two_level(p, self.counts.nodes);
+            self.counts.two_level = two_level(p);
             self.counts.multilevel = multilevel(p, self.counts.nodes, self.plastic);
             self.counts.tangent = uses_full_tangent(p, self.plastic, self.counts.nodes);
         }
@@ -56,29 +55,19 @@ impl SceneSize {
 }
 
 /// Whether the multilevel hierarchy is built: by name, or under `auto` on meshes above the
-/// size it keeps Jacobi on and below the two-level range, or above that range
-/// (`solver::choice`), unless the full tangent preconditions instead.
+/// size it keeps Jacobi alone on (on standby below MULTILEVEL_NODES, from the start from
+/// there up: `solver::choice`), unless the full tangent preconditions instead.
 fn multilevel(p: Preconditioner, nodes: u64, plastic: bool) -> bool {
     match p {
         Preconditioner::Multilevel => true,
-        Preconditioner::Auto => {
-            let below = nodes > 300 && nodes < TWO_LEVEL_NODES as u64;
-            let above = nodes > MULTILEVEL_STANDBY_NODES as u64;
-            (below || above) && !uses_full_tangent(p, plastic, nodes)
-        }
+        Preconditioner::Auto => nodes > 300 && !uses_full_tangent(p, plastic, nodes),
         _ => false,
     }
 }
 
-fn two_level(p: Preconditioner, nodes: u64) -> bool {
-    match p {
-        Preconditioner::TwoLevel => true,
-        Preconditioner::Multilevel => false,
-        Preconditioner::Jacobi | Preconditioner::Tangent => false,
-        Preconditioner::Auto => {
-            nodes >= TWO_LEVEL_NODES as u64 && nodes <= MULTILEVEL_STANDBY_NODES as u64
-        }
-    }
+/// Whether the two-level coarse space is built: by name only.
+fn two_level(p: Preconditioner) -> bool {
+    p == Preconditioner::TwoLevel
 }
 
 /// The size of the scene at `path` refined by `factor`, from its generated blocks. None
@@ -161,7 +150,7 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
             });
         }
     }
-    counts.two_level = two_level(preconditioner, counts.nodes);
+    counts.two_level = two_level(preconditioner);
     counts.multilevel = multilevel(preconditioner, counts.nodes, plastic);
     counts.tangent = uses_full_tangent(preconditioner, plastic, counts.nodes);
     Some(SceneSize {
@@ -209,7 +198,7 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             // Conservative: which elements share shapes is known once the assembly
             // counts them.
             shaped_elements: m.num_elements() as u64,
-            two_level: two_level(pre, nodes),
+            two_level: two_level(pre),
             multilevel: multilevel(pre, nodes, plastic),
             tangent: uses_full_tangent(pre, plastic, nodes),
             friction: p.contacts.iter().any(|c| c.mu > 0.0),

@@ -7,15 +7,12 @@
 //!   factorization would cost more than FACTOR_WORK_LIMIT (a 3-D mesh: then as below);
 //! - at most SINGLETON_NODES nodes: block Jacobi (an iteration costs little), unless a
 //!   body is nearly incompressible (Jacobi's iterations grow with K/G): multilevel;
-//! - below TWO_LEVEL_NODES: multilevel from the start when a body is held by contact alone
+//! - below MULTILEVEL_NODES: multilevel from the start when a body is held by contact alone
 //!   in some rigid-body motion (its stiffness there comes through the contact patch), else
 //!   block Jacobi with multilevel on standby for a model problem that stalls;
-//! - from TWO_LEVEL_NODES up to MULTILEVEL_STANDBY_NODES: multilevel from the start when a
-//!   body is held by contact alone (as below TWO_LEVEL_NODES: two-level's few coarse
-//!   aggregates do not carry its stiffness through the contact patch), else two-level with
-//!   multilevel on standby; where no coarse space can be built (several bodies in one of
-//!   its cells), multilevel as below TWO_LEVEL_NODES instead of Jacobi alone;
-//! - above MULTILEVEL_STANDBY_NODES: multilevel from the start.
+//! - from MULTILEVEL_NODES up: multilevel from the start.
+//!
+//! The two-level preconditioner runs when asked for by name only.
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
@@ -27,10 +24,7 @@ use crate::precond::coarse::CoarseSpace;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
 use crate::precond::multilevel::transfer::SINGLETON_NODES;
 use crate::precond::multilevel::{Multilevel, FINE_DEGREE};
-use crate::problem::{
-    uses_full_tangent, Preconditioner, Problem, MULTILEVEL_STANDBY_NODES, TANGENT_NODES,
-    TWO_LEVEL_NODES,
-};
+use crate::problem::{uses_full_tangent, Preconditioner, Problem, MULTILEVEL_NODES, TANGENT_NODES};
 use crate::solver::cg::SWITCH_AFTER;
 use crate::solver::support::held_by_contact_alone;
 
@@ -69,7 +63,7 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh
             let note = format!("preconditioner: multilevel; {}", m.summary);
             (None, Some((m, false)), note)
         }
-        Preconditioner::TwoLevel => two_level(comm, problem, mesh, true),
+        Preconditioner::TwoLevel => two_level(comm, problem, mesh),
         Preconditioner::Tangent => (
             None,
             None,
@@ -83,10 +77,8 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh
             }
             let (coarse, ml, mut note) = if nodes <= SINGLETON_NODES {
                 small_mesh(comm, problem, mesh)
-            } else if nodes < TWO_LEVEL_NODES {
+            } else if nodes < MULTILEVEL_NODES {
                 medium_mesh(comm, problem, mesh)
-            } else if nodes <= MULTILEVEL_STANDBY_NODES {
-                two_level(comm, problem, mesh, false)
             } else {
                 large_mesh(comm, mesh, nodes)
             };
@@ -214,26 +206,22 @@ fn small_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice
     (None, Some((m, false)), note)
 }
 
-/// `auto` above MULTILEVEL_STANDBY_NODES: multilevel from the start (see there).
+/// `auto` from MULTILEVEL_NODES up: multilevel from the start (see there).
 fn large_mesh<C: Comm + ?Sized>(comm: &C, mesh: At, nodes: usize) -> Choice {
     let m = multilevel(comm, mesh);
     let note = format!(
-        "preconditioner: multilevel ({nodes} nodes, above {MULTILEVEL_STANDBY_NODES}); {}",
+        "preconditioner: multilevel ({nodes} nodes, from {MULTILEVEL_NODES} up); {}",
         m.summary
     );
     (None, Some((m, false)), note)
 }
 
-/// `auto` below TWO_LEVEL_NODES: multilevel from the start where a body is held by contact
+/// `auto` below MULTILEVEL_NODES: multilevel from the start where a body is held by contact
 /// alone in some rigid-body motion, which stalls Jacobi from the first model problem on
 /// (Hertz x2: 791 CG iterations with the switch at 300, 496 with multilevel from the
 /// start); otherwise Jacobi with multilevel on standby.
 fn medium_mesh<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
-    medium_with(problem, multilevel(comm, mesh))
-}
-
-/// `medium_mesh` with its multilevel preconditioner built.
-fn medium_with(problem: &Problem, m: Multilevel) -> Choice {
+    let m = multilevel(comm, mesh);
     let held = held_by_contact_alone(problem);
     if !held.is_empty() {
         let note = format!(
@@ -250,45 +238,18 @@ fn medium_with(problem: &Problem, m: Multilevel) -> Choice {
     (None, Some((m, true)), note)
 }
 
-/// Two-level, asked for by name or under `auto` from TWO_LEVEL_NODES up to
-/// MULTILEVEL_STANDBY_NODES, then with multilevel on standby: a model problem that
-/// two-level does not solve in SWITCH_AFTER iterations goes on with multilevel. Under
-/// `auto` a body held by contact alone takes multilevel from the start instead, as below
-/// TWO_LEVEL_NODES: two-level stalls on it (Hertz x4, a cylinder held only by contact: no
-/// first model problem in 400 s with two-level alone; with the switch its first model
-/// problem took 338 CG iterations and the run 776, 68.6 s; multilevel from the start 45
-/// and 482, 56.4 s).
-fn two_level<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At, asked: bool) -> Choice {
-    if !asked && !held_by_contact_alone(problem).is_empty() {
-        return medium_mesh(comm, problem, mesh);
-    }
-    let standby = (!asked).then(|| multilevel(comm, mesh));
+/// Two-level, asked for by name; refused (block Jacobi instead) where no coarse space can
+/// be built (several bodies in one of its cells).
+fn two_level<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
     match CoarseSpace::new(comm, problem, mesh.1, mesh.0) {
         Ok(c) => {
-            let note = match &standby {
-                Some(m) => format!(
-                    "preconditioner: two-level, multilevel from CG iteration {SWITCH_AFTER} of a model problem on; {}; {}",
-                    c.summary,
-                    m.summary
-                ),
-                None => format!("preconditioner: two-level; {}", c.summary),
-            };
-            (Some(c), standby.map(|m| (m, true)), note)
+            let note = format!("preconditioner: two-level; {}", c.summary);
+            (Some(c), None, note)
         }
-        Err(why) if asked => (
+        Err(why) => (
             None,
             None,
             format!("preconditioner: refused two_level ({why}); nodal block Jacobi instead"),
         ),
-        Err(why) => {
-            // No coarse space (several bodies in one cell): multilevel, as below
-            // TWO_LEVEL_NODES, rather than Jacobi alone (a stack of 128 blocks held by
-            // contact alone, 146112 nodes: no first model problem in 15 minutes).
-            let (coarse, ml, note) = match standby {
-                Some(m) => medium_with(problem, m),
-                None => medium_mesh(comm, problem, mesh),
-            };
-            (coarse, ml, format!("{note}; two-level refused: {why}"))
-        }
     }
 }

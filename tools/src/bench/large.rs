@@ -19,7 +19,8 @@ use std::time::Instant;
 /// The pilots, the memory check and the large run on `ranks` ranks.
 fn large_run(exe: &Path, dir: &Path, ranks: usize, precond: Precond) -> LargeRun {
     let limits = Limits::timeout(SOLVER_TIMEOUT_S);
-    // `auto` takes multilevel above MULTILEVEL_STANDBY_NODES only: the pilots name it.
+    // `auto` keeps multilevel on standby below MULTILEVEL_NODES (the n = 20 pilot, 18522
+    // nodes): the pilots name it.
     let pilot_precond = match precond {
         Precond::Auto => Precond::Multilevel,
         p => p,
