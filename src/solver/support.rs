@@ -12,6 +12,7 @@
 //! held otherwise: two free bodies touching each other are not reported). Reference
 //! coordinates are used: the question is which motions are blocked, not by how much.
 
+use super::cg::FreeBody;
 use crate::contact::Enforcement;
 use crate::math::{cross, Vec3};
 use crate::problem::Problem;
@@ -25,10 +26,56 @@ const FREE: f64 = 1e-10;
 /// One line per body that is not held: "body 'name' ... (free: ...)". Deterministic and
 /// the same on every rank (it reads only replicated data).
 pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<String> {
-    let mesh = &problem.mesh;
+    let rows = support_rows(problem, contact);
+    freedom(problem, &rows)
+        .into_iter()
+        .map(|(b, eig, free)| unheld_line(problem, b, &eig, &free))
+        .collect()
+}
+
+/// The bodies a model problem's supports leave free, with their free motions, for
+/// `Cg::check_equilibrium`: every free rigid-body motion of a body under small kinematics,
+/// the free translations under large kinematics (where a rotation is not in the
+/// operator's null space). Empty, without reading the contact ties, when every body's
+/// prescribed directions hold it. Deterministic and the same on every rank.
+pub fn free_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<FreeBody> {
+    if held_by_contact_alone(problem).is_empty() {
+        return Vec::new();
+    }
     let rows = support_rows(problem, contact);
     let mut out = Vec::new();
-    for (b, body) in mesh.bodies.iter().enumerate() {
+    for (b, eig, free) in freedom(problem, &rows) {
+        let large = problem.body_models[b].material.is_large();
+        let motions: Vec<[f64; 6]> = if large {
+            free_translations(&rows[b], &eig)
+        } else {
+            free.iter()
+                .map(|&k| std::array::from_fn(|i| eig.eigenvectors[(i, k)]))
+                .collect()
+        };
+        if motions.is_empty() {
+            continue;
+        }
+        let (centre, size) = problem.body_frame(b);
+        out.push(FreeBody {
+            body: b,
+            centre,
+            size,
+            motions,
+            line: unheld_line(problem, b, &eig, &free),
+        });
+    }
+    out
+}
+
+/// The bodies whose supports `rows` leave a rigid-body motion free: (body, the eigen
+/// decomposition of its support Gram matrix, the indices of its free eigenvectors).
+fn freedom(
+    problem: &Problem,
+    rows: &[Vec<(Vec3, Vec3)>],
+) -> Vec<(usize, SymmetricEigen<f64, nalgebra::U6>, Vec<usize>)> {
+    let mut out = Vec::new();
+    for (b, body) in problem.mesh.bodies.iter().enumerate() {
         if body.num_nodes == 0 {
             continue;
         }
@@ -37,17 +84,48 @@ pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<Strin
         let free: Vec<usize> = (0..6)
             .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
             .collect();
-        if free.is_empty() {
-            continue;
+        if !free.is_empty() {
+            out.push((b, eig, free));
         }
-        out.push(format!(
-            "body '{}' is not held: its prescribed displacements and contact ties block {} of its 6 rigid-body motions (free: {})",
-            body.name,
-            6 - free.len(),
-            free_motions(&eig, &free).join(", ")
-        ));
     }
     out
+}
+
+/// The translations no support row has a component along (the null space of the rows'
+/// sum of c c^T, judged against the Gram matrix's largest eigenvalue), as (t, 0).
+fn free_translations(
+    rows: &[(Vec3, Vec3)],
+    eig: &SymmetricEigen<f64, nalgebra::U6>,
+) -> Vec<[f64; 6]> {
+    let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
+    let mut cc = nalgebra::Matrix3::<f64>::zeros();
+    for (_, c) in rows {
+        let c = nalgebra::Vector3::new(c[0], c[1], c[2]);
+        cc += c * c.transpose();
+    }
+    let t = SymmetricEigen::new(cc);
+    (0..3)
+        .filter(|&k| t.eigenvalues[k] <= FREE * largest || largest == 0.0)
+        .map(|k| {
+            let v = t.eigenvectors.column(k);
+            [v[0], v[1], v[2], 0.0, 0.0, 0.0]
+        })
+        .collect()
+}
+
+/// "body 'name' is not held: ... (free: ...)".
+fn unheld_line(
+    problem: &Problem,
+    b: usize,
+    eig: &SymmetricEigen<f64, nalgebra::U6>,
+    free: &[usize],
+) -> String {
+    format!(
+        "body '{}' is not held: its prescribed displacements and contact ties block {} of its 6 rigid-body motions (free: {})",
+        problem.mesh.bodies[b].name,
+        6 - free.len(),
+        free_motions(eig, free).join(", ")
+    )
 }
 
 /// The names of the bodies whose prescribed displacements alone leave a rigid-body motion

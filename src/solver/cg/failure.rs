@@ -30,6 +30,9 @@ pub enum SolveFailure {
         updates: usize,
         detail: String,
     },
+    /// A body its supports leave free along a rigid-body motion its loads push along
+    /// (`Cg::check_equilibrium`): the body, the motions and the residual left there.
+    NoEquilibrium(String),
     /// An allocation was refused (on some rank); not retried with a shorter step.
     OutOfMemory(String),
     /// A slave node stayed inside a master body after gap removal (the penetration audit
@@ -71,6 +74,7 @@ impl std::fmt::Display for SolveFailure {
             SolveFailure::NonPositiveCurvature { iterations } => {
                 write!(f, "non-positive curvature along the search direction after {iterations} CG iterations (unstable or unconstrained structure)")
             }
+            SolveFailure::NoEquilibrium(m) => write!(f, "the model problem has no equilibrium: {m}"),
             SolveFailure::NonFinite { iterations } => write!(f, "non-finite residual after {iterations} CG iterations"),
             SolveFailure::IndefinitePreconditioner { iterations } => write!(
                 f,

@@ -54,6 +54,7 @@ mod setup;
 mod state;
 mod step;
 mod trace;
+mod unsupported;
 
 pub use exported::{free_basis, ModelExport};
 pub use failure::SolveFailure;
@@ -62,3 +63,4 @@ pub use links::{self_coupling, FrictionLink};
 pub use model::{CgSettings, ModelOutcome, ModelProblem, SWITCH_AFTER};
 pub use state::Cg;
 pub use trace::CgTrace;
+pub use unsupported::FreeBody;

@@ -514,6 +514,14 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             tangent = self.asm.linear;
             onset = true;
         }
+        // Without springs or friction links, a body the supports leave free along a motion
+        // its loads push along has no equilibrium: said at once, not after CG's whole
+        // iteration budget (the step is then cut back as for any failure).
+        let free = if springs.is_empty() && links.is_empty() {
+            super::support::free_bodies(self.problem, contact)
+        } else {
+            Vec::new()
+        };
         loop {
             let pb = ModelProblem {
                 comm: self.comm,
@@ -525,7 +533,12 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
                 springs: &springs,
                 time: t,
             };
-            let e = match self.cg.solve_coupled(&pb, u, settings, links) {
+            let free: &[_] = if springs.is_empty() { &free } else { &[] };
+            let solved = match self.cg.check_equilibrium(&pb, u, settings, free) {
+                Ok(()) => self.cg.solve_coupled(&pb, u, settings, links),
+                Err(e) => Err(e),
+            };
+            let e = match solved {
                 Ok(o) => {
                     record.cg_iterations += o.iterations as u64;
                     return Ok((
