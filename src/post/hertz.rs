@@ -176,10 +176,42 @@ impl HertzComparison {
         Some(((peak - self.hertz.p0) / self.hertz.p0, rms))
     }
 
+    /// The FE minus Hertz pressure at the nodes within a third of a of the centre, over p0:
+    /// (their count, mean, standard deviation, largest). The mean is the discretization's
+    /// error there, the deviation its node-by-node scatter (an unstructured surface's);
+    /// the peak is the largest of those nodes' pressures, so it stands above Hertz's by
+    /// the mean plus about the largest of as many draws of the scatter, and grows with
+    /// their number at a given scatter. None when no node lies there.
+    pub fn centre_errors(&self) -> Option<(usize, f64, f64, f64)> {
+        let h = &self.hertz;
+        let d: Vec<f64> = self
+            .nodes
+            .iter()
+            .filter(|n| n.0.abs() <= h.a / 3.0)
+            .map(|n| (n.1 - h.pressure(n.0)) / h.p0)
+            .collect();
+        if d.is_empty() {
+            return None;
+        }
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let var = d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+        let largest = d.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Some((d.len(), mean, var.sqrt(), largest))
+    }
+
     pub fn render(&self) -> String {
         let h = &self.hertz;
         let in_window = self.nodes.iter().filter(|n| n.0.abs() <= 1.5 * h.a).count();
-        format!(
+        let centre = self.centre_errors().map_or(String::new(), |(n, mean, sd, max)| {
+            format!(
+                "  FE - Hertz within |x| <= a / 3 ({n} nodes): mean {:+.2}%, scatter {:.2}% (standard deviation), largest {:+.2}% of p0\n",
+                100.0 * mean,
+                100.0 * sd,
+                100.0 * max
+            )
+        });
+        let text = format!(
             "Hertz line contact (plane strain): {}\n\
              \x20 radius R (fitted to the slave nodes)    {}\n\
              \x20 contact modulus E*                      {}\n\
@@ -206,7 +238,10 @@ impl HertzComparison {
             self.peak_error(),
             self.rms_error,
             self.edge_error()
-        ) + &self.table()
+        );
+        // The centre's line after the RMS error's.
+        let at = text.find("  half-width FE - Hertz").unwrap_or(text.len());
+        format!("{}{centre}{}", &text[..at], &text[at..]) + &self.table()
     }
 
     /// Position, FE and Hertz pressure within 1.5 a, nodes at one position (along the
@@ -651,6 +686,46 @@ mod tests {
         let share = slave.iter().filter(|s| inside(s.1)).count() as f64 / 15.0;
         assert!((peak - 0.01).abs() < 1e-12, "{peak}");
         assert!((rms - 0.01 * share.sqrt()).abs() < 1e-12, "{rms}");
+    }
+
+    /// The centre's statistics: Hertz's pressure plus 0.5% of p0, plus and minus 2% in
+    /// turn at the nodes within a / 3 (x = -0.3, -0.2, ..., 0.3: seven nodes, three at +2%),
+    /// give a mean of 0.5% - 2% / 7, a deviation of 2% sqrt(1 - 1 / 49) and a largest of
+    /// 2.5%; the nodes beyond a / 3 (x = 0.4, with +10%) do not count (exact arithmetic up
+    /// to round-off: 1e-12).
+    #[test]
+    fn the_centre_s_mean_and_scatter_are_those_of_the_nodes_within_a_third_of_a() {
+        let hertz = HertzLine::new(std::f64::consts::PI / 4.0, 1.0, 1.0);
+        let mut nodes: Vec<(f64, f64)> = (-3..=3)
+            .map(|i| {
+                let x = 0.1 * f64::from(i);
+                let wobble = if i % 2 == 0 { 0.02 } else { -0.02 };
+                (x, hertz.pressure(x) + (0.005 + wobble) * hertz.p0)
+            })
+            .collect();
+        nodes.push((0.4, hertz.pressure(0.4) + 0.1 * hertz.p0));
+        let c = HertzComparison {
+            label: String::new(),
+            radius: 1.0,
+            e_star: 1.0,
+            load_per_length: std::f64::consts::PI / 4.0,
+            hertz,
+            nodes,
+            contact_edge: 1.0,
+            spacing: 0.1,
+            edge_spacing: 0.1,
+            peak: hertz.p0,
+            rms_error: 0.0,
+            slave: Vec::new(),
+        };
+        let (n, mean, sd, largest) = c.centre_errors().unwrap();
+        assert_eq!(n, 7);
+        assert!((mean - (0.005 - 0.02 / 7.0)).abs() < 1e-12, "{mean}");
+        assert!(
+            (sd - 0.02 * (1.0f64 - 1.0 / 49.0).sqrt()).abs() < 1e-12,
+            "{sd}"
+        );
+        assert!((largest - 0.025).abs() < 1e-12, "{largest}");
     }
 
     #[test]
