@@ -26,11 +26,64 @@ const FREE: f64 = 1e-10;
 /// One line per body that is not held: "body 'name' ... (free: ...)". Deterministic and
 /// the same on every rank (it reads only replicated data).
 pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<String> {
-    let rows = support_rows(problem, contact);
-    freedom(problem, &rows)
+    unheld_with(&DirichletGrams::new(problem), problem, contact)
+}
+
+/// `unheld_bodies` with the prescribed directions' Gram matrices computed once.
+pub fn unheld_with(
+    dirichlet: &DirichletGrams,
+    problem: &Problem,
+    contact: &impl Enforcement,
+) -> Vec<String> {
+    freedom(problem, &dirichlet.with_ties(problem, contact))
         .into_iter()
         .map(|(b, eig, free)| unheld_line(problem, b, &eig, &free))
         .collect()
+}
+
+/// The Gram matrix of each body's prescribed directions (`support_gram`), computed once for
+/// a run: the directions and the nodes they hold do not change. A model problem's adds its
+/// contact ties' rows to them (a Gram matrix is a sum over its rows, taken in the same
+/// order as over all the rows at once: the same bits).
+pub struct DirichletGrams {
+    grams: Vec<Matrix6<f64>>,
+    /// Whether some body's prescribed directions alone leave a rigid-body motion free.
+    contact_alone: bool,
+}
+
+impl DirichletGrams {
+    pub fn new(problem: &Problem) -> Self {
+        let rows = dirichlet_rows(problem);
+        let grams: Vec<Matrix6<f64>> = (0..problem.mesh.bodies.len())
+            .map(|b| support_gram(problem.body_frame(b), &rows[b]))
+            .collect();
+        let contact_alone = !held_by_contact_alone(problem).is_empty();
+        DirichletGrams {
+            grams,
+            contact_alone,
+        }
+    }
+
+    /// Each body's Gram matrix with the contact ties' rows added.
+    fn with_ties(&self, problem: &Problem, contact: &impl Enforcement) -> Vec<Matrix6<f64>> {
+        let body_of = |g: usize| problem.mesh.body_of_node(g);
+        let frames: Vec<(Vec3, f64)> = (0..self.grams.len())
+            .map(|b| problem.body_frame(b))
+            .collect();
+        let mut grams = self.grams.clone();
+        for (slave, master, dirs) in contact.supports(problem) {
+            let x = problem.reference_position(slave);
+            for b in [body_of(slave as usize), body_of(master as usize)]
+                .into_iter()
+                .flatten()
+            {
+                for d in &dirs {
+                    add_row(&mut grams[b], frames[b], &x, d);
+                }
+            }
+        }
+        grams
+    }
 }
 
 /// The bodies a model problem's supports leave free, with their free motions, for
@@ -38,16 +91,20 @@ pub fn unheld_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<Strin
 /// the free translations under large kinematics (where a rotation is not in the
 /// operator's null space). Empty, without reading the contact ties, when every body's
 /// prescribed directions hold it. Deterministic and the same on every rank.
-pub fn free_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<FreeBody> {
-    if held_by_contact_alone(problem).is_empty() {
+pub fn free_bodies(
+    dirichlet: &DirichletGrams,
+    problem: &Problem,
+    contact: &impl Enforcement,
+) -> Vec<FreeBody> {
+    if !dirichlet.contact_alone {
         return Vec::new();
     }
-    let rows = support_rows(problem, contact);
+    let grams = dirichlet.with_ties(problem, contact);
     let mut out = Vec::new();
-    for (b, eig, free) in freedom(problem, &rows) {
+    for (b, eig, free) in freedom(problem, &grams) {
         let large = problem.body_models[b].material.is_large();
         let motions: Vec<[f64; 6]> = if large {
-            free_translations(&rows[b], &eig)
+            free_translations(&grams[b], &eig)
         } else {
             free.iter()
                 .map(|&k| std::array::from_fn(|i| eig.eigenvectors[(i, k)]))
@@ -68,18 +125,19 @@ pub fn free_bodies(problem: &Problem, contact: &impl Enforcement) -> Vec<FreeBod
     out
 }
 
-/// The bodies whose supports `rows` leave a rigid-body motion free: (body, the eigen
-/// decomposition of its support Gram matrix, the indices of its free eigenvectors).
+/// The bodies whose supports (Gram matrices `grams`) leave a rigid-body motion free:
+/// (body, the eigen decomposition of its Gram matrix, the indices of its free
+/// eigenvectors).
 fn freedom(
     problem: &Problem,
-    rows: &[Vec<(Vec3, Vec3)>],
+    grams: &[Matrix6<f64>],
 ) -> Vec<(usize, SymmetricEigen<f64, nalgebra::U6>, Vec<usize>)> {
     let mut out = Vec::new();
     for (b, body) in problem.mesh.bodies.iter().enumerate() {
         if body.num_nodes == 0 {
             continue;
         }
-        let eig = SymmetricEigen::new(support_gram(problem.body_frame(b), &rows[b]));
+        let eig = SymmetricEigen::new(grams[b]);
         let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
         let free: Vec<usize> = (0..6)
             .filter(|&k| eig.eigenvalues[k] <= FREE * largest || largest == 0.0)
@@ -91,19 +149,15 @@ fn freedom(
     out
 }
 
-/// The translations no support row has a component along (the null space of the rows'
-/// sum of c c^T, judged against the Gram matrix's largest eigenvalue), as (t, 0).
+/// The translations no support row has a component along: the null space of the rows'
+/// sum of c c^T (the Gram matrix's translation block), judged against the Gram matrix's
+/// largest eigenvalue, as (t, 0).
 fn free_translations(
-    rows: &[(Vec3, Vec3)],
+    gram: &Matrix6<f64>,
     eig: &SymmetricEigen<f64, nalgebra::U6>,
 ) -> Vec<[f64; 6]> {
     let largest = eig.eigenvalues.iter().fold(0.0f64, |m, &v| m.max(v));
-    let mut cc = nalgebra::Matrix3::<f64>::zeros();
-    for (_, c) in rows {
-        let c = nalgebra::Vector3::new(c[0], c[1], c[2]);
-        cc += c * c.transpose();
-    }
-    let t = SymmetricEigen::new(cc);
+    let t = SymmetricEigen::new(gram.fixed_view::<3, 3>(0, 0).into_owned());
     (0..3)
         .filter(|&k| t.eigenvalues[k] <= FREE * largest || largest == 0.0)
         .map(|k| {
@@ -166,35 +220,23 @@ fn dirichlet_rows(problem: &Problem) -> Vec<Vec<(Vec3, Vec3)>> {
     rows
 }
 
-/// The supports of each body: (point, direction) of every prescribed direction and of
-/// every contact tie (on the slave's body and on the master's).
-fn support_rows(problem: &Problem, contact: &impl Enforcement) -> Vec<Vec<(Vec3, Vec3)>> {
-    let body_of = |g: usize| problem.mesh.body_of_node(g);
-    let mut rows = dirichlet_rows(problem);
-    for (slave, master, dirs) in contact.supports(problem) {
-        let x = problem.reference_position(slave);
-        for b in [body_of(slave as usize), body_of(master as usize)]
-            .into_iter()
-            .flatten()
-        {
-            rows[b].extend(dirs.iter().map(|&d| (x, d)));
-        }
-    }
-    rows
-}
-
 /// The Gram matrix of a body's supports as rigid-body motions (direction, and moment
 /// about the body's centre with lever arms scaled by the body's size: its frame,
 /// `problem::frame_of`).
-fn support_gram((centre, size): (Vec3, f64), rows: &[(Vec3, Vec3)]) -> Matrix6<f64> {
+fn support_gram(frame: (Vec3, f64), rows: &[(Vec3, Vec3)]) -> Matrix6<f64> {
     let mut gram = Matrix6::<f64>::zeros();
     for (x, c) in rows {
-        let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);
-        let m = cross(&arm, c);
-        let r = Vector6::new(c[0], c[1], c[2], m[0], m[1], m[2]);
-        gram += r * r.transpose();
+        add_row(&mut gram, frame, x, c);
     }
     gram
+}
+
+/// Adds the row of direction `c` at `x` to `gram`.
+fn add_row(gram: &mut Matrix6<f64>, (centre, size): (Vec3, f64), x: &Vec3, c: &Vec3) {
+    let arm = [0, 1, 2].map(|i| (x[i] - centre[i]) / size);
+    let m = cross(&arm, c);
+    let r = Vector6::new(c[0], c[1], c[2], m[0], m[1], m[2]);
+    *gram += r * r.transpose();
 }
 
 /// The free motions (eigenvectors `free` of the Gram matrix) named: as a projector (the

@@ -84,6 +84,8 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
     loads: Loads,
     /// (local node, direction, Dirichlet entry) of every prescribed direction.
     dirichlet: Vec<(usize, Vec3, usize)>,
+    /// The prescribed directions' Gram matrices per body (`support::DirichletGrams`).
+    supports: super::support::DirichletGrams,
     cg: Cg,
     pub u: Vec<Vec3>,
     u_prev: Vec<Vec3>,
@@ -182,6 +184,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             asm,
             loads,
             dirichlet,
+            supports: super::support::DirichletGrams::new(problem),
             cg: {
                 let mut cg = Cg::new(n, nonlinear)?;
                 if let Some(c) = coarse {
@@ -505,7 +508,9 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         let mut with_springs = false;
         let mut tangent = false;
         let mut onset = false;
-        if start.is_some() && !super::support::unheld_bodies(self.problem, contact).is_empty() {
+        if start.is_some()
+            && !super::support::unheld_with(&self.supports, self.problem, contact).is_empty()
+        {
             springs = self.slip_springs(contact, u, diag);
             with_springs = true;
         } else if start.is_some() {
@@ -518,7 +523,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         // its loads push along has no equilibrium: said at once, not after CG's whole
         // iteration budget (the step is then cut back as for any failure).
         let free = if springs.is_empty() && links.is_empty() {
-            super::support::free_bodies(self.problem, contact)
+            super::support::free_bodies(&self.supports, self.problem, contact)
         } else {
             Vec::new()
         };
