@@ -649,6 +649,28 @@ mod tests {
         assert!((contact_modulus(2.0, 0.5, 2.0, 0.5) - 1.0 / 0.75).abs() < 1e-15);
     }
 
+    /// A comparison of R = 1, E* = 1, P = pi / 4 (a = 1) with the given nodes and slave nodes.
+    fn comparison(
+        hertz: HertzLine,
+        nodes: Vec<(f64, f64)>,
+        slave: Vec<(usize, f64)>,
+    ) -> HertzComparison {
+        HertzComparison {
+            label: String::new(),
+            radius: 1.0,
+            e_star: 1.0,
+            load_per_length: std::f64::consts::PI / 4.0,
+            hertz,
+            nodes,
+            contact_edge: 1.0,
+            spacing: 0.2,
+            edge_spacing: 0.2,
+            peak: hertz.p0,
+            rms_error: 0.0,
+            slave,
+        }
+    }
+
     /// Another code's pressures at the slave nodes: Hertz's own give no error; Hertz's
     /// plus 1% of p0 inside the contact give +1% at the peak and, with the nodes out of
     /// contact (none given: zero pressure) exact, an RMS of 1% times the root of the share
@@ -661,20 +683,7 @@ mod tests {
             .map(|i| ((i * 7) % 15, -1.4 + 0.2 * i as f64))
             .collect();
         let position = |n: usize| slave.iter().find(|s| s.0 == n).unwrap().1;
-        let c = HertzComparison {
-            label: String::new(),
-            radius: 1.0,
-            e_star: 1.0,
-            load_per_length: std::f64::consts::PI / 4.0,
-            hertz,
-            nodes: Vec::new(),
-            contact_edge: 1.0,
-            spacing: 0.2,
-            edge_spacing: 0.2,
-            peak: hertz.p0,
-            rms_error: 0.0,
-            slave: slave.clone(),
-        };
+        let c = comparison(hertz, Vec::new(), slave.clone());
         let (peak, rms) = c.errors_of(|n| Some(hertz.pressure(position(n)))).unwrap();
         assert!(peak.abs() < 1e-12 && rms < 1e-12, "{peak} {rms}");
         let inside = |x: f64| x.abs() < 1.0 - 1e-9;
@@ -704,20 +713,7 @@ mod tests {
             })
             .collect();
         nodes.push((0.4, hertz.pressure(0.4) + 0.1 * hertz.p0));
-        let c = HertzComparison {
-            label: String::new(),
-            radius: 1.0,
-            e_star: 1.0,
-            load_per_length: std::f64::consts::PI / 4.0,
-            hertz,
-            nodes,
-            contact_edge: 1.0,
-            spacing: 0.1,
-            edge_spacing: 0.1,
-            peak: hertz.p0,
-            rms_error: 0.0,
-            slave: Vec::new(),
-        };
+        let c = comparison(hertz, nodes, Vec::new());
         let (n, mean, sd, largest) = c.centre_errors().unwrap();
         assert_eq!(n, 7);
         assert!((mean - (0.005 - 0.02 / 7.0)).abs() < 1e-12, "{mean}");
