@@ -72,3 +72,41 @@ fn mortar_hertz_cylinder_on_tetrahedra() {
     assert!(mean.abs() <= 1.0, "centre mean {mean:+}% of p0");
     println!("centre: mean {mean:+}%, scatter {scatter}% of p0");
 }
+
+#[test]
+fn the_tet_study_script_remeshes_the_example_and_tabulates_it() {
+    // run/hertz_tet_study at the example's own element sizes, (hmin, g) = (0.25, 0.3): Gmsh
+    // meshes run/tet/cylinder_on_block.geo again (3172 nodes, as the committed mesh), the
+    // example scene runs on it, and the summary row holds what `solver post hertz` says,
+    // within the bounds of the test above (the same mesh and scene).
+    let out = repo("target/tmp/hertz_tet_study");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(repo("run/hertz_tet_study"))
+        .args(["--meshes", "0.25,0.3", "--out"])
+        .arg(&out)
+        .arg("--solver")
+        .arg(env!("CARGO_BIN_EXE_solver"))
+        .status()
+        .unwrap();
+    assert!(status.success(), "run/hertz_tet_study failed");
+    let summary = std::fs::read_to_string(out.join("summary.txt")).unwrap();
+    println!("{summary}");
+    // "0.25    0.3      3172    +0.0331  0.0225       +0.20%        2.63%        +3.92%      3.5"
+    let row: Vec<f64> = summary
+        .lines()
+        .find(|l| l.starts_with("0.25 "))
+        .unwrap_or_else(|| panic!("no row for 0.25, 0.3: {summary}"))
+        .split_whitespace()
+        .map(|w| {
+            w.trim_end_matches('%')
+                .parse()
+                .unwrap_or_else(|_| panic!("{w} in {summary}"))
+        })
+        .collect();
+    assert_eq!(row.len(), 9, "{summary}");
+    let (nodes, peak, rms, mean) = (row[2], row[3], row[4], row[5]);
+    assert_eq!(nodes, 3172.0, "{summary}");
+    assert!(peak.abs() <= 0.04, "peak {peak:+} of p0");
+    assert!(rms <= 0.03, "RMS {rms} of p0");
+    assert!(mean.abs() <= 1.0, "centre mean {mean:+}% of p0");
+}
