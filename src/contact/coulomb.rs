@@ -136,6 +136,16 @@ pub(super) fn judge_slip(
     };
     a.slip_stiffness = secant_stiffness(a.secant, carried, slip, noise, a.slip_stiffness);
     a.secant = Some((carried, slip));
+    // Friction acts along the master surface. The direction is turned from the force
+    // held (along the last direction) less the slip's pull; a direction that has picked up
+    // a part along the normal (the normal moves by round-off from update to update) keeps
+    // it in the force held, and wherever the return mapping shortens the tangential part
+    // that part grows relative to it, update after update, until the friction force points
+    // along the normal (a mortar sphere pressed on a block: from 1.6e-16 to 0.99 of the
+    // direction in 75 updates, its force taken by the normal row, the step never settling).
+    // So the force held and the slip across are taken along the surface here.
+    let held_along = a.along_surface(&held);
+    let across_along = a.along_surface(&across);
     let dir = if newton {
         let against = scale(&slip, -1.0 / norm(&slip));
         if norm(&sub(&against, &dir)) * norm(&held) <= force_tol {
@@ -151,8 +161,8 @@ pub(super) fn judge_slip(
             // (Judged by force alone: the spring c may be stiff enough that a slip below
             // the slip noise still pulls more than the force tolerance, and the settled
             // state must leave no spring stretched beyond it.)
-            Some(c) => friction_direction(dir, held, across, c, 0.0, force_tol),
-            None => friction_direction(dir, held, slip, a.slip_stiffness, noise, force_tol),
+            Some(c) => friction_direction(dir, held_along, across_along, c, 0.0, force_tol),
+            None => friction_direction(dir, held_along, slip, a.slip_stiffness, noise, force_tol),
         }
     };
     a.mode = Mode::Slip {
@@ -181,6 +191,58 @@ mod tests {
         a.tangential_force = [tangential, 0.0, 0.0];
         a.mode = mode;
         a
+    }
+
+    #[test]
+    fn the_friction_direction_stays_along_the_surface_when_the_return_mapping_shortens_it() {
+        let mesh = crate::mesh::GlobalMesh::default();
+        let pair = crate::problem::ContactPair::new(
+            "p".into(),
+            &mesh,
+            vec![],
+            vec![],
+            0.3,
+            0.1,
+            0.1,
+            1e-6,
+            None,
+            1.0,
+        );
+        // A slipping node (normal +y) whose direction picked up a part 1e-3 along the
+        // normal; its step's slip, along the surface, has a part along the direction, so
+        // the return mapping g = held - k slip has a tangential part of 1.118 against the
+        // force held of 3. Before, the normal part of g was kept: 3e-3 / 1.118, grown by
+        // 2.7 times in one update (and so on, update after update). Now the direction lies
+        // in the tangent plane, to round-off, and points along g's tangential part.
+        let e = 1e-3;
+        let l = (1.0f64 + e * e).sqrt();
+        let dir = [1.0 / l, e / l, 0.0];
+        let mut a = node(
+            10.0,
+            0.0,
+            Mode::Slip {
+                dir,
+                magnitude: 3.0,
+            },
+        );
+        a.reversals = 1;
+        a.slip_stiffness = 1.0;
+        let slip = [2.0, 0.0, 0.5];
+        judge_slip(&mut a, &pair, (dir, 3.0), slip, (false, false, None), 1e-9);
+        let Mode::Slip {
+            dir: now,
+            magnitude,
+        } = a.mode
+        else {
+            panic!("still slipping: {:?}", a.mode)
+        };
+        assert!(now[1].abs() <= 1e-15, "normal part {}", now[1]);
+        // g's tangential part: 3 / l - 2 along x, -0.5 along z.
+        let g = [3.0 / l - 2.0, -0.5];
+        let gl = (g[0] * g[0] + g[1] * g[1]).sqrt();
+        assert!((now[0] - g[0] / gl).abs() <= 1e-14 && (now[2] - g[1] / gl).abs() <= 1e-14);
+        // The capacity is mu times the normal force.
+        assert!((magnitude - 3.0).abs() <= 1e-14);
     }
 
     #[test]
