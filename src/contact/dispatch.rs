@@ -380,7 +380,7 @@ impl Enforcement for ContactState {
         let mut out = String::new();
         for a in &self.active {
             out += &format!(
-                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}{}\n",
+                "  slave {} pair {} face {} s {:?} n {:?} {:?} f_n {:.6e} f_t {:?}{}{}\n",
                 a.slave + 1,
                 a.pair,
                 a.face,
@@ -392,6 +392,10 @@ impl Enforcement for ContactState {
                 a.fold.map_or(String::new(), |f| format!(
                     " fold: face {} n {:?} forces {:?}",
                     f.face, f.normal, f.forces
+                )),
+                a.secant.map_or(String::new(), |(_, slip)| format!(
+                    " slip {:?} k {:.6e} reversals {}",
+                    slip, a.slip_stiffness, a.reversals
                 ))
             );
         }
