@@ -85,20 +85,15 @@ impl BlockInverse {
         }
     }
 
-    /// The inverses of `nodes` only, their unknowns numbered from the first's.
-    pub fn keep(self, nodes: std::ops::Range<usize>) -> Self {
-        let (lo, off0) = (self.node_ptr[nodes.start], self.off[nodes.start]);
-        BlockInverse {
-            node_ptr: self.node_ptr[nodes.start..=nodes.end]
-                .iter()
-                .map(|&p| p - lo)
-                .collect(),
-            off: self.off[nodes.start..=nodes.end]
-                .iter()
-                .map(|&o| o - off0)
-                .collect(),
-            inv: self.inv[off0..self.off[nodes.end]].to_vec(),
-        }
+    /// From the inverses of `nodes` only (`inverses` over them), their unknowns numbered
+    /// from the first's: what a rank holds of a level whose rows are split over the ranks.
+    pub fn of_nodes(node_ptr: &[usize], nodes: std::ops::Range<usize>, inv: Vec<f64>) -> Self {
+        let lo = node_ptr[nodes.start];
+        let ptr: Vec<usize> = node_ptr[nodes.start..=nodes.end]
+            .iter()
+            .map(|&p| p - lo)
+            .collect();
+        Self::from_inverses(&ptr, inv)
     }
 
     /// z = D^-1 r.
@@ -186,6 +181,35 @@ impl BlockInverse {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_range_of_nodes_applies_as_the_whole_does_on_their_rows() {
+        // Four nodes of two, one, two and one unknowns, a tridiagonal operator: the
+        // inverses of nodes 1..3 alone give the whole's rows 2..5, bit for bit.
+        let node_ptr = [0usize, 2, 3, 5, 6];
+        let mut t = Vec::new();
+        for i in 0..6 {
+            t.push((i, i, 4.0 + i as f64));
+            if i + 1 < 6 {
+                t.push((i, i + 1, -1.0 / (1.0 + i as f64)));
+                t.push((i + 1, i, -1.0 / (1.0 + i as f64)));
+            }
+        }
+        let a = Csr::from_triplets(6, 6, t);
+        let whole = BlockInverse::new(&a, &node_ptr);
+        let mut rows = Offset { a: &a, first: 0 };
+        let part = BlockInverse::of_nodes(
+            &node_ptr,
+            1..3,
+            BlockInverse::inverses(&mut rows, &node_ptr, 1..3),
+        );
+        assert_eq!(part.nodes(), 2);
+        let r = [0.3, -1.2, 2.5, 0.7, -0.4, 1.9];
+        let (mut zw, mut zp) = ([0.0; 6], [0.0; 3]);
+        whole.apply(&r, &mut zw);
+        part.apply(&r[2..5], &mut zp);
+        assert_eq!(zp, zw[2..5]);
+    }
 
     #[test]
     fn inverts_each_block_and_drops_a_dead_unknown() {

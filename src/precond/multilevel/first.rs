@@ -22,14 +22,17 @@
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::{BlockRows, View};
 use super::blocks::BlockInverse;
-use super::cycle::{self, FirstLevel, Hierarchy, Op};
+use super::cycle::{self, FirstLevel, Hierarchy, Op, Product};
 use super::prolongation::Prolongation;
 use super::prolongator::{smooth_nodes, tentative, MODES};
 use super::smoother::Chebyshev;
+use super::smoother::{hash_value, Space};
 use super::sparse::{node_of, Csr, Rows};
 use super::split::Split;
 use super::triple::{triple_product_part, Picked, TRIPLE_BLOCKS};
 use crate::comm::Comm;
+use std::cell::RefCell;
+use std::convert::Infallible;
 use std::ops::Range;
 
 /// The aggregates whose rows of the first coarse level this rank holds.
@@ -212,25 +215,23 @@ pub fn build<C: Comm + ?Sized>(
     // smoother's bound, P^T A P) and the cycle's products.
     let blocks = rounded(comm, blocks, &diag);
     let mut view = View::new(&blocks);
-    // Node-block relaxation.
+    // Node-block relaxation: the inverses of the held nodes' blocks, on this rank only.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
-    let all = gather(comm, &inv);
-    drop(inv);
-    let dinv = BlockInverse::from_inverses(&node_ptr, all);
+    let dinv = BlockInverse::of_nodes(&node_ptr, held.clone(), inv);
     // The smoother's bound, by products of the held rows gathered (`Split`).
     let per = rows_per_rank(comm, aggregates);
     let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);
     let op = Op::Rows(blocks);
-    let split = &mut Split {
-        comm,
-        rows: &mut mine,
-        all: &mut all,
-    };
-    let product = &mut cycle::AsWhole(split);
-    let mut space = cycle::Sparse {
+    let mut space = Held {
         a: &op,
         dinv: &dinv,
-        product,
+        first,
+        len: MODES * held.len(),
+        split: RefCell::new(Split {
+            comm,
+            rows: &mut mine,
+            all: &mut all,
+        }),
     };
     let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let Ok(cheb) = Chebyshev::estimate(&mut space, degree, &mut v, &mut y, &mut w);
@@ -252,7 +253,7 @@ pub fn build<C: Comm + ?Sized>(
     let live = diag.iter().map(|&d| d > 0.0).collect();
     let first_level = FirstLevel {
         rows: blocks,
-        dinv: dinv.keep(held.clone()),
+        dinv,
         own: ks,
         cheb,
         transfer,
@@ -262,6 +263,45 @@ pub fn build<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest)
+}
+
+/// The first level seen by its smoother's power iteration (`Chebyshev::estimate`) on whole
+/// vectors, from this rank's rows: the product's rows and the node blocks' inverses
+/// (`dinv`, the held nodes', `len` unknowns from the level's `first`), each gathered
+/// whole after it (`Split`). Every entry is the one the whole level computes, so the bound
+/// is the same bits on any number of ranks, and no rank holds every node's inverse.
+struct Held<'a, 's, C: Comm + ?Sized> {
+    a: &'a Op,
+    dinv: &'a BlockInverse,
+    first: usize,
+    len: usize,
+    split: RefCell<Split<'s, C>>,
+}
+
+impl<C: Comm + ?Sized> Space for Held<'_, '_, C> {
+    type Error = Infallible;
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
+        self.split.get_mut().mul_whole(self.a, x, y);
+        Ok(())
+    }
+    fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
+        let split = &mut *self.split.borrow_mut();
+        let (held, pad) = split.rows.split_at_mut(self.len);
+        if self.len > 0 {
+            self.dinv.apply(&r[self.first..self.first + self.len], held);
+        }
+        pad.fill(0.0);
+        split.comm.all_gather_equal_f64(split.rows, split.all);
+        z.copy_from_slice(&split.all[..z.len()]);
+    }
+    fn dot(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    }
+    fn start(&self, v: &mut [f64]) {
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = hash_value(i as u64);
+        }
+    }
 }
 
 /// This rank's rows of the level in f32, raised on the diagonal to stay at least the
@@ -319,7 +359,14 @@ fn galerkin<C: Comm + ?Sized>(
     tentative: &Csr,
 ) -> (Prolongation, Csr) {
     let ks = MODES * held.start..MODES * held.end;
-    let own_p = smooth_nodes(view, dinv, lmax, tentative, held);
+    let own_p = smooth_nodes(
+        view,
+        dinv,
+        lmax,
+        tentative,
+        held.clone(),
+        (held.start, ks.start),
+    );
     // Of P, the product needs only the rows its rows of A reach.
     let mut reached = vec![false; MODES * aggregates];
     for k in ks.clone() {

@@ -85,19 +85,29 @@ pub fn tentative(
 /// with P_tent, without holding either product (each as large as P: two of the
 /// products at the peak of a multilevel build).
 pub fn smooth(a: &Csr, dinv: &BlockInverse, lmax: f64, pt: &Csr) -> Csr {
-    let p = smooth_nodes(&mut Offset { a, first: 0 }, dinv, lmax, pt, 0..dinv.nodes());
+    let p = smooth_nodes(
+        &mut Offset { a, first: 0 },
+        dinv,
+        lmax,
+        pt,
+        0..dinv.nodes(),
+        (0, 0),
+    );
     assert_eq!(p.rows, a.rows, "smooth: the nodes cover every unknown");
     p
 }
 
 /// The rows of P (`smooth`) of the unknowns of `nodes`; `a` gives the rows of A (asked
-/// only for those unknowns).
+/// only for those unknowns). `dinv` holds the inverses of the nodes from `base` on,
+/// numbered from 0 (`BlockInverse::of_nodes`; (0, 0) for every node), the first of whose
+/// unknowns is the level's unknown `first`.
 pub fn smooth_nodes(
     a: &mut impl Rows,
     dinv: &BlockInverse,
     lmax: f64,
     pt: &Csr,
     nodes: std::ops::Range<usize>,
+    (base, first): (usize, usize),
 ) -> Csr {
     let omega = 4.0 / (3.0 * lmax);
     let mut prod = RowProduct::new(pt.cols);
@@ -106,13 +116,14 @@ pub fn smooth_nodes(
     let mut out = Csr::empty(pt.cols);
     let rule: MergeRule = (&|t, x| t + -omega * x, &|t| t, &|x| -omega * x);
     for i in nodes {
-        let rows = dinv.unknowns(i);
+        let local = dinv.unknowns(i - base);
+        let rows = first + local.start..first + local.end;
         apt.clear_rows();
         for r in rows.clone() {
             prod.push_row(a.row(r), |k| pt.row(k), &mut apt);
         }
         dapt.clear_rows();
-        dinv.left_multiply_node(i, |q| apt.row(q), &mut ws, &mut dapt);
+        dinv.left_multiply_node(i - base, |q| apt.row(q), &mut ws, &mut dapt);
         for (q, r) in rows.enumerate() {
             merge_row(pt.row(r), dapt.row(q), rule, true, &mut out);
         }
