@@ -207,7 +207,18 @@ pub fn build<C: Comm + ?Sized>(
         &body,
     );
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
-    let tent = tentative(&agg, nc, &node_ptr, &b);
+    // Of the tentative prolongator, P's rows of the held nodes need only the rows their
+    // rows of A reach (their columns: the held rows themselves among them).
+    let mut reached = vec![false; n];
+    let mut rows = View::new(&blocks);
+    for k in ks.clone() {
+        for &m in rows.row(k).0 {
+            reached[m as usize] = true;
+        }
+    }
+    drop(rows);
+    let tent = tentative(&agg, nc, &node_ptr, &b, Some(&reached));
+    drop(reached);
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }

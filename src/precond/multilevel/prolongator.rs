@@ -20,13 +20,17 @@ pub struct Tentative {
 
 /// Builds the tentative prolongator: `agg` is the aggregate of every fine node (u32::MAX
 /// for none), `node_ptr` the fine unknowns of every fine node, `b` the fine near-nullspace.
-/// Modes that are (numerically) spanned by earlier ones on an aggregate are dropped.
+/// Modes that are (numerically) spanned by earlier ones on an aggregate are dropped. With
+/// `rows`, only the rows of the fine unknowns it marks get their entries (the others are
+/// left empty; the columns, the coarse near-nullspace and every kept entry are the same).
 pub fn tentative(
     agg: &[u32],
     num_aggs: usize,
     node_ptr: &[usize],
     b: &[[f64; MODES]],
+    rows: Option<&[bool]>,
 ) -> Tentative {
+    let wanted = |row: usize| rows.is_none_or(|keep| keep[row]);
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); num_aggs];
     for (node, &k) in agg.iter().enumerate() {
         if k != u32::MAX {
@@ -37,13 +41,13 @@ pub fn tentative(
     let mut cptr = vec![0usize];
     let mut cb = Vec::new();
     let mut col = 0u32;
-    for rows in &members {
+    for unknowns in &members {
         // Modified Gram-Schmidt on the columns of B restricted to the aggregate.
-        let m = rows.len();
+        let m = unknowns.len();
         let mut q: Vec<Vec<f64>> = Vec::with_capacity(MODES);
         let mut r = [[0.0; MODES]; MODES];
         for c in 0..MODES {
-            let mut v: Vec<f64> = rows.iter().map(|&i| b[i][c]).collect();
+            let mut v: Vec<f64> = unknowns.iter().map(|&i| b[i][c]).collect();
             let n0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
             for (k, qk) in q.iter().enumerate() {
                 let s: f64 = qk.iter().zip(&v).map(|(a, b)| a * b).sum();
@@ -60,8 +64,8 @@ pub fn tentative(
             }
         }
         for (k, qk) in q.iter().enumerate() {
-            for (i, &row) in rows.iter().enumerate() {
-                if qk[i] != 0.0 {
+            for (i, &row) in unknowns.iter().enumerate() {
+                if qk[i] != 0.0 && wanted(row) {
                     trip.push((row as u32, col + k as u32, qk[i]));
                 }
             }
@@ -146,7 +150,7 @@ mod tests {
         let b: Vec<[f64; MODES]> = (0..8)
             .map(|i| [1.0, i as f64, 2.0, 0.0, 0.0, 0.0])
             .collect();
-        let t = tentative(&agg, 2, &node_ptr, &b);
+        let t = tentative(&agg, 2, &node_ptr, &b, None);
         // Two independent columns per aggregate.
         assert_eq!(t.node_ptr, vec![0, 2, 4]);
         let pd = t.p.to_dense();
@@ -187,7 +191,7 @@ mod tests {
         let agg = [0, 0, 0, 1, 1, 1, 2, 2, 2];
         let node_ptr: Vec<usize> = (0..=n).collect();
         let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
-        let t = tentative(&agg, 3, &node_ptr, &b);
+        let t = tentative(&agg, 3, &node_ptr, &b, None);
         let p = smooth(&a, &dinv, 2.0, &t.p);
         let coarse_one: Vec<f64> = t.b.iter().map(|r| r[0]).collect();
         let mut y = vec![0.0; n];
