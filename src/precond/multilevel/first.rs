@@ -209,14 +209,7 @@ pub fn build<C: Comm + ?Sized>(
     let coarse_body = cycle::coarse_bodies(&agg, nc, &body);
     // Of the tentative prolongator, P's rows of the held nodes need only the rows their
     // rows of A reach (their columns: the held rows themselves among them).
-    let mut reached = vec![false; n];
-    let mut rows = View::new(&blocks);
-    for k in ks.clone() {
-        for &m in rows.row(k).0 {
-            reached[m as usize] = true;
-        }
-    }
-    drop(rows);
+    let reached = reached_by(&mut View::new(&blocks), ks.clone(), n);
     let tent = tentative(&agg, nc, &node_ptr, &b, Some(&reached));
     drop(reached);
     if cycle::stops_coarsening(tent.p.cols, n) {
@@ -357,6 +350,17 @@ fn next_aggregates<C: Comm + ?Sized>(
     aggregate(&mut graph, &cycle::active_nodes(diag, node_ptr))
 }
 
+/// Which of the level's `n` unknowns the rows `ks` of A reach (their columns).
+fn reached_by(view: &mut View, ks: Range<usize>, n: usize) -> Vec<bool> {
+    let mut reached = vec![false; n];
+    for k in ks {
+        for &m in view.row(k).0 {
+            reached[m as usize] = true;
+        }
+    }
+    reached
+}
+
 /// The prolongator P (this rank's rows of P and P^T, or P^T whole on one rank) and P^T A
 /// P (its symmetric part) from this rank's rows of A (those of the nodes `held`): P's rows
 /// of the held nodes; of P^T, a range of rows; of P, the rows this rank's rows of A reach;
@@ -379,12 +383,7 @@ fn galerkin<C: Comm + ?Sized>(
         (held.start, ks.start),
     );
     // Of P, the product needs only the rows its rows of A reach.
-    let mut reached = vec![false; MODES * aggregates];
-    for k in ks.clone() {
-        for &m in view.row(k).0 {
-            reached[m as usize] = true;
-        }
-    }
+    let reached = reached_by(view, ks.clone(), MODES * aggregates);
     let rows: Vec<u32> = (0..reached.len() as u32)
         .filter(|&m| reached[m as usize])
         .collect();
