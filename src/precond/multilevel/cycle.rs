@@ -160,25 +160,6 @@ impl Product for Whole {
     }
 }
 
-/// A product on whole vectors (the build's power iteration on the first level held as
-/// rows: every rank computes its rows of the product and gathers the rest).
-pub struct AsWhole<'p, P: Product>(pub &'p mut P);
-
-impl<P: Product> Product for AsWhole<'_, P> {
-    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
-        self.0.mul_whole(a, x, y);
-    }
-    fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
-        self.0.mul_whole(a, x, y);
-    }
-    fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64] {
-        mine
-    }
-    fn restrict(&mut self, _: &mut Prolongation, _: &[f64], _: &mut [f64]) {
-        unreachable!("a whole product serves the power iteration only")
-    }
-}
-
 /// A sparse level seen by the smoother (its vectors as the product holds them).
 pub(super) struct Sparse<'a, P: Product> {
     pub(super) a: &'a Op,

@@ -3,9 +3,11 @@
 //! (`measure`), and builds from them what the levels below need, each piece the same bits
 //! as `cycle::Hierarchy::build` computes it from the whole operator:
 //!
-//! - the diagonal, the inverses of the node blocks and the strength graph's edges, row by
-//!   row, gathered;
-//! - the smoother's bound, by products of the held rows gathered (`Split`'s rule);
+//! - the diagonal and the strength graph's edges, row by row, gathered;
+//! - the inverses of the held nodes' blocks, kept on the rank (`BlockInverse::of_nodes`);
+//! - the smoother's bound, by products of the held rows and their D^-1, each gathered
+//!   (`Held`, `Split`'s rule);
+//! - the tentative prolongator in the rows the held rows reach (`reached_by`);
 //! - the smoothed prolongator's rows of the held nodes, gathered whole (every rank needs
 //!   P^T for the cycle and P's rows to form P^T A P);
 //! - P^T A P in turns: rank 0 sums the terms of its rows of A, each rank then goes on
