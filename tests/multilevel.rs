@@ -2,7 +2,8 @@
 //! answer is exact), in fewer CG iterations than the two-level one; the scene key takes
 //! it by name. Iteration counts are deterministic, so they are compared; times are not
 //! (see run/bench). Rank independence: mpi-tests (block_on_block_multilevel,
-//! cylinder_on_block_multilevel).
+//! cylinder_on_block_multilevel), and on 16 ranks where some hold none of the first coarse
+//! level's rows (below).
 
 use crate::common;
 use common::scenes::with_preconditioner;
@@ -96,4 +97,62 @@ fn an_unknown_preconditioner_names_the_choices() {
         err.contains("solver.preconditioner") && err.contains("\"multilevel\""),
         "{err}"
     );
+}
+
+/// The first coarse level's rows are split over the ranks in shares of ceil(A / R)
+/// aggregates from rank r * ceil(A / R) on (`first::held`): with A = 164 aggregates on
+/// R = 16 ranks the shares are 11, and rank 15's would start at 165, past the end, so it
+/// holds none. That rank used to stop the run with an index out of bounds; it now runs
+/// with an empty share, and the result is bitwise the one-rank result (the split never
+/// changes a sum).
+#[test]
+fn sixteen_ranks_where_one_holds_none_of_the_first_level_give_the_one_rank_bits() {
+    let mut n = 0;
+    let text: String = read("run/scenes/bench/block_on_block.toml")
+        .lines()
+        .map(|l| {
+            if l.starts_with("divisions = [10, 10, 10]") {
+                n += 1;
+                if n == 1 {
+                    "divisions = [13, 13, 10]"
+                } else {
+                    "divisions = [11, 11, 10]"
+                }
+                .to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_eq!(n, 2, "the scene has two blocks of 10 x 10 x 10");
+    let dir = common::fresh_dir("multilevel_sixteen");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, with_preconditioner(&text, "multilevel")).unwrap();
+    let run = |ranks: usize| {
+        let out = dir.join(format!("np{ranks}.h5"));
+        let o = std::process::Command::new(common::repo("run/mpirun"))
+            .args(["-np", &ranks.to_string(), env!("CARGO_BIN_EXE_solver")])
+            .args(["-v", "run"])
+            .arg(&scene)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .expect("mpirun starts");
+        let log = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{ranks} ranks: {log}");
+        (out, log)
+    };
+    let (one, log) = run(1);
+    // The case this test is about: 164 aggregates, so rank 15 of 16 starts past the end.
+    assert!(log.contains("multilevel: 164 fine aggregates"), "{log}");
+    let (sixteen, _) = run(16);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_solver"))
+        .args(["post", "compare"])
+        .arg(&one)
+        .arg(&sixteen)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(out.contains("result: bitwise identical"), "{out}");
 }

@@ -88,6 +88,10 @@ impl BlockInverse {
     /// From the inverses of `nodes` only (`inverses` over them), their unknowns numbered
     /// from the first's: what a rank holds of a level whose rows are split over the ranks.
     pub fn of_nodes(node_ptr: &[usize], nodes: std::ops::Range<usize>, inv: Vec<f64>) -> Self {
+        if nodes.is_empty() {
+            // No node (a rank whose share starts past the last one, `first::held`).
+            return Self::from_inverses(&[0], inv);
+        }
         let lo = node_ptr[nodes.start];
         let ptr: Vec<usize> = node_ptr[nodes.start..=nodes.end]
             .iter()

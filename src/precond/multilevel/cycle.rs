@@ -524,7 +524,9 @@ impl Hierarchy {
             self.coarsest.solve(x);
             return;
         }
-        let b = &b[self.own.clone()];
+        // This rank's rows (none where its share starts past the level's end,
+        // `first::held`).
+        let b = b.get(self.own.clone()).unwrap_or(&[]);
         self.acc.fill(0.0);
         for sweep in 0..self.sweeps {
             if sweep == 0 {
