@@ -225,23 +225,15 @@ pub fn build<C: Comm + ?Sized>(
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
     let dinv = BlockInverse::of_nodes(&node_ptr, held.clone(), inv);
     // The smoother's bound, by products of the held rows gathered (`Split`).
-    let per = rows_per_rank(comm, aggregates);
-    let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);
     let op = Op::Rows(blocks);
-    let mut space = Held {
-        a: &op,
-        dinv: &dinv,
-        first,
-        len: MODES * held.len(),
-        split: RefCell::new(Split {
-            comm,
-            rows: &mut mine,
-            all: &mut all,
-        }),
-    };
-    let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let Ok(cheb) = Chebyshev::estimate(&mut space, degree, &mut v, &mut y, &mut w);
-    drop((v, y, w, mine, all));
+    let cheb = smoother_bound(
+        comm,
+        &op,
+        &dinv,
+        (first, MODES * held.len()),
+        aggregates,
+        degree,
+    );
     let Op::Rows(blocks) = op else {
         unreachable!("the first level's rows are blocks")
     };
@@ -269,6 +261,36 @@ pub fn build<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest)
+}
+
+/// The Chebyshev smoother's bound of the level whose rows `op` and node-block inverses
+/// `dinv` this rank holds (`len` unknowns from the level's `first`), by the power
+/// iteration on whole vectors (`Held`; collective).
+fn smoother_bound<C: Comm + ?Sized>(
+    comm: &C,
+    op: &Op,
+    dinv: &BlockInverse,
+    (first, len): (usize, usize),
+    aggregates: usize,
+    degree: usize,
+) -> Chebyshev {
+    let n = MODES * aggregates;
+    let per = rows_per_rank(comm, aggregates);
+    let (mut mine, mut all) = (vec![0.0; per], vec![0.0; per * comm.size()]);
+    let mut space = Held {
+        a: op,
+        dinv,
+        first,
+        len,
+        split: RefCell::new(Split {
+            comm,
+            rows: &mut mine,
+            all: &mut all,
+        }),
+    };
+    let (mut v, mut y, mut w) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let Ok(cheb) = Chebyshev::estimate(&mut space, degree, &mut v, &mut y, &mut w);
+    cheb
 }
 
 /// The first level seen by its smoother's power iteration (`Chebyshev::estimate`) on whole
