@@ -18,10 +18,10 @@ use common::synthetic::{synthetic_info, synthetic_step, test_dir};
 #[test]
 fn a_mesh_larger_than_a_round_is_written_as_given() {
     let dir = test_dir("header_rounds");
-    let (mut coordinates, lower) = common::synthetic::block([0.0; 3], [30, 30, 25], 0);
+    let (mut coordinates, lower) = common::synthetic::block([0.0; 3], [12, 12, 20], 0);
     let first_upper = coordinates.len() as u64;
     let (upper_coords, upper) =
-        common::synthetic::block([0.0, 0.0, 30.0], [40, 40, 25], first_upper);
+        common::synthetic::block([0.0, 0.0, 30.0], [20, 20, 20], first_upper);
     coordinates.extend(upper_coords);
     let nodes = coordinates.len();
     assert!(nodes > CHUNK_ROWS && lower.len() < CHUNK_ROWS);

@@ -19,8 +19,11 @@ use super::error::{Hdf5Context, OutputError};
 use super::layout;
 use super::reader::{to_rows, ResultFile};
 
-/// Rows per chunk of the restart arrays (each chunk has its own checksum).
-const CHUNK: usize = 1 << 15;
+/// Rows per chunk of the restart arrays (each chunk has its own checksum): the per-node
+/// ones as the result file's fields (a round of the gather writes whole chunks), the plastic
+/// history in 32768 values.
+const CHUNK: usize = super::CHUNK_ROWS;
+const HISTORY_CHUNK: usize = 1 << 15;
 
 /// The open datasets of one slot, in [`layout::SLOT_DATASETS`] order.
 struct Slot([hdf5::Dataset; 5]);
@@ -291,7 +294,7 @@ fn history_dataset(
         Ok(ds) => Ok(ds),
         Err(_) => file
             .new_dataset::<f64>()
-            .chunk((len.clamp(1, CHUNK),))
+            .chunk((len.clamp(1, HISTORY_CHUNK),))
             .fletcher32()
             .shape((len,))
             .create(hname)

@@ -5,26 +5,48 @@ use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use std::ops::Range;
 
-/// Rounds of a gather: rank 0 receives the values of one range of global ids at a time, so
-/// that it holds a sixteenth of the array at a time (written as it comes,
-/// `Gather::stream`), or the whole array and a sixteenth (`Gather::place`), not the whole
-/// twice.
-const ROUNDS: usize = 16;
+/// Chunks of the result file per round of a gather: rank 0 receives the values of one
+/// range of `ROUND_CHUNKS * CHUNK_ROWS` global ids at a time (16384), written as they come
+/// (`Gather::stream`), or the whole array and a round (`Gather::place`), not the whole
+/// twice. A round of a fixed size bounds what rank 0 holds for it by the round, not the
+/// mesh (a sixteenth of the array had been 1.6 MB of stress a round at 128000 elements).
+const ROUND_CHUNKS: usize = 4;
 
 /// The ids each round covers (a multiple of the result file's chunk, so that each chunk of
 /// a field written round by round is written once) and the number of rounds.
 fn rounds(total: usize) -> (usize, usize) {
-    let chunk = crate::output::CHUNK_ROWS;
-    let per = total.div_ceil(ROUNDS).div_ceil(chunk).max(1) * chunk;
+    let per = ROUND_CHUNKS * crate::output::CHUNK_ROWS;
     (per, total.div_ceil(per))
 }
 
 /// The global ids of the owned entries of one kind (nodes or elements): this rank's, in its
-/// order, and how many there are in all. Each round sends its entries' ids with their
-/// values, so that rank 0 keeps no list of every rank's ids (8 MB at 10^6 elements).
+/// order, which is ascending (`LocalMesh` numbers its owned nodes and elements so), and how
+/// many there are in all. Each round sends its entries' ids with their values, so that rank
+/// 0 keeps no list of every rank's ids (8 MB at 10^6 elements).
 pub(super) struct Ids {
     own: Vec<u32>,
     total: usize,
+}
+
+impl Ids {
+    fn new(own: Vec<u32>, total: usize) -> Self {
+        assert!(
+            own.is_sorted_by(|a, b| a < b),
+            "a rank's owned ids ascend in its local order"
+        );
+        Ids { own, total }
+    }
+
+    /// The positions in `own` of the ids in `range`, starting at `*at` (the end of the
+    /// previous round's), which it moves past them: a round's entries without a pass over
+    /// every owned entry per round.
+    fn run(&self, range: &Range<u32>, at: &mut usize) -> Range<usize> {
+        let start = *at;
+        while *at < self.own.len() && range.contains(&self.own[*at]) {
+            *at += 1;
+        }
+        start..*at
+    }
 }
 
 /// Gathers the owned entries of a per-node or per-element array onto rank 0, in global
@@ -45,14 +67,8 @@ impl Gather {
             .map(|(&g, _)| g)
             .collect();
         Gather {
-            nodes: Ids {
-                own: owned,
-                total: num_nodes,
-            },
-            elements: Ids {
-                own: elems,
-                total: num_elements,
-            },
+            nodes: Ids::new(owned, num_nodes),
+            elements: Ids::new(elems, num_elements),
         }
     }
 
@@ -94,11 +110,13 @@ impl Gather {
         put: impl FnMut(usize, &[[f64; W]]),
     ) {
         assert_eq!(local.len(), ids.own.len(), "a value per owned entry");
-        let owned = |range: &Range<u32>, _: usize| {
-            let v = ids.own.iter().zip(local).filter(|(g, _)| range.contains(g));
-            v.flat_map(|(_, v)| v).copied().collect()
+        let fill = |_: &Range<u32>, run: Range<usize>, send: &mut Vec<f64>| {
+            for k in run {
+                send.push(f64::from(ids.own[k]));
+                send.extend_from_slice(&local[k]);
+            }
         };
-        self.stream_with(comm, ids, owned, put);
+        Self::in_rounds(comm, ids, fill, put);
     }
 
     /// `stream` with the owned entries formed a round at a time: `local(range, n)` gives
@@ -110,25 +128,43 @@ impl Gather {
         comm: &C,
         ids: &Ids,
         mut local: impl FnMut(&Range<u32>, usize) -> Vec<f64>,
+        put: impl FnMut(usize, &[[f64; W]]),
+    ) {
+        let fill = |range: &Range<u32>, run: Range<usize>, send: &mut Vec<f64>| {
+            let values = local(range, run.len());
+            assert_eq!(
+                values.len(),
+                W * run.len(),
+                "a value per owned entry in the round"
+            );
+            for (&g, v) in ids.own[run].iter().zip(values.chunks_exact(W)) {
+                send.push(f64::from(g));
+                send.extend_from_slice(v);
+            }
+        };
+        Self::in_rounds(comm, ids, fill, put);
+    }
+
+    /// The rounds of `stream` and `stream_with`: `fill(range, run, send)` puts each owned
+    /// entry of the round (`run`: their positions in `ids.own`) in `send` as its global id
+    /// (exact in an f64) and its W values; rank 0 places them by id and gives the round to
+    /// `put`.
+    fn in_rounds<const W: usize, C: Comm + ?Sized>(
+        comm: &C,
+        ids: &Ids,
+        mut fill: impl FnMut(&Range<u32>, Range<usize>, &mut Vec<f64>),
         mut put: impl FnMut(usize, &[[f64; W]]),
     ) {
         let (per, count) = rounds(ids.total);
+        let mut at = 0;
         let mut out: Vec<[f64; W]> = Vec::new();
         for round in 0..count {
             let lo = round * per;
             let hi = (lo + per).min(ids.total);
             let range = lo as u32..hi as u32;
-            let n = ids.own.iter().filter(|g| range.contains(g)).count();
-            let values = local(&range, n);
-            assert_eq!(values.len(), W * n, "a value per owned entry in the round");
-            // Each entry as its global id (exact in an f64) and its values.
-            let mut send = Vec::with_capacity((W + 1) * n);
-            let picked = ids.own.iter().filter(|g| range.contains(g));
-            for (&g, v) in picked.zip(values.chunks_exact(W)) {
-                send.push(f64::from(g));
-                send.extend_from_slice(v);
-            }
-            drop(values);
+            let run = ids.run(&range, &mut at);
+            let mut send = Vec::with_capacity((W + 1) * run.len());
+            fill(&range, run, &mut send);
             let parts = comm.gather_f64(&send);
             drop(send);
             if !comm.is_root() {
@@ -180,11 +216,23 @@ mod tests {
         ] {
             let (per, count) = rounds(total);
             assert!(per > 0 && per.is_multiple_of(chunk), "{total}: {per}");
-            assert!(count <= ROUNDS, "{total}: {count} rounds");
+            // A round's size does not grow with the array.
+            assert_eq!(per, ROUND_CHUNKS * chunk, "{total}");
             assert!(count * per >= total && (count == 0 || (count - 1) * per < total));
         }
-        // The 10^6-element block's 1,061,208 nodes: 66326 a sixteenth, 3 chunks a round
-        // (98304 ids), 11 rounds.
-        assert_eq!(rounds(1_061_208), (3 * chunk, 11));
+        // The 10^6-element block's 1,061,208 nodes: 65 rounds of 16384 ids.
+        assert_eq!(rounds(1_061_208), (16384, 65));
+    }
+
+    #[test]
+    fn a_round_takes_the_owned_entries_of_its_range_in_turn() {
+        let ids = Ids::new(vec![0, 2, 4, 7, 9], 10);
+        let mut at = 0;
+        let mut taken = Vec::new();
+        for range in [0..3, 3..6, 6..10] {
+            taken.push(ids.own[ids.run(&range, &mut at)].to_vec());
+        }
+        assert_eq!(taken, vec![vec![0, 2], vec![4], vec![7, 9]]);
+        assert_eq!(at, 5);
     }
 }
