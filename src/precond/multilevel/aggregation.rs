@@ -4,6 +4,7 @@
 //! built from global data only, so the aggregates are the same on any number of ranks and
 //! follow any mesh, structured or from Gmsh.
 
+use super::around::Around;
 use crate::math::Vec3;
 use crate::mesh::{Connectivity, GlobalMesh};
 
@@ -144,6 +145,11 @@ impl NodeElements {
         self.len() == 0
     }
 
+    /// The elements around node a, ascending.
+    pub fn of(&self, a: usize) -> &[u32] {
+        &self.elems[self.ptr[a]..self.ptr[a + 1]]
+    }
+
     /// Calls `f` for every node of every element of node a (a itself and repeats included).
     pub fn each_neighbour(&self, elements: &Connectivity, a: usize, mut f: impl FnMut(u32)) {
         for &e in &self.elems[self.ptr[a]..self.ptr[a + 1]] {
@@ -196,12 +202,14 @@ impl Rows for Graph {
 /// rigid-body modes (smoothed aggregation's strength of connection, measured on the
 /// geometry: the stiffness between two nodes of an element goes like 1/distance^2).
 ///
-/// Formed row by row from the elements around each node as aggregation reads it: the node
-/// graph and its strong part held whole were about 450 B per node of the whole mesh on
-/// every rank (60 MB at n = 40, the largest part of a rank's peak from 4 ranks up); this
-/// holds 52 B per node (the elements around each node, the shortest distances, the marks).
+/// Formed row by row from the elements around each node as aggregation reads it
+/// (`Around`: a window of nodes where the numbering allows): the node graph and its strong
+/// part held whole were about 450 B per node of the whole mesh on every rank (60 MB at
+/// n = 40, the largest part of a rank's peak from 4 ranks up); the elements around every
+/// node 36 B per node more (5.2 MB at n = 40); this holds 12 B per node (the shortest
+/// distances, the marks) and 4 B per node and per element for the window's plan.
 pub struct StrongMesh<'a> {
-    around: NodeElements,
+    around: Around,
     elements: &'a Connectivity,
     coords: &'a [Vec3],
     ratio: f64,
@@ -213,22 +221,24 @@ pub struct StrongMesh<'a> {
 
 impl<'a> StrongMesh<'a> {
     pub fn new(mesh: &'a GlobalMesh, ratio: f64) -> Self {
-        let around = NodeElements::of_mesh(mesh);
+        let n = mesh.num_nodes();
         let coords = &mesh.coords[..];
-        let dmin = (0..around.len())
-            .map(|a| {
-                let mut d = f64::INFINITY;
-                around.each_neighbour(&mesh.elements, a, |b| {
-                    if b as usize != a {
-                        d = d.min(distance(coords, a, b as usize));
+        // The shortest distance from each node to another of its elements' nodes.
+        let mut dmin = vec![f64::INFINITY; n];
+        for e in mesh.elements.iter() {
+            for (i, &a) in e.iter().enumerate() {
+                for &b in &e[i + 1..] {
+                    if a != b {
+                        let d = distance(coords, a as usize, b as usize);
+                        dmin[a as usize] = dmin[a as usize].min(d);
+                        dmin[b as usize] = dmin[b as usize].min(d);
                     }
-                });
-                d
-            })
-            .collect();
+                }
+            }
+        }
         StrongMesh {
-            mark: vec![0; around.len()],
-            around,
+            around: Around::new(n, &mesh.elements),
+            mark: vec![0; n],
             elements: &mesh.elements,
             coords,
             ratio,
@@ -247,7 +257,7 @@ fn distance(coords: &[Vec3], a: usize, b: usize) -> f64 {
 
 impl Rows for StrongMesh<'_> {
     fn nodes(&self) -> usize {
-        self.around.len()
+        self.dmin.len()
     }
     fn row(&mut self, a: usize, out: &mut Vec<u32>) {
         if self.stamp == u32::MAX {
@@ -259,15 +269,17 @@ impl Rows for StrongMesh<'_> {
         self.mark[a] = stamp;
         out.clear();
         let (mark, dmin, coords, ratio) = (&mut self.mark, &self.dmin, self.coords, self.ratio);
-        self.around.each_neighbour(self.elements, a, |b| {
-            let b = b as usize;
-            if mark[b] != stamp {
-                mark[b] = stamp;
-                if distance(coords, a, b) <= ratio * dmin[a].min(dmin[b]) {
-                    out.push(b as u32);
+        for &e in self.around.of(self.elements, a) {
+            for &b in self.elements.element(e as usize) {
+                let b = b as usize;
+                if mark[b] != stamp {
+                    mark[b] = stamp;
+                    if distance(coords, a, b) <= ratio * dmin[a].min(dmin[b]) {
+                        out.push(b as u32);
+                    }
                 }
             }
-        });
+        }
         out.sort_unstable();
     }
 }

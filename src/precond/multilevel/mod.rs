@@ -26,6 +26,7 @@
 //! dot products are exact.
 
 pub mod aggregation;
+pub mod around;
 pub mod block_rows;
 pub mod blocks;
 pub mod colouring;
