@@ -35,6 +35,7 @@ mod ironing;
 mod layering;
 mod limit_load;
 mod mean_bending;
+mod mean_folded;
 mod mean_patch;
 mod memory;
 mod mortar_patch;

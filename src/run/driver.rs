@@ -457,6 +457,13 @@ fn step_through<C: Comm + ?Sized>(
             }
         };
         report_step(problem, opts, log, bar.as_ref(), progress, step, t, &rec);
+        if rec.folded > 0 && progress.records.iter().all(|r| r.folded == 0) {
+            let warning = folded_warning(t, &rec);
+            match bar.as_ref() {
+                Some(bar) => bar.println(&warning),
+                None => log.at(0, &warning),
+            }
+        }
         progress.records.push(rec);
         let last = step == nsteps;
         let write = opts.output.is_some() && (step % problem.output_every == 0 || last);
@@ -513,6 +520,21 @@ fn progress_bar(log: &Log, nsteps: usize, first: usize) -> Option<indicatif::Pro
     })
 }
 
+/// The warning of the first step that ends with folded mean-integrated elements.
+fn folded_warning(t: f64, rec: &StepRecord) -> String {
+    let (id, ratio) = rec.most_folded;
+    format!(
+        "warning: t = {t}: {} element(s) of mean-integrated bodies folded at a corner (the \
+         Jacobian at a corner is not positive while the centre's, the element's one \
+         integration point, is; the most folded: element {}, its smallest Jacobian {ratio:.2} \
+         times its mean): their stress and the contact on them are not to be trusted; refine \
+         the mesh there or use integration = \"full\" (said once; each step's line gives the \
+         count)",
+        rec.folded,
+        id as u64 + 1
+    )
+}
+
 /// The step's line (or the progress bar's message): CG, residual, cut-backs, time, the
 /// contact counts, the time left at the pace so far.
 #[allow(clippy::too_many_arguments)]
@@ -537,6 +559,9 @@ fn report_step(
             "  contact updates {}, in contact {} (stick {}, slip {}), released {}, max penetration {:.2e}",
             rec.contact_updates, c.active, c.stick, c.slip, c.released, c.max_penetration
         );
+    }
+    if rec.folded > 0 {
+        line += &format!("  folded elements {}", rec.folded);
     }
     // Time left, from the pace of the steps this run has done so far.
     let done = (step - progress.first_step) as f64;

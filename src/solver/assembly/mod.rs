@@ -14,6 +14,7 @@ use crate::solver::shapes::{Elements, Plan, Shapes};
 
 mod diagonal;
 mod elastic;
+mod folded;
 mod tangents;
 pub use elastic::{Elastic, ElasticMatrices};
 pub use tangents::Tangents;

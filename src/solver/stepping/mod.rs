@@ -32,6 +32,11 @@ pub struct StepRecord {
     pub cutbacks: u64,
     pub wall_time: f64,
     pub contact: ContactCounts,
+    /// Hexahedra of mean-integrated bodies folded at a corner at the step's end
+    /// (`Assembly::folded_mean_elements`), and the most folded: (global id, 0-based; its
+    /// smallest Jacobian relative to its mean).
+    pub folded: u64,
+    pub most_folded: (u32, f64),
 }
 
 /// A step that could not be completed even after cutting it back.
@@ -395,6 +400,7 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         record.cutbacks = cutbacks as u64;
         record.contact = self.contact.counts();
         record.contact.max_penetration = self.max_penetration();
+        (record.folded, record.most_folded) = self.folded();
         record.wall_time = start.elapsed().as_secs_f64();
         Ok(record)
     }
@@ -469,6 +475,35 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             .map(|&(_, g)| -g)
             .fold(0.0, f64::max);
         crate::comm::max_f64(self.comm, local).max(self.audit_depth)
+    }
+
+    /// The folded mean-integrated hexahedra of every rank at the current displacement: how
+    /// many, and the most folded (the smallest ratio, then the lowest id: the same on any
+    /// number of ranks). Collective where some body is mean-integrated.
+    fn folded(&self) -> (u64, (u32, f64)) {
+        let mean = |m: &crate::problem::BodyModel| {
+            matches!(m.formulation, crate::fem::Formulation::Mean { .. })
+        };
+        if !self.problem.body_models.iter().any(mean) {
+            return (0, (0, 0.0));
+        }
+        let local = self.assembly().folded_mean_elements(&self.u);
+        let worst = local
+            .iter()
+            .copied()
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        let (id, ratio) = worst.unwrap_or((u32::MAX, f64::INFINITY));
+        let mine = [local.len() as f64, ratio, f64::from(id)];
+        let mut count = 0;
+        let mut most = (u32::MAX, f64::INFINITY);
+        for r in self.comm.all_gather_f64(&mine) {
+            count += r[0] as u64;
+            let theirs = (r[2] as u32, r[1]);
+            if theirs.1 < most.1 || (theirs.1 == most.1 && theirs.0 < most.0) {
+                most = theirs;
+            }
+        }
+        (count, most)
     }
 }
 

@@ -1,0 +1,79 @@
+//! A mean-integrated hexahedron folded at a corner: its one integration point (the centre)
+//! stays positive, so nothing fails, and the run says so instead (`Assembly::
+//! folded_mean_elements`): a warning at the first step that ends with such elements, their
+//! count on each step's line.
+
+use crate::common;
+
+/// A unit cube of one mean element, its face x = 0 held, the opposite corner (1, 1, 1)
+/// pushed along (-1, -1, -1) by 0.8 in four steps: dented at the first step (0.2), turned
+/// inside out at that corner from the second (0.4) on, while the three free nodes follow.
+const FOLD: &str = r#"
+name = "fold"
+kinematics = "large"
+
+[[body]]
+name = "cube"
+box = { min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }
+divisions = [1, 1, 1]
+integration = "mean"
+material = { model = "neo_hookean", E = 1000.0, nu = 0.3 }
+
+[[node_set]]
+name = "corner"
+body = "cube"
+box = { min = [0.9, 0.9, 0.9], max = [1.1, 1.1, 1.1] }
+
+[[node_set]]
+name = "held"
+body = "cube"
+plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+
+[[displacement]]
+node_set = "held"
+components = ["x", "y", "z"]
+value = 0.0
+
+[[displacement]]
+node_set = "corner"
+components = ["x", "y", "z"]
+function = [[0.0, 0.0], [1.0, -0.8]]
+
+[time]
+segments = [{ end = 1.0, steps = 4 }]
+"#;
+
+#[test]
+fn a_folded_mean_element_is_reported_not_passed_over() {
+    let dir = common::synthetic::test_dir("mean_folded");
+    let scene = dir.join("fold.toml");
+    std::fs::write(&scene, FOLD).unwrap();
+    let out = common::solver()
+        .arg("run")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("fold.h5"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let lines: Vec<&str> = err.lines().collect();
+    let step = |k: usize| {
+        *lines
+            .iter()
+            .find(|l| l.starts_with(&format!("step {k}/4")))
+            .unwrap_or_else(|| panic!("no line of step {k}:\n{err}"))
+    };
+    assert!(!step(1).contains("folded"), "{}", step(1));
+    for k in 2..=4 {
+        assert!(step(k).contains("folded elements 1 "), "{}", step(k));
+    }
+    let warnings: Vec<&&str> = lines.iter().filter(|l| l.starts_with("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(
+        warnings[0].starts_with("warning: t = 0.5: 1 element(s) of mean-integrated bodies folded")
+            && warnings[0].contains("the most folded: element 1,"),
+        "{}",
+        warnings[0]
+    );
+}
