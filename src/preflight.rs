@@ -56,7 +56,7 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
 /// The full tangent's entries on `mesh`: 9 per ordered pair of nodes that share an element,
 /// each node with itself included.
 fn tangent_entries(mesh: &crate::mesh::GlobalMesh) -> u64 {
-    let around = crate::precond::multilevel::aggregation::NodeElements::of_mesh(mesh);
+    let around = crate::precond::multilevel::around::NodeElements::of_mesh(mesh);
     let mut seen = vec![usize::MAX; around.len()];
     let mut pairs = 0u64;
     for a in 0..around.len() {

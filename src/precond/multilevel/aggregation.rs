@@ -4,7 +4,7 @@
 //! built from global data only, so the aggregates are the same on any number of ranks and
 //! follow any mesh, structured or from Gmsh.
 
-use super::around::Around;
+use super::around::{Around, NodeElements};
 use crate::math::Vec3;
 use crate::mesh::{Connectivity, GlobalMesh};
 
@@ -98,65 +98,6 @@ impl Graph {
         }
         adj.shrink_to_fit();
         Graph { ptr, adj }
-    }
-}
-
-/// The elements around every node of a hexahedral mesh: node a's are
-/// elems[ptr[a]..ptr[a + 1]], in element order. With the elements, the node graph (a node's
-/// neighbours are the nodes of its elements) at a third of the graph's size.
-pub struct NodeElements {
-    ptr: Vec<usize>,
-    elems: Vec<u32>,
-}
-
-impl NodeElements {
-    pub fn of_mesh(mesh: &GlobalMesh) -> Self {
-        Self::of_connectivity(mesh.num_nodes(), &mesh.elements)
-    }
-
-    /// The elements around every node of `elements`, whose nodes are 0..n.
-    pub fn of_connectivity(n: usize, elements: &Connectivity) -> Self {
-        let mut ptr = vec![0usize; n + 1];
-        for e in elements.iter() {
-            for &a in e {
-                ptr[a as usize + 1] += 1;
-            }
-        }
-        for a in 0..n {
-            ptr[a + 1] += ptr[a];
-        }
-        let mut next = ptr.clone();
-        let mut elems = vec![0u32; ptr[n]];
-        for (k, e) in elements.iter().enumerate() {
-            for &a in e {
-                elems[next[a as usize]] = k as u32;
-                next[a as usize] += 1;
-            }
-        }
-        NodeElements { ptr, elems }
-    }
-
-    /// Nodes of the mesh.
-    pub fn len(&self) -> usize {
-        self.ptr.len() - 1
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The elements around node a, ascending.
-    pub fn of(&self, a: usize) -> &[u32] {
-        &self.elems[self.ptr[a]..self.ptr[a + 1]]
-    }
-
-    /// Calls `f` for every node of every element of node a (a itself and repeats included).
-    pub fn each_neighbour(&self, elements: &Connectivity, a: usize, mut f: impl FnMut(u32)) {
-        for &e in &self.elems[self.ptr[a]..self.ptr[a + 1]] {
-            for &b in elements.element(e as usize) {
-                f(b);
-            }
-        }
     }
 }
 

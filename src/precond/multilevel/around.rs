@@ -1,5 +1,6 @@
-//! The elements around each node of the whole mesh, as the fine aggregation reads them:
-//! node by node in ascending order (`super::aggregation::StrongMesh`). Held for a window
+//! The elements around each node of a mesh: held for every node (`NodeElements`: the node
+//! graph of the colouring and of the memory estimate), or as the fine aggregation reads
+//! them, node by node in ascending order (`super::aggregation::StrongMesh`). Held for a window
 //! of nodes only where the node numbering allows it: an element's nodes span at most
 //! `band` ids, so the elements around node a are those whose lowest node lies in
 //! a - band..=a, and once the elements of lowest node up to a have been added, node a's
@@ -8,8 +9,66 @@
 //! node of the whole mesh on every rank while the run was set up (5.2 MB of the block on
 //! block at n = 40, the largest of the set-up's peak on 16 ranks beside the mesh itself).
 
-use super::aggregation::NodeElements;
-use crate::mesh::Connectivity;
+use crate::mesh::{Connectivity, GlobalMesh};
+
+/// The elements around every node of a hexahedral mesh: node a's are
+/// elems[ptr[a]..ptr[a + 1]], in element order. With the elements, the node graph (a node's
+/// neighbours are the nodes of its elements) at a third of the graph's size.
+pub struct NodeElements {
+    ptr: Vec<usize>,
+    elems: Vec<u32>,
+}
+
+impl NodeElements {
+    pub fn of_mesh(mesh: &GlobalMesh) -> Self {
+        Self::of_connectivity(mesh.num_nodes(), &mesh.elements)
+    }
+
+    /// The elements around every node of `elements`, whose nodes are 0..n.
+    pub fn of_connectivity(n: usize, elements: &Connectivity) -> Self {
+        let mut ptr = vec![0usize; n + 1];
+        for e in elements.iter() {
+            for &a in e {
+                ptr[a as usize + 1] += 1;
+            }
+        }
+        for a in 0..n {
+            ptr[a + 1] += ptr[a];
+        }
+        let mut next = ptr.clone();
+        let mut elems = vec![0u32; ptr[n]];
+        for (k, e) in elements.iter().enumerate() {
+            for &a in e {
+                elems[next[a as usize]] = k as u32;
+                next[a as usize] += 1;
+            }
+        }
+        NodeElements { ptr, elems }
+    }
+
+    /// Nodes of the mesh.
+    pub fn len(&self) -> usize {
+        self.ptr.len() - 1
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The elements around node a, ascending.
+    pub fn of(&self, a: usize) -> &[u32] {
+        &self.elems[self.ptr[a]..self.ptr[a + 1]]
+    }
+
+    /// Calls `f` for every node of every element of node a (a itself and repeats included).
+    pub fn each_neighbour(&self, elements: &Connectivity, a: usize, mut f: impl FnMut(u32)) {
+        for &e in &self.elems[self.ptr[a]..self.ptr[a + 1]] {
+            for &b in elements.element(e as usize) {
+                f(b);
+            }
+        }
+    }
+}
 
 /// The elements around each node: all of them (`NodeElements`, where the numbering's band
 /// is too wide for a window to be smaller), or a window of nodes.

@@ -9,7 +9,8 @@
 //! are given greedily in aggregate order: the same on any number of ranks. (`reach_of`
 //! forms the same sets from a whole node graph: the memory estimate's count before a run.)
 
-use super::aggregation::{Graph, NodeElements};
+use super::aggregation::Graph;
+use super::around::NodeElements;
 use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::mesh::local::LocalMesh;
