@@ -77,3 +77,43 @@ fn a_folded_mean_element_is_reported_not_passed_over() {
         warnings[0]
     );
 }
+
+/// The same cube, its corner (1, 1, 1) pushed along (-1, -1, -1) by 0.6 at t = 1 and 1.4
+/// at t = 2 and its face x = 1 along -x as far, through the held face: folded from t = 0.5,
+/// then crushed until its centre inverts (t = 1.504). The stop names the inverted element
+/// and says that the last completed step ended with a folded one.
+#[test]
+fn a_stop_after_folded_mean_elements_says_so() {
+    let crush = FOLD
+        .replace(
+            "function = [[0.0, 0.0], [1.0, -0.8]]",
+            "function = [[0.0, 0.0], [1.0, -0.6], [2.0, -1.4]]\n\n\
+             [[node_set]]\nname = \"face\"\nbody = \"cube\"\n\
+             plane = { point = [1.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }\n\n\
+             [[displacement]]\nnode_set = \"face\"\ndirection = [1.0, 0.0, 0.0]\n\
+             function = [[0.0, 0.0], [1.0, -0.6], [2.0, -1.4]]",
+        )
+        .replace(
+            "segments = [{ end = 1.0, steps = 4 }]",
+            "segments = [{ end = 2.0, steps = 8 }]",
+        );
+    let dir = common::synthetic::test_dir("mean_folded_crushed");
+    let scene = dir.join("crush.toml");
+    std::fs::write(&scene, crush).unwrap();
+    let out = common::solver()
+        .arg("run")
+        .arg(&scene)
+        .arg("-o")
+        .arg(dir.join("crush.h5"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("element 1: inverted element"), "{err}");
+    assert!(
+        err.contains(
+            "ended with 1 mean-integrated element(s) folded at a corner (the warning above)"
+        ),
+        "{err}"
+    );
+}

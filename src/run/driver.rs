@@ -452,7 +452,14 @@ fn step_through<C: Comm + ?Sized>(
         let rec = match advanced {
             Ok(rec) => rec,
             Err(f) => {
-                failure = Some(format!("{}: {f}", problem.file));
+                let mut message = format!("{}: {f}", problem.file);
+                if let Some(last) = progress.records.last().filter(|r| r.folded > 0) {
+                    message += &format!(
+                        "\nthe last completed step (t = {}) ended with {} mean-integrated element(s) folded at a corner (the warning above): the failure may follow from them",
+                        last.time, last.folded
+                    );
+                }
+                failure = Some(message);
                 break;
             }
         };
