@@ -43,18 +43,23 @@ function = [[0.0, 0.0], [1.0, -0.8]]
 segments = [{ end = 1.0, steps = 4 }]
 "#;
 
-#[test]
-fn a_folded_mean_element_is_reported_not_passed_over() {
-    let dir = common::synthetic::test_dir("mean_folded");
-    let scene = dir.join("fold.toml");
-    std::fs::write(&scene, FOLD).unwrap();
-    let out = common::solver()
+/// `solver run` on the scene `text`, in a fresh directory of its own.
+fn run(name: &str, text: &str) -> std::process::Output {
+    let dir = common::synthetic::test_dir(name);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    common::solver()
         .arg("run")
         .arg(&scene)
         .arg("-o")
-        .arg(dir.join("fold.h5"))
+        .arg(dir.join("scene.h5"))
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn a_folded_mean_element_is_reported_not_passed_over() {
+    let out = run("mean_folded", FOLD);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     let lines: Vec<&str> = err.lines().collect();
@@ -97,16 +102,7 @@ fn a_stop_after_folded_mean_elements_says_so() {
             "segments = [{ end = 1.0, steps = 4 }]",
             "segments = [{ end = 2.0, steps = 8 }]",
         );
-    let dir = common::synthetic::test_dir("mean_folded_crushed");
-    let scene = dir.join("crush.toml");
-    std::fs::write(&scene, crush).unwrap();
-    let out = common::solver()
-        .arg("run")
-        .arg(&scene)
-        .arg("-o")
-        .arg(dir.join("crush.h5"))
-        .output()
-        .unwrap();
+    let out = run("mean_folded_crushed", &crush);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("element 1: inverted element"), "{err}");

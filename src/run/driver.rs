@@ -452,25 +452,12 @@ fn step_through<C: Comm + ?Sized>(
         let rec = match advanced {
             Ok(rec) => rec,
             Err(f) => {
-                let mut message = format!("{}: {f}", problem.file);
-                if let Some(last) = progress.records.last().filter(|r| r.folded > 0) {
-                    message += &format!(
-                        "\nthe last completed step (t = {}) ended with {} mean-integrated element(s) folded at a corner (the warning above): the failure may follow from them",
-                        last.time, last.folded
-                    );
-                }
-                failure = Some(message);
+                failure = Some(stop_message(problem, progress, &f));
                 break;
             }
         };
         report_step(problem, opts, log, bar.as_ref(), progress, step, t, &rec);
-        if rec.folded > 0 && progress.records.iter().all(|r| r.folded == 0) {
-            let warning = folded_warning(t, &rec);
-            match bar.as_ref() {
-                Some(bar) => bar.println(&warning),
-                None => log.at(0, &warning),
-            }
-        }
+        warn_of_folds(log, bar.as_ref(), progress, t, &rec);
         progress.records.push(rec);
         let last = step == nsteps;
         let write = opts.output.is_some() && (step % problem.output_every == 0 || last);
@@ -527,7 +514,39 @@ fn progress_bar(log: &Log, nsteps: usize, first: usize) -> Option<indicatif::Pro
     })
 }
 
-/// The warning of the first step that ends with folded mean-integrated elements.
+/// The error of a step that failed, and when the last completed step ended with folded
+/// mean-integrated elements, that it did.
+fn stop_message(problem: &Problem, progress: &Progress, f: &impl std::fmt::Display) -> String {
+    let mut message = format!("{}: {f}", problem.file);
+    if let Some(last) = progress.records.last().filter(|r| r.folded > 0) {
+        message += &format!(
+            "\nthe last completed step (t = {}) ended with {} mean-integrated element(s) folded at a corner (the warning above): the failure may follow from them",
+            last.time, last.folded
+        );
+    }
+    message
+}
+
+/// The warning of the first step that ends with folded mean-integrated elements (`rec`,
+/// not yet among the records), on the progress bar's line when there is one.
+fn warn_of_folds(
+    log: &Log,
+    bar: Option<&indicatif::ProgressBar>,
+    progress: &Progress,
+    t: f64,
+    rec: &StepRecord,
+) {
+    if rec.folded == 0 || progress.records.iter().any(|r| r.folded > 0) {
+        return;
+    }
+    let warning = folded_warning(t, rec);
+    match bar {
+        Some(bar) => bar.println(&warning),
+        None => log.at(0, &warning),
+    }
+}
+
+/// The warning's text.
 fn folded_warning(t: f64, rec: &StepRecord) -> String {
     let (id, ratio) = rec.most_folded;
     format!(
