@@ -234,18 +234,24 @@ pub fn items<T: Message>(words: &[f64]) -> impl Iterator<Item = T> + '_ {
 /// Rank 0 receives every rank's `items`, in rank order; the others an empty list.
 /// Collective.
 pub fn gather<T: Message, C: Comm + ?Sized>(comm: &C, items: &[T]) -> Vec<T> {
-    comm.gather_f64(&encode(items))
-        .iter()
-        .flat_map(|part| decode_sent::<T>(part))
-        .collect()
+    joined(&comm.gather_f64(&encode(items)))
 }
 
 /// Every rank receives every rank's `items`, in rank order. Collective.
 pub fn all_gather<T: Message, C: Comm + ?Sized>(comm: &C, items: &[T]) -> Vec<T> {
-    comm.all_gather_f64(&encode(items))
-        .iter()
-        .flat_map(|part| decode_sent::<T>(part))
-        .collect()
+    joined(&comm.all_gather_f64(&encode(items)))
+}
+
+/// Every rank's items decoded, in rank order, in a list of exactly their number (a list
+/// collected through `flat_map` grows by doubling, up to twice the items: the contact
+/// set every rank holds is such a list).
+fn joined<T: Message>(parts: &[Vec<f64>]) -> Vec<T> {
+    let lists: Vec<Vec<T>> = parts.iter().map(|part| decode_sent(part)).collect();
+    let mut all = Vec::with_capacity(lists.iter().map(Vec::len).sum());
+    for list in lists {
+        all.extend(list);
+    }
+    all
 }
 
 /// Every rank sends `send[r]` (possibly empty) to rank r and receives every rank's list for

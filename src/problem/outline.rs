@@ -92,6 +92,11 @@ impl Retained {
         }
         ids.sort_unstable();
         ids.dedup();
+        // Held through the run on every rank: no spare capacity (the lists above name
+        // most nodes several times; a collected list may hold up to twice its entries).
+        ids.shrink_to_fit();
+        let mut master_boundary = boundary_of(mesh, &master_bodies_of(contacts, mesh));
+        master_boundary.shrink_to_fit();
         let positions = ids.iter().map(|&n| mesh.coords[n as usize]).collect();
         let frames = mesh
             .bodies
@@ -102,7 +107,7 @@ impl Retained {
             ids,
             positions,
             frames,
-            master_boundary: boundary_of(mesh, &master_bodies_of(contacts, mesh)),
+            master_boundary,
         }
     }
 

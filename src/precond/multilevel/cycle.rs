@@ -1,12 +1,14 @@
 //! The coarse levels and their V-cycle: assembled sparse operators A_(l+1) = P^T A_l P
 //! with smoothed-aggregation prolongators, a Chebyshev smoother on each, a dense direct
-//! solve on the coarsest. Every rank builds the levels below the first whole (from the same
-//! data in the same order) and runs the same cycle on them: bitwise the same result on any
-//! number of ranks. The first level is held as this rank's rows (`Hierarchy::above`): its
-//! operator's rows, its node-block inverses and its cycle's vectors, applied through a
-//! `Product` that gathers every rank's rows of a vector before a product (the only
-//! communication); each entry is the one the whole level gives it. Buffers are allocated
-//! once, at setup.
+//! solve on the coarsest. The levels built from rows split over the ranks (`super::first`:
+//! the first coarse level and those below it down to the one solved directly) are held as
+//! this rank's rows (`Hierarchy::above`): each level's operator's rows, its node-block
+//! inverses and its cycle's vectors, applied through a `Product` that gathers every rank's
+//! rows of a vector before a product (the only communication); each entry is the one the
+//! whole level gives it. A level built whole (`Hierarchy::build`: the coarsest, and every
+//! level on one rank's hierarchy of a whole operator) is held whole on every rank, built
+//! from the same data in the same order, and cycled the same way on each: bitwise the same
+//! result on any number of ranks. Buffers are allocated once, at setup.
 
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;
@@ -140,6 +142,35 @@ pub trait Product {
     fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64];
     /// out = P^T r (`transfer`'s), r as the level holds it.
     fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]);
+    /// The product of a level below this one held as this rank's rows too, through its
+    /// buffers (`SplitBuffers`).
+    type Below<'s>: Product
+    where
+        Self: 's;
+    fn below<'s>(&'s mut self, rows: &'s mut [f64], all: &'s mut [f64]) -> Self::Below<'s>;
+}
+
+/// The buffers of a level below the first held as this rank's rows (`Product::below`):
+/// this rank's rows of a vector and every rank's (as `super::Split` holds them), the rows
+/// it holds (`own`) of the level's `n` unknowns.
+pub struct SplitBuffers {
+    rows: Vec<f64>,
+    all: Vec<f64>,
+    own: std::ops::Range<usize>,
+    n: usize,
+}
+
+impl SplitBuffers {
+    /// For a level of `n` unknowns of which this rank holds `own`, `per` rows per rank on
+    /// `ranks` ranks.
+    pub fn new(n: usize, own: std::ops::Range<usize>, per: usize, ranks: usize) -> Self {
+        SplitBuffers {
+            rows: vec![0.0; per],
+            all: vec![0.0; per * ranks],
+            own,
+            n,
+        }
+    }
 }
 
 /// The whole level on this rank.
@@ -157,6 +188,10 @@ impl Product for Whole {
     }
     fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]) {
         transfer.restrict(r, out, |m, a| a.copy_from_slice(m));
+    }
+    type Below<'s> = Whole;
+    fn below<'s>(&'s mut self, _: &'s mut [f64], _: &'s mut [f64]) -> Whole {
+        Whole
     }
 }
 
@@ -203,6 +238,11 @@ impl Coarsest {
 
 pub struct Hierarchy {
     levels: Vec<Level>,
+    /// The buffers of each level after the first held as this rank's rows (None: held
+    /// whole).
+    below: Vec<Option<SplitBuffers>>,
+    /// Whether the first level is held as this rank's rows (`above`).
+    split: bool,
     coarsest: Coarsest,
     cb: Vec<f64>,
     /// Unknowns per level, first coarse level first.
@@ -351,6 +391,8 @@ impl Hierarchy {
             body = coarse_body;
         }
         let mut h = Hierarchy {
+            below: (1..levels.len()).map(|_| None).collect(),
+            split: false,
             levels,
             cb: vec![0.0; a.rows],
             coarsest: Coarsest::Dense(Compressed::new(&a)),
@@ -371,8 +413,16 @@ impl Hierarchy {
 
     /// The hierarchy of a first level built elsewhere (`first`) above `rest`, the
     /// hierarchy of that level's coarse operator: the first level's vectors are this
-    /// rank's rows only (`first.own`).
-    pub fn above(first: FirstLevel, mut rest: Hierarchy) -> Hierarchy {
+    /// rank's rows only (`first.own`); `rest_split` the buffers of rest's first level
+    /// where it is held as this rank's rows too (on more ranks than one).
+    pub fn above(
+        first: FirstLevel,
+        mut rest: Hierarchy,
+        rest_split: Option<SplitBuffers>,
+    ) -> Hierarchy {
+        if !rest.levels.is_empty() {
+            rest.below.insert(0, rest_split);
+        }
         let n = first.n;
         let held = first.own.len();
         let level = Level::new(
@@ -390,7 +440,13 @@ impl Hierarchy {
         rest.own = first.own;
         rest.first_nodes = first.node_ptr;
         rest.first_live = first.live;
+        rest.split = true;
         rest
+    }
+
+    /// Whether the first level is held as this rank's rows (built by `above`).
+    pub fn is_split(&self) -> bool {
+        self.split
     }
 
     /// Completes a build: keeps of the first level's operator only rows first..first + len,
@@ -457,6 +513,7 @@ impl Hierarchy {
         self.cb = vec![0.0; a.rows];
         self.coarsest = Coarsest::Sparse(f);
         self.levels.clear();
+        self.below.clear();
         self.sizes.truncate(1);
         self.nonzeros.truncate(1);
     }
@@ -488,7 +545,13 @@ impl Hierarchy {
             for (i, b) in own.clone().zip(self.levels[0].b.iter_mut()) {
                 *b = rhs[i] - ax[i];
             }
-            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
+            cycle(
+                &mut self.levels,
+                &mut self.below,
+                &mut self.coarsest,
+                &mut self.cb,
+                top,
+            );
             for (xi, ci) in x.iter_mut().zip(top.whole(&self.levels[0].x)) {
                 *xi += ci;
             }
@@ -537,7 +600,13 @@ impl Hierarchy {
                     *bl = bi - ri;
                 }
             }
-            cycle(&mut self.levels, &mut self.coarsest, &mut self.cb, top);
+            cycle(
+                &mut self.levels,
+                &mut self.below,
+                &mut self.coarsest,
+                &mut self.cb,
+                top,
+            );
             for (xi, ci) in self.acc.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }
@@ -548,8 +617,15 @@ impl Hierarchy {
 }
 
 /// levels[0].x = V(levels[0].b), the first level's vectors held and its operator applied
-/// by `top` (P x needs no gather: each rank holds P's rows of its own).
-fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f64], top: &mut P) {
+/// by `top` (P x needs no gather: each rank holds P's rows of its own); `below[i]` the
+/// buffers of levels[i + 1] where it is held as this rank's rows.
+fn cycle<P: Product>(
+    levels: &mut [Level],
+    below: &mut [Option<SplitBuffers>],
+    coarsest: &mut Coarsest,
+    cb: &mut [f64],
+    top: &mut P,
+) {
     let (lv, rest) = levels.split_first_mut().expect("a level");
     lv.x.fill(0.0);
     lv.r.copy_from_slice(&lv.b);
@@ -565,19 +641,29 @@ fn cycle<P: Product>(levels: &mut [Level], coarsest: &mut Coarsest, cb: &mut [f6
     for i in 0..lv.r.len() {
         lv.r[i] = lv.b[i] - lv.t[i];
     }
-    let xc: &[f64] = match rest.first_mut() {
+    match below.split_first_mut() {
         None => {
             top.restrict(&mut lv.transfer, &lv.r, cb);
             coarsest.solve(cb);
-            cb
+            lv.transfer.prolong(cb, &mut lv.t);
         }
-        Some(next) => {
-            top.restrict(&mut lv.transfer, &lv.r, &mut next.b);
-            cycle(rest, coarsest, cb, &mut Whole);
-            &rest[0].x
+        Some((None, further)) => {
+            top.restrict(&mut lv.transfer, &lv.r, &mut rest[0].b);
+            cycle(rest, further, coarsest, cb, &mut Whole);
+            lv.transfer.prolong(&rest[0].x, &mut lv.t);
         }
-    };
-    lv.transfer.prolong(xc, &mut lv.t);
+        Some((Some(bufs), further)) => {
+            // The next level held as this rank's rows: its right-hand side restricted
+            // whole, its rows kept; its correction gathered whole to be prolonged.
+            let n = bufs.n;
+            top.restrict(&mut lv.transfer, &lv.r, &mut bufs.all[..n]);
+            rest[0].b.copy_from_slice(&bufs.all[bufs.own.clone()]);
+            let mut next = top.below(&mut bufs.rows, &mut bufs.all);
+            cycle(rest, further, coarsest, cb, &mut next);
+            let xc = next.whole(&rest[0].x);
+            lv.transfer.prolong(&xc[..n], &mut lv.t);
+        }
+    }
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }

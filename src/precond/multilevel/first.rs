@@ -15,18 +15,26 @@
 //!   the one sum the whole product forms (`triple::triple_product_part`); by groups of
 //!   the product's rows, so that the ranks work at once on different groups (`pipelined`).
 //!
-//! The levels below are built whole on every rank, as before. A rank so holds its rows
-//! of the first coarse operator instead of all of them (on the block on block at n = 80,
-//! 35 million entries: half of them on each of 2 ranks). Where the first level is itself
-//! the coarsest (few unknowns, or aggregation does not coarsen it), its rows are gathered
-//! and it is built whole.
+//! The last rank takes the product's symmetric part and gives each rank its rows of the
+//! next level (those of its aggregates by `held`), from which that level is built the
+//! same way (`build_level`, in f64: only the first level is rounded to f32), and so on
+//! down to the level solved directly, or one aggregation no longer coarsens: its rows are
+//! gathered and it is built whole on every rank (`Hierarchy::build`). A rank so holds its
+//! rows of every coarse operator above the coarsest instead of all of them (on the block
+//! on block at n = 80, 35 million entries of the first: half of them on each of 2 ranks;
+//! at n = 40 the second level's 181188 entries, 2.65 MB that every rank held whole). A
+//! level's unknowns must come in nodes of six for its rows to be held in blocks: where an
+//! aggregate of the level above dropped a mode, the level is built whole. The same bits
+//! as the levels built whole: the block on block at n = 40 and a cube of 87808 elements
+//! (mpi-tests/cube_three_levels.toml) on 1, 2, 3 and 16 ranks against the binary that
+//! built them whole.
 
 use super::aggregation::{aggregate, Graph};
 use super::block_rows::{BlockRows, View};
 use super::blocks::BlockInverse;
-use super::cycle::{self, FirstLevel, Hierarchy, Op, Product};
+use super::cycle::{self, FirstLevel, Hierarchy, Op, Product, SplitBuffers};
 use super::prolongation::Prolongation;
-use super::prolongator::{smooth_nodes, tentative, MODES};
+use super::prolongator::{smooth_nodes, tentative, Tentative, MODES};
 use super::smoother::Chebyshev;
 use super::smoother::{hash_value, Space};
 use super::sparse::{node_of, Csr, Rows};
@@ -178,6 +186,31 @@ pub fn build<C: Comm + ?Sized>(
     degree: usize,
     sweeps: usize,
 ) -> Hierarchy {
+    build_level(
+        comm,
+        blocks,
+        (held, aggregates),
+        b,
+        body,
+        (degree, sweeps),
+        true,
+    )
+}
+
+/// `build` for a level of `aggregates` of whose rows this rank holds those of `held`: the
+/// first coarse level (`round`: in f32, as measured) or one below it, built the same way
+/// from the rows of it this rank holds (in f64, as `Hierarchy::build` keeps the levels it
+/// builds), down to the level solved directly or one that no longer coarsens, built
+/// whole (collective).
+fn build_level<C: Comm + ?Sized>(
+    comm: &C,
+    blocks: BlockRows,
+    (held, aggregates): (Range<usize>, usize),
+    b: Vec<[f64; MODES]>,
+    body: Vec<u32>,
+    (degree, sweeps): (usize, usize),
+    round: bool,
+) -> Hierarchy {
     let n = MODES * aggregates;
     let first = MODES * held.start;
     let node_ptr: Vec<usize> = (0..=aggregates).map(|k| MODES * k).collect();
@@ -217,9 +250,13 @@ pub fn build<C: Comm + ?Sized>(
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }
-    // A level the cycle smooths: in f32 for every use below (the node blocks, the
-    // smoother's bound, P^T A P) and the cycle's products.
-    let blocks = rounded(comm, blocks, &diag);
+    // The first level, which the cycle smooths: in f32 for every use below (the node
+    // blocks, the smoother's bound, P^T A P) and the cycle's products.
+    let blocks = if round {
+        rounded(comm, blocks, &diag)
+    } else {
+        blocks
+    };
     let mut view = View::new(&blocks);
     // Node-block relaxation: the inverses of the held nodes' blocks, on this rank only.
     let inv = BlockInverse::inverses(&mut view, &node_ptr, held.clone());
@@ -238,15 +275,30 @@ pub fn build<C: Comm + ?Sized>(
         unreachable!("the first level's rows are blocks")
     };
     let mut view = View::new(&blocks);
+    // The next level's rows this rank holds: where each of its aggregates kept its six
+    // modes (its unknowns in nodes of six, as this level's), those of `held_by`; else all
+    // of them, and that level is built whole.
+    let (nn, next) = (tent.p.cols, held_by(nc, comm.size(), comm.rank()));
+    let in_rows = nn == MODES * nc;
+    let own_next = if in_rows {
+        MODES * next.start..MODES * next.end
+    } else {
+        0..nn
+    };
     let (transfer, ac) = galerkin(
         comm,
         &mut view,
         (held.clone(), aggregates),
         &dinv,
         cheb.lmax,
-        &tent.p,
+        (&tent.p, own_next.clone()),
     );
-    let rest = Hierarchy::build(ac, tent.node_ptr, tent.b, coarse_body, degree, sweeps);
+    // `below` needs the tentative prolongator's columns and the next level's modes only.
+    let tent = Tentative {
+        p: Csr::empty(tent.p.cols),
+        ..tent
+    };
+    let (rest, rest_split) = below(comm, ac, own_next, (tent, coarse_body), (degree, sweeps));
     let nnz = gather(comm, &[blocks.nnz() as f64]).iter().sum::<f64>() as usize;
     let live = diag.iter().map(|&d| d > 0.0).collect();
     let first_level = FirstLevel {
@@ -260,7 +312,41 @@ pub fn build<C: Comm + ?Sized>(
         node_ptr,
         live,
     };
-    Hierarchy::above(first_level, rest)
+    Hierarchy::above(first_level, rest, rest_split)
+}
+
+/// The hierarchy below a level from this rank's rows `ac` of its coarse operator (rows
+/// `own` of it, numbered from the first: all of them where the coarse unknowns are not in
+/// nodes of six) and the level's tentative prolongator and coarse bodies, with the buffers
+/// of its first level where that is held as every rank's rows on more ranks than one
+/// (collective).
+fn below<C: Comm + ?Sized>(
+    comm: &C,
+    ac: Csr,
+    own: Range<usize>,
+    (tent, body): (Tentative, Vec<u32>),
+    (degree, sweeps): (usize, usize),
+) -> (Hierarchy, Option<SplitBuffers>) {
+    let (n, nc) = (tent.p.cols, tent.node_ptr.len() - 1);
+    let in_rows = n == MODES * nc;
+    let rows = in_rows
+        .then(|| BlockRows::of_rows(|r| ac.row(r - own.start), (n, n), own.start, own.len()))
+        .flatten();
+    let rest = match rows {
+        Some(rows) => {
+            drop(ac);
+            let held = own.start / MODES..own.end / MODES;
+            let levels = (degree, sweeps);
+            build_level(comm, rows, (held, nc), tent.b, body, levels, false)
+        }
+        None => {
+            let a = if in_rows { gather_rows(comm, &ac) } else { ac };
+            Hierarchy::build(a, tent.node_ptr, tent.b, body, degree, sweeps)
+        }
+    };
+    let split = (comm.size() > 1 && rest.is_split())
+        .then(|| SplitBuffers::new(n, own, rows_per_rank(comm, nc), comm.size()));
+    (rest, split)
 }
 
 /// The Chebyshev smoother's bound of the level whose rows `op` and node-block inverses
@@ -385,17 +471,18 @@ fn reached_by(view: &mut View, ks: Range<usize>, n: usize) -> Vec<bool> {
     reached
 }
 
-/// The prolongator P (this rank's rows of P and P^T, or P^T whole on one rank) and P^T A
-/// P (its symmetric part) from this rank's rows of A (those of the nodes `held`): P's rows
-/// of the held nodes; of P^T, a range of rows; of P, the rows this rank's rows of A reach;
-/// P^T A P in turns, each rank going on from the sums of the rank before it (collective).
+/// The prolongator P (this rank's rows of P and P^T, or P^T whole on one rank) and the
+/// rows `next` of P^T A P (its symmetric part; numbered from the first) from this rank's
+/// rows of A (those of the nodes `held`) and the tentative prolongator: P's rows of the
+/// held nodes; of P^T, a range of rows; of P, the rows this rank's rows of A reach; P^T A
+/// P in turns, each rank going on from the sums of the rank before it (collective).
 fn galerkin<C: Comm + ?Sized>(
     comm: &C,
     view: &mut View,
     (held, aggregates): (Range<usize>, usize),
     dinv: &BlockInverse,
     lmax: f64,
-    tentative: &Csr,
+    (tentative, next): (&Csr, Range<usize>),
 ) -> (Prolongation, Csr) {
     let ks = MODES * held.start..MODES * held.end;
     let own_p = smooth_nodes(
@@ -439,9 +526,18 @@ fn galerkin<C: Comm + ?Sized>(
     });
     let own_cols = own_p.cols;
     drop(own_p);
-    let sums = match &local {
-        None => triple_product_part((&pt, 0..pt.rows), view, ks.clone(), &p, TRIPLE_BLOCKS, None),
-        Some(local) => pipelined(comm, local, view, ks.clone(), &p),
+    let ac = match &local {
+        None => {
+            let sums =
+                triple_product_part((&pt, 0..pt.rows), view, ks.clone(), &p, TRIPLE_BLOCKS, None);
+            let sym = sums.into_symmetric_part();
+            if next == (0..sym.rows) {
+                sym
+            } else {
+                rows_of(&sym, next)
+            }
+        }
+        Some(local) => pipelined(comm, local, view, ks.clone(), (&p, next)),
     };
     drop(p);
     let transfer = match local {
@@ -457,7 +553,19 @@ fn galerkin<C: Comm + ?Sized>(
             Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank())
         }
     };
-    (transfer, sums.into_symmetric_part())
+    (transfer, ac)
+}
+
+/// Rows `range` of `m`, numbered from the first.
+fn rows_of(m: &Csr, range: Range<usize>) -> Csr {
+    let mut out = Csr::empty(m.cols);
+    for r in range {
+        let (c, v) = m.row(r);
+        out.idx.extend_from_slice(c);
+        out.val.extend_from_slice(v);
+        out.end_row();
+    }
+    out
 }
 
 /// P^T A P on more ranks than one, by groups of its rows (`pt`'s rows, the product's: at
@@ -470,13 +578,14 @@ fn galerkin<C: Comm + ?Sized>(
 /// ranks hold), so the groups go through the pipeline in the order of that rank, the last
 /// rank's first: the ranks before it pass them on at little cost, and each rank has its
 /// own groups' terms to sum while the ranks after it sum theirs. The last rank holds the
-/// whole product and gives it to every rank a group at a time (collective).
+/// whole product, takes its symmetric part and gives it to every rank a group at a time,
+/// of which each rank keeps its rows `next` (numbered from the first; collective).
 fn pipelined<C: Comm + ?Sized>(
     comm: &C,
     pt: &Csr,
     view: &mut View,
     ks: Range<usize>,
-    p: &Picked,
+    (p, next): (&Picked, Range<usize>),
 ) -> Csr {
     let (rank, last) = (comm.rank(), comm.size() - 1);
     let per = pt
@@ -518,18 +627,31 @@ fn pipelined<C: Comm + ?Sized>(
     for part in parts.into_iter().flatten() {
         whole.append(&part);
     }
+    if rank == last {
+        whole = whole.into_symmetric_part();
+    }
+    // Every rank keeps its rows `next`, from the groups as the last rank sends them.
+    let mut mine = Csr::empty(pt.rows);
     for range in groups {
         let mut bytes = if rank == last {
-            whole.rows_to_bytes(range)
+            whole.rows_to_bytes(range.clone())
         } else {
             Vec::new()
         };
         comm.broadcast_bytes(last, &mut bytes);
-        if rank != last {
-            whole.append_bytes(&bytes);
+        let piece = if rank == last {
+            drop(bytes);
+            rows_of(&whole, range.clone())
+        } else {
+            Csr::from_bytes(&bytes)
+        };
+        let wanted = range.start.max(next.start)..range.end.min(next.end);
+        if !wanted.is_empty() {
+            let local = wanted.start - range.start..wanted.end - range.start;
+            mine.append(&rows_of(&piece, local));
         }
     }
-    whole
+    mine
 }
 
 #[cfg(test)]

@@ -20,10 +20,11 @@
 //! Bitwise the same on any number of ranks: aggregates and colours come from global data;
 //! restriction sums each aggregate on one rank in global node order; each rank measures
 //! and keeps only its rows of the first coarse operator, from which the levels below are
-//! built with every sum in the order the whole operator gives it (`first`); every rank
-//! builds those levels whole and runs the same cycle, applying its rows of the first
-//! coarse operator (`Split`: every entry the same row sum whoever computes it); fine-level
-//! dot products are exact.
+//! built with every sum in the order the whole operator gives it (`first`), each held as
+//! every rank's rows too, down to the coarsest, which every rank builds whole; every rank
+//! runs the same cycle, applying its rows of each coarse operator above the coarsest
+//! (`Split`: every entry the same row sum whoever computes it); fine-level dot products
+//! are exact.
 
 pub mod aggregation;
 pub mod around;

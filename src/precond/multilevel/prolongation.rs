@@ -4,7 +4,7 @@
 //! - `Whole`: P^T on every rank (the levels every rank builds whole, and every level on
 //!   one rank); P x is its transposed product, each entry of P x getting its terms in the
 //!   order of P's row, so the same bits as with P held too.
-//! - `Split`: the first coarse level built split over the ranks (`first`): this rank's rows
+//! - `Split`: a coarse level built split over the ranks (`first`): this rank's rows
 //!   of P (those of the aggregates it holds, `first::held`) and of P^T (a range of the next
 //!   level's unknowns). P x is computed by this rank's rows, which are those of the level's
 //!   vectors it holds (`cycle::Split`); P^T r by this rank's range, every rank's gathered

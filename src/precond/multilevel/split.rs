@@ -1,10 +1,10 @@
-//! The first coarse level held as rows split over the ranks (`Split`).
+//! A coarse level held as rows split over the ranks (`Split`).
 
 use super::cycle::{Op, Product};
 use super::prolongation::Prolongation;
 use crate::comm::Comm;
 
-/// The first coarse level held as rows split over the ranks: rank r holds rows r L to
+/// A coarse level held as rows split over the ranks: rank r holds rows r L to
 /// (r + 1) L - 1 of its operator and of its cycle's vectors (L = 6 ceil(aggregates /
 /// ranks), the rows it holds: `first::held`); before a product every rank gathers the
 /// whole vector (`rows` padded with zeros to L, into `all`) and computes its rows. Each
@@ -47,5 +47,16 @@ impl<C: Comm + ?Sized> Product for Split<'_, C> {
         self.gather(r);
         let comm = self.comm;
         transfer.restrict(self.all, out, |m, a| comm.all_gather_equal_f64(m, a));
+    }
+    type Below<'s>
+        = Split<'s, C>
+    where
+        Self: 's;
+    fn below<'s>(&'s mut self, rows: &'s mut [f64], all: &'s mut [f64]) -> Split<'s, C> {
+        Split {
+            comm: self.comm,
+            rows,
+            all,
+        }
     }
 }
