@@ -403,7 +403,7 @@ mod tests {
                 2.0 * 69.0 * 8.1 / 12.0 / r
             };
             // The same terms summed in another order: equal to rounding.
-            let want = n * (75.0 + p) + n * 170.0 / r;
+            let want = n * (60.0 + p) + n * 185.0 / r;
             assert!((per_node - want).abs() < 1e-12 * want, "{per_node} {want}");
             let few = Counts {
                 coarse_pairs: 1,
@@ -420,7 +420,7 @@ mod tests {
             };
             // The same terms summed in another order: equal to rounding.
             let want =
-                n * (75.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
+                n * (60.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             let got = estimate(&poor, ranks).coarse;
             assert!((got - want).abs() < 1e-12 * want, "{got} {want}");
             // Slow but too large to factor: the level whole and its analysis.
@@ -429,7 +429,7 @@ mod tests {
                 ..poor
             };
             let want =
-                n * (75.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+                n * (60.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
             assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
         }
     }

@@ -5,8 +5,9 @@
 //!
 //! Restriction Q^T r sums each aggregate on the rank that owns its lowest node, over its
 //! nodes in global node order (values of nodes owned elsewhere fetched first), and every
-//! rank gathers every aggregate's coefficients: the coarse vector is bitwise the same on
-//! every rank and on any number of ranks.
+//! rank gathers every aggregate's coefficients (or those of the aggregates it holds,
+//! `restrict_held`): the coarse vector is bitwise the same on every rank and on any number
+//! of ranks.
 
 use crate::comm::{message, Comm, ExchangePlan};
 use crate::constraints::Constraints;
@@ -148,10 +149,61 @@ impl Aggregates {
     /// the same on every rank. Collective.
     /// `x` holds the owned nodes' positions (the local mesh's, owned first).
     pub fn restrict<C: Comm + ?Sized>(&self, comm: &C, x: &[Vec3], r: &[Vec3], out: &mut [f64]) {
-        let (far, mine) = &mut *self.scratch.borrow_mut();
-        self.fetch.run(comm, r, far);
+        if comm.size() == 1 {
+            self.sums(comm, x, r, |k, acc| {
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&acc);
+            });
+            return;
+        }
+        let mut mine = std::mem::take(&mut self.scratch.borrow_mut().1);
         mine.clear();
-        let single = comm.size() == 1;
+        self.sums(comm, x, r, |k, acc| {
+            message::push(&mut mine, &(k as u32, acc))
+        });
+        for part in comm.all_gather_f64(&mine) {
+            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
+                let k = k as usize;
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
+            }
+        }
+        self.scratch.borrow_mut().1 = mine;
+    }
+
+    /// `restrict`'s coefficients of this rank's aggregates only, where each rank holds
+    /// `per` aggregates in rank order (`multilevel::first::held`): each aggregate's sum
+    /// goes to the rank that holds it, and `out` gets six per held aggregate. No rank holds
+    /// the whole coarse vector. The same bits as `restrict`'s. Collective.
+    pub fn restrict_held<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        x: &[Vec3],
+        r: &[Vec3],
+        per: usize,
+        out: &mut [f64],
+    ) {
+        let mut send = vec![Vec::new(); comm.size()];
+        self.sums(comm, x, r, |k, acc| {
+            message::push(&mut send[k / per], &(k as u32, acc));
+        });
+        let first = comm.rank() * per;
+        for part in comm.all_to_all_f64(&send) {
+            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
+                let k = k as usize - first;
+                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
+            }
+        }
+    }
+
+    /// Each aggregate this rank sums (`sum_agg`) and its six coefficients, to `each`.
+    fn sums<C: Comm + ?Sized>(
+        &self,
+        comm: &C,
+        x: &[Vec3],
+        r: &[Vec3],
+        mut each: impl FnMut(usize, [f64; MODES]),
+    ) {
+        let far = &mut self.scratch.borrow_mut().0;
+        self.fetch.run(comm, r, far);
         for (i, k) in self.sum_agg.iter().enumerate() {
             let mut acc = [0.0; MODES];
             let range = self.sum_ptr[i] as usize..self.sum_ptr[i + 1] as usize;
@@ -173,20 +225,7 @@ impl Aggregates {
                     acc[m] += phi[0] * v[0] + phi[1] * v[1] + phi[2] * v[2];
                 }
             }
-            if single {
-                out[MODES * *k as usize..MODES * (*k as usize + 1)].copy_from_slice(&acc);
-            } else {
-                message::push(mine, &(*k, acc));
-            }
-        }
-        if single {
-            return;
-        }
-        for part in comm.all_gather_f64(mine) {
-            for (k, coefficients) in message::items::<(u32, [f64; MODES])>(&part) {
-                let k = k as usize;
-                out[MODES * k..MODES * (k + 1)].copy_from_slice(&coefficients);
-            }
+            each(*k as usize, acc);
         }
     }
 

@@ -590,6 +590,28 @@ impl Hierarchy {
         // This rank's rows (none where its share starts past the level's end,
         // `first::held`).
         let b = b.get(self.own.clone()).unwrap_or(&[]);
+        self.sweep(b, top);
+        let n = x.len();
+        x.copy_from_slice(&top.whole(&self.acc)[..n]);
+    }
+
+    /// `solve_with` from this rank's rows of b (those its vectors hold, `own`), handing
+    /// the whole x to `then`: gathered from every rank's rows, or, where a sparse factor
+    /// replaced the levels, solved whole from b gathered (collective where split).
+    pub fn solve_rows<P: Product>(&mut self, b: &[f64], top: &mut P, then: impl FnOnce(&[f64])) {
+        let n = self.sizes[0];
+        if self.levels.is_empty() {
+            self.cb.copy_from_slice(&top.whole(b)[..n]);
+            self.coarsest.solve(&mut self.cb);
+            then(&self.cb);
+            return;
+        }
+        self.sweep(b, top);
+        then(&top.whole(&self.acc)[..n]);
+    }
+
+    /// The sweeps of V-cycles from b (this rank's rows), summed in `acc`.
+    fn sweep<P: Product>(&mut self, b: &[f64], top: &mut P) {
         self.acc.fill(0.0);
         for sweep in 0..self.sweeps {
             if sweep == 0 {
@@ -611,8 +633,6 @@ impl Hierarchy {
                 *xi += ci;
             }
         }
-        let n = x.len();
-        x.copy_from_slice(&top.whole(&self.acc)[..n]);
     }
 }
 
