@@ -280,11 +280,14 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
 /// and the restart file checked; the estimate of the peak memory per rank. An error is
 /// printed on rank 0 and given as the exit code.
 fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem, Option<f64>), u8> {
-    let sized = solver::scene::counts::scene_size(args.scene, args.refine);
+    let sized = solver::scene::counts::scene_size(args.scene, args.refine)
+        .map(|s| s.with_override(args.preconditioner));
     let mut estimate = None;
     if let Some(size) = &sized {
-        let size = size.clone().with_override(args.preconditioner);
-        estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
+        // Where the blocks aggregate otherwise than counted, this gate only keeps a mesh
+        // too large from being built: the estimate follows once it is loaded.
+        let verbosity = if on_mesh(size) { 0 } else { args.verbosity };
+        estimate = Some(memory_gate(comm, size, args.force, verbosity)?);
     }
     let loaded = load_scene_refined(args.scene, args.refine);
     let err = loaded.as_ref().err().map(|e| e.to_string());
@@ -309,6 +312,9 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
     if sized.is_none() || refused {
         let size = solver::preflight::loaded_size(&problem);
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
+    } else if let Some(size) = sized.filter(on_mesh) {
+        let size = solver::preflight::with_first_level(&problem, size, POOR_BLOCK_AGGREGATE_NODES);
+        estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
     }
     if let Some(path) = args.restart {
         let err = comm
@@ -323,6 +329,15 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
         }
     }
     Ok((problem, estimate))
+}
+
+use solver::precond::multilevel::size::POOR_BLOCK_AGGREGATE_NODES;
+
+/// Whether a scene counted from its divisions is estimated again once loaded, its
+/// multilevel hierarchy counted on the mesh: a block whose elements aggregate otherwise
+/// than the count assumes (`SceneSize::aggregation_counted`).
+fn on_mesh(size: &solver::scene::counts::SceneSize) -> bool {
+    size.counts.multilevel && !size.counts.tangent && !size.aggregation_counted
 }
 
 /// The closing line of a completed run.
@@ -414,6 +429,13 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
         );
         let fit = solver::memory::check_fit(c, r, ranks.is_some(), r, &available::bounds());
         println!("{}", solver::preflight::fit_line(&fit));
+        if on_mesh(size) {
+            println!(
+                "a block's elements are too elongated to aggregate as counted (their diagonal \
+                 beyond twice their shortest edge): the multilevel hierarchy is counted again \
+                 on the mesh"
+            );
+        }
         // Checked as `solver run` would check it, and the mesh not built when the run
         // would be refused.
         if let Some(why) = fit.refusal() {
@@ -447,8 +469,16 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
         println!("{why}: counted with what runs instead");
     }
     let refused = tangent.is_some();
-    if sized.is_none() || refused {
-        let size = solver::preflight::loaded_size(&p);
+    let recounted = match &sized {
+        Some(size) if !refused && on_mesh(size) => Some(solver::preflight::with_first_level(
+            &p,
+            size.clone(),
+            POOR_BLOCK_AGGREGATE_NODES,
+        )),
+        _ => None,
+    };
+    if sized.is_none() || refused || recounted.is_some() {
+        let size = recounted.unwrap_or_else(|| solver::preflight::loaded_size(&p));
         let fit =
             solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());
         println!("{}", solver::preflight::fit_line(&fit));

@@ -4,6 +4,7 @@
 
 use crate::comm::{self, Comm};
 use crate::memory::{self, available, check_fit, Fit};
+use crate::precond::multilevel::size::POOR_AGGREGATE_NODES;
 use crate::problem::Problem;
 use crate::scene::counts::{problem_size, SceneSize};
 use std::hash::{Hash, Hasher};
@@ -43,8 +44,17 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     if size.counts.tangent {
         size.counts.tangent_entries = tangent_entries(&p.mesh);
     }
+    with_first_level(p, size, POOR_AGGREGATE_NODES)
+}
+
+/// `size` with, where the multilevel hierarchy will be built, its first coarse level
+/// counted on the loaded mesh (`precond::multilevel::size`), poor below `poor_below` nodes
+/// an aggregate: `POOR_AGGREGATE_NODES`, or `POOR_BLOCK_AGGREGATE_NODES` for generated
+/// blocks counted from their divisions whose elements are too elongated to aggregate as
+/// counted (`SceneSize::aggregation_counted`).
+pub fn with_first_level(p: &Problem, mut size: SceneSize, poor_below: f64) -> SceneSize {
     if size.counts.multilevel && !size.counts.two_level && !size.counts.tangent {
-        let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p));
+        let first = crate::precond::multilevel::size::first_level(&p.mesh, &held(p), poor_below);
         size.counts.coarse_pairs = first.measured_blocks();
         size.counts.coarse_entries = first.entries;
         size.counts.coarse_slow = first.poor;

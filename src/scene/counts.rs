@@ -6,6 +6,7 @@ use super::types::{BodyDef, Integration, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
+use crate::precond::multilevel::transfer::STRONG_RATIO;
 use crate::problem::{
     uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE,
 };
@@ -25,6 +26,10 @@ pub struct SceneSize {
     pub plastic: bool,
     /// Set when the counts exceed the 32-bit ids: the error naming the body's divisions.
     pub beyond_ids: Option<SceneError>,
+    /// Every generated block aggregates as the count assumes (`aggregated_as_counted`);
+    /// where one does not, the multilevel hierarchy is counted on the mesh once loaded
+    /// (`preflight::loaded_size`).
+    pub aggregation_counted: bool,
 }
 
 impl SceneSize {
@@ -97,8 +102,10 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
     let mut counts = Counts::default();
     let mut plastic = false;
     let mut beyond_ids = None;
+    let mut aggregation_counted = true;
     for (i, b) in raw.body.iter().enumerate() {
         let (e, n) = block_counts(b)?;
+        aggregation_counted &= aggregated_as_counted(b);
         // A node's neighbours along one axis of d divisions: 3 inside, 2 at the ends; the
         // block's (node, neighbour) pairs are the product over the axes of 3 d + 1.
         let pairs: u64 = b.divisions?.iter().map(|&d| 3 * d as u64 + 1).product();
@@ -158,7 +165,54 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         preconditioner,
         plastic,
         beyond_ids,
+        aggregation_counted,
     })
+}
+
+/// Whether the multilevel preconditioner's fine aggregation of a generated block is the one
+/// the count from the divisions assumes (`memory::model`, calibrated on blocks of cubes: a
+/// node aggregated with its 26 neighbours, 25 to 27 nodes an aggregate). It is where an
+/// element's longest diagonal is within `STRONG_RATIO` times its shortest edge: farther
+/// neighbours are weakly coupled and not aggregated together (`StrongMesh`), and the
+/// aggregates shrink. A box of 40 x 40 x 40 elements of 0.05 x 0.025 x 0.05 aggregates 4.5
+/// nodes each (a first coarse level of 10.8 million entries): estimated 78.2 MiB from its
+/// divisions, it peaked at 345.6. Edges per parametric direction: a box's, or the longest
+/// and shortest of the corners' four (node order 0-1, 0-3, 0-4), over the divisions.
+fn aggregated_as_counted(b: &BodyDef) -> bool {
+    let Some(d) = b.divisions else {
+        return false;
+    };
+    let d = d.map(|x| x.max(1) as f64);
+    let edges: [(f64, f64); 3] = if let Some(bx) = &b.box_ {
+        std::array::from_fn(|i| {
+            let h = (bx.max[i] - bx.min[i]).abs() / d[i];
+            (h, h)
+        })
+    } else if let Some(c) = b.corners.as_deref().filter(|c| c.len() == 8) {
+        let length = |a: usize, b: usize| {
+            (0..3)
+                .map(|i| (c[a][i] - c[b][i]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let along = [
+            [(0, 1), (3, 2), (4, 5), (7, 6)],
+            [(0, 3), (1, 2), (4, 7), (5, 6)],
+            [(0, 4), (1, 5), (2, 6), (3, 7)],
+        ];
+        std::array::from_fn(|i| {
+            let l = along[i].map(|(a, b)| length(a, b) / d[i]);
+            (
+                l.iter().copied().fold(f64::INFINITY, f64::min),
+                l.iter().copied().fold(0.0, f64::max),
+            )
+        })
+    } else {
+        return false;
+    };
+    let shortest = edges.iter().map(|e| e.0).fold(f64::INFINITY, f64::min);
+    let diagonal = edges.iter().map(|e| e.1 * e.1).sum::<f64>().sqrt();
+    diagonal <= STRONG_RATIO * shortest
 }
 
 /// (elements, nodes) of a generated block; None for a Gmsh body or divisions that loading
@@ -231,6 +285,8 @@ pub fn problem_size(p: &Problem) -> SceneSize {
         preconditioner: pre,
         plastic,
         beyond_ids: None,
+        // Counted on the mesh where it is loaded (`preflight::loaded_size`).
+        aggregation_counted: true,
     }
 }
 

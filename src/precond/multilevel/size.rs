@@ -29,6 +29,16 @@ use crate::precond::aggregates::modes;
 /// the rings, estimated 36% low at 20).
 pub const POOR_AGGREGATE_NODES: f64 = 23.0;
 
+/// The same threshold for a generated block (a structured grid) whose elements are too
+/// elongated for its aggregates to be the cubes' 27 nodes (`scene::counts`): there only an
+/// aggregate no larger than a node and its six edge neighbours (the stars of a grid whose
+/// diagonal neighbours are all weakly coupled) made a slow V-cycle. Measured: blocks of
+/// 0.05 x 0.025 x 0.05 elements, 4.5 nodes an aggregate (rate 0.83, too large to factor);
+/// 0.15 x 0.033 x 0.033, 7.9 (rate 0.55); 0.1 x 0.05 x 0.05, 10.2 (0.57); 0.05 x 0.025 x
+/// 0.025, 10.3 (0.57): with the threshold of unstructured meshes the last three were
+/// estimated 2 to 5 times their peaks.
+pub const POOR_BLOCK_AGGREGATE_NODES: f64 = 7.0;
+
 /// What the estimate needs of the first coarse level.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FirstLevel {
@@ -40,7 +50,7 @@ pub struct FirstLevel {
     /// live modes (a mode is live where some free direction of a node of the aggregate
     /// moves with it; a plane-strain slab's aggregates on one face keep 3 of their 6).
     pub entries: u64,
-    /// The aggregates are poor (`POOR_AGGREGATE_NODES`): the level's V-cycle is predicted
+    /// The aggregates are poor (`first_level`'s threshold): the level's V-cycle is predicted
     /// slow, and its factor is tried.
     pub poor: bool,
     /// The entries of its sparse factor when the aggregates are poor and the factor fits
@@ -58,8 +68,10 @@ impl FirstLevel {
     }
 }
 
-/// Bits 0, 1, 2 of `fixed[a]`: node a is held in x, y, z (from the scene's displacements).
-pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
+/// Bits 0, 1, 2 of `fixed[a]`: node a is held in x, y, z (from the scene's displacements);
+/// aggregates of fewer corner nodes than `poor_below` on average are poor
+/// (`POOR_AGGREGATE_NODES`, or `POOR_BLOCK_AGGREGATE_NODES` on a generated block).
+pub fn first_level(mesh: &GlobalMesh, fixed: &[u8], poor_below: f64) -> FirstLevel {
     let n = mesh.num_nodes();
     if n == 0 {
         return FirstLevel::default();
@@ -89,7 +101,7 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8]) -> FirstLevel {
     }
     let corners = corner.iter().filter(|&&c| c).count();
     drop(corner);
-    let poor = (corners as f64) < POOR_AGGREGATE_NODES * na as f64;
+    let poor = (corners as f64) < poor_below * na as f64;
     let factor_entries = if poor {
         let g = Graph::from_edges(na, &edges);
         drop(edges);
@@ -154,7 +166,7 @@ mod tests {
             })
             .collect();
         let mesh = crate::mesh::hexahedra_in_a_row(coords);
-        let free = first_level(&mesh, &[]);
+        let free = first_level(&mesh, &[], POOR_AGGREGATE_NODES);
         assert_eq!((free.aggregates, free.pairs, free.entries), (16, 160, 1440));
         // Stored by the measurement on one rank: the 16 diagonal blocks and one of each of
         // the 72 symmetric pairs.
@@ -165,7 +177,7 @@ mod tests {
             (88 * 9..=136 * 9).contains(&free.factor_entries),
             "{free:?}"
         );
-        let held = first_level(&mesh, &[4; 16]);
+        let held = first_level(&mesh, &[4; 16], POOR_AGGREGATE_NODES);
         assert_eq!((held.pairs, held.entries), (160, 640));
         assert_eq!(held.factor_entries * 9, free.factor_entries * 4);
     }

@@ -16,7 +16,7 @@ use crate::precond::aggregates::Aggregates;
 /// neighbour are weakly coupled and not aggregated together (`StrongMesh`). Measured on
 /// the Hertz example x2 (one element thick, graded): 3233 CG iterations with every
 /// neighbour aggregated, 756 with this ratio; cubes (diagonals 1.41 and 1.73) keep all.
-pub(super) const STRONG_RATIO: f64 = 2.0;
+pub const STRONG_RATIO: f64 = 2.0;
 
 /// Meshes of at most this many nodes get one aggregate per node: the first coarse level
 /// is then the fine operator itself, factored directly (its rotation modes have no
