@@ -335,9 +335,11 @@ use solver::precond::multilevel::size::POOR_BLOCK_AGGREGATE_NODES;
 
 /// Whether a scene counted from its divisions is estimated again once loaded, its
 /// multilevel hierarchy counted on the mesh: a block whose elements aggregate otherwise
-/// than the count assumes (`SceneSize::aggregation_counted`).
+/// than the count assumes (`preflight::aggregated_as_counted`).
 fn on_mesh(size: &solver::scene::counts::SceneSize) -> bool {
-    size.counts.multilevel && !size.counts.tangent && !size.aggregation_counted
+    size.counts.multilevel
+        && !size.counts.tangent
+        && !solver::preflight::aggregated_as_counted(size)
 }
 
 /// The closing line of a completed run.

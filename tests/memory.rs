@@ -296,7 +296,7 @@ fn the_estimate_is_within_25_percent_on_gmsh_meshes() {
 
 /// The estimate within 25% of the peak on generated blocks of elongated elements, whose
 /// multilevel aggregates are not the cubes' 27 nodes (weakly coupled diagonal neighbours
-/// are not aggregated: `scene::counts::aggregated_as_counted`), so the first coarse level
+/// are not aggregated: `preflight::aggregated_as_counted`), so the first coarse level
 /// is counted on the mesh once it is built: a block of 24^3 elements of 0.083 x 0.042 x
 /// 0.083 (4.5 nodes an aggregate, its first coarse level slow and factored), estimated
 /// 33.1 MiB from its divisions alone against a peak of 193.6 (-83%), and one of 40 x 20 x
@@ -331,11 +331,17 @@ fn the_estimate_is_within_25_percent_on_elongated_blocks() {
     let long = scene("long_cells", [4.0, 1.0, 1.0], [40, 20, 20]);
     for path in [&slow, &long] {
         let size = scene_size(path, 1).expect("counted from the divisions");
-        assert!(!size.aggregation_counted, "{}: elongated", path.display());
+        assert!(
+            !solver::preflight::aggregated_as_counted(&size),
+            "{}: elongated",
+            path.display()
+        );
     }
     // Blocks of cubes aggregate as counted (the model's calibration).
     let cubes = scene_size(&root().join("run/scenes/bench/block_on_block.toml"), 1);
-    assert!(cubes.expect("counted").aggregation_counted);
+    assert!(solver::preflight::aggregated_as_counted(
+        &cubes.expect("counted")
+    ));
     scenes_within_25_percent(&d, &[(&slow, 1), (&long, 1), (&long, 2)]);
 }
 

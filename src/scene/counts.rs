@@ -6,7 +6,6 @@ use super::types::{BodyDef, Integration, SceneFile};
 use super::validate::SceneError;
 use crate::fem::Formulation;
 use crate::memory::Counts;
-use crate::precond::multilevel::transfer::STRONG_RATIO;
 use crate::problem::{
     uses_full_tangent, Kinematics, Preconditioner, Problem, NEARLY_INCOMPRESSIBLE,
 };
@@ -26,10 +25,11 @@ pub struct SceneSize {
     pub plastic: bool,
     /// Set when the counts exceed the 32-bit ids: the error naming the body's divisions.
     pub beyond_ids: Option<SceneError>,
-    /// Every generated block aggregates as the count assumes (`aggregated_as_counted`);
-    /// where one does not, the multilevel hierarchy is counted on the mesh once loaded
-    /// (`preflight::loaded_size`).
-    pub aggregation_counted: bool,
+    /// The largest over the generated blocks of an element's longest diagonal over its
+    /// shortest edge (`elongation`; infinite where it is not known): above the multilevel
+    /// aggregation's strong ratio, the blocks do not aggregate as the count assumes
+    /// (`preflight::aggregated_as_counted`).
+    pub elongation: f64,
 }
 
 impl SceneSize {
@@ -102,10 +102,10 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
     let mut counts = Counts::default();
     let mut plastic = false;
     let mut beyond_ids = None;
-    let mut aggregation_counted = true;
+    let mut elongated: f64 = 0.0;
     for (i, b) in raw.body.iter().enumerate() {
         let (e, n) = block_counts(b)?;
-        aggregation_counted &= aggregated_as_counted(b);
+        elongated = elongated.max(elongation(b));
         // A node's neighbours along one axis of d divisions: 3 inside, 2 at the ends; the
         // block's (node, neighbour) pairs are the product over the axes of 3 d + 1.
         let pairs: u64 = b.divisions?.iter().map(|&d| 3 * d as u64 + 1).product();
@@ -165,22 +165,20 @@ pub fn scene_size(path: &Path, factor: u32) -> Option<SceneSize> {
         preconditioner,
         plastic,
         beyond_ids,
-        aggregation_counted,
+        elongation: elongated,
     })
 }
 
-/// Whether the multilevel preconditioner's fine aggregation of a generated block is the one
-/// the count from the divisions assumes (`memory::model`, calibrated on blocks of cubes: a
-/// node aggregated with its 26 neighbours, 25 to 27 nodes an aggregate). It is where an
-/// element's longest diagonal is within `STRONG_RATIO` times its shortest edge: farther
-/// neighbours are weakly coupled and not aggregated together (`StrongMesh`), and the
-/// aggregates shrink. A box of 40 x 40 x 40 elements of 0.05 x 0.025 x 0.05 aggregates 4.5
-/// nodes each (a first coarse level of 10.8 million entries): estimated 78.2 MiB from its
-/// divisions, it peaked at 345.6. Edges per parametric direction: a box's, or the longest
-/// and shortest of the corners' four (node order 0-1, 0-3, 0-4), over the divisions.
-fn aggregated_as_counted(b: &BodyDef) -> bool {
+/// An element's longest diagonal over its shortest edge in a generated block (infinite
+/// where not known): edges per parametric direction, a box's, or the longest and shortest
+/// of the corners' four (node order 0-1, 0-3, 0-4), over the divisions. The multilevel
+/// preconditioner's count from the divisions (`memory::model`, calibrated on blocks of
+/// cubes, ratio 1.73) assumes a node aggregated with its 26 neighbours; beyond its strong
+/// ratio (`multilevel::transfer::STRONG_RATIO`, 2) diagonal neighbours are weakly coupled
+/// and not aggregated together, and the aggregates shrink (`preflight`).
+fn elongation(b: &BodyDef) -> f64 {
     let Some(d) = b.divisions else {
-        return false;
+        return f64::INFINITY;
     };
     let d = d.map(|x| x.max(1) as f64);
     let edges: [(f64, f64); 3] = if let Some(bx) = &b.box_ {
@@ -208,11 +206,15 @@ fn aggregated_as_counted(b: &BodyDef) -> bool {
             )
         })
     } else {
-        return false;
+        return f64::INFINITY;
     };
     let shortest = edges.iter().map(|e| e.0).fold(f64::INFINITY, f64::min);
     let diagonal = edges.iter().map(|e| e.1 * e.1).sum::<f64>().sqrt();
-    diagonal <= STRONG_RATIO * shortest
+    if shortest > 0.0 {
+        diagonal / shortest
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// (elements, nodes) of a generated block; None for a Gmsh body or divisions that loading
@@ -286,7 +288,7 @@ pub fn problem_size(p: &Problem) -> SceneSize {
         plastic,
         beyond_ids: None,
         // Counted on the mesh where it is loaded (`preflight::loaded_size`).
-        aggregation_counted: true,
+        elongation: 0.0,
     }
 }
 
