@@ -545,13 +545,7 @@ impl Hierarchy {
             for (i, b) in own.clone().zip(self.levels[0].b.iter_mut()) {
                 *b = rhs[i] - ax[i];
             }
-            cycle(
-                &mut self.levels,
-                &mut self.below,
-                &mut self.coarsest,
-                &mut self.cb,
-                top,
-            );
+            self.v_cycle(top);
             for (xi, ci) in x.iter_mut().zip(top.whole(&self.levels[0].x)) {
                 *xi += ci;
             }
@@ -561,6 +555,17 @@ impl Hierarchy {
         } else {
             0.0
         }
+    }
+
+    /// levels[0].x = V(levels[0].b), its operator applied by `top` (`cycle`).
+    fn v_cycle<P: Product>(&mut self, top: &mut P) {
+        cycle(
+            &mut self.levels,
+            &mut self.below,
+            &mut self.coarsest,
+            &mut self.cb,
+            top,
+        );
     }
 
     /// A line for the log: the V-cycle's rate, and the factor when there is one.
@@ -622,13 +627,7 @@ impl Hierarchy {
                     *bl = bi - ri;
                 }
             }
-            cycle(
-                &mut self.levels,
-                &mut self.below,
-                &mut self.coarsest,
-                &mut self.cb,
-                top,
-            );
+            self.v_cycle(top);
             for (xi, ci) in self.acc.iter_mut().zip(&self.levels[0].x) {
                 *xi += ci;
             }

@@ -214,15 +214,7 @@ fn build_level<C: Comm + ?Sized>(
     let n = MODES * aggregates;
     let first = MODES * held.start;
     let node_ptr: Vec<usize> = (0..=aggregates).map(|k| MODES * k).collect();
-    let (mut cols, mut vals) = (Vec::new(), Vec::new());
-    let own_diag: Vec<f64> = (first..first + MODES * held.len())
-        .map(|r| {
-            blocks.row_into(r, &mut cols, &mut vals);
-            cols.binary_search(&(r as u32)).map_or(0.0, |k| vals[k])
-        })
-        .collect();
-    drop((cols, vals));
-    let diag = gather(comm, &own_diag);
+    let diag = diagonal(comm, &blocks, first..first + MODES * held.len());
     let whole = |rows: Csr| {
         let a = gather_rows(comm, &rows);
         drop(rows);
@@ -275,16 +267,7 @@ fn build_level<C: Comm + ?Sized>(
         unreachable!("the first level's rows are blocks")
     };
     let mut view = View::new(&blocks);
-    // The next level's rows this rank holds: where each of its aggregates kept its six
-    // modes (its unknowns in nodes of six, as this level's), those of `held_by`; else all
-    // of them, and that level is built whole.
-    let (nn, next) = (tent.p.cols, held_by(nc, comm.size(), comm.rank()));
-    let in_rows = nn == MODES * nc;
-    let own_next = if in_rows {
-        MODES * next.start..MODES * next.end
-    } else {
-        0..nn
-    };
+    let own_next = next_rows(comm, tent.p.cols, nc);
     let (transfer, ac) = galerkin(
         comm,
         &mut view,
@@ -313,6 +296,31 @@ fn build_level<C: Comm + ?Sized>(
         live,
     };
     Hierarchy::above(first_level, rest, rest_split)
+}
+
+/// The whole diagonal of a level from this rank's `rows` of it (collective).
+fn diagonal<C: Comm + ?Sized>(comm: &C, blocks: &BlockRows, rows: Range<usize>) -> Vec<f64> {
+    let (mut cols, mut vals) = (Vec::new(), Vec::new());
+    let own: Vec<f64> = rows
+        .map(|r| {
+            blocks.row_into(r, &mut cols, &mut vals);
+            cols.binary_search(&(r as u32)).map_or(0.0, |k| vals[k])
+        })
+        .collect();
+    gather(comm, &own)
+}
+
+/// The rows of the next level (of `n` unknowns, `aggregates` aggregates) this rank holds:
+/// where each of its aggregates kept its six modes (its unknowns in nodes of six, as this
+/// level's), those of its aggregates by `held`; else all of them, and that level is built
+/// whole (`below`).
+fn next_rows<C: Comm + ?Sized>(comm: &C, n: usize, aggregates: usize) -> Range<usize> {
+    if n == MODES * aggregates {
+        let next = held_by(aggregates, comm.size(), comm.rank());
+        MODES * next.start..MODES * next.end
+    } else {
+        0..n
+    }
 }
 
 /// The hierarchy below a level from this rank's rows `ac` of its coarse operator (rows

@@ -217,13 +217,7 @@ impl Multilevel {
         drop(aggs);
         lap(0);
         self.f.ensure_probes(mesh.num_nodes());
-        // The probes' responses restricted whole (each rank's rows read every aggregate's
-        // coefficients): on more ranks than one the cycle's `b` holds only this rank's rows.
-        let mut coeff = if self.coarse.split_rows.is_empty() {
-            std::mem::take(&mut self.coarse.b)
-        } else {
-            vec![0.0; MODES * na]
-        };
+        let mut coeff = self.coarse.take_whole(na);
         let buf = measure::Probe {
             v: &mut self.f.r,
             av: &mut self.f.d,
@@ -240,9 +234,7 @@ impl Multilevel {
             held.clone(),
             |v, av| op.apply(v, av),
         );
-        if self.coarse.split_rows.is_empty() {
-            self.coarse.b = coeff;
-        }
+        self.coarse.give_back(coeff);
         let kc = kc?;
         lap(1);
         // Only the measurement needs the colours and the ties: not held through the build
@@ -255,19 +247,7 @@ impl Multilevel {
         let b = self.transfer.nullspace(&self.origin, self.length);
         let body = self.transfer.body.clone();
         let mut h = first::build(comm, kc, held, na, b, body, COARSE_DEGREE, COARSE_SWEEPS);
-        // This rank's rows of the first level (`Split`), or all of them on one rank.
-        let rows = self.coarse.split_rows.len();
-        if rows > 0 {
-            let first = comm.rank() * rows;
-            let split = &mut Split {
-                comm,
-                rows: &mut self.coarse.split_rows,
-                all: &mut self.coarse.split_all,
-            };
-            h.finish(split, first, rows, |own| first::gather_rows(comm, &own));
-        } else {
-            h.finish(&mut cycle::Whole, 0, self.transfer.dim(), |own| own);
-        }
+        self.coarse.finish(comm, &mut h, self.transfer.dim());
         lap(2);
         *tmp = vec![[0.0; 3]; tmp_len];
         self.f.ensure(mesh.num_nodes(), self.degree);
@@ -470,6 +450,41 @@ impl CoarseVectors {
             split_rows: vec![0.0; rows],
             split_all: vec![0.0; rows * comm.size()],
             per: rows / MODES,
+        }
+    }
+
+    /// Completes the hierarchy's build (`Hierarchy::finish`) on this rank's rows of the
+    /// first level (`Split`), or all `dim` of them on one rank (collective).
+    fn finish<C: Comm + ?Sized>(&mut self, comm: &C, h: &mut Hierarchy, dim: usize) {
+        let rows = self.split_rows.len();
+        if rows > 0 {
+            let first = comm.rank() * rows;
+            let split = &mut Split {
+                comm,
+                rows: &mut self.split_rows,
+                all: &mut self.split_all,
+            };
+            h.finish(split, first, rows, |own| first::gather_rows(comm, &own));
+        } else {
+            h.finish(&mut cycle::Whole, 0, dim, |own| own);
+        }
+    }
+
+    /// A whole coarse vector for the measurement's probes, whose responses are restricted
+    /// whole (each rank's rows read every aggregate's coefficients): `b` on one rank, else
+    /// a buffer of its own (`b` holds only this rank's rows). Given back by `give_back`.
+    fn take_whole(&mut self, aggregates: usize) -> Vec<f64> {
+        if self.split_rows.is_empty() {
+            std::mem::take(&mut self.b)
+        } else {
+            vec![0.0; MODES * aggregates]
+        }
+    }
+
+    /// Takes back what `take_whole` gave (`b` on one rank; else it goes).
+    fn give_back(&mut self, whole: Vec<f64>) {
+        if self.split_rows.is_empty() {
+            self.b = whole;
         }
     }
 
