@@ -6,6 +6,7 @@ use solver::comm::{Comm, MpiComm, SerialComm};
 use solver::memory::available;
 use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
+use solver::precond::multilevel::size::POOR_BLOCK_AGGREGATE_NODES;
 use solver::run::{run_owned, Partition, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
@@ -330,8 +331,6 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
     }
     Ok((problem, estimate))
 }
-
-use solver::precond::multilevel::size::POOR_BLOCK_AGGREGATE_NODES;
 
 /// Whether a scene counted from its divisions is estimated again once loaded, its
 /// multilevel hierarchy counted on the mesh: a block whose elements aggregate otherwise
