@@ -365,7 +365,7 @@ impl Hierarchy {
             let (mut graph, active) = strength_graph(&a, &diag, &node_ptr, &body);
             let (agg, na) = aggregate(&mut graph, &active);
             let coarse_body = coarse_bodies(&agg, na, &body);
-            let tent = tentative(&agg, na, &node_ptr, &b, None);
+            let tent = tentative(&agg, na, &node_ptr, |i| b[i], None);
             if stops_coarsening(tent.p.cols, a.rows) {
                 // Aggregation no longer coarsens: stop here (solved directly).
                 break;

@@ -39,6 +39,7 @@ use super::smoother::Chebyshev;
 use super::smoother::{hash_value, Space};
 use super::sparse::{node_of, Csr, Rows};
 use super::split::Split;
+use super::transfer::RigidModes;
 use super::triple::{triple_product_part, Picked, TRIPLE_BLOCKS};
 use crate::comm::Comm;
 use std::cell::RefCell;
@@ -169,6 +170,29 @@ fn gather<C: Comm + ?Sized>(comm: &C, mine: &[f64]) -> Vec<f64> {
     comm.all_gather_f64(mine).concat()
 }
 
+/// A level's near-nullspace: the first coarse level's rigid-body modes, formed row by row
+/// when asked for, or the rows of a level below it.
+pub enum Modes {
+    Rigid(RigidModes),
+    Rows(Vec<[f64; MODES]>),
+}
+
+impl Modes {
+    fn row(&self, i: usize) -> [f64; MODES] {
+        match self {
+            Modes::Rigid(m) => m.row(i),
+            Modes::Rows(b) => b[i],
+        }
+    }
+
+    fn rows(&self) -> Vec<[f64; MODES]> {
+        match self {
+            Modes::Rigid(m) => m.rows(),
+            Modes::Rows(b) => b.clone(),
+        }
+    }
+}
+
 /// Builds the hierarchy from this rank's rows of the first coarse level (`rows`, those of
 /// the aggregates `held` of `aggregates`, numbered from the first held one), its
 /// near-nullspace `b` and the bodies of its nodes (collective). The rows are kept in
@@ -181,7 +205,7 @@ pub fn build<C: Comm + ?Sized>(
     blocks: BlockRows,
     held: Range<usize>,
     aggregates: usize,
-    b: Vec<[f64; MODES]>,
+    b: Modes,
     body: Vec<u32>,
     degree: usize,
     sweeps: usize,
@@ -206,7 +230,7 @@ fn build_level<C: Comm + ?Sized>(
     comm: &C,
     blocks: BlockRows,
     (held, aggregates): (Range<usize>, usize),
-    b: Vec<[f64; MODES]>,
+    b: Modes,
     body: Vec<u32>,
     (degree, sweeps): (usize, usize),
     round: bool,
@@ -218,7 +242,7 @@ fn build_level<C: Comm + ?Sized>(
     let whole = |rows: Csr| {
         let a = gather_rows(comm, &rows);
         drop(rows);
-        Hierarchy::build(a, node_ptr.clone(), b.clone(), body.clone(), degree, sweeps)
+        Hierarchy::build(a, node_ptr.clone(), b.rows(), body.clone(), degree, sweeps)
     };
     if diag.iter().filter(|&&d| d > 0.0).count() <= cycle::COARSEST {
         return whole(blocks.to_csr());
@@ -237,7 +261,7 @@ fn build_level<C: Comm + ?Sized>(
     // Of the tentative prolongator, P's rows of the held nodes need only the rows their
     // rows of A reach (their columns: the held rows themselves among them).
     let reached = reached_by(&mut View::new(&blocks), ks.clone(), n);
-    let tent = tentative(&agg, nc, &node_ptr, &b, Some(&reached));
+    let tent = tentative(&agg, nc, &node_ptr, |i| b.row(i), Some(&reached));
     drop(reached);
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
@@ -345,7 +369,15 @@ fn below<C: Comm + ?Sized>(
             drop(ac);
             let held = own.start / MODES..own.end / MODES;
             let levels = (degree, sweeps);
-            build_level(comm, rows, (held, nc), tent.b, body, levels, false)
+            build_level(
+                comm,
+                rows,
+                (held, nc),
+                Modes::Rows(tent.b),
+                body,
+                levels,
+                false,
+            )
         }
         None => {
             let a = if in_rows { gather_rows(comm, &ac) } else { ac };

@@ -244,7 +244,7 @@ impl Multilevel {
         self.f = FineVectors::none();
         let tmp_len = tmp.len();
         *tmp = Vec::new();
-        let b = self.transfer.nullspace(&self.origin, self.length);
+        let b = first::Modes::Rigid(self.transfer.nullspace(&self.origin, self.length));
         let body = self.transfer.body.clone();
         let mut h = first::build(comm, kc, held, na, b, body, COARSE_DEGREE, COARSE_SWEEPS);
         self.coarse.finish(comm, &mut h, self.transfer.dim());

@@ -27,7 +27,7 @@ pub fn tentative(
     agg: &[u32],
     num_aggs: usize,
     node_ptr: &[usize],
-    b: &[[f64; MODES]],
+    b: impl Fn(usize) -> [f64; MODES],
     rows: Option<&[bool]>,
 ) -> Tentative {
     let wanted = |row: usize| rows.is_none_or(|keep| keep[row]);
@@ -47,7 +47,7 @@ pub fn tentative(
         let mut q: Vec<Vec<f64>> = Vec::with_capacity(MODES);
         let mut r = [[0.0; MODES]; MODES];
         for c in 0..MODES {
-            let mut v: Vec<f64> = unknowns.iter().map(|&i| b[i][c]).collect();
+            let mut v: Vec<f64> = unknowns.iter().map(|&i| b(i)[c]).collect();
             let n0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
             for (k, qk) in q.iter().enumerate() {
                 let s: f64 = qk.iter().zip(&v).map(|(a, b)| a * b).sum();
@@ -75,7 +75,7 @@ pub fn tentative(
         cptr.push(col as usize);
     }
     Tentative {
-        p: Csr::from_triplets(b.len(), col as usize, trip),
+        p: Csr::from_triplets(node_ptr[node_ptr.len() - 1], col as usize, trip),
         node_ptr: cptr,
         b: cb,
     }
@@ -150,7 +150,7 @@ mod tests {
         let b: Vec<[f64; MODES]> = (0..8)
             .map(|i| [1.0, i as f64, 2.0, 0.0, 0.0, 0.0])
             .collect();
-        let t = tentative(&agg, 2, &node_ptr, &b, None);
+        let t = tentative(&agg, 2, &node_ptr, |i| b[i], None);
         // Two independent columns per aggregate.
         assert_eq!(t.node_ptr, vec![0, 2, 4]);
         let pd = t.p.to_dense();
@@ -191,7 +191,7 @@ mod tests {
         let agg = [0, 0, 0, 1, 1, 1, 2, 2, 2];
         let node_ptr: Vec<usize> = (0..=n).collect();
         let b: Vec<[f64; MODES]> = (0..n).map(|_| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).collect();
-        let t = tentative(&agg, 3, &node_ptr, &b, None);
+        let t = tentative(&agg, 3, &node_ptr, |i| b[i], None);
         let p = smooth(&a, &dinv, 2.0, &t.p);
         let coarse_one: Vec<f64> = t.b.iter().map(|r| r[0]).collect();
         let mut y = vec![0.0; n];

@@ -92,24 +92,51 @@ impl Transfer {
 
     /// The coarse near-nullspace: the coefficients of the six global rigid-body modes
     /// (rotations about `origin`, divided by `length`) in every aggregate's modes.
-    pub fn nullspace(&self, origin: &Vec3, length: f64) -> Vec<[f64; MODES]> {
-        let mut b = vec![[0.0; MODES]; self.dim()];
-        for k in 0..self.num_aggregates {
-            let (centre, scale) = self.aggregates.centre_and_scale(k);
-            let c = crate::math::sub(&centre, origin);
-            for i in 0..3 {
-                b[MODES * k + i][i] = 1.0;
-                // e_i x (c - origin) / length in the translations, scale / length in the
-                // rotation about axis i.
-                let mut e = [0.0; 3];
-                e[i] = 1.0;
-                let t = crate::math::cross(&e, &c);
-                for j in 0..3 {
-                    b[MODES * k + j][3 + i] = t[j] / length;
-                }
-                b[MODES * k + 3 + i][3 + i] = scale / length;
-            }
+    pub fn nullspace(&self, origin: &Vec3, length: f64) -> RigidModes {
+        RigidModes {
+            at: (0..self.num_aggregates)
+                .map(|k| {
+                    let (centre, scale) = self.aggregates.centre_and_scale(k);
+                    (crate::math::sub(&centre, origin), scale)
+                })
+                .collect(),
+            length,
         }
-        b
+    }
+}
+
+/// The first coarse level's near-nullspace, each row formed when asked for from its
+/// aggregate's centre (less the origin) and scale: every rank needs rows of any aggregate
+/// in the build, and the rows held whole took six times the memory (1.58 MB per rank at
+/// n = 40, 32928 unknowns, against 0.18 MB).
+pub struct RigidModes {
+    at: Vec<(Vec3, f64)>,
+    length: f64,
+}
+
+impl RigidModes {
+    /// Row `i` (unknown `i % MODES` of aggregate `i / MODES`): a translation's row has its
+    /// 1 and e_a x c / length in the rotation about each axis a, a rotation's row its
+    /// scale / length.
+    pub fn row(&self, i: usize) -> [f64; MODES] {
+        let (c, scale) = &self.at[i / MODES];
+        let r = i % MODES;
+        let mut row = [0.0; MODES];
+        if r < 3 {
+            row[r] = 1.0;
+            for a in 0..3 {
+                let mut e = [0.0; 3];
+                e[a] = 1.0;
+                row[3 + a] = crate::math::cross(&e, c)[r] / self.length;
+            }
+        } else {
+            row[r] = scale / self.length;
+        }
+        row
+    }
+
+    /// Every row.
+    pub fn rows(&self) -> Vec<[f64; MODES]> {
+        (0..MODES * self.at.len()).map(|i| self.row(i)).collect()
     }
 }
