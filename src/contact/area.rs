@@ -42,8 +42,23 @@ pub fn contact_pressure(
     displacement: impl Fn(u32) -> Vec3,
 ) -> Vec<f64> {
     let mut pressure = vec![0.0; problem.mesh.num_nodes()];
+    for (n, p) in node_pressures(problem, active, displacement) {
+        pressure[n as usize] = p;
+    }
+    pressure
+}
+
+/// `contact_pressure` at the nodes where it may differ from zero, as (global id, pressure)
+/// by id: those with an active constraint whose node has an area (the same sums, in the
+/// same order). A writer holds these rather than a value for every node of the mesh.
+pub fn node_pressures(
+    problem: &Problem,
+    active: &[Active],
+    displacement: impl Fn(u32) -> Vec3,
+) -> Vec<(u32, f64)> {
+    let mut pressure = std::collections::BTreeMap::new();
     if active.is_empty() {
-        return pressure;
+        return Vec::new();
     }
     let current = problem.kinematics == Kinematics::Large;
     let position = |n: u32| {
@@ -62,10 +77,10 @@ pub fn contact_pressure(
             continue;
         };
         if area[i] > 0.0 {
-            pressure[a.slave as usize] += a.normal_force / area[i];
+            *pressure.entry(a.slave).or_insert(0.0) += a.normal_force / area[i];
         }
     }
-    pressure
+    pressure.into_iter().collect()
 }
 
 /// The nodes whose displacement `contact_pressure` reads, sorted: those of the slave faces

@@ -225,7 +225,11 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     }
     let stats = step_stats(rec);
     let contact_pressure = root_contact_pressure(comm, problem, stepper, local);
-    let root_finite = contact_pressure.iter().all(|x| x.is_finite()) && stats.writable(rec.time);
+    let root_finite = contact_pressure
+        .iter()
+        .flatten()
+        .all(|(_, p)| p.is_finite())
+        && stats.writable(rec.time);
     let finite = match &fields {
         LocalFields::Whole(f) => f.finite(stepper, local.num_owned_nodes),
         LocalFields::Checked(ok) => *ok,
@@ -250,6 +254,16 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
         LocalFields::Checked(_) => Fields::new(comm, problem, stepper, local).0,
         LocalFields::Whole(f) => f,
     };
+    let contact_pressure = match contact_pressure {
+        Some(p) => {
+            let mut whole = vec![0.0; problem.mesh.num_nodes()];
+            for (n, v) in p {
+                whole[n as usize] = v;
+            }
+            whole
+        }
+        None => Vec::new(),
+    };
     let mut sink = Sink {
         writer: writer.as_deref_mut().filter(|_| stream),
         err: None,
@@ -271,25 +285,24 @@ pub(super) fn write_fields<C: Comm + ?Sized>(
     (kept.filter(|_| keep), err)
 }
 
-/// The contact pressure on rank 0, from the displacements it reads gathered in global
-/// order, so that it does not depend on the number of ranks (the active set is whole on
-/// every rank); empty elsewhere (collective).
+/// The contact pressure on rank 0 where it may differ from zero (`area::node_pressures`),
+/// from the displacements it reads gathered in global order, so that it does not depend
+/// on the number of ranks (the active set is whole on every rank); None elsewhere
+/// (collective).
 fn root_contact_pressure<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     stepper: &Stepper<C>,
     local: &LocalMesh,
-) -> Vec<f64> {
+) -> Option<Vec<(u32, f64)>> {
     let active = &stepper.contact.active;
     let surface = surface_displacement(comm, problem, stepper, local);
-    if comm.is_root() {
-        crate::contact::area::contact_pressure(problem, active, |g| {
+    comm.is_root().then(|| {
+        crate::contact::area::node_pressures(problem, active, |g| {
             let i = surface.binary_search_by_key(&g, |e| e.0);
             surface[i.expect("every slave face node is owned by a rank")].1
         })
-    } else {
-        Vec::new()
-    }
+    })
 }
 
 /// Gathers the step's `fields` onto rank 0 one at a time, each put into `sink` once
@@ -383,14 +396,15 @@ fn surface_displacement<C: Comm + ?Sized>(
 /// Writes a step whose values are all finite field by field (collective): each field is
 /// formed again on every rank and written on rank 0 a range of entries at a time as it is
 /// gathered (`Gather::stream`, `ResultWriter::write_field_part`); rank 0 holds the contact
-/// pressure whole. Returns rank 0's write error.
+/// pressure of the nodes in contact and writes it a chunk of nodes at a time. Returns
+/// rank 0's write error.
 fn stream_step<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     stepper: &Stepper<C>,
     (gather, local): (&Gather, &LocalMesh),
     writer: Option<&mut ResultWriter>,
-    contact_pressure: Vec<f64>,
+    contact_pressure: Option<Vec<(u32, f64)>>,
     rec: &StepRecord,
 ) -> Option<String> {
     let mut sink = Sink {
@@ -402,10 +416,19 @@ fn stream_step<C: Comm + ?Sized>(
     gather.stream(comm, &stepper.u[..owned], &gather.nodes, |first, part| {
         sink.put_part(StepField::Displacement(part), first)
     });
-    if !contact_pressure.is_empty() {
-        sink.put(StepField::ContactPressure(&contact_pressure));
+    if let Some(p) = contact_pressure {
+        let nodes = problem.mesh.num_nodes();
+        let mut at = 0;
+        for first in (0..nodes).step_by(crate::output::CHUNK_ROWS) {
+            let end = (first + crate::output::CHUNK_ROWS).min(nodes);
+            let mut part = vec![0.0; end - first];
+            while at < p.len() && (p[at].0 as usize) < end {
+                part[p[at].0 as usize - first] = p[at].1;
+                at += 1;
+            }
+            sink.put_part(StepField::ContactPressure(&part), first);
+        }
     }
-    drop(contact_pressure);
     // The stress of a round's elements at a time. Recovered once already from the same
     // displacement (`LocalFields::new`), so it does not fail here; were it to, its values
     // are not finite and the writer refuses them.

@@ -278,8 +278,12 @@ pub(super) fn write_restart<C: Comm + ?Sized>(
         }
     });
     let (time, dt_prev, reference_floor) = stepper.scalars();
-    let (contact, released, ties) = stepper.contact.encode();
     let hierarchy = stepper.hierarchy_words();
+    // Every rank holds the contact state whole; only the writing rank needs its words.
+    let (contact, released, ties) = match writer {
+        Some(_) => stepper.contact.encode(),
+        None => Default::default(),
+    };
     let r = RestartState {
         step: step as u64,
         time,

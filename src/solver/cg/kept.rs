@@ -75,32 +75,33 @@ fn push_node(out: &mut Vec<f64>, g: u32, rows: &[Row]) {
     }
 }
 
-/// The records of `words` (a rank's or the merged ones), checked: whole ids below
-/// `nodes`, every count within the words. None when they do not parse.
-fn records(words: &[f64], nodes: usize) -> Option<Vec<Record>> {
-    let mut at = 0usize;
-    let mut next = || {
-        let w = words.get(at).copied();
-        at += 1;
+/// A reader of words, one at a time.
+struct Cursor<'a> {
+    words: &'a [f64],
+    at: usize,
+}
+
+impl Cursor<'_> {
+    fn next(&mut self) -> Option<f64> {
+        let w = self.words.get(self.at).copied();
+        self.at += 1;
         w
-    };
-    if next()? != VERSION {
-        return None;
     }
-    let mut out = Vec::new();
-    let count = index(next()?, words.len())?;
-    for _ in 0..count {
-        let g = index(next()?, nodes)? as u32;
-        let nr = index(next()?, 4)?;
+
+    /// A node record: its global id and rows.
+    fn node(&mut self, nodes: usize) -> Option<(u32, Vec<Row>)> {
+        let len = self.words.len();
+        let g = index(self.next()?, nodes)? as u32;
+        let nr = index(self.next()?, 4)?;
         let mut rows = Vec::with_capacity(nr);
         for _ in 0..nr {
-            let kind = word_kind(next()?)?;
-            let value = next()?;
-            let dir = [next()?, next()?, next()?];
-            let nm = index(next()?, words.len())?;
+            let kind = word_kind(self.next()?)?;
+            let value = self.next()?;
+            let dir = [self.next()?, self.next()?, self.next()?];
+            let nm = index(self.next()?, len)?;
             let mut masters = Vec::with_capacity(nm);
             for _ in 0..nm {
-                masters.push((index(next()?, nodes)? as u32, next()?));
+                masters.push((index(self.next()?, nodes)? as u32, self.next()?));
             }
             rows.push(Row {
                 dir,
@@ -109,21 +110,55 @@ fn records(words: &[f64], nodes: usize) -> Option<Vec<Record>> {
                 kind,
             });
         }
-        out.push(Record::Node(g, rows));
+        Some((g, rows))
     }
-    let count = index(next()?, words.len())?;
-    for _ in 0..count {
-        let g = index(next()?, nodes)? as u32;
-        let k: [f64; 9] = std::array::from_fn(|_| next().unwrap_or(f64::NAN));
+
+    /// A spring record: its node's global id and stiffness.
+    fn spring(&mut self, nodes: usize) -> Option<(u32, Mat3)> {
+        let g = index(self.next()?, nodes)? as u32;
+        let k: [f64; 9] = std::array::from_fn(|_| self.next().unwrap_or(f64::NAN));
         if k.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        out.push(Record::Spring(
+        Some((
             g,
             [[k[0], k[1], k[2]], [k[3], k[4], k[5]], [k[6], k[7], k[8]]],
-        ));
+        ))
     }
-    (at == words.len()).then_some(out)
+}
+
+/// Walks the records of `words` (a rank's or the merged ones), checked: whole ids below
+/// `nodes`, every count within the words; gives each record with the range of words it
+/// takes. None when they do not parse.
+fn walk(
+    words: &[f64],
+    nodes: usize,
+    mut record: impl FnMut(Record, std::ops::Range<usize>),
+) -> Option<()> {
+    let mut c = Cursor { words, at: 0 };
+    if c.next()? != VERSION {
+        return None;
+    }
+    let count = index(c.next()?, words.len())?;
+    for _ in 0..count {
+        let at = c.at;
+        let (g, rows) = c.node(nodes)?;
+        record(Record::Node(g, rows), at..c.at);
+    }
+    let count = index(c.next()?, words.len())?;
+    for _ in 0..count {
+        let at = c.at;
+        let (g, k) = c.spring(nodes)?;
+        record(Record::Spring(g, k), at..c.at);
+    }
+    (c.at == words.len()).then_some(())
+}
+
+/// The records of `words`, checked as `walk` checks them.
+fn records(words: &[f64], nodes: usize) -> Option<Vec<Record>> {
+    let mut out = Vec::new();
+    walk(words, nodes, |r, _| out.push(r))?;
+    Some(out)
 }
 
 fn words_of(nodes: &[(u32, Vec<Row>)], springs: &[(u32, Mat3)]) -> Vec<f64> {
@@ -246,26 +281,43 @@ impl BuildRows {
 }
 
 /// Every rank's words put together on rank 0 in global id order (collective; empty on
-/// the other ranks).
+/// the other ranks). Each record is copied as it is from the rank's words, where `walk`
+/// found it: rank 0 holds the gathered words and the merged ones, not the rows parsed
+/// from them as well (at n = 40 those were 1.5 MB more at the end of every step that
+/// writes a restart state).
 pub(super) fn merge<C: Comm + ?Sized>(comm: &C, local: &[f64]) -> Vec<f64> {
     let nodes = u32::MAX as usize;
     let parts = comm.gather_f64(local);
     if !comm.is_root() {
         return Vec::new();
     }
+    // (global id, part, words) of every node record and every spring, in rank order.
     let mut all_nodes = Vec::new();
     let mut all_springs = Vec::new();
-    for part in &parts {
-        for r in records(part, nodes).expect("words this solver wrote") {
-            match r {
-                Record::Node(g, rows) => all_nodes.push((g, rows)),
-                Record::Spring(g, k) => all_springs.push((g, k)),
-            }
-        }
+    for (p, part) in parts.iter().enumerate() {
+        walk(part, nodes, |r, at| match r {
+            Record::Node(g, _) => all_nodes.push((g, p, at)),
+            Record::Spring(g, _) => all_springs.push((g, p, at)),
+        })
+        .expect("words this solver wrote");
     }
+    // Stable: as `words_of` orders them (each id is one rank's).
     all_nodes.sort_by_key(|n| n.0);
     all_springs.sort_by_key(|s| s.0);
-    words_of(&all_nodes, &all_springs)
+    let len = 3 + parts
+        .iter()
+        .map(|p| p.len().saturating_sub(3))
+        .sum::<usize>();
+    let mut out = Vec::with_capacity(len);
+    out.extend([VERSION, all_nodes.len() as f64]);
+    for (_, p, at) in &all_nodes {
+        out.extend_from_slice(&parts[*p][at.clone()]);
+    }
+    out.push(all_springs.len() as f64);
+    for (_, p, at) in &all_springs {
+        out.extend_from_slice(&parts[*p][at.clone()]);
+    }
+    out
 }
 
 /// Whether `words` parse for a mesh of `nodes` nodes (a restart file's check).
