@@ -336,12 +336,15 @@ impl ContactState {
     /// owns, ordered by (slave node, pair). Collective.
     pub(super) fn share<C: Comm + ?Sized>(&mut self, comm: &C, mesh: &LocalMesh) {
         if comm.size() > 1 {
-            let mine: Vec<Active> = self
-                .active
+            // The whole set goes before the gather brings the new one (each 0.6 MB per rank
+            // at n = 40, 1681 nodes in contact).
+            let whole = std::mem::take(&mut self.active);
+            let mine: Vec<Active> = whole
                 .iter()
                 .filter(|a| mesh.owned_node(a.slave).is_some())
                 .copied()
                 .collect();
+            drop(whole);
             let released: Vec<(u32, usize)> = self
                 .released
                 .iter()
