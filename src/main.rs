@@ -373,7 +373,8 @@ fn contact_line(summary: &solver::run::RunSummary) -> String {
 }
 
 /// What the ranks sent during the steps and in the CG loops alone, per rank (the largest
-/// and the mean over the ranks), and per CG iteration (`bench --scaling` reads it).
+/// and the mean over the ranks), and per CG iteration with what the collectives brought
+/// (`bench --scaling` reads it).
 fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String {
     let counts = |max: &solver::comm::Traffic, sum: &solver::comm::Traffic| {
         let mean = |v: u64| v as f64 / ranks as f64;
@@ -394,7 +395,7 @@ fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String
     format!(
         "communication per rank (largest; mean): during the steps {}; in the CG loops ({} \
          iterations, {:.3} s) {}; per CG iteration: {:.2} messages, {:.0} bytes, {:.2} collectives, {:.0} \
-         collective bytes (largest rank)",
+         collective bytes, {:.0} bytes received in collectives (largest rank)",
         counts(&summary.traffic_max, &summary.traffic_sum),
         summary.cg_loop_iterations,
         summary.cg_loop_seconds,
@@ -403,6 +404,7 @@ fn communication_line(summary: &solver::run::RunSummary, ranks: usize) -> String
         per(cg.bytes),
         per(cg.collectives),
         per(cg.collective_bytes),
+        per(cg.collective_received),
     )
 }
 

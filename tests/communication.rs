@@ -3,14 +3,16 @@
 //! on 2 ranks, where each rank owns nodes next to the other's. Every CG iteration applies
 //! the operator once, which exchanges the halo with the one neighbour (at least one
 //! message per iteration, each holding three values of every shared node), and takes at
-//! least two global reductions (r.z and p.Ap); a one-rank run sends no message.
+//! least two global reductions (r.z and p.Ap); a one-rank run sends no message, and each
+//! of its collectives brings it back exactly what it put in.
 
 use crate::common;
 use common::{fresh_dir, repo};
 use std::process::Command;
 
-/// The numbers of the `per CG iteration:` part of the line: messages, bytes, collectives.
-fn per_iteration(log: &str) -> Option<(f64, f64, f64)> {
+/// The numbers of the `per CG iteration:` part of the line: messages, bytes, collectives,
+/// the bytes put into collectives and the bytes they brought.
+fn per_iteration(log: &str) -> Option<[f64; 5]> {
     let line = log
         .lines()
         .find(|l| l.starts_with("communication per rank"))?;
@@ -19,7 +21,7 @@ fn per_iteration(log: &str) -> Option<(f64, f64, f64)> {
         .split(|c: char| c == ',' || c.is_whitespace())
         .filter_map(|w| w.parse().ok())
         .collect();
-    Some((nums[0], nums[1], nums[2]))
+    nums.get(..5)?.try_into().ok()
 }
 
 fn run(ranks: usize) -> String {
@@ -40,7 +42,7 @@ fn run(ranks: usize) -> String {
 
 #[test]
 fn a_two_rank_run_counts_its_halo_messages_and_reductions() {
-    let (messages, bytes, collectives) =
+    let [messages, bytes, collectives, _, _] =
         per_iteration(&run(2)).expect("a 2-rank run prints its communication");
     println!("per CG iteration: {messages} messages, {bytes} bytes, {collectives} collectives");
     assert!(messages >= 1.0, "{messages} messages per CG iteration");
@@ -54,7 +56,14 @@ fn a_two_rank_run_counts_its_halo_messages_and_reductions() {
         collectives >= 2.0,
         "{collectives} collectives per CG iteration"
     );
-    // One rank under mpirun still calls the (trivial) reductions, but sends no message.
-    let (m1, b1, _) = per_iteration(&run(1)).expect("the line on one rank too");
+    // One rank under mpirun still calls the (trivial) reductions, but sends no message;
+    // a reduction, gather or all-to-all of one rank gives it back its own values (the two
+    // counts are totals over the same iterations, printed the same way).
+    let [m1, b1, c1, put, brought] = per_iteration(&run(1)).expect("the line on one rank too");
     assert_eq!((m1, b1), (0.0, 0.0), "one rank sends no message");
+    assert!(c1 > 0.0 && put > 0.0, "{c1} collectives of {put} bytes");
+    assert_eq!(
+        put, brought,
+        "bytes put into collectives and brought by them"
+    );
 }

@@ -49,11 +49,13 @@ impl MpiComm {
         self.sent.set(t);
     }
 
-    /// Counts one collective call to which this rank contributes `bytes`.
-    fn count_collective(&self, bytes: usize) {
+    /// Counts one collective call to which this rank contributes `bytes` and which brings
+    /// it `received`.
+    fn count_collective(&self, bytes: usize, received: usize) {
         let mut t = self.sent.get();
         t.collectives += 1;
         t.collective_bytes += bytes as u64;
+        t.collective_received += received as u64;
         self.sent.set(t);
     }
 
@@ -120,21 +122,21 @@ impl Comm for MpiComm {
     }
 
     fn sum_i64(&self, values: &mut [i64]) {
-        self.count_collective(std::mem::size_of_val(values));
+        self.count_collective(std::mem::size_of_val(values), std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::sum());
     }
 
     fn max_f64(&self, values: &mut [f64]) {
-        self.count_collective(std::mem::size_of_val(values));
+        self.count_collective(std::mem::size_of_val(values), std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::max());
     }
 
     fn min_i64(&self, values: &mut [i64]) {
-        self.count_collective(std::mem::size_of_val(values));
+        self.count_collective(std::mem::size_of_val(values), std::mem::size_of_val(values));
         let local = values.to_vec();
         self.world
             .all_reduce_into(&local[..], values, SystemOperation::min());
@@ -170,19 +172,20 @@ impl Comm for MpiComm {
     }
 
     fn gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
-        self.count_collective(std::mem::size_of_val(local));
-        varcount_gather(&self.world, local)
+        let parts = varcount_gather(&self.world, local);
+        self.count_collective(std::mem::size_of_val(local), words_in(&parts) * 8);
+        parts
     }
 
     fn gather_u64(&self, local: &[u64]) -> Vec<Vec<u64>> {
-        self.count_collective(std::mem::size_of_val(local));
-        varcount_gather(&self.world, local)
+        let parts = varcount_gather(&self.world, local);
+        self.count_collective(std::mem::size_of_val(local), words_in(&parts) * 8);
+        parts
     }
 
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
         let size = self.size();
         assert_eq!(send.len(), size, "one send buffer per rank");
-        self.count_collective(send.iter().map(|b| std::mem::size_of_val(&b[..])).sum());
         let send_counts: Vec<Count> = send.iter().map(|b| b.len() as Count).collect();
         let mut recv_counts = vec![0 as Count; size];
         self.world
@@ -191,6 +194,7 @@ impl Comm for MpiComm {
         let send_displs = displacements(&send_counts);
         let recv_displs = displacements(&recv_counts);
         let total: Count = recv_counts.iter().sum();
+        self.count_collective(8 * flat.len(), 8 * total as usize);
         let mut buf = vec![0.0f64; total as usize];
         {
             let sp = Partition::new(&flat[..], &send_counts[..], &send_displs[..]);
@@ -201,13 +205,13 @@ impl Comm for MpiComm {
     }
 
     fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
-        self.count_collective(std::mem::size_of_val(local));
         let size = self.size();
         let n = local.len() as Count;
         let mut counts = vec![0 as Count; size];
         self.world.all_gather_into(&n, &mut counts[..]);
         let displs = displacements(&counts);
         let total: Count = counts.iter().sum();
+        self.count_collective(std::mem::size_of_val(local), 8 * total as usize);
         let mut buf = vec![0.0f64; total as usize];
         {
             let mut rp = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
@@ -218,19 +222,19 @@ impl Comm for MpiComm {
 
     fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]) {
         debug_assert_eq!(out.len(), local.len() * self.size());
-        self.count_collective(std::mem::size_of_val(local));
+        self.count_collective(std::mem::size_of_val(local), std::mem::size_of_val(out));
         self.world.all_gather_into(local, out);
     }
 
     fn broadcast_bytes(&self, root: usize, data: &mut Vec<u8>) {
         let p = self.world.process_at_rank(root as i32);
-        if self.rank() == root {
-            self.count_collective(data.len());
-        } else {
-            self.count_collective(0);
-        }
         let mut len = data.len() as u64;
         p.broadcast_into(&mut len);
+        if self.rank() == root {
+            self.count_collective(data.len(), 0);
+        } else {
+            self.count_collective(0, len as usize);
+        }
         data.resize(len as usize, 0);
         if len > 0 {
             p.broadcast_into(&mut data[..]);
@@ -270,6 +274,11 @@ impl Comm for MpiComm {
     fn traffic(&self) -> Traffic {
         self.sent.get()
     }
+}
+
+/// The values in all the parts.
+fn words_in<T>(parts: &[Vec<T>]) -> usize {
+    parts.iter().map(Vec::len).sum()
 }
 
 fn displacements(counts: &[Count]) -> Vec<Count> {

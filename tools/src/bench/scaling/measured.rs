@@ -18,6 +18,8 @@ pub struct Sent {
     pub messages: f64,
     pub bytes: f64,
     pub collectives: f64,
+    /// Bytes the collectives brought the rank (the levels gathered whole among them).
+    pub received: f64,
     /// Wall time of one iteration in the CG loops (their time over their iterations).
     pub seconds: f64,
 }
@@ -36,6 +38,7 @@ pub fn sent_per_iteration(log: &str) -> Option<Sent> {
         messages: per.split_whitespace().next()?.parse().ok()?,
         bytes: number_after(per, "messages, ")?,
         collectives: number_after(per, "bytes, ")?,
+        received: number_after(per, "collective bytes, ")?,
     })
 }
 
@@ -82,7 +85,8 @@ impl Scaling {
 
 /// The model of one CG iteration from the measured points: compute from 1 rank, the
 /// replicated part from 1 and 2 ranks (t2 = (t1 - r) / 2 + r, both on real cores), the
-/// messages and collectives of the largest rank count and its bytes.
+/// messages and collectives of the largest rank count, its bytes and what its collectives
+/// brought.
 pub fn iteration_of(points: &[Point]) -> Option<Iteration> {
     let at = |r: usize| points.iter().find(|p| p.ranks() == r);
     let (one, two) = (at(1)?, at(2)?);
@@ -112,6 +116,7 @@ pub fn iteration_of(points: &[Point]) -> Option<Iteration> {
         bytes: sent.bytes,
         bytes_ranks: last.ranks() as f64,
         collectives: sent.collectives,
+        received: sent.received,
     })
 }
 
@@ -121,7 +126,7 @@ mod tests {
 
     #[test]
     fn the_communication_line_is_read_back() {
-        let line = "communication per rank (largest; mean): during the steps 337 messages (329), 4077216 bytes (2494052), 1788 collectives (1788) of 1872976 bytes (1776144); in the CG loops (300 iterations, 3.000 s) 300 messages (300), 1 bytes (1), 2 collectives (2) of 3 bytes (3); per CG iteration: 1.13 messages, 13636 bytes, 5.98 collectives, 6264 collective bytes (largest rank)";
+        let line = "communication per rank (largest; mean): during the steps 337 messages (329), 4077216 bytes (2494052), 1788 collectives (1788) of 1872976 bytes (1776144); in the CG loops (300 iterations, 3.000 s) 300 messages (300), 1 bytes (1), 2 collectives (2) of 3 bytes (3); per CG iteration: 1.13 messages, 13636 bytes, 5.98 collectives, 6264 collective bytes, 52000 bytes received in collectives (largest rank)";
         let s = sent_per_iteration(&format!("done: x\n{line}\n")).unwrap();
         assert_eq!(
             s,
@@ -129,6 +134,7 @@ mod tests {
                 messages: 1.13,
                 bytes: 13636.0,
                 collectives: 5.98,
+                received: 52000.0,
                 seconds: 0.01
             }
         );

@@ -42,15 +42,21 @@ pub struct Iteration {
     /// Bytes the busiest rank sends per iteration on `bytes_ranks` ranks.
     pub bytes: f64,
     pub bytes_ranks: f64,
-    /// Collective calls per iteration (reductions of a few numbers each).
+    /// Collective calls per iteration.
     pub collectives: f64,
+    /// Bytes the collectives bring a rank per iteration (measured on `bytes_ranks` ranks):
+    /// mostly the split coarse levels' vectors, gathered whole on every rank, so of the
+    /// size of the levels and not of the rank's part.
+    pub received: f64,
 }
 
 impl Iteration {
     /// Seconds per CG iteration on `p` ranks, with the whole problem `scale` times the
     /// measured one (strong scaling: 1; weak scaling: p, each rank keeping its share of
     /// one rank's problem). The halo bytes of a rank go with its part's surface, (size per
-    /// rank)^(2/3); a reduction costs a latency and 8 bytes per level of a binary tree.
+    /// rank)^(2/3); a collective costs a latency and 8 bytes per level of a binary tree,
+    /// and what the collectives bring a rank goes with the whole problem (`scale`): the
+    /// levels gathered whole grow with the mesh and not with the part.
     pub fn seconds(&self, p: f64, scale: f64) -> f64 {
         let per_rank = scale / p;
         let compute = (self.compute_s - self.replicated_s) * per_rank + self.replicated_s * scale;
@@ -62,7 +68,8 @@ impl Iteration {
         let tree = p.log2().ceil();
         let comm = self.messages * LATENCY_S
             + bytes / BANDWIDTH
-            + self.collectives * tree * (LATENCY_S + 8.0 / BANDWIDTH);
+            + self.collectives * tree * (LATENCY_S + 8.0 / BANDWIDTH)
+            + self.received * scale / BANDWIDTH;
         compute + comm
     }
 
@@ -105,6 +112,7 @@ mod tests {
             bytes: 0.0,
             bytes_ranks: 2.0,
             collectives: 0.0,
+            received: 0.0,
         };
         for p in [2.0, 64.0, 1024.0] {
             // Pure arithmetic on exactly representable ratios (~1e-16).
@@ -128,6 +136,7 @@ mod tests {
             bytes: 1e6,
             bytes_ranks: 8.0,
             collectives: 0.0,
+            received: 0.0,
         };
         // At the measured rank count the model gives the measured bytes' time; 8 times the
         // ranks quarter the surface (8^(2/3) = 4).
@@ -135,5 +144,23 @@ mod tests {
         assert!((it.seconds(64.0, 1.0) - 0.25e6 / BANDWIDTH).abs() < 1e-15);
         // Weak scaling keeps each rank's surface.
         assert!((it.seconds(64.0, 64.0 / 8.0) - 1e6 / BANDWIDTH).abs() < 1e-15);
+    }
+
+    #[test]
+    fn what_the_collectives_bring_grows_with_the_whole_problem() {
+        let it = Iteration {
+            compute_s: 0.0,
+            replicated_s: 0.0,
+            messages: 0.0,
+            bytes: 0.0,
+            bytes_ranks: 8.0,
+            collectives: 0.0,
+            received: 1e6,
+        };
+        // Strong scaling: the same levels gathered whatever the rank count; weak scaling:
+        // 64 times the problem, 64 times the bytes (exact ratios of ~1e-4 s: 1e-15).
+        assert!((it.seconds(8.0, 1.0) - 1e6 / BANDWIDTH).abs() < 1e-15);
+        assert!((it.seconds(1024.0, 1.0) - 1e6 / BANDWIDTH).abs() < 1e-15);
+        assert!((it.seconds(64.0, 64.0) - 64e6 / BANDWIDTH).abs() < 1e-15);
     }
 }

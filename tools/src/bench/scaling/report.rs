@@ -36,20 +36,22 @@ pub fn markdown(s: &Scaling) -> String {
     );
     let _ = writeln!(
         w,
-        "| ranks | peak MiB per rank | CG iterations | wall (s) | ms / CG it. | messages / CG it. | bytes / CG it. | collectives / CG it. |"
+        "| ranks | peak MiB per rank | CG iterations | wall (s) | ms / CG it. | messages / CG it. | bytes / CG it. | collectives / CG it. | received in collectives / CG it. |"
     );
-    let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(w, "|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for p in &s.points {
-        let (m, b, c) = p.sent.map_or(("-".into(), "-".into(), "-".into()), |x| {
+        let dash = || "-".to_string();
+        let (m, b, c, r) = p.sent.map_or((dash(), dash(), dash(), dash()), |x| {
             (
                 format!("{:.2}", x.messages),
                 format!("{:.0}", x.bytes),
                 format!("{:.2}", x.collectives),
+                format!("{:.0}", x.received),
             )
         });
         let _ = writeln!(
             w,
-            "| {} | {:.1} | {} | {:.2} | {:.1} | {m} | {b} | {c} |",
+            "| {} | {:.1} | {} | {:.2} | {:.1} | {m} | {b} | {c} | {r} |",
             p.ranks(),
             p.peak_mib(),
             p.case.cg_iterations(),
@@ -100,7 +102,9 @@ fn model_text(w: &mut String, it: &Iteration) {
          {:.2} ms on one rank (the 1-rank run's time in its CG loops over their iterations), \
          of which {:.2} ms is repeated on every rank (estimated from the 2-rank run, t2 = (t1 - r) / 2 + r; 0 when that run was not faster); \
          {:.2} messages, {:.0} bytes (on {} ranks, scaled with the part's surface) and {:.2} \
-         reductions per iteration, on a network of {:.1} us latency and {:.0} GB/s. Predicted \
+         collectives per iteration, which bring each rank {:.0} bytes (the split coarse levels' \
+         vectors gathered whole: the same on any rank count of this mesh, and growing with the \
+         mesh in weak scaling), on a network of {:.1} us latency and {:.0} GB/s. Predicted \
          parallel efficiency (`scaling.png`):\n",
         1e3 * it.compute_s,
         1e3 * it.replicated_s,
@@ -108,6 +112,7 @@ fn model_text(w: &mut String, it: &Iteration) {
         it.bytes,
         it.bytes_ranks,
         it.collectives,
+        it.received,
         LATENCY_S * 1e6,
         BANDWIDTH / 1e9
     );
@@ -141,6 +146,7 @@ fn json(s: &Scaling) -> String {
                 "messages_per_iteration": p.sent.map(|x| x.messages),
                 "bytes_per_iteration": p.sent.map(|x| x.bytes),
                 "collectives_per_iteration": p.sent.map(|x| x.collectives),
+                "received_in_collectives_per_iteration": p.sent.map(|x| x.received),
             })
         })
         .collect();
