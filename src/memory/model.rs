@@ -79,8 +79,9 @@ const GLOBAL_PER_NODE: f64 = 4.0 + 4.0 + 24.0 + OUTPUT_PER_NODE;
 /// n = 40 on 1 and 2 ranks (177.1 and 139.9 MiB against 173.7 and 142.6). It was the
 /// gathered fields and their write buffers, 2 x 48 and 2 x 88, when rank 0 gathered a whole
 /// step at once, then 96 and 176 when it gathered field by field; since each field goes to
-/// the file a range of entries at a time (`run::fields`), rank 0 holds the contact pressure
-/// and a round's buffers (about 8 + 6 per node, 12 per element), and the rest of these
+/// the file a range of entries at a time (`run::fields`), rank 0 holds a round's buffers
+/// (the contact pressure since only at the nodes in contact, 8 per node before), and the
+/// rest of these
 /// bytes is the runs' other peaks (the file's copy of the mesh while it is written, the
 /// closing check reading the file back). The multilevel hierarchy's build, where such runs
 /// peak, holds none of it.
