@@ -14,6 +14,7 @@ use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;
 use super::blocks::BlockInverse;
 use super::direct::Compressed;
+use super::halo::Halo;
 use super::prolongation::Prolongation;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
@@ -81,6 +82,8 @@ impl Op {
 /// (`Hierarchy::own`), as the node-block inverses.
 struct Level {
     a: Op,
+    /// Where the level is held as this rank's rows: what its products exchange.
+    halo: Option<Halo>,
     dinv: BlockInverse,
     cheb: Chebyshev,
     transfer: Prolongation,
@@ -96,6 +99,7 @@ impl Level {
     fn new(a: Op, dinv: BlockInverse, cheb: Chebyshev, transfer: Prolongation, n: usize) -> Self {
         Level {
             a,
+            halo: None,
             dinv,
             cheb,
             transfer,
@@ -112,6 +116,8 @@ impl Level {
 /// rank's rows in blocks, and what every rank holds whole.
 pub struct FirstLevel {
     pub rows: BlockRows,
+    /// The other ranks' unknowns this rank's rows reach, and its rows theirs reach.
+    pub halo: Halo,
     /// The node-block inverses of this rank's rows (`own`).
     pub dinv: BlockInverse,
     /// The unknowns of this rank's rows.
@@ -129,12 +135,14 @@ pub struct FirstLevel {
 }
 
 /// How the first coarse level's vectors are held and its operator applied: whole on this
-/// rank (`Whole`), or as this rank's rows, every rank's gathered before a product
-/// (`super::Split`). Either way each entry of a product is the same row sum
-/// (`Csr::mul_rows_into`) of the same vector, so the same bits.
+/// rank (`Whole`), or as this rank's rows, the other ranks' values its rows reach fetched
+/// before a product (`super::Split`). Either way each entry of a product is the same row
+/// sum (`Csr::mul_rows_into`) of the same values, so the same bits.
 pub trait Product {
-    /// y = A x on the vectors as the level holds them (this rank's rows, or whole).
-    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
+    /// y = A x on the vectors as the level holds them (this rank's rows, or whole); `halo`
+    /// the level's exchange where it is held as rows (without it, every rank's rows are
+    /// gathered).
+    fn mul(&mut self, a: &Op, halo: Option<&Halo>, x: &[f64], y: &mut [f64]);
     /// y = A x on whole vectors.
     fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]);
     /// The whole vector of which the level holds `mine` (every rank's gathered); it may
@@ -177,7 +185,7 @@ impl SplitBuffers {
 pub struct Whole;
 
 impl Product for Whole {
-    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
+    fn mul(&mut self, a: &Op, _: Option<&Halo>, x: &[f64], y: &mut [f64]) {
         a.mul_into(x, y);
     }
     fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
@@ -198,6 +206,7 @@ impl Product for Whole {
 /// A sparse level seen by the smoother (its vectors as the product holds them).
 pub(super) struct Sparse<'a, P: Product> {
     pub(super) a: &'a Op,
+    pub(super) halo: Option<&'a Halo>,
     pub(super) dinv: &'a BlockInverse,
     pub(super) product: &'a mut P,
 }
@@ -205,7 +214,7 @@ pub(super) struct Sparse<'a, P: Product> {
 impl<P: Product> Space for Sparse<'_, P> {
     type Error = Infallible;
     fn apply(&mut self, x: &[f64], y: &mut [f64]) -> Result<(), Infallible> {
-        self.product.mul(self.a, x, y);
+        self.product.mul(self.a, self.halo, x, y);
         Ok(())
     }
     fn inv_diag(&self, r: &[f64], z: &mut [f64]) {
@@ -375,6 +384,7 @@ impl Hierarchy {
             let op = Op::Sparse(a);
             let mut sp = Sparse {
                 a: &op,
+                halo: None,
                 dinv: &dinv,
                 product: &mut Whole,
             };
@@ -425,13 +435,14 @@ impl Hierarchy {
         }
         let n = first.n;
         let held = first.own.len();
-        let level = Level::new(
+        let mut level = Level::new(
             Op::Rows(first.rows),
             first.dinv,
             first.cheb,
             first.transfer,
             held,
         );
+        level.halo = Some(first.halo);
         rest.levels.insert(0, level);
         rest.sizes.insert(0, n);
         rest.nonzeros.insert(0, first.nnz);
@@ -622,7 +633,12 @@ impl Hierarchy {
             if sweep == 0 {
                 self.levels[0].b.copy_from_slice(b);
             } else {
-                top.mul(&self.levels[0].a, &self.acc, &mut self.res);
+                top.mul(
+                    &self.levels[0].a,
+                    self.levels[0].halo.as_ref(),
+                    &self.acc,
+                    &mut self.res,
+                );
                 for ((bl, bi), ri) in self.levels[0].b.iter_mut().zip(b).zip(&self.res) {
                     *bl = bi - ri;
                 }
@@ -650,13 +666,14 @@ fn cycle<P: Product>(
     lv.r.copy_from_slice(&lv.b);
     let mut sp = Sparse {
         a: &lv.a,
+        halo: lv.halo.as_ref(),
         dinv: &lv.dinv,
         product: &mut *top,
     };
     let Ok(()) = lv
         .cheb
         .smooth(&mut sp, &mut lv.r, &mut lv.x, &mut lv.d, &mut lv.t);
-    top.mul(&lv.a, &lv.x, &mut lv.t);
+    top.mul(&lv.a, lv.halo.as_ref(), &lv.x, &mut lv.t);
     for i in 0..lv.r.len() {
         lv.r[i] = lv.b[i] - lv.t[i];
     }
@@ -686,12 +703,13 @@ fn cycle<P: Product>(
     for i in 0..lv.x.len() {
         lv.x[i] += lv.t[i];
     }
-    top.mul(&lv.a, &lv.x, &mut lv.t);
+    top.mul(&lv.a, lv.halo.as_ref(), &lv.x, &mut lv.t);
     for i in 0..lv.r.len() {
         lv.r[i] = lv.b[i] - lv.t[i];
     }
     let mut sp = Sparse {
         a: &lv.a,
+        halo: lv.halo.as_ref(),
         dinv: &lv.dinv,
         product: &mut *top,
     };

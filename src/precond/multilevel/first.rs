@@ -33,6 +33,7 @@ use super::aggregation::{aggregate, Graph};
 use super::block_rows::{BlockRows, View};
 use super::blocks::BlockInverse;
 use super::cycle::{self, FirstLevel, Hierarchy, Op, Product, SplitBuffers};
+use super::halo::Halo;
 use super::prolongation::Prolongation;
 use super::prolongator::{smooth_nodes, tentative, Tentative, MODES};
 use super::smoother::Chebyshev;
@@ -262,10 +263,13 @@ fn build_level<C: Comm + ?Sized>(
     // rows of A reach (their columns: the held rows themselves among them).
     let reached = reached_by(&mut View::new(&blocks), ks.clone(), n);
     let tent = tentative(&agg, nc, &node_ptr, |i| b.row(i), Some(&reached));
-    drop(reached);
     if cycle::stops_coarsening(tent.p.cols, n) {
         return whole(blocks.to_csr());
     }
+    // What the cycle's products exchange: the unknowns the held rows reach (rounding to
+    // f32 below changes values, not the pattern).
+    let halo = Halo::new(comm, &reached, ks.clone(), rows_per_rank(comm, aggregates));
+    drop(reached);
     // The first level, which the cycle smooths: in f32 for every use below (the node
     // blocks, the smoother's bound, P^T A P) and the cycle's products.
     let blocks = if round {
@@ -310,6 +314,7 @@ fn build_level<C: Comm + ?Sized>(
     let live = diag.iter().map(|&d| d > 0.0).collect();
     let first_level = FirstLevel {
         rows: blocks,
+        halo,
         dinv,
         own: ks,
         cheb,

@@ -35,6 +35,7 @@ pub mod cycle;
 pub mod direct;
 mod elimination;
 pub mod first;
+pub mod halo;
 pub mod measure;
 pub mod prolongation;
 pub mod prolongator;

@@ -1,6 +1,7 @@
 //! A coarse level held as rows split over the ranks (`Split`).
 
 use super::cycle::{Op, Product};
+use super::halo::Halo;
 use super::prolongation::Prolongation;
 use crate::comm::Comm;
 
@@ -30,9 +31,16 @@ impl<C: Comm + ?Sized> Split<'_, C> {
 }
 
 impl<C: Comm + ?Sized> Product for Split<'_, C> {
-    fn mul(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
-        self.gather(x);
-        a.mul_rows_into(self.all, self.comm.rank() * self.rows.len(), y);
+    fn mul(&mut self, a: &Op, halo: Option<&Halo>, x: &[f64], y: &mut [f64]) {
+        let first = self.comm.rank() * self.rows.len();
+        match halo {
+            Some(h) => {
+                self.all[first..first + x.len()].copy_from_slice(x);
+                h.fetch(self.comm, x, self.all);
+            }
+            None => self.gather(x),
+        }
+        a.mul_rows_into(self.all, first, y);
     }
     fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
         a.mul_rows_into(x, self.comm.rank() * self.rows.len(), self.rows);
