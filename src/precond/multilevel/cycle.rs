@@ -148,6 +148,12 @@ pub trait Product {
     /// The whole vector of which the level holds `mine` (every rank's gathered); it may
     /// run past the level's unknowns (zeros).
     fn whole<'s>(&'s mut self, mine: &'s [f64]) -> &'s [f64];
+    /// `whole`, or with `halo` `mine` and the other ranks' unknowns it lists in their
+    /// places (the rest stale).
+    fn fetch<'s>(&'s mut self, mine: &'s [f64], halo: Option<&Halo>) -> &'s [f64] {
+        let _ = halo;
+        self.whole(mine)
+    }
     /// out = P^T r (`transfer`'s), r as the level holds it.
     fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]);
     /// The product of a level below this one held as this rank's rows too, through its
@@ -612,9 +618,16 @@ impl Hierarchy {
     }
 
     /// `solve_with` from this rank's rows of b (those its vectors hold, `own`), handing
-    /// the whole x to `then`: gathered from every rank's rows, or, where a sparse factor
-    /// replaced the levels, solved whole from b gathered (collective where split).
-    pub fn solve_rows<P: Product>(&mut self, b: &[f64], top: &mut P, then: impl FnOnce(&[f64])) {
+    /// x to `then`: whole, gathered from every rank's rows, or with `halo` this rank's
+    /// rows and the unknowns it lists (the others stale); where a sparse factor replaced
+    /// the levels, solved whole from b gathered (collective where split).
+    pub fn solve_rows<P: Product>(
+        &mut self,
+        b: &[f64],
+        top: &mut P,
+        halo: Option<&Halo>,
+        then: impl FnOnce(&[f64]),
+    ) {
         let n = self.sizes[0];
         if self.levels.is_empty() {
             self.cb.copy_from_slice(&top.whole(b)[..n]);
@@ -623,7 +636,7 @@ impl Hierarchy {
             return;
         }
         self.sweep(b, top);
-        then(&top.whole(&self.acc)[..n]);
+        then(&top.fetch(&self.acc, halo)[..n]);
     }
 
     /// The sweeps of V-cycles from b (this rank's rows), summed in `acc`.

@@ -32,15 +32,19 @@ impl<C: Comm + ?Sized> Split<'_, C> {
 
 impl<C: Comm + ?Sized> Product for Split<'_, C> {
     fn mul(&mut self, a: &Op, halo: Option<&Halo>, x: &[f64], y: &mut [f64]) {
-        let first = self.comm.rank() * self.rows.len();
+        self.fetch(x, halo);
+        a.mul_rows_into(self.all, self.comm.rank() * self.rows.len(), y);
+    }
+    fn fetch<'s>(&'s mut self, mine: &'s [f64], halo: Option<&Halo>) -> &'s [f64] {
         match halo {
             Some(h) => {
-                self.all[first..first + x.len()].copy_from_slice(x);
-                h.fetch(self.comm, x, self.all);
+                let first = self.comm.rank() * self.rows.len();
+                self.all[first..first + mine.len()].copy_from_slice(mine);
+                h.fetch(self.comm, mine, self.all);
             }
-            None => self.gather(x),
+            None => self.gather(mine),
         }
-        a.mul_rows_into(self.all, first, y);
+        self.all
     }
     fn mul_whole(&mut self, a: &Op, x: &[f64], y: &mut [f64]) {
         a.mul_rows_into(x, self.comm.rank() * self.rows.len(), self.rows);
