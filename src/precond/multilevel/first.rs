@@ -595,7 +595,15 @@ fn galerkin<C: Comm + ?Sized>(
             let (pt, _) = gathered(comm, &own_p, aggregates, keep, &[]);
             debug_assert_eq!(own_p.cols, own_cols);
             let p_per = rows_per_rank(comm, aggregates);
-            Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank())
+            // The restriction's exchange: the level's unknowns this rank's range of P^T
+            // reads.
+            let mut reached = vec![false; pt.cols];
+            pt.idx.iter().for_each(|&c| reached[c as usize] = true);
+            let halo = Halo::new(comm, &reached, ks.clone(), p_per);
+            drop(reached);
+            let mut transfer = Prolongation::split(own_p, p_per, pt, pt_per, size, comm.rank());
+            transfer.set_halo(halo);
+            transfer
         }
     };
     (transfer, ac)

@@ -17,6 +17,7 @@
 //!   row sums.
 
 use super::block_rows::BlockRows;
+use super::halo::Halo;
 use super::sparse::Csr;
 
 pub enum Prolongation {
@@ -33,6 +34,9 @@ pub struct SplitRows {
     pt: Rows,
     mine: Vec<f64>,
     all: Vec<f64>,
+    /// The level's unknowns the rows of P^T read that other ranks hold, fetched before a
+    /// restriction (`Product::fetch`) in place of the whole residual gathered.
+    halo: Option<Halo>,
 }
 
 /// A rank's rows of P or P^T: in blocks where they come so, else as they are.
@@ -82,7 +86,23 @@ impl Prolongation {
             pt,
             mine: vec![0.0; pt_per],
             all: vec![0.0; pt_per * ranks],
+            halo: None,
         }))
+    }
+
+    /// Gives a split prolongator the exchange of its restriction.
+    pub fn set_halo(&mut self, halo: Halo) {
+        if let Prolongation::Split(s) = self {
+            s.halo = Some(halo);
+        }
+    }
+
+    /// The exchange of a split prolongator's restriction (None: the residual whole).
+    pub fn halo(&self) -> Option<&Halo> {
+        match self {
+            Prolongation::Split(s) => s.halo.as_ref(),
+            Prolongation::Whole(_) => None,
+        }
     }
 
     /// out = P^T r (`gather`: every rank's `mine` into `all`, in rank order; collective

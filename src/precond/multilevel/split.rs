@@ -56,7 +56,7 @@ impl<C: Comm + ?Sized> Product for Split<'_, C> {
         self.all
     }
     fn restrict(&mut self, transfer: &mut Prolongation, r: &[f64], out: &mut [f64]) {
-        self.gather(r);
+        self.fetch(r, transfer.halo());
         let comm = self.comm;
         transfer.restrict(self.all, out, |m, a| comm.all_gather_equal_f64(m, a));
     }
