@@ -1,10 +1,11 @@
 //! The exchange of a coarse level held as rows split over the ranks (`super::Split`): the
 //! other ranks' unknowns this rank's rows reach, fetched from them before a product, in
-//! place of every rank's rows gathered. Gathering the first coarse level's vector for each
-//! of its products brought every rank 3.4 MB a CG iteration at n = 40 (its 32928 unknowns,
-//! 263 kB, about 13 times), the same on 2 and 16 ranks and growing with the mesh; a
-//! product reads only the unknowns its rows reach, its own and those of the rows of a few
-//! neighbouring ranks.
+//! place of every rank's rows gathered; the same for the rows of P^T a rank restricts with
+//! and for the aggregates of its owned nodes, which the coarse correction is prolonged to.
+//! Gathering the first coarse level's vector for each of these brought every rank 3.4 MB
+//! a CG iteration at n = 40 (its 32928 unknowns, 263 kB, about 13 times), the same on 2
+//! and 16 ranks and growing with the mesh; each reads only the unknowns of its own rows
+//! and of those of a few neighbouring ranks (0.07 MB a CG iteration on 16 ranks).
 
 use crate::comm::{message, Comm};
 use std::ops::Range;

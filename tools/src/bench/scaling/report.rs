@@ -102,9 +102,9 @@ fn model_text(w: &mut String, it: &Iteration) {
          {:.2} ms on one rank (the 1-rank run's time in its CG loops over their iterations), \
          of which {:.2} ms is repeated on every rank (estimated from the 2-rank run, t2 = (t1 - r) / 2 + r; 0 when that run was not faster); \
          {:.2} messages, {:.0} bytes (on {} ranks, scaled with the part's surface) and {:.2} \
-         collectives per iteration, which bring each rank {:.0} bytes (the split coarse levels' \
-         vectors gathered whole: the same on any rank count of this mesh, and growing with the \
-         mesh in weak scaling), on a network of {:.1} us latency and {:.0} GB/s. Predicted \
+         collectives per iteration, which bring each rank {:.0} bytes (what the coarse levels \
+         still gather whole: taken as the same on any rank count of this mesh and growing with \
+         the mesh in weak scaling), on a network of {:.1} us latency and {:.0} GB/s. Predicted \
          parallel efficiency (`scaling.png`):\n",
         1e3 * it.compute_s,
         1e3 * it.replicated_s,
