@@ -3,9 +3,9 @@
 //! solve on the coarsest. The levels built from rows split over the ranks (`super::first`:
 //! the first coarse level and those below it down to the one solved directly) are held as
 //! this rank's rows (`Hierarchy::above`): each level's operator's rows, its node-block
-//! inverses and its cycle's vectors, applied through a `Product` that gathers every rank's
-//! rows of a vector before a product (the only communication); each entry is the one the
-//! whole level gives it. A level built whole (`Hierarchy::build`: the coarsest, and every
+//! inverses and its cycle's vectors, applied through a `Product` that fetches the other
+//! ranks' values its rows read before a product, a restriction or a prolongation (the only
+//! communication; `super::halo`); each entry is the one the whole level gives it. A level built whole (`Hierarchy::build`: the coarsest, and every
 //! level on one rank's hierarchy of a whole operator) is held whole on every rank, built
 //! from the same data in the same order, and cycled the same way on each: bitwise the same
 //! result on any number of ranks. Buffers are allocated once, at setup.
@@ -15,6 +15,7 @@ use super::block_rows::BlockRows;
 use super::blocks::BlockInverse;
 use super::direct::Compressed;
 use super::halo::Halo;
+pub use super::op::Op;
 use super::prolongation::Prolongation;
 use super::prolongator::{smooth, tentative, MODES};
 use super::smoother::{hash_value, Chebyshev, Space};
@@ -43,39 +44,6 @@ const RATE_CYCLES: usize = 8;
 pub(super) const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
-
-/// A level's operator: sparse rows while the hierarchy is built, the first level's then
-/// held as this rank's rows in blocks (`Hierarchy::keep_rows`).
-pub enum Op {
-    Sparse(Csr),
-    Rows(BlockRows),
-}
-
-impl Op {
-    /// The sparse operator of a level being built.
-    fn csr(&self) -> &Csr {
-        match self {
-            Op::Sparse(a) => a,
-            Op::Rows(_) => unreachable!("a level's sparse rows are used only while it is built"),
-        }
-    }
-
-    /// y = A x (the whole product: a sparse level, or rows in blocks held whole).
-    pub fn mul_into(&self, x: &[f64], y: &mut [f64]) {
-        match self {
-            Op::Sparse(a) => a.mul_into(x, y),
-            Op::Rows(r) => r.mul_rows_into(x, 0, y),
-        }
-    }
-
-    /// y = rows `first..first + y.len()` of A x, the same bits as `mul_into`'s.
-    pub fn mul_rows_into(&self, x: &[f64], first: usize, y: &mut [f64]) {
-        match self {
-            Op::Sparse(a) => a.mul_rows_into(x, first, y),
-            Op::Rows(r) => r.mul_rows_into(x, first, y),
-        }
-    }
-}
 
 /// One coarse level: its operator, smoother, its prolongator to the next (`Prolongation`)
 /// and buffers: the level's unknowns, or on the first level those of this rank's rows

@@ -37,6 +37,7 @@ mod elimination;
 pub mod first;
 pub mod halo;
 pub mod measure;
+pub mod op;
 pub mod prolongation;
 pub mod prolongator;
 pub mod size;
