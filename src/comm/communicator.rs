@@ -35,6 +35,10 @@ pub trait Comm {
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
     /// Every rank receives every rank's `local`, in rank order.
     fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>>;
+    /// `all_gather_f64` as one buffer, every rank's `local` in rank order, and each rank's
+    /// length: the gathered values held once (split into one list per rank, they are
+    /// copied part by part).
+    fn all_gather_f64_flat(&self, local: &[f64]) -> (Vec<f64>, Vec<usize>);
     /// `all_gather_f64` for blocks of one length on every rank, into `out` (rank r's block
     /// at r * local.len(); out.len() = size * local.len()), allocating nothing.
     fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]);

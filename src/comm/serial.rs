@@ -39,6 +39,9 @@ impl Comm for SerialComm {
     fn all_gather_f64(&self, local: &[f64]) -> Vec<Vec<f64>> {
         vec![local.to_vec()]
     }
+    fn all_gather_f64_flat(&self, local: &[f64]) -> (Vec<f64>, Vec<usize>) {
+        (local.to_vec(), vec![local.len()])
+    }
     fn all_gather_equal_f64(&self, local: &[f64], out: &mut [f64]) {
         out.copy_from_slice(local);
     }

@@ -142,16 +142,19 @@ impl FullTangent {
                 }
             }
         }
+        // Every rank's triplets in rank order, held once: this rank's own go once gathered
+        // (held as well, and the gather split into one list per rank, a rank held 60
+        // bytes an entry here where one rank holds 40).
         let all = if comm.size() == 1 {
-            vec![mine]
+            mine
         } else {
-            comm.all_gather_f64(&mine)
+            let (all, _) = comm.all_gather_f64_flat(&mine);
+            drop(mine);
+            all
         };
-        let mut trip = Vec::with_capacity(all.iter().map(|v| v.len() / 3).sum());
-        for part in &all {
-            for t in part.chunks_exact(3) {
-                trip.push((t[0] as u32, t[1] as u32, t[2]));
-            }
+        let mut trip = Vec::with_capacity(all.len() / 3);
+        for t in all.chunks_exact(3) {
+            trip.push((t[0] as u32, t[1] as u32, t[2]));
         }
         drop(all);
         let a = Csr::from_triplets(m, m, trip).into_symmetric_part();
