@@ -254,6 +254,12 @@ pub fn problem_size(p: &Problem) -> SceneSize {
             // Conservative: which elements share shapes is known once the assembly
             // counts them.
             shaped_elements: m.num_elements() as u64,
+            tet_elements: m
+                .bodies
+                .iter()
+                .filter(|b| b.kind == crate::fem::ElementKind::Tet10)
+                .map(|b| b.num_elements as u64)
+                .sum(),
             two_level: two_level(pre),
             multilevel: multilevel(pre, nodes, plastic),
             tangent: uses_full_tangent(pre, plastic, nodes),
