@@ -57,6 +57,10 @@ pub struct Counts {
     /// with itself included), counted from the blocks' divisions or on a loaded mesh; 0 when
     /// not counted (then `TANGENT_ENTRIES_PER_NODE` per node).
     pub tangent_entries: u64,
+    /// The entries of the full tangent's factor, counted on a loaded mesh's node graph in
+    /// the factor's order (`solver::choice::node_factor`); 0 when not counted (then
+    /// `TANGENT_FILL` x nodes^(4/3)).
+    pub tangent_factor_entries: u64,
     /// The multilevel hierarchy's first coarse level when the mesh is known (a loaded
     /// scene, `precond::multilevel::size`): the 6 x 6 blocks its measurement stores, its
     /// entries, and those of its sparse factor where it is predicted factored (0 when
@@ -194,19 +198,26 @@ const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
 /// 3-D mesh; TANGENT_FILL x n^(4/3) bounds the measured ones: the plane-strain punch at
 /// 40 x 40 and 80 x 80 (3362 and 13122 nodes) factored into 0.69 and 3.70 million entries
 /// (TANGENT_FILL x n^(4/3): 0.69 and 4.17 million). The order kept between builds holds
-/// the matrix's pattern (4 bytes per entry) through the next build's peak.
+/// the matrix's pattern (4 bytes per entry) through the next build's peak. On a loaded mesh
+/// the factor's entries are counted instead (`Counts::tangent_factor_entries`): 7.5 million
+/// for an L-bracket of 13910 Gmsh hexahedra's nodes that factored into 7.2 million, where
+/// TANGENT_FILL gives 4.5.
 const TANGENT_ENTRIES_PER_NODE: f64 = 27.0 * 9.0;
 const TANGENT_FILL: f64 = 13.5;
 
-/// The full tangent's bytes at its build's peak for `nodes` nodes and `entries` entries
-/// (0: not counted).
-fn tangent_bytes(nodes: f64, entries: u64) -> f64 {
+/// The full tangent's bytes at its build's peak for `nodes` nodes, `entries` entries and
+/// `factor_entries` in its factor (0: not counted).
+fn tangent_bytes(nodes: f64, entries: u64, factor_entries: u64) -> f64 {
     let a = if entries > 0 {
         entries as f64
     } else {
         TANGENT_ENTRIES_PER_NODE * nodes
     };
-    let factor = TANGENT_FILL * nodes.powf(4.0 / 3.0);
+    let factor = if factor_entries > 0 {
+        factor_entries as f64
+    } else {
+        TANGENT_FILL * nodes.powf(4.0 / 3.0)
+    };
     (40.0 * a).max(12.0 * (a + factor)) + 4.0 * a
 }
 
@@ -328,7 +339,7 @@ pub fn estimate_run(c: &Counts, ranks: usize, mpi: bool) -> Estimate {
     let per_node = per_node + constrained_share * CONSTRAINED_PER_NODE;
     let share = share_of(c.elements, ranks) * per_element + share_of(c.nodes, ranks) * per_node;
     let coarse = if c.tangent {
-        tangent_bytes(n, c.tangent_entries)
+        tangent_bytes(n, c.tangent_entries, c.tangent_factor_entries)
     } else if c.two_level {
         let aggregates = (n / COARSE_NODES_PER_AGGREGATE)
             .ceil()

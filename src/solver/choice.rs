@@ -123,6 +123,20 @@ const FACTOR_WORK_LIMIT: f64 = 5e8;
 /// counted on the whole mesh's node graph in the factor's own order without factoring, or
 /// Err saying why not.
 fn factor_fits(mesh: &GlobalMesh) -> Result<f64, String> {
+    match node_factor(mesh) {
+        Some((_, work)) if work <= FACTOR_WORK_LIMIT => Ok(work),
+        _ => Err(format!(
+            "its factorization would take more than {FACTOR_WORK_LIMIT:e} units of work (a 3-D \
+             mesh's fill; several seconds a factorization): it costs more than the iterations it saves"
+        )),
+    }
+}
+
+/// The factor of the whole mesh's node graph in METIS's nested-dissection order, counted
+/// without factoring: its entries below the diagonal (node pairs) and its work (the sum of
+/// the squares of its column counts). None when the work exceeds FACTOR_WORK_LIMIT (the
+/// count stops there).
+pub fn node_factor(mesh: &GlobalMesh) -> Option<(usize, f64)> {
     let mut edges = Vec::new();
     for e in mesh.elements.iter() {
         for (k, &a) in e.iter().enumerate() {
@@ -134,16 +148,7 @@ fn factor_fits(mesh: &GlobalMesh) -> Result<f64, String> {
     // Entries E over n columns cost at least E^2 / n: beyond this many the work exceeds the
     // limit whatever their spread, and counting stops.
     let budget = (FACTOR_WORK_LIMIT * g.len() as f64).sqrt() as usize;
-    let refused = || {
-        format!(
-            "its factorization would take more than {FACTOR_WORK_LIMIT:e} units of work (a 3-D \
-             mesh's fill; several seconds a factorization): it costs more than the iterations it saves"
-        )
-    };
-    match SparseCholesky::graph_factor_entries(&g, budget) {
-        Some((_, work)) if work <= FACTOR_WORK_LIMIT => Ok(work),
-        _ => Err(refused()),
-    }
+    SparseCholesky::graph_factor_entries(&g, budget).filter(|&(_, work)| work <= FACTOR_WORK_LIMIT)
 }
 
 /// Whether the run uses the full tangent preconditioner: by name, or under `auto` where a
