@@ -43,10 +43,14 @@ pub fn loaded_size(p: &Problem) -> SceneSize {
     }
     if size.counts.tangent {
         size.counts.tangent_entries = tangent_entries(&p.mesh);
-        // A node pair of the node graph's factor is a 3 x 3 block of the tangent's, a node
-        // a lower triangle of 6 (fewer where a direction is held).
-        size.counts.tangent_factor_entries = crate::solver::choice::node_factor(&p.mesh)
-            .map_or(0, |(below, _)| 9 * below as u64 + 6 * size.counts.nodes);
+        // Under `auto` (below TANGENT_NODES nodes, where the run counts the same factor to
+        // decide on it): a node pair of the node graph's factor is a 3 x 3 block of the
+        // tangent's, a node a lower triangle of 6 (fewer where a direction is held). By
+        // name, on a mesh of any size, `TANGENT_FILL` stands for it.
+        if p.solver.preconditioner == crate::problem::Preconditioner::Auto {
+            size.counts.tangent_factor_entries = crate::solver::choice::node_factor(&p.mesh)
+                .map_or(0, |(below, _)| 9 * below as u64 + 6 * size.counts.nodes);
+        }
     }
     with_first_level(p, size, POOR_AGGREGATE_NODES)
 }
