@@ -206,6 +206,7 @@ impl Multilevel {
         // 3489). Nothing below uses it; a build that fails leaves none, and the next use
         // builds one.
         self.hierarchy = None;
+        crate::memory::guard::give_back_freed();
         let clock = std::time::Instant::now();
         let mut phases = [0.0f64; 4];
         let mut lap =

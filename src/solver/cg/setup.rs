@@ -448,6 +448,7 @@ impl Cg {
         self.tangent_increment = false;
         let start = std::time::Instant::now();
         self.tangent = None;
+        crate::memory::guard::give_back_freed();
         let marked = if linear {
             0
         } else {
