@@ -186,17 +186,27 @@ const MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE: f64 = MULTILEVEL_PROLONGATOR_PER_N
 /// 8.2 MB on the Hertz example x2 when every block of its 27380 was stored (3.4 nodes per
 /// aggregate; heaptrack), against 2.0 MB at the 330 bytes per node the split part then had.
 const MEASURE_PER_ENTRY: f64 = 8.0 + 1.0;
+/// And the build of the levels from it, per entry of the first coarse level
+/// (`first::build_level`: P^T's rows, P's, the level's blocks and their f32 copy), where
+/// that exceeds both (a mesh of small aggregates: their P has more entries per node).
+const LEVEL_PER_ENTRY: f64 = 13.0;
 /// A first coarse level factored (`cycle::Hierarchy::finish`) is held whole on every rank
 /// as sparse rows while its factor is formed (a u32 column and an f64 value, grown by
 /// doubling: 15.9 and 17.0 bytes per entry measured on the plate with a hole and the Hertz
 /// example x2) beside the factor (a u32 row and an f64 value per entry).
 const WHOLE_LEVEL_PER_ENTRY: f64 = 16.0;
 const FACTOR_PER_ENTRY: f64 = 12.0;
-/// Its analysis (`SparseCholesky::analyse`) beside the whole level, the factor's or not:
+/// Its analysis (`SparseCholesky::analyse`) beside the whole level before the factor:
 /// the aggregate pairs of every entry above the diagonal (8 bytes each, about 4 per entry)
 /// and the graph made of them (7.6 per entry): 16.8 and 32.3 MB at 4.25 million entries
-/// on the plate with a hole's x2 mesh, whose factor did not fit `FILL` (heaptrack).
+/// on the plate with a hole's x2 mesh (heaptrack, when that analysis also decided whether
+/// the factor fits).
 const ANALYSIS_PER_ENTRY: f64 = 4.0 + 7.6;
+/// Whether it fits is decided first on the level's node pattern gathered whole
+/// (`factor_choice`: a u32 column and an f64 count per block, the graph made of it and
+/// its counts, about 40 bytes a block), a block 36 entries or fewer: where it does not
+/// fit, this is all the slow V-cycle adds.
+const PATTERN_PER_ENTRY: f64 = 40.0 / 36.0;
 /// The full tangent preconditioner on every rank, per node of the whole mesh: the
 /// assembled tangent has at most 27 neighbours x 9 entries per node (a hexahedral mesh's
 /// node graph; a slab one element thick, 18; counted where known: `Counts::tangent_entries`), held at the build's peak as the gathered (row, column, value) triples
@@ -240,12 +250,16 @@ fn multilevel_bytes(c: &Counts, ranks: usize) -> f64 {
         r => 2.0 * MULTILEVEL_PROLONGATOR_BLOCKS_PER_NODE * n / r as f64,
     };
     if c.coarse_pairs > 0 {
-        split = split.max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64);
+        split = split
+            .max(MEASURE_PER_ENTRY * 36.0 * c.coarse_pairs as f64)
+            .max(LEVEL_PER_ENTRY * c.coarse_entries as f64);
     }
-    if c.coarse_slow {
-        let entries = c.coarse_entries as f64;
+    let entries = c.coarse_entries as f64;
+    if c.coarse_slow && c.coarse_factor_entries > 0 {
         whole += WHOLE_LEVEL_PER_ENTRY * entries
             + (ANALYSIS_PER_ENTRY * entries).max(FACTOR_PER_ENTRY * c.coarse_factor_entries as f64);
+    } else if c.coarse_slow {
+        whole += PATTERN_PER_ENTRY * entries;
     }
     whole + prolongator + split / ranks as f64
 }
@@ -459,14 +473,23 @@ mod tests {
                 n * (22.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 12.0 * 500_000.0;
             let got = estimate(&poor, ranks).coarse;
             assert!((got - want).abs() < 1e-12 * want, "{got} {want}");
-            // Slow but too large to factor: the level whole and its analysis.
+            // Slow but its factor too large or too dear: the node pattern only.
             let tried = Counts {
                 coarse_factor_entries: 0,
                 ..poor
             };
-            let want =
-                n * (22.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 16.0 * 200_000.0 + 11.6 * 200_000.0;
+            let want = n * (22.0 + p) + 9.0 * 36.0 * 10_000.0 / r + 40.0 / 36.0 * 200_000.0;
             assert!((estimate(&tried, ranks).coarse - want).abs() < 1e-6 * want);
+            // Small aggregates: the level's build, 13 bytes an entry, above the blocks the
+            // measurement holds.
+            let small = Counts {
+                coarse_entries: 1_000_000,
+                coarse_slow: false,
+                coarse_factor_entries: 0,
+                ..poor
+            };
+            let want = n * (22.0 + p) + 13.0 * 1_000_000.0 / r;
+            assert!((estimate(&small, ranks).coarse - want).abs() < 1e-6 * want);
         }
     }
 }

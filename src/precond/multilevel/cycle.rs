@@ -14,6 +14,7 @@ use super::aggregation::{aggregate, Graph};
 use super::block_rows::BlockRows;
 use super::blocks::BlockInverse;
 use super::direct::Compressed;
+use super::factor_choice::{level_fit, Fit, FILL};
 use super::halo::Halo;
 pub use super::op::Op;
 use super::prolongation::Prolongation;
@@ -28,7 +29,9 @@ use std::convert::Infallible;
 /// Levels with at most this many unknowns of positive stiffness are solved directly.
 pub const COARSEST: usize = 900;
 /// A V-cycle that reduces the first coarse level's error by less than this per cycle is
-/// replaced by a sparse factor of that level (when it fits FILL). Measured rates (and what
+/// replaced by a sparse factor of that level, when the factor fits and pays
+/// (`factor_choice`: its fill and its work; the rate alone does not tell: a cantilever of
+/// elongated elements, 0.86, gains nothing by its factor). Measured rates (and what
 /// the factor did): block on block n = 20 and 30: 0.56 and 0.57 (the fine smoother limits
 /// CG there: 77 vs 73 CG iterations at n = 30, but 9.9 s vs 26.3 s, so kept); a slender
 /// cantilever of cubic elements (a block of 120 x 12 x 12 and 240 x 24 x 24, clamped at
@@ -42,12 +45,6 @@ pub const COARSEST: usize = 900;
 const SLOW_RATE: f64 = 0.63;
 /// Cycles of that measurement.
 const RATE_CYCLES: usize = 8;
-/// The fill budget of that factor, in entries of the level's operator: a solve with L costs
-/// about 4 nnz(L) flops, the V-cycles it replace sweeps x (2 degree + 1) - 1 level products
-/// of 2 nnz(A) flops (18 nnz(A) with the defaults), so a factor at the budget costs up to
-/// twice as much per application; it replaces only a V-cycle too slow to serve (Hertz x2
-/// and x4: 3.1-4.4, and far fewer CG iterations, above).
-pub(super) const FILL: usize = 8;
 /// Couplings weaker than this (relative to the diagonal) do not link two nodes.
 const STRENGTH: f64 = 1e-3;
 
@@ -246,6 +243,9 @@ pub struct Hierarchy {
     rate: f64,
     /// Entries of the sparse factor of the first coarse level, when it replaced the levels.
     factored: Option<usize>,
+    /// The work of that factor in V-cycles on the level, when the V-cycle was slow but the
+    /// factor would have cost more than `factor_choice::FACTOR_WORK`.
+    declined: Option<f64>,
     /// The first level's unknowns by node, until `finish`.
     first_nodes: Vec<usize>,
     /// The first level's unknowns with stiffness, when it was built elsewhere (`above`).
@@ -392,6 +392,7 @@ impl Hierarchy {
             res: vec![0.0; n1],
             rate: 0.0,
             factored: None,
+            declined: None,
             first_nodes: Vec::new(),
             first_live: Vec::new(),
             own: 0..n1,
@@ -456,7 +457,7 @@ impl Hierarchy {
         top: &mut P,
         first: usize,
         len: usize,
-        whole: impl FnOnce(Csr) -> Csr,
+        whole: impl Fn(Csr) -> Csr,
     ) {
         let node_ptr = std::mem::take(&mut self.first_nodes);
         let Some(lv) = self.levels.first_mut() else {
@@ -489,6 +490,15 @@ impl Hierarchy {
         self.rate = self.v_cycle_rate(&live, top);
         if self.rate <= SLOW_RATE {
             return;
+        }
+        let op = &self.levels[0].a;
+        match level_fit(spare.as_ref(), op, &node_ptr, first..first + len, &whole) {
+            Fit::Fits { .. } => {}
+            Fit::TooFull => return,
+            Fit::TooDear { cycles } => {
+                self.declined = Some(cycles);
+                return;
+            }
         }
         let spare = match (spare, &self.levels[0].a) {
             (Some(a), _) => a,
@@ -566,7 +576,13 @@ impl Hierarchy {
                 "first coarse level factored sparse ({nnz} entries; a V-cycle reduced its error by {:.2} per cycle)",
                 self.rate
             ),
-            None => format!("V-cycle rate {:.2} on the first coarse level", self.rate),
+            None => match self.declined {
+                Some(cycles) => format!(
+                    "V-cycle rate {:.2} on the first coarse level (its factor not formed: the work of {cycles:.0} V-cycles)",
+                    self.rate
+                ),
+                None => format!("V-cycle rate {:.2} on the first coarse level", self.rate),
+            },
         }
     }
 

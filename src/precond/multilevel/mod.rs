@@ -34,6 +34,7 @@ pub mod colouring;
 pub mod cycle;
 pub mod direct;
 mod elimination;
+pub mod factor_choice;
 pub mod first;
 pub mod halo;
 pub mod measure;

@@ -7,8 +7,7 @@
 
 use super::aggregation::Graph;
 use super::colouring::{reach_of, Ties};
-use super::cycle::FILL;
-use super::sparse_cholesky::SparseCholesky;
+use super::factor_choice::{fit, Fit};
 use super::transfer::fine_aggregates;
 use crate::mesh::GlobalMesh;
 use crate::precond::aggregates::modes;
@@ -54,8 +53,8 @@ pub struct FirstLevel {
     /// slow, and its factor is tried.
     pub poor: bool,
     /// The entries of its sparse factor when the aggregates are poor and the factor fits
-    /// `FILL` (its blocks by nested dissection, diagonal ones included, at the operator's
-    /// mean entries per block); 0 when it is not predicted factored.
+    /// (`factor_choice::fit`: its blocks by nested dissection, diagonal ones included, at
+    /// the operator's mean entries per block); 0 when it is not predicted factored.
     pub factor_entries: u64,
 }
 
@@ -105,9 +104,10 @@ pub fn first_level(mesh: &GlobalMesh, fixed: &[u8], poor_below: f64) -> FirstLev
     let factor_entries = if poor {
         let g = Graph::from_edges(na, &edges);
         drop(edges);
-        SparseCholesky::graph_factor_entries(&g, FILL * pairs as usize).map_or(0, |(below, _)| {
-            ((below + na) as f64 * entries as f64 / pairs as f64).round() as u64
-        })
+        match fit(&g, pairs as usize, entries as f64) {
+            Fit::Fits { entries } => entries,
+            Fit::TooFull | Fit::TooDear { .. } => 0,
+        }
     } else {
         0
     };
