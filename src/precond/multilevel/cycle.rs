@@ -29,18 +29,19 @@ use std::convert::Infallible;
 /// Levels with at most this many unknowns of positive stiffness are solved directly.
 pub const COARSEST: usize = 900;
 /// A V-cycle that reduces the first coarse level's error by less than this per cycle is
-/// replaced by a sparse factor of that level where it fits and pays (`factor_choice`; a rate
-/// alone does not tell: an elongated cantilever's 0.86 gained nothing). Measured rates (and
-/// what the factor did): block on block n = 20 and 30: 0.56 and 0.57 (the fine smoother limits
+/// replaced by a sparse factor of that level, when the factor fits and pays
+/// (`factor_choice`: its fill and its work; the rate alone does not tell: a cantilever of
+/// elongated elements, 0.86, gains nothing by its factor). Measured rates (and what
+/// the factor did): block on block n = 20 and 30: 0.56 and 0.57 (the fine smoother limits
 /// CG there: 77 vs 73 CG iterations at n = 30, but 9.9 s vs 26.3 s, so kept); a slender
-/// cantilever of cubic elements (a block of 120 x 12 x 12 and 240 x 24 x 24, clamped at one
-/// end): 0.61 and 0.62 (at 240 x 24 x 24: 34 vs 31 CG iterations, 3.3 s vs 6.4 s, 135 vs 384
-/// MiB: a factor of 22.2 million entries, which the memory estimate cannot foresee from the
-/// rate); the Gmsh bracket example 0.65 to 0.74 (2612 -> 2461 CG iterations over its 8 steps,
-/// 10.2 s -> 9.4 s); the Hertz example x1, x2: 0.66, 0.77 (x2: 664 -> 496 CG iterations, 7.3 ->
-/// 5.1 s; x4, first model problem: 1913 -> 45); the stick/slip bar at 160 x 8 x 4: 0.93 (270 s
-/// -> 163 s). The threshold lies between the slowest rate the factor did not pay for (0.62) and
-/// the fastest it did (0.65); it was 0.6.
+/// cantilever of cubic elements (a block of 120 x 12 x 12 and 240 x 24 x 24, clamped at
+/// one end): 0.61 and 0.62 (at 240 x 24 x 24: 34 vs 31 CG iterations, 3.3 s vs 6.4 s, 135
+/// vs 384 MiB: a factor of 22.2 million entries, which the memory estimate cannot foresee
+/// from the rate); the Gmsh bracket example 0.65 to 0.74 (2612 -> 2461 CG iterations over
+/// its 8 steps, 10.2 s -> 9.4 s); the Hertz example x1, x2: 0.66, 0.77 (x2: 664 -> 496 CG
+/// iterations, 7.3 -> 5.1 s; x4, first model problem: 1913 -> 45); the stick/slip bar at
+/// 160 x 8 x 4: 0.93 (270 s -> 163 s). The threshold lies between the slowest rate the
+/// factor did not pay for (0.62) and the fastest it did (0.65); it was 0.6.
 const SLOW_RATE: f64 = 0.63;
 /// Cycles of that measurement.
 const RATE_CYCLES: usize = 8;
@@ -494,8 +495,6 @@ impl Hierarchy {
         match level_fit(spare.as_ref(), op, &node_ptr, first..first + len, &whole) {
             Fit::Fits { .. } => {}
             Fit::TooFull => return,
-            // A V-cycle that does not contract is no preconditioner: factored at any work.
-            Fit::TooDear { .. } if self.rate >= 1.0 => {}
             Fit::TooDear { cycles } => {
                 self.declined = Some(cycles);
                 return;

@@ -32,10 +32,7 @@ pub const FILL: usize = 8;
 /// 61.0 -> 79.6 MiB); Gmsh L-brackets of hexahedra 779 and 1486 and of 10-node tetrahedra
 /// 856 (29 to 42 CG iterations either way; 1.61 -> 1.67 s, 3.97 -> 4.19 s, 3.66 ->
 /// 4.13 s); a cantilever of 1 x 0.25 x 0.25 elements 3161 (a V-cycle rate of 0.86: 34 ->
-/// 30 CG iterations, 1.19 -> 3.25 s, 82 -> 275 MiB). A V-cycle whose rate is 1 or more
-/// (it does not contract: the bracket example x4 measured 1.09 at a build of its fourth
-/// step) is replaced by the factor whatever its work, as long as it fits `FILL`
-/// (`cycle::Hierarchy::finish`); the estimate cannot foresee that.
+/// 30 CG iterations, 1.19 -> 3.25 s, 82 -> 275 MiB).
 pub const FACTOR_WORK: f64 = 540.0;
 
 /// What the node graph says of the factor.
