@@ -171,8 +171,9 @@ fn auto_factors_the_tangent_of_a_slab_but_not_of_a_3d_tetrahedral_block() {
             cube.mesh.num_nodes()
         );
         // The memory estimate counts what runs: the tangent's factor, or in its place the
-        // multilevel hierarchy with its first coarse level factored (the cube's aggregates
-        // span 3.6 vertices each; its V-cycle's rate, measured, is 0.93).
+        // multilevel hierarchy with its first coarse level slow (the cube's aggregates span
+        // 3.6 vertices each; its V-cycle's rate, measured, is 0.93; its factor, the work of
+        // 45 V-cycles, is declined: `factor_choice`).
         let c = solver::preflight::loaded_size(&cube).counts;
         assert_eq!((c.tangent, c.multilevel), (takes, !takes), "h = {h}");
         assert_eq!(c.coarse_slow, !takes, "h = {h}");
