@@ -30,6 +30,10 @@ pub trait Comm {
     /// while the ranks after it work on the earlier ones. Every send has completed when
     /// the call returns.
     fn chain(&self, items: usize, step: &mut dyn FnMut(usize, Option<Vec<u8>>) -> Vec<u8>);
+    /// Rank 0 makes each rank's part in turn (`make(r)`, called on rank 0 only, r in rank
+    /// order) and sends it before making the next, so it holds one part at a time; every
+    /// rank returns its own (collective).
+    fn scatter_f64(&self, make: &mut dyn FnMut(usize) -> Vec<f64>) -> Vec<f64>;
     /// Every rank sends `send[r]` (possibly empty) to rank r and receives one buffer from
     /// every rank, in rank order.
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;

@@ -12,6 +12,8 @@ use std::cell::Cell;
 const HALO_TAG: i32 = 17;
 /// The tag of `chain`'s messages (apart from the halo's).
 const CHAIN_TAG: i32 = 18;
+/// The tag of `scatter_f64`'s messages.
+const SCATTER_TAG: i32 = 19;
 
 pub struct MpiComm {
     _universe: mpi::environment::Universe,
@@ -181,6 +183,25 @@ impl Comm for MpiComm {
         let parts = varcount_gather(&self.world, local);
         self.count_collective(std::mem::size_of_val(local), words_in(&parts) * 8);
         parts
+    }
+
+    fn scatter_f64(&self, make: &mut dyn FnMut(usize) -> Vec<f64>) -> Vec<f64> {
+        if self.rank() != 0 {
+            let (part, _) = self
+                .world
+                .process_at_rank(0)
+                .receive_vec_with_tag::<f64>(SCATTER_TAG);
+            return part;
+        }
+        let own = make(0);
+        for r in 1..self.size() {
+            let part = make(r);
+            self.count_messages(1, std::mem::size_of_val(&part[..]));
+            self.world
+                .process_at_rank(r as i32)
+                .send_with_tag(&part[..], SCATTER_TAG);
+        }
+        own
     }
 
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {

@@ -33,6 +33,9 @@ impl Comm for SerialComm {
             step(item, None);
         }
     }
+    fn scatter_f64(&self, make: &mut dyn FnMut(usize) -> Vec<f64>) -> Vec<f64> {
+        make(0)
+    }
     fn all_to_all_f64(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
         vec![send[0].clone()]
     }

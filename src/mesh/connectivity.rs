@@ -152,6 +152,34 @@ impl Cells for Connectivity {
     }
 }
 
+/// A connectivity as a message (a rank's part of the mesh, sent by the rank that
+/// partitions it: `run::decompose`).
+impl crate::comm::message::Message for Connectivity {
+    fn write(&self, w: &mut crate::comm::message::Writer<'_>) {
+        w.put(&self.nodes);
+        w.index(self.stride);
+        w.put(&self.start);
+        w.index(self.len);
+    }
+    fn read(r: &mut crate::comm::message::Reader) -> Option<Self> {
+        let c = Connectivity {
+            nodes: r.get()?,
+            stride: r.index()?,
+            start: r.get()?,
+            len: r.index()?,
+        };
+        // Every element's range lies in the node list.
+        let fits = if c.start.is_empty() {
+            c.stride.checked_mul(c.len) == Some(c.nodes.len())
+        } else {
+            c.start.len() == c.len + 1
+                && c.start.is_sorted()
+                && c.start.last() == Some(&c.nodes.len())
+        };
+        fits.then_some(c)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

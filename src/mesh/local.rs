@@ -37,6 +37,81 @@ struct OwnerPiece {
     owner: Vec<u32>,
 }
 
+/// A rank's part as a message: the rank that partitions the mesh makes every rank's
+/// (`LocalMesh::new`) and sends it (`run::decompose`); read back, it is the same part.
+impl message::Message for LocalMesh {
+    fn write(&self, w: &mut message::Writer<'_>) {
+        w.index(self.num_owned_nodes);
+        w.put(&self.node_global);
+        w.put(&self.coords);
+        w.put(&self.elements);
+        w.put(&self.element_global);
+        w.index(self.element_owned.len());
+        for &o in &self.element_owned {
+            w.flag(o);
+        }
+        w.put(&self.element_body);
+        w.index(self.body_kind.len());
+        for k in &self.body_kind {
+            w.id(match k {
+                ElementKind::Hex8 => 0,
+                ElementKind::Tet10 => 1,
+            });
+        }
+        w.put(&self.halo.send);
+        w.put(&self.halo.recv);
+        w.index(self.owners.first);
+        w.index(self.owners.per_rank);
+        w.put(&self.owners.owner);
+    }
+    fn read(r: &mut message::Reader) -> Option<Self> {
+        let num_owned_nodes = r.index()?;
+        let node_global: Vec<u32> = r.get()?;
+        let coords: Vec<Vec3> = r.get()?;
+        let elements: Connectivity = r.get()?;
+        let element_global: Vec<u32> = r.get()?;
+        let owned = r.index()?;
+        let element_owned = (0..owned)
+            .map(|_| r.flag())
+            .collect::<Option<Vec<bool>>>()?;
+        let element_body: Vec<u32> = r.get()?;
+        let kinds = r.index()?;
+        let body_kind = (0..kinds)
+            .map(|_| match r.id()? {
+                0 => Some(ElementKind::Hex8),
+                1 => Some(ElementKind::Tet10),
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let halo = ExchangePlan {
+            send: r.get()?,
+            recv: r.get()?,
+        };
+        let owners = OwnerPiece {
+            first: r.index()?,
+            per_rank: r.index()?,
+            owner: r.get()?,
+        };
+        let consistent = num_owned_nodes <= node_global.len()
+            && coords.len() == node_global.len()
+            && elements.len() == element_global.len()
+            && element_owned.len() == element_global.len()
+            && element_body.len() == element_global.len();
+        consistent.then_some(LocalMesh {
+            num_owned_nodes,
+            node_global,
+            coords,
+            elements,
+            element_global,
+            element_owned,
+            element_body,
+            body_kind,
+            halo,
+            owners,
+        })
+    }
+}
+
 impl LocalMesh {
     pub fn new(global: &GlobalMesh, decomposition: &Decomposition, rank: usize) -> Self {
         let part = decomposition.part(rank);

@@ -1,14 +1,11 @@
-//! The element partition over the ranks (`Partition`), made in parallel: METIS on the
-//! whole mesh, or the groups of the element centres (`partition::Groups`, the same on
-//! every rank), each partitioned by METIS on the first rank of its parts alone, and every
-//! group's parts gathered to every rank: the parts `partition::partition_for_ranks` gives,
-//! without any rank running METIS on the whole mesh (about 230 bytes per element of its
-//! graph). Results do not depend on the partition (bitwise the same on any number of
-//! ranks): it decides only what each rank computes and sends.
+//! The element partition over the ranks (`Partition`), made by the rank that holds the
+//! whole mesh: METIS on the whole mesh, or the groups of the element centres
+//! (`partition::Groups`), each partitioned by METIS in turn, so that no METIS run holds
+//! the whole mesh's graph (about 230 bytes per element). Results do not depend on the
+//! partition (bitwise the same on any number of ranks): it decides only what each rank
+//! computes and sends.
 
-use crate::comm::Comm;
 use crate::mesh::GlobalMesh;
-use partition::{Groups, PartitionError};
 
 /// How the elements are partitioned over the ranks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,50 +55,16 @@ pub fn centres(mesh: &GlobalMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// The part (rank) of every element (collective). A group's failure is every rank's.
-pub fn element_parts<C: Comm + ?Sized>(
-    comm: &C,
+/// The part (rank) of every element, on the rank that holds the whole mesh (rank 0):
+/// `partition::partition_for_ranks`, the groups' METIS runs one after the other, so that
+/// no more than one group's graph is held at a time.
+pub fn element_parts(
     mesh: &GlobalMesh,
     method: Partition,
+    ranks: usize,
 ) -> Result<Vec<u32>, String> {
-    let ranks = comm.size();
-    if !(method.groups(ranks) && partition::grouped(mesh.num_elements(), ranks)) {
-        return partition::partition_elements(mesh.num_nodes(), &mesh.elements, ranks)
-            .map_err(|e| e.to_string());
-    }
-    let groups = Groups::new(&centres(mesh), ranks);
-    let g = groups.of_part(comm.rank());
-    let mine: Option<Result<Vec<u32>, PartitionError>> = (groups.parts(g).start == comm.rank())
-        .then(|| partition::partition_group(&mesh.elements, &groups, g));
-    // A leader's parts, or its failure as the single value -1.
-    let send: Vec<f64> = match &mine {
-        Some(Ok(parts)) => parts.iter().map(|&p| f64::from(p)).collect(),
-        Some(Err(_)) => vec![-1.0],
-        None => Vec::new(),
-    };
-    let all = comm.all_gather_f64(&send);
-    drop(send);
-    if let Some(r) = (0..ranks).find(|&r| all[r].first() == Some(&-1.0)) {
-        let mut message = match &mine {
-            Some(Err(e)) if r == comm.rank() => e.to_string().into_bytes(),
-            _ => Vec::new(),
-        };
-        comm.broadcast_bytes(r, &mut message);
-        return Err(format!(
-            "{} (partitioning the elements of group {} on rank {r})",
-            String::from_utf8_lossy(&message),
-            groups.of_part(r)
-        ));
-    }
-    drop(mine);
-    let lists: Vec<Vec<u32>> = (0..groups.count())
-        .map(|g| {
-            all[groups.parts(g).start]
-                .iter()
-                .map(|&p| p as u32)
-                .collect()
-        })
-        .collect();
-    drop(all);
-    Ok(groups.assemble(|g| &lists[g]))
+    let groups = method.groups(ranks) && partition::grouped(mesh.num_elements(), ranks);
+    let centres = if groups { centres(mesh) } else { Vec::new() };
+    partition::partition_for_ranks(mesh.num_nodes(), &mesh.elements, &centres, ranks, groups)
+        .map_err(|e| e.to_string())
 }

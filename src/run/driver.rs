@@ -8,7 +8,7 @@ use super::mesh::RunMesh;
 use super::outcome::{peak_memory, ActiveConstraint, GlobalState, RunOptions, RunSummary};
 use super::plastic;
 use super::restart::{self, Continued};
-use crate::comm::{self, Comm};
+use crate::comm::{self, message, Comm};
 use crate::contact::active::Mode;
 use crate::mesh::local::LocalMesh;
 use crate::mesh::GlobalMesh;
@@ -118,12 +118,12 @@ fn run_outline<C: Comm + ?Sized>(
         verbosity: opts.verbosity,
     };
     let mut progress = Progress::start();
-    let (decomposition, local) = partition(comm, problem, &whole, opts, &log)?;
+    let (decomposition, local) = partition(comm, problem, Some(&whole), opts, &log)?;
     let continued = match restart {
         Some(path) => Some(restart::resume(comm, problem, path)?),
         None => None,
     };
-    let mut writer = open_writer(comm, (problem, &whole), opts, &decomposition)?;
+    let mut writer = open_writer(comm, (problem, Some(&whole)), opts, decomposition.as_ref())?;
     // Only the writer's header needs the decomposition (which rank owns each element): not
     // held through the run (its lists of every rank's part, 21 MB per rank at n = 80).
     drop(decomposition);
@@ -251,41 +251,64 @@ fn new_stepper<'a, C: Comm + ?Sized>(
     Ok(stepper)
 }
 
-/// The decomposition over the ranks and this rank's part of the mesh.
+/// The decomposition over the ranks (on rank 0, which holds the whole mesh `whole`) and
+/// this rank's part of the mesh: rank 0 partitions the mesh and makes every rank's part,
+/// one at a time, and sends it (collective; rank 0's failure is every rank's).
 fn partition<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
-    mesh: &GlobalMesh,
+    whole: Option<&GlobalMesh>,
     opts: &RunOptions,
     log: &Log,
-) -> Result<(Decomposition, LocalMesh), String> {
-    let cannot = |e: String| {
-        format!(
+) -> Result<(Option<Decomposition>, LocalMesh), String> {
+    let decomposition = whole.map(|mesh| {
+        let parts = super::decompose::element_parts(mesh, opts.partition, comm.size())?;
+        Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts, comm.size())
+            .map_err(|e| e.to_string())
+    });
+    let failure = match &decomposition {
+        Some(Err(e)) => Some(format!(
             "{}: cannot partition the mesh over {} ranks: {e}",
             problem.file,
             comm.size()
-        )
+        )),
+        Some(Ok(_)) => None,
+        None if comm.is_root() => Some(format!(
+            "{}: the run's set-up has no whole mesh on rank 0",
+            problem.file
+        )),
+        None => None,
     };
-    let parts = super::decompose::element_parts(comm, mesh, opts.partition).map_err(cannot)?;
-    let decomposition =
-        Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts, comm.size())
-            .map_err(|e| cannot(e.to_string()))?;
-    drop(parts);
-    let local = LocalMesh::new(mesh, &decomposition, comm.rank());
+    if let Some(e) = comm::first_error(comm, failure) {
+        return Err(e);
+    }
+    let decomposition = decomposition.and_then(Result::ok);
+    let words = comm.scatter_f64(&mut |rank| {
+        let (Some(mesh), Some(d)) = (whole, &decomposition) else {
+            unreachable!("rank 0 holds the whole mesh and its decomposition")
+        };
+        let mut words = Vec::new();
+        message::push(&mut words, &LocalMesh::new(mesh, d, rank));
+        words
+    });
+    let local = message::decode::<LocalMesh>(&words)
+        .and_then(|mut parts| parts.pop())
+        .expect("rank 0 sends every rank a part of the mesh");
+    drop(words);
     log.at(
         1,
         &format!(
             "{}: {} bodies, {} elements, {} nodes, {} steps, {} rank(s)",
             problem.name,
-            mesh.bodies.len(),
-            mesh.num_elements(),
-            mesh.num_nodes(),
+            problem.mesh.bodies.len(),
+            problem.mesh.num_elements(),
+            problem.mesh.num_nodes(),
             problem.step_times.len(),
             comm.size()
         ),
     );
-    if comm.size() > 1 {
-        log.at(2, &format!("{}", decomposition.stats()));
+    if let Some(d) = decomposition.as_ref().filter(|_| comm.size() > 1) {
+        log.at(2, &format!("{}", d.stats()));
     }
     Ok((decomposition, local))
 }
@@ -294,13 +317,14 @@ fn partition<C: Comm + ?Sized>(
 /// Collective: an error on rank 0 is every rank's.
 fn open_writer<C: Comm + ?Sized>(
     comm: &C,
-    (problem, whole): (&Problem, &GlobalMesh),
+    (problem, whole): (&Problem, Option<&GlobalMesh>),
     opts: &RunOptions,
-    decomposition: &Decomposition,
+    decomposition: Option<&Decomposition>,
 ) -> Result<Option<ResultWriter>, String> {
     let mut writer = None;
     let mut local_err = None;
-    if let Some(path) = opts.output.as_ref().filter(|_| comm.is_root()) {
+    let root = whole.zip(decomposition).filter(|_| comm.is_root());
+    if let Some((path, (whole, decomposition))) = opts.output.as_ref().zip(root) {
         let info = RunInfo {
             solver_version: env!("CARGO_PKG_VERSION").to_string(),
             ranks: comm.size() as u64,
