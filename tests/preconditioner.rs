@@ -66,7 +66,8 @@ fn auto_keeps_multilevel_on_standby_below_20000_nodes_and_takes_it_from_the_star
     // 2 has 18522 nodes, by 3 59582, by 6 453962.
     use solver::comm::SerialComm;
     use solver::mesh::local::LocalMesh;
-    use solver::solver::choice::choose_preconditioner;
+    use solver::mesh::whole::Whole;
+    use solver::solver::choice::{choose_preconditioner, tangent_decision};
     let scene = std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/run/scenes/bench/block_on_block.toml"
@@ -76,7 +77,10 @@ fn auto_keeps_multilevel_on_standby_below_20000_nodes_and_takes_it_from_the_star
         assert_eq!(p.mesh.num_nodes(), nodes);
         let d = partition::Decomposition::partition(nodes, &p.mesh.elements, 1).unwrap();
         let local = LocalMesh::new(&p.mesh, &d, 0);
-        let (coarse, multilevel, note) = choose_preconditioner(&SerialComm, &p, (&local, &p.mesh));
+        let whole = Whole::one_rank(std::borrow::Cow::Borrowed(&p.mesh));
+        let tangent = tangent_decision(&p, &p.mesh);
+        let (coarse, multilevel, note) =
+            choose_preconditioner(&SerialComm, &p, (&local, Some(&whole)), &tangent);
         assert!(coarse.is_none(), "{note}");
         let standby = multilevel.as_ref().map(|(_, standby)| *standby);
         if nodes >= 20000 {

@@ -10,6 +10,7 @@
 use crate::common;
 use common::{fresh_dir, gmsh, repo, solve};
 use solver::scene::load_scene;
+use solver::solver::choice::tangent_decision;
 use std::path::{Path, PathBuf};
 
 /// Meshes run/tet/cube.geo into `dir/cube_o{order}.msh` with element size `h`.
@@ -165,7 +166,7 @@ fn auto_factors_the_tangent_of_a_slab_but_not_of_a_3d_tetrahedral_block() {
         let cube = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         nodes.push(cube.mesh.num_nodes());
         assert_eq!(
-            solver::solver::choice::full_tangent(&cube, &cube.mesh),
+            solver::solver::choice::full_tangent(&tangent_decision(&cube, &cube.mesh)),
             takes,
             "h = {h}, {} nodes",
             cube.mesh.num_nodes()
@@ -180,5 +181,8 @@ fn auto_factors_the_tangent_of_a_slab_but_not_of_a_3d_tetrahedral_block() {
     }
     assert!(nodes[0] > 4000 && nodes[1] < 20000, "{nodes:?}");
     let punch = load_scene(&repo("run/scenes/plasticity/punch_40.toml")).unwrap();
-    assert!(solver::solver::choice::full_tangent(&punch, &punch.mesh));
+    assert!(solver::solver::choice::full_tangent(&tangent_decision(
+        &punch,
+        &punch.mesh
+    )));
 }

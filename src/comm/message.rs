@@ -138,6 +138,61 @@ impl Message for u32 {
     }
 }
 
+impl Message for bool {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.flag(*self);
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        r.flag()
+    }
+}
+
+/// A text (a log line, a refusal) as its length and one word per byte.
+impl Message for String {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.index(self.len());
+        for &b in self.as_bytes() {
+            w.id(u32::from(b));
+        }
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        let n = r.index()?;
+        let bytes = (0..n)
+            .map(|_| r.id().and_then(|b| u8::try_from(b).ok()))
+            .collect::<Option<Vec<u8>>>()?;
+        String::from_utf8(bytes).ok()
+    }
+}
+
+impl<T: Message> Message for Option<T> {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.flag(self.is_some());
+        if let Some(x) = self {
+            x.write(w);
+        }
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        Some(if r.flag()? { Some(T::read(r)?) } else { None })
+    }
+}
+
+impl<T: Message, E: Message> Message for Result<T, E> {
+    fn write(&self, w: &mut Writer<'_>) {
+        w.flag(self.is_ok());
+        match self {
+            Ok(x) => x.write(w),
+            Err(e) => e.write(w),
+        }
+    }
+    fn read(r: &mut Reader) -> Option<Self> {
+        Some(if r.flag()? {
+            Ok(T::read(r)?)
+        } else {
+            Err(E::read(r)?)
+        })
+    }
+}
+
 impl Message for usize {
     fn write(&self, w: &mut Writer<'_>) {
         w.index(*self);
@@ -253,6 +308,44 @@ fn joined<T: Message>(parts: &[Vec<f64>]) -> Vec<T> {
         all.extend(items::<T>(part));
     }
     all
+}
+
+/// Rank 0's `x` on every rank (`x` is read on rank 0 only, where it must be given).
+/// Collective.
+pub fn broadcast<T: Message, C: Comm + ?Sized>(comm: &C, x: Option<&T>) -> T {
+    let mut bytes = Vec::new();
+    if comm.is_root() {
+        let mut words = Vec::new();
+        push(&mut words, x.expect("rank 0 gives the value it broadcasts"));
+        bytes = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+    }
+    comm.broadcast_bytes(0, &mut bytes);
+    let words: Vec<f64> = bytes
+        .as_chunks::<8>()
+        .0
+        .iter()
+        .map(|b| f64::from_le_bytes(*b))
+        .collect();
+    drop(bytes);
+    one_sent(&words)
+}
+
+/// Rank 0 makes every rank's message in turn (`make(r)`, called on rank 0 only) and sends
+/// it before making the next (`Comm::scatter_f64`); every rank returns its own. Collective.
+pub fn scatter<T: Message, C: Comm + ?Sized>(comm: &C, mut make: impl FnMut(usize) -> T) -> T {
+    let words = comm.scatter_f64(&mut |r| {
+        let mut words = Vec::new();
+        push(&mut words, &make(r));
+        words
+    });
+    one_sent(&words)
+}
+
+/// The one message in words another rank of this run wrote.
+fn one_sent<T: Message>(words: &[f64]) -> T {
+    let mut r = Reader::new(words);
+    let x = T::read(&mut r).filter(|_| r.is_done());
+    x.expect("a message written by another rank decodes")
 }
 
 /// Every rank sends `send[r]` (possibly empty) to rank r and receives every rank's list for

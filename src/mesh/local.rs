@@ -46,10 +46,7 @@ impl message::Message for LocalMesh {
         w.put(&self.coords);
         w.put(&self.elements);
         w.put(&self.element_global);
-        w.index(self.element_owned.len());
-        for &o in &self.element_owned {
-            w.flag(o);
-        }
+        w.put(&self.element_owned);
         w.put(&self.element_body);
         w.index(self.body_kind.len());
         for k in &self.body_kind {

@@ -8,6 +8,7 @@ pub mod gmsh;
 pub mod local;
 pub mod msh41;
 pub mod sets;
+pub mod whole;
 
 use crate::fem::kind::ElementKind;
 use crate::math::Vec3;

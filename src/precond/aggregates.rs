@@ -13,8 +13,8 @@ use crate::comm::{message, Comm, ExchangePlan};
 use crate::constraints::Constraints;
 use crate::math::{matvec, Vec3};
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use std::cell::RefCell;
-use std::collections::HashMap;
 
 /// Rigid-body modes per aggregate.
 pub const MODES: usize = 6;
@@ -83,63 +83,67 @@ impl Aggregates {
         (self.centre[k], self.scale[k])
     }
 
-    /// The plan for the aggregates of `centre` and `scale`: `agg` is the aggregate of
-    /// every global node, `coords` every global node's position. Collective.
-    pub fn new<C: Comm + ?Sized>(
+    /// The plan for aggregates made on the whole mesh (collective): rank 0, which holds
+    /// `whole` (the whole mesh, the aggregate of every global node and every aggregate's
+    /// centre and scale), makes each rank's `Part` and sends it; every rank is given the
+    /// centres and scales (`centre_scale`, read on rank 0).
+    pub fn scattered<C: Comm + ?Sized>(
         comm: &C,
         mesh: &LocalMesh,
-        agg: &[u32],
+        whole: Option<(&Whole, &[u32])>,
         (centre, scale): (Vec<Vec3>, Vec<f64>),
-        coords: &[Vec3],
     ) -> Self {
-        let na = centre.len();
-        let offset = |gid: usize| {
-            scaled(
-                &coords[gid],
-                &centre[agg[gid] as usize],
-                scale[agg[gid] as usize],
+        let members = whole.map(|(_, agg)| Members::new(agg, centre.len()));
+        let part = message::scatter(comm, |r| {
+            let (Some((w, agg)), Some(members)) = (whole, &members) else {
+                unreachable!("rank 0 holds the whole mesh's aggregates")
+            };
+            let (nodes, owned) = w.nodes_of(r);
+            Part::of(
+                (agg, &w.mesh.coords, members),
+                (&centre, &scale),
+                &nodes,
+                owned,
             )
-        };
-        let local_agg = mesh.node_global.iter().map(|&g| agg[g as usize]).collect();
-        let mut members: Vec<Vec<u32>> = vec![Vec::new(); na];
-        for (a, &k) in agg.iter().enumerate() {
-            members[k as usize].push(a as u32);
-        }
-        let mut remote: HashMap<u32, u32> = HashMap::new();
+        });
+        drop(members);
+        Self::from_part(comm, mesh, part, (centre, scale))
+    }
+
+    /// The plan from this rank's part (collective: the fetch of the nodes it sums and does
+    /// not own).
+    fn from_part<C: Comm + ?Sized>(
+        comm: &C,
+        mesh: &LocalMesh,
+        part: Part,
+        (centre, scale): (Vec<Vec3>, Vec<f64>),
+    ) -> Self {
         let mut wanted = Vec::new();
-        let mut far_offset = Vec::new();
-        let (mut sum_agg, mut sum_ptr, mut src) = (Vec::new(), vec![0u32], Vec::new());
-        for (k, nodes) in members.iter().enumerate() {
-            // Summed by the owner of its first node.
-            if mesh.owned_node(nodes[0]).is_none() {
-                continue;
-            }
-            for &gid in nodes {
-                src.push(match mesh.owned_node(gid) {
-                    Some(l) => Src::Local(l as u32),
-                    None => Src::Remote(*remote.entry(gid).or_insert_with(|| {
-                        wanted.push((gid, wanted.len() as u32));
-                        far_offset.push(offset(gid as usize));
-                        wanted.len() as u32 - 1
-                    })),
-                });
-            }
-            sum_agg.push(k as u32);
-            sum_ptr.push(src.len() as u32);
-        }
+        let src = part
+            .members
+            .iter()
+            .map(|&gid| match mesh.owned_node(gid) {
+                Some(l) => Src::Local(l as u32),
+                None => {
+                    wanted.push((gid, wanted.len() as u32));
+                    Src::Remote(wanted.len() as u32 - 1)
+                }
+            })
+            .collect();
+        debug_assert_eq!(wanted.len(), part.far_offset.len());
         let fetch = mesh.fetch_plan(comm, &wanted);
         let scratch = (
             vec![[0.0; 3]; wanted.len()],
-            Vec::with_capacity(sum_agg.len() * (MODES + 1)),
+            Vec::with_capacity(part.sum_agg.len() * (MODES + 1)),
         );
         Aggregates {
-            agg: local_agg,
+            agg: part.agg,
             centre,
             scale,
-            sum_agg,
-            sum_ptr,
+            sum_agg: part.sum_agg,
+            sum_ptr: part.sum_ptr,
             src,
-            far_offset,
+            far_offset: part.far_offset,
             fetch,
             scratch: RefCell::new(scratch),
         }
@@ -277,6 +281,104 @@ impl Aggregates {
                 };
             }
         }
+    }
+}
+
+/// The nodes of every aggregate, ascending (each aggregate's list: `nodes[ptr[k]..ptr[k +
+/// 1]]`), on the rank that holds the whole mesh's aggregates.
+struct Members {
+    ptr: Vec<usize>,
+    nodes: Vec<u32>,
+}
+
+impl Members {
+    fn new(agg: &[u32], na: usize) -> Self {
+        let mut ptr = vec![0usize; na + 1];
+        for &k in agg {
+            ptr[k as usize + 1] += 1;
+        }
+        for k in 0..na {
+            ptr[k + 1] += ptr[k];
+        }
+        let mut next = ptr.clone();
+        let mut nodes = vec![0u32; agg.len()];
+        for (a, &k) in agg.iter().enumerate() {
+            nodes[next[k as usize]] = a as u32;
+            next[k as usize] += 1;
+        }
+        Members { ptr, nodes }
+    }
+
+    fn of(&self, k: usize) -> &[u32] {
+        &self.nodes[self.ptr[k]..self.ptr[k + 1]]
+    }
+}
+
+/// What one rank needs of the whole mesh's aggregates: the aggregate of each of its local
+/// nodes, and the aggregates whose lowest node it owns (which it sums), each with its nodes
+/// in global order and the scaled offsets of those it does not own, in that order.
+struct Part {
+    agg: Vec<u32>,
+    sum_agg: Vec<u32>,
+    sum_ptr: Vec<u32>,
+    members: Vec<u32>,
+    far_offset: Vec<Vec3>,
+}
+
+impl Part {
+    /// The part of the rank of local nodes `nodes`, the first `owned` of them its own:
+    /// from the aggregate of every global node, their positions and the aggregates' nodes.
+    fn of(
+        (agg, coords, members): (&[u32], &[Vec3], &Members),
+        (centre, scale): (&[Vec3], &[f64]),
+        nodes: &[u32],
+        owned: usize,
+    ) -> Part {
+        let owns = |g: u32| nodes[..owned].binary_search(&g).is_ok();
+        let mut sums: Vec<u32> = nodes[..owned]
+            .iter()
+            .map(|&g| agg[g as usize])
+            .filter(|&k| owns(members.of(k as usize)[0]))
+            .collect();
+        sums.sort_unstable();
+        sums.dedup();
+        let (mut sum_ptr, mut list, mut far_offset) = (vec![0u32], Vec::new(), Vec::new());
+        for &k in &sums {
+            for &g in members.of(k as usize) {
+                list.push(g);
+                if !owns(g) {
+                    let k = k as usize;
+                    far_offset.push(scaled(&coords[g as usize], &centre[k], scale[k]));
+                }
+            }
+            sum_ptr.push(list.len() as u32);
+        }
+        Part {
+            agg: nodes.iter().map(|&g| agg[g as usize]).collect(),
+            sum_agg: sums,
+            sum_ptr,
+            members: list,
+            far_offset,
+        }
+    }
+}
+
+impl message::Message for Part {
+    fn write(&self, w: &mut message::Writer<'_>) {
+        w.put(&self.agg);
+        w.put(&self.sum_agg);
+        w.put(&self.sum_ptr);
+        w.put(&self.members);
+        w.put(&self.far_offset);
+    }
+    fn read(r: &mut message::Reader) -> Option<Self> {
+        Some(Part {
+            agg: r.get()?,
+            sum_agg: r.get()?,
+            sum_ptr: r.get()?,
+            members: r.get()?,
+            far_offset: r.get()?,
+        })
     }
 }
 

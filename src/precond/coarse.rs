@@ -19,11 +19,12 @@
 
 use super::aggregates::{Aggregates, MODES};
 use super::dense_cholesky::DenseCholesky;
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::constraints::Constraints;
 use crate::math::Vec3;
 use crate::memory::AllocError;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use crate::mesh::GlobalMesh;
 use crate::problem::Problem;
 use std::collections::HashMap;
@@ -52,26 +53,28 @@ pub struct CoarseSpace {
 impl CoarseSpace {
     /// Builds the aggregates and the summation plan (collective), or says why a coarse
     /// space is not used for this mesh: the cell size, the aggregates (cell and body), their
-    /// colours and neighbours, their centres, and which rank sums each. `g` is the whole
-    /// mesh.
+    /// colours and neighbours, their centres, and which rank sums each. Made on rank 0 from
+    /// the whole mesh (`whole`) and sent.
     pub fn new<C: Comm + ?Sized>(
         comm: &C,
         problem: &Problem,
-        g: &GlobalMesh,
+        whole: Option<&Whole>,
         mesh: &LocalMesh,
     ) -> Result<Self, String> {
-        let (keys, h, list) = cells(problem, g);
-        let index: HashMap<([u32; 3], u32), u32> = list
-            .iter()
-            .enumerate()
-            .map(|(k, &key)| (key, k as u32))
-            .collect();
-        let na = list.len();
-        let (color, num_colors) = colours(&list)?;
-        let neighbour = neighbours(&list, &color, num_colors);
-        let agg: Vec<u32> = keys.iter().map(|k| index[k]).collect();
-        let centre = centres(&g.coords, &agg, na);
-        let aggregates = Aggregates::new(comm, mesh, &agg, (centre, vec![h; na]), &g.coords);
+        let made = whole.map(|w| Made::of(problem, &w.mesh));
+        let space: Result<Space, String> =
+            message::broadcast(comm, made.as_ref().map(|m| m.space.clone()).as_ref());
+        let Space {
+            color,
+            num_colors,
+            neighbour,
+            centre,
+            h,
+        } = space?;
+        let na = centre.len();
+        let agg = made.map(|m| m.agg);
+        let aggregates =
+            Aggregates::scattered(comm, mesh, whole.zip(agg.as_deref()), (centre, vec![h; na]));
         Ok(CoarseSpace {
             num_aggregates: na,
             color,
@@ -331,4 +334,85 @@ fn centres(coords: &[Vec3], agg: &[u32], na: usize) -> Vec<Vec3> {
         }
     }
     centre
+}
+
+/// What every rank is given of the coarse space made on the whole mesh: each aggregate's
+/// colour, its neighbour of each colour and its centre, and the cell size.
+#[derive(Clone)]
+struct Space {
+    color: Vec<u16>,
+    num_colors: usize,
+    neighbour: Vec<u32>,
+    centre: Vec<Vec3>,
+    h: f64,
+}
+
+impl message::Message for Space {
+    fn write(&self, w: &mut message::Writer<'_>) {
+        w.put(
+            &self
+                .color
+                .iter()
+                .map(|&c| u32::from(c))
+                .collect::<Vec<u32>>(),
+        );
+        w.index(self.num_colors);
+        w.put(&self.neighbour);
+        w.put(&self.centre);
+        w.real(self.h);
+    }
+    fn read(r: &mut message::Reader) -> Option<Self> {
+        let color: Vec<u32> = r.get()?;
+        Some(Space {
+            color: color
+                .into_iter()
+                .map(|c| u16::try_from(c).ok())
+                .collect::<Option<_>>()?,
+            num_colors: r.index()?,
+            neighbour: r.get()?,
+            centre: r.get()?,
+            h: r.real()?,
+        })
+    }
+}
+
+/// The coarse space made on the whole mesh (rank 0): the aggregate of every node, and the
+/// space, or why there is none.
+struct Made {
+    agg: Vec<u32>,
+    space: Result<Space, String>,
+}
+
+impl Made {
+    fn of(problem: &Problem, g: &GlobalMesh) -> Made {
+        let (keys, h, list) = cells(problem, g);
+        let index: HashMap<([u32; 3], u32), u32> = list
+            .iter()
+            .enumerate()
+            .map(|(k, &key)| (key, k as u32))
+            .collect();
+        let na = list.len();
+        let (color, num_colors) = match colours(&list) {
+            Ok(c) => c,
+            Err(why) => {
+                return Made {
+                    agg: Vec::new(),
+                    space: Err(why),
+                }
+            }
+        };
+        let neighbour = neighbours(&list, &color, num_colors);
+        let agg: Vec<u32> = keys.iter().map(|k| index[k]).collect();
+        let centre = centres(&g.coords, &agg, na);
+        Made {
+            agg,
+            space: Ok(Space {
+                color,
+                num_colors,
+                neighbour,
+                centre,
+                h,
+            }),
+        }
+    }
 }

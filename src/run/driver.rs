@@ -11,6 +11,7 @@ use super::restart::{self, Continued};
 use crate::comm::{self, message, Comm};
 use crate::contact::active::Mode;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use crate::mesh::GlobalMesh;
 use crate::output::{ResultWriter, RunInfo, StepOutput};
 use crate::problem::Problem;
@@ -81,7 +82,8 @@ pub fn run_from<C: Comm + ?Sized>(
         return run_owned(comm, problem.clone(), opts, restart);
     }
     let outline = problem.outline();
-    run_outline(comm, &outline, Cow::Borrowed(&problem.mesh), opts, restart)
+    let whole = comm.is_root().then_some(Cow::Borrowed(&problem.mesh));
+    run_outline(comm, &outline, whole, opts, restart)
 }
 
 /// `run_from` taking the problem: its whole mesh is freed once the run is set up (every
@@ -102,14 +104,17 @@ pub fn run_owned<C: Comm + ?Sized>(
         log.at(1, &line);
     }
     let (outline, whole) = problem.into_outline();
-    run_outline(comm, &outline, Cow::Owned(whole), opts, restart)
+    // Only rank 0 reads the whole mesh while the run is set up (`mesh::whole`).
+    let whole = comm.is_root().then_some(Cow::Owned(whole));
+    run_outline(comm, &outline, whole, opts, restart)
 }
 
-/// `run_from` of a problem's outline, with its whole mesh for the setup.
+/// `run_from` of a problem's outline, with its whole mesh for the set-up on rank 0 (None
+/// on the other ranks).
 fn run_outline<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
-    whole: Cow<'_, GlobalMesh>,
+    whole: Option<Cow<'_, GlobalMesh>>,
     opts: &RunOptions,
     restart: Option<&Path>,
 ) -> Result<(RunSummary, GlobalState), String> {
@@ -118,23 +123,31 @@ fn run_outline<C: Comm + ?Sized>(
         verbosity: opts.verbosity,
     };
     let mut progress = Progress::start();
-    let (decomposition, local) = partition(comm, problem, Some(&whole), opts, &log)?;
+    let (decomposition, local) = partition(comm, problem, whole.as_deref(), opts, &log)?;
     let continued = match restart {
         Some(path) => Some(restart::resume(comm, problem, path)?),
         None => None,
     };
-    let mut writer = open_writer(comm, (problem, Some(&whole)), opts, decomposition.as_ref())?;
-    // Only the writer's header needs the decomposition (which rank owns each element): not
-    // held through the run (its lists of every rank's part, 21 MB per rank at n = 80).
-    drop(decomposition);
+    let mut writer = open_writer(
+        comm,
+        (problem, whole.as_deref()),
+        opts,
+        decomposition.as_ref(),
+    )?;
     let gather = Gather::new(
         &local,
         problem.mesh.num_nodes(),
         problem.mesh.num_elements(),
     );
     // The stepper frees an owned whole mesh once it has what it needs of it: the steps
-    // read the outline only.
+    // read the outline only. Only the set-up needs the decomposition (which rank owns each
+    // element, every rank's nodes): not held through the run (its lists of every rank's
+    // part, 21 MB at n = 80).
+    let whole = whole
+        .zip(decomposition.as_ref())
+        .map(|(w, d)| Whole::new(w, d));
     let mut stepper = new_stepper(comm, problem, (&local, whole), opts, &log)?;
+    drop(decomposition);
     if let Some(c) = continued {
         let with_pressure = continue_from(
             comm,
@@ -229,11 +242,11 @@ fn over_the_ranks<C: Comm + ?Sized>(
 fn new_stepper<'a, C: Comm + ?Sized>(
     comm: &'a C,
     problem: &'a Problem,
-    (local, whole): (&'a LocalMesh, Cow<'_, GlobalMesh>),
+    (local, whole): (&'a LocalMesh, Option<Whole<'_>>),
     opts: &RunOptions,
     log: &Log,
 ) -> Result<Stepper<'a, C>, String> {
-    let mut stepper = Stepper::new(comm, problem, local, whole)?;
+    let mut stepper = Stepper::with_enforcement(comm, problem, local, whole)?;
     if opts.export_operator.is_some() {
         if comm.size() != 1 {
             return Err(format!(
@@ -283,18 +296,12 @@ fn partition<C: Comm + ?Sized>(
         return Err(e);
     }
     let decomposition = decomposition.and_then(Result::ok);
-    let words = comm.scatter_f64(&mut |rank| {
+    let local = message::scatter(comm, |rank| {
         let (Some(mesh), Some(d)) = (whole, &decomposition) else {
             unreachable!("rank 0 holds the whole mesh and its decomposition")
         };
-        let mut words = Vec::new();
-        message::push(&mut words, &LocalMesh::new(mesh, d, rank));
-        words
+        LocalMesh::new(mesh, d, rank)
     });
-    let local = message::decode::<LocalMesh>(&words)
-        .and_then(|mut parts| parts.pop())
-        .expect("rank 0 sends every rank a part of the mesh");
-    drop(words);
     log.at(
         1,
         &format!(

@@ -16,10 +16,11 @@
 
 use crate::comm::Comm;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use crate::mesh::GlobalMesh;
 
-/// This rank's part of the mesh and the whole mesh (the run's setup has it).
-pub type At<'m> = (&'m LocalMesh, &'m GlobalMesh);
+/// This rank's part of the mesh and, on rank 0, the whole mesh (the run's set-up has it).
+pub type At<'m> = (&'m LocalMesh, Option<&'m Whole<'m>>);
 use crate::precond::coarse::CoarseSpace;
 use crate::precond::multilevel::sparse_cholesky::SparseCholesky;
 use crate::precond::multilevel::transfer::SINGLETON_NODES;
@@ -54,7 +55,13 @@ fn named(bodies: &[String]) -> String {
 /// `true` when it waits on standby for a model problem that stalls), the two-level one,
 /// or nodal block Jacobi. A preconditioner asked for by name that cannot
 /// be used says why in the line, which starts with "preconditioner: refused" then.
-pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh: At) -> Choice {
+/// `tangent` is `tangent_decision`'s, made on the whole mesh.
+pub fn choose_preconditioner<C: Comm + ?Sized>(
+    comm: &C,
+    problem: &Problem,
+    mesh: At,
+    tangent: &TangentDecision,
+) -> Choice {
     let nodes = problem.mesh.num_nodes();
     match problem.solver.preconditioner {
         Preconditioner::Jacobi => (None, None, "preconditioner: nodal block Jacobi".into()),
@@ -71,8 +78,7 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh
                 .into(),
         ),
         Preconditioner::Auto => {
-            let decision = tangent_decision(problem, mesh.1);
-            if let Some(Ok(fill)) = &decision {
+            if let Some(Ok(fill)) = tangent {
                 return (None, None, tangent_note(problem, fill.unwrap_or(0.0)));
             }
             let (coarse, ml, mut note) = if nodes <= SINGLETON_NODES {
@@ -82,7 +88,7 @@ pub fn choose_preconditioner<C: Comm + ?Sized>(comm: &C, problem: &Problem, mesh
             } else {
                 large_mesh(comm, mesh, nodes)
             };
-            if let Some(Err(why)) = decision {
+            if let Some(Err(why)) = tangent {
                 note.push_str(&format!("; not the full tangent: {why}"));
             }
             (coarse, ml, note)
@@ -151,11 +157,11 @@ pub fn node_factor(mesh: &GlobalMesh) -> Option<(usize, f64)> {
     SparseCholesky::graph_factor_entries(&g, budget).filter(|&(_, work)| work <= FACTOR_WORK_LIMIT)
 }
 
-/// Whether the run uses the full tangent preconditioner: by name, or under `auto` where a
-/// body is plastic on fewer than TANGENT_NODES nodes (`problem::uses_full_tangent`) and
-/// its factor fits (`factor_fits`).
-pub fn full_tangent(problem: &Problem, whole: &GlobalMesh) -> bool {
-    matches!(tangent_decision(problem, whole), Some(Ok(_)))
+/// Whether the run uses the full tangent preconditioner (`tangent` is `tangent_decision`'s):
+/// by name, or under `auto` where a body is plastic on fewer than TANGENT_NODES nodes
+/// (`problem::uses_full_tangent`) and its factor fits (`factor_fits`).
+pub fn full_tangent(tangent: &TangentDecision) -> bool {
+    matches!(tangent, Some(Ok(_)))
 }
 
 /// Why `auto` does not factor the full tangent though a body is plastic on fewer than
@@ -166,7 +172,10 @@ pub fn tangent_refused(problem: &Problem, whole: &GlobalMesh) -> Option<String> 
 
 /// None where the full tangent is not considered; else whether it is used (with its
 /// factorization's work under `auto`), or why not.
-fn tangent_decision(problem: &Problem, whole: &GlobalMesh) -> Option<Result<Option<f64>, String>> {
+pub type TangentDecision = Option<Result<Option<f64>, String>>;
+
+/// The full tangent's `TangentDecision` on the whole mesh.
+pub fn tangent_decision(problem: &Problem, whole: &GlobalMesh) -> TangentDecision {
     let plastic = problem.body_models.iter().any(|m| m.material.is_plastic());
     let p = problem.solver.preconditioner;
     if !uses_full_tangent(p, plastic, problem.mesh.num_nodes() as u64) {

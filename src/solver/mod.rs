@@ -8,6 +8,7 @@ pub mod loads;
 pub mod shapes;
 pub mod stepping;
 pub mod support;
+pub mod survey;
 
 pub use cg::{ModelOutcome, SolveFailure};
 pub use stepping::{StepRecord, Stepper};

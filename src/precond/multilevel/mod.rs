@@ -50,11 +50,11 @@ pub mod supernodal;
 pub mod transfer;
 pub mod triple;
 
-use crate::comm::{self, Comm};
+use crate::comm::{self, message, Comm};
 use crate::constraints::Constraints;
 use crate::math::{matvec, Mat3, Vec3};
 use crate::mesh::local::LocalMesh;
-use crate::mesh::GlobalMesh;
+use crate::mesh::whole::Whole;
 use colouring::{Colouring, NodeAggregates, Ties};
 use cycle::Hierarchy;
 use halo::Halo;
@@ -144,23 +144,36 @@ impl<C: Comm + ?Sized, O: FineOperator> Space for Fine<'_, C, O> {
 }
 
 impl Multilevel {
-    /// The fine-level aggregates and transfer (collective); the operators come with `setup`.
+    /// The fine-level aggregates and transfer, made on rank 0 from the whole mesh
+    /// (`whole`) and sent (collective); the operators come with `setup`.
     pub fn new<C: Comm + ?Sized>(
         comm: &C,
-        g: &GlobalMesh,
+        whole: Option<&Whole>,
         mesh: &LocalMesh,
         degree: usize,
     ) -> Self {
-        let transfer = Transfer::new(comm, g, mesh);
+        let transfer = Transfer::new(comm, whole, mesh);
         let dim = transfer.dim();
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for x in &g.coords {
-            for i in 0..3 {
-                lo[i] = lo[i].min(x[i]);
-                hi[i] = hi[i].max(x[i]);
-            }
-        }
+        // The bounding box's centre and diagonal (the near-nullspace's origin and length).
+        let (origin, length): ([f64; 3], f64) = message::broadcast(
+            comm,
+            whole
+                .map(|w| {
+                    let mut lo = [f64::INFINITY; 3];
+                    let mut hi = [f64::NEG_INFINITY; 3];
+                    for x in &w.mesh.coords {
+                        for i in 0..3 {
+                            lo[i] = lo[i].min(x[i]);
+                            hi[i] = hi[i].max(x[i]);
+                        }
+                    }
+                    (
+                        std::array::from_fn(|i| 0.5 * (lo[i] + hi[i])),
+                        w.mesh.bounding_diagonal().max(f64::MIN_POSITIVE),
+                    )
+                })
+                .as_ref(),
+        );
         Multilevel {
             hierarchy: None,
             fine: None,
@@ -169,8 +182,8 @@ impl Multilevel {
             owned: mesh.num_owned_nodes,
             coarse: CoarseVectors::new(comm, transfer.num_aggregates),
             f: FineVectors::none(),
-            origin: std::array::from_fn(|i| 0.5 * (lo[i] + hi[i])),
-            length: g.bounding_diagonal().max(f64::MIN_POSITIVE),
+            origin,
+            length,
             builds: 0,
             summary: format!(
                 "multilevel: {} fine aggregates ({dim} unknowns)",

@@ -6,9 +6,10 @@
 
 use super::aggregation::{aggregate, StrongMesh};
 use super::prolongator::MODES;
-use crate::comm::Comm;
+use crate::comm::{message, Comm};
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use crate::mesh::GlobalMesh;
 use crate::precond::aggregates::Aggregates;
 
@@ -32,6 +33,46 @@ pub struct Transfer {
     pub body: Vec<u32>,
 }
 
+/// The fine-level aggregates of the whole mesh `g`: the aggregate of every node, and
+/// every aggregate's centre (the mean of its nodes' positions, in node order), scale (the
+/// largest distance of its nodes from the centre, at least 1e-12 of the mesh's diagonal)
+/// and body.
+fn whole_aggregates(g: &GlobalMesh) -> (Vec<u32>, Vec<Vec3>, Vec<f64>, Vec<u32>) {
+    let n = g.num_nodes();
+    let (agg_of, na) = fine_aggregates(g);
+    let mut centre = vec![[0.0; 3]; na];
+    let mut count = vec![0usize; na];
+    for a in 0..n {
+        let k = agg_of[a] as usize;
+        for i in 0..3 {
+            centre[k][i] += g.coords[a][i];
+        }
+        count[k] += 1;
+    }
+    for k in 0..na {
+        for i in 0..3 {
+            centre[k][i] /= count[k] as f64;
+        }
+    }
+    let mut scale = vec![0.0f64; na];
+    for a in 0..n {
+        let k = agg_of[a] as usize;
+        let d = crate::math::sub(&g.coords[a], &centre[k]);
+        scale[k] = scale[k].max(crate::math::dot(&d, &d).sqrt());
+    }
+    let floor = g.bounding_diagonal() * 1e-12;
+    scale
+        .iter_mut()
+        .for_each(|s| *s = s.max(floor).max(f64::MIN_POSITIVE));
+    let mut body = vec![0u32; na];
+    for (b, info) in g.bodies.iter().enumerate() {
+        for a in info.first_node..info.first_node + info.num_nodes {
+            body[agg_of[a] as usize] = b as u32;
+        }
+    }
+    (agg_of, centre, scale, body)
+}
+
 /// The fine-level aggregates of the whole mesh: the aggregate of every node and their
 /// number (one per node on a mesh of at most SINGLETON_NODES nodes).
 pub fn fine_aggregates(g: &GlobalMesh) -> (Vec<u32>, usize) {
@@ -44,44 +85,23 @@ pub fn fine_aggregates(g: &GlobalMesh) -> (Vec<u32>, usize) {
 }
 
 impl Transfer {
-    /// Aggregates the global node graph and plans the sums (collective).
-    pub fn new<C: Comm + ?Sized>(comm: &C, g: &GlobalMesh, mesh: &LocalMesh) -> Self {
-        let n = g.num_nodes();
-        let (agg_of, na) = fine_aggregates(g);
-        let mut centre = vec![[0.0; 3]; na];
-        let mut count = vec![0usize; na];
-        for a in 0..n {
-            let k = agg_of[a] as usize;
-            for i in 0..3 {
-                centre[k][i] += g.coords[a][i];
-            }
-            count[k] += 1;
-        }
-        for k in 0..na {
-            for i in 0..3 {
-                centre[k][i] /= count[k] as f64;
-            }
-        }
-        let mut scale = vec![0.0f64; na];
-        for a in 0..n {
-            let k = agg_of[a] as usize;
-            let d = crate::math::sub(&g.coords[a], &centre[k]);
-            scale[k] = scale[k].max(crate::math::dot(&d, &d).sqrt());
-        }
-        let floor = g.bounding_diagonal() * 1e-12;
-        scale
-            .iter_mut()
-            .for_each(|s| *s = s.max(floor).max(f64::MIN_POSITIVE));
-        let aggregates = Aggregates::new(comm, mesh, &agg_of, (centre, scale), &g.coords);
-        let mut body = vec![0u32; na];
-        for (b, info) in g.bodies.iter().enumerate() {
-            for a in info.first_node..info.first_node + info.num_nodes {
-                body[agg_of[a] as usize] = b as u32;
-            }
-        }
+    /// Aggregates the global node graph on rank 0, which holds the whole mesh (`whole`),
+    /// and plans the sums from each rank's part of them (collective).
+    pub fn new<C: Comm + ?Sized>(comm: &C, whole: Option<&Whole>, mesh: &LocalMesh) -> Self {
+        let made = whole.map(|w| whole_aggregates(&w.mesh));
+        let (centre, scale, body): (Vec<Vec3>, Vec<f64>, Vec<u32>) = message::broadcast(
+            comm,
+            made.as_ref()
+                .map(|(_, centre, scale, body)| (centre.clone(), scale.clone(), body.clone()))
+                .as_ref(),
+        );
+        let num_aggregates = centre.len();
+        let agg_of = made.map(|(agg_of, ..)| agg_of);
+        let aggregates =
+            Aggregates::scattered(comm, mesh, whole.zip(agg_of.as_deref()), (centre, scale));
         Transfer {
             body,
-            num_aggregates: na,
+            num_aggregates,
             aggregates,
         }
     }

@@ -4,13 +4,14 @@
 use super::assembly::Assembly;
 use super::cg::{Cg, CgSettings, ModelOutcome, ModelProblem, SolveFailure};
 use super::loads::Loads;
+use super::survey::Survey;
 use crate::comm::Comm;
 use crate::constraints::{Constraints, Row, RowKind, RowSpec};
 use crate::contact::active::{ContactCounts, ContactState};
 use crate::contact::Enforcement;
-use crate::fem::ElementKind;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
+use crate::mesh::whole::Whole;
 use crate::mesh::GlobalMesh;
 use crate::problem::Problem;
 use crate::springs::Spring;
@@ -115,29 +116,35 @@ pub struct Stepper<'a, C: Comm + ?Sized, E: Enforcement = ContactState> {
 }
 
 impl<'a, C: Comm + ?Sized> Stepper<'a, C> {
-    /// The stepper with node-to-face contact (the paper's). Fails as `with_enforcement`.
-    /// `whole` is the whole mesh (`problem.mesh`, or the one a run's outline came from:
-    /// `Problem::outline`), read while the stepper is built only: an owned one is freed
-    /// before the stepper's vectors and element data are allocated.
+    /// The stepper of a run on one rank, with node-to-face contact (the paper's). Fails as
+    /// `with_enforcement`. `whole` is the whole mesh (`problem.mesh`, or the one a run's
+    /// outline came from: `Problem::outline`), read while the stepper is built only: an
+    /// owned one is freed before the stepper's vectors and element data are allocated.
     pub fn new<'w>(
         comm: &'a C,
         problem: &'a Problem,
         mesh: &'a LocalMesh,
         whole: impl Into<Cow<'w, GlobalMesh>>,
     ) -> Result<Self, String> {
-        Self::with_enforcement(comm, problem, mesh, whole.into())
+        assert_eq!(
+            comm.size(),
+            1,
+            "a stepper over several ranks is `with_enforcement`'s"
+        );
+        Self::with_enforcement(comm, problem, mesh, Some(Whole::one_rank(whole.into())))
     }
 }
 
 impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
-    /// The stepper with contact enforced by `E`. Fails only when the memory for the
-    /// element geometry or the solver's vectors is refused on some rank: every rank then
-    /// returns that rank's error. Collective.
+    /// The stepper with contact enforced by `E`, set up from the whole mesh `whole`, which
+    /// rank 0 holds (None on the other ranks). Fails only when the memory for the element
+    /// geometry or the solver's vectors is refused on some rank: every rank then returns
+    /// that rank's error. Collective.
     pub fn with_enforcement(
         comm: &'a C,
         problem: &'a Problem,
         mesh: &'a LocalMesh,
-        whole: Cow<'_, GlobalMesh>,
+        whole: Option<Whole<'_>>,
     ) -> Result<Self, String> {
         let built = Self::build(comm, problem, mesh, whole);
         let refused = built.as_ref().err().map(ToString::to_string);
@@ -152,22 +159,30 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         comm: &'a C,
         problem: &'a Problem,
         mesh: &'a LocalMesh,
-        whole: Cow<'_, GlobalMesh>,
+        whole: Option<Whole<'_>>,
     ) -> Result<Self, crate::memory::AllocError> {
         assert!(
-            !whole.is_outline(),
+            whole.as_ref().is_none_or(|w| !w.mesh.is_outline()),
             "the stepper is built from the whole mesh, not an outline"
         );
         let n = mesh.num_nodes();
-        let (coarse, multilevel, coarse_note) =
-            super::choice::choose_preconditioner(comm, problem, (mesh, &whole));
-        let plan = super::shapes::Plan::new(&whole, &problem.body_models);
-        let shapes_note = plan.describe(&whole);
-        let full_tangent = super::choice::full_tangent(problem, &whole);
-        let length_scale = whole.bounding_diagonal();
-        let stiffness_scale = stiffness_scale(problem, &whole);
+        let survey = Survey::given(comm, problem, whole.as_ref().map(|w| &*w.mesh));
+        let (coarse, multilevel, coarse_note) = super::choice::choose_preconditioner(
+            comm,
+            problem,
+            (mesh, whole.as_ref()),
+            &survey.tangent,
+        );
         // Nothing below reads the whole mesh.
         drop(whole);
+        let Survey {
+            tangent,
+            plan,
+            length_scale,
+            stiffness_scale,
+        } = survey;
+        let shapes_note = plan.describe(&problem.mesh);
+        let full_tangent = super::choice::full_tangent(&tangent);
         let mut dirichlet = Vec::new();
         for (k, bc) in problem.dirichlet.iter().enumerate() {
             for &g in &problem.node_sets[bc.node_set].nodes {
@@ -640,26 +655,4 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
             let _ = self.asm.diagonal(u, diag);
         }
     }
-}
-
-/// Largest Young's modulus times the smallest element size.
-fn stiffness_scale(problem: &Problem, mesh: &GlobalMesh) -> f64 {
-    let e_max = problem
-        .body_models
-        .iter()
-        .map(|m| {
-            let (l, mu) = m.material.lambda_mu();
-            mu * (3.0 * l + 2.0 * mu) / (l + mu)
-        })
-        .fold(0.0, f64::max);
-    let h_min = (0..mesh.num_elements())
-        .filter_map(|e| match mesh.kind(e) {
-            ElementKind::Hex8 => crate::fem::element::volume(&mesh.element_coords(e)).ok(),
-            ElementKind::Tet10 => crate::fem::tet10::geometry(&mesh.element_coords(e))
-                .ok()
-                .map(|g| crate::fem::tet10::volume(&g)),
-        })
-        .fold(f64::INFINITY, f64::min)
-        .cbrt();
-    e_max * if h_min.is_finite() { h_min } else { 0.0 }
 }
