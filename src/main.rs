@@ -7,7 +7,7 @@ use solver::memory::available;
 use solver::output::{claim_output, leftover_temps, OutputClaim, OutputError, ResultFile};
 use solver::post::{run_post, PostCommand};
 use solver::precond::multilevel::size::POOR_BLOCK_AGGREGATE_NODES;
-use solver::run::{run_owned, Partition, RunOptions};
+use solver::run::{run_from_root, Partition, RunOptions};
 use solver::scene::load_scene_refined;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -207,14 +207,14 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         }
         return 2;
     }
-    let (problem, estimate) = match prepare(comm, args) {
+    let (problem, name, estimate) = match prepare(comm, args) {
         Ok(p) => p,
         Err(code) => return code,
     };
     let output = args
         .output
         .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}.h5", problem.name)));
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("{name}.h5")));
     // `-o NAME.e`: the run writes NAME.h5 (the restart carrier) and then NAME.e from it.
     let exodus = solver::output::exodus::is_exodus_path(&output).then(|| output.clone());
     let output = if exodus.is_some() {
@@ -223,12 +223,18 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         output
     };
     // The output is checked and locked before any work (rank 0 writes it).
-    let inputs = RunInputs {
+    let inputs = problem.as_ref().map(|problem| RunInputs {
         scene: args.scene,
-        problem: &problem,
+        problem,
         restart: args.restart,
-    };
-    let claimed = match claim_on_root(comm, &inputs, &output, exodus.as_deref(), args.verbosity) {
+    });
+    let claimed = match claim_on_root(
+        comm,
+        inputs.as_ref(),
+        &output,
+        exodus.as_deref(),
+        args.verbosity,
+    ) {
         Ok(c) => c,
         Err(code) => return code,
     };
@@ -239,8 +245,8 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
         final_state: false,
         partition: args.partition,
     };
-    // The run frees its copy of the whole mesh once set up.
-    match run_owned(comm, problem, &opts, args.restart) {
+    // The run frees rank 0's whole mesh once set up.
+    match run_from_root(comm, problem, &opts, args.restart) {
         Ok((summary, _)) if summary.failure.is_some() => {
             if comm.is_root() {
                 eprintln!("error: {}", summary.failure.as_deref().unwrap_or_default());
@@ -277,10 +283,14 @@ fn run_command(comm: &dyn Comm, args: &RunArgs) -> u8 {
     }
 }
 
-/// The memory check, the scene loaded on every rank (with the preconditioner asked for)
-/// and the restart file checked; the estimate of the peak memory per rank. An error is
-/// printed on rank 0 and given as the exit code.
-fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem, Option<f64>), u8> {
+/// The memory check, the scene loaded on rank 0 (with the preconditioner asked for) and
+/// the restart file checked: the problem (on rank 0, the only rank that holds its whole
+/// mesh; None on the others), its name (every rank's) and the estimate of the peak memory
+/// per rank. An error is printed on rank 0 and given as the exit code.
+fn prepare(
+    comm: &dyn Comm,
+    args: &RunArgs,
+) -> Result<(Option<solver::problem::Problem>, String, Option<f64>), u8> {
     let sized = solver::scene::counts::scene_size(args.scene, args.refine)
         .map(|s| s.with_override(args.preconditioner));
     let mut estimate = None;
@@ -290,38 +300,45 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
         let verbosity = if on_mesh(size) { 0 } else { args.verbosity };
         estimate = Some(memory_gate(comm, size, args.force, verbosity)?);
     }
-    let loaded = load_scene_refined(args.scene, args.refine);
-    let err = loaded.as_ref().err().map(|e| e.to_string());
+    let loaded = comm
+        .is_root()
+        .then(|| load_scene_refined(args.scene, args.refine));
+    let err = loaded
+        .as_ref()
+        .and_then(|l| l.as_ref().err())
+        .map(|e| e.to_string());
     if let Some(e) = solver::comm::first_error(comm, err) {
         if comm.is_root() {
             eprintln!("error: {e}");
         }
         return Err(2);
     }
-    let mut problem = loaded.expect("every rank loaded the scene");
-    if let Some(n) = args.nonlinear {
-        problem.solver.nonlinear = n;
+    let mut problem = loaded.and_then(Result::ok);
+    if let Some(p) = problem.as_mut() {
+        if let Some(n) = args.nonlinear {
+            p.solver.nonlinear = n;
+        }
+        if let Some(pre) = args.preconditioner {
+            p.solver.preconditioner = pre;
+        }
     }
-    if let Some(p) = args.preconditioner {
-        problem.solver.preconditioner = p;
-    }
+    let name =
+        solver::comm::message::broadcast_value(comm, problem.as_ref().map(|p| p.name.clone()));
     // Counted from the divisions, whether `auto` passes over the full tangent is known only
-    // now: checked again with what runs instead.
-    let refused = sized
+    // now: checked again with what runs instead. Rank 0 counts the loaded mesh; every rank
+    // checks the count against its memory.
+    let again = problem
         .as_ref()
-        .is_some_and(|s| solver::preflight::tangent_passed_over(&problem, s).is_some());
-    if sized.is_none() || refused {
-        let size = solver::preflight::loaded_size(&problem);
-        estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
-    } else if let Some(size) = sized.filter(on_mesh) {
-        let size = solver::preflight::with_first_level(&problem, size, POOR_BLOCK_AGGREGATE_NODES);
+        .and_then(|p| loaded_size(p, sized.as_ref()));
+    if let Some(size) =
+        solver::comm::message::broadcast_value(comm, comm.is_root().then_some(again))
+    {
         estimate = Some(memory_gate(comm, &size, args.force, args.verbosity)?);
     }
     if let Some(path) = args.restart {
-        let err = comm
-            .is_root()
-            .then(|| solver::run::check_restart(path, &problem).err())
-            .flatten();
+        let err = problem
+            .as_ref()
+            .and_then(|p| solver::run::check_restart(path, p).err());
         if let Some(e) = solver::comm::first_error(comm, err) {
             if comm.is_root() {
                 eprintln!("error: {e}");
@@ -329,7 +346,26 @@ fn prepare(comm: &dyn Comm, args: &RunArgs) -> Result<(solver::problem::Problem,
             return Err(2);
         }
     }
-    Ok((problem, estimate))
+    Ok((problem, name, estimate))
+}
+
+/// The size of the loaded problem `problem` the memory is checked against again, if any:
+/// where the scene's size could not be counted from its divisions (`sized` None), where
+/// `auto` passes over the full tangent, or where the blocks aggregate otherwise than
+/// counted (`on_mesh`).
+fn loaded_size(
+    problem: &solver::problem::Problem,
+    sized: Option<&solver::scene::counts::SceneSize>,
+) -> Option<solver::scene::counts::SceneSize> {
+    let refused =
+        sized.is_some_and(|s| solver::preflight::tangent_passed_over(problem, s).is_some());
+    if sized.is_none() || refused {
+        Some(solver::preflight::loaded_size(problem))
+    } else {
+        sized.filter(|s| on_mesh(s)).map(|size| {
+            solver::preflight::with_first_level(problem, size.clone(), POOR_BLOCK_AGGREGATE_NODES)
+        })
+    }
 }
 
 /// Whether a scene counted from its divisions is estimated again once loaded, its
@@ -570,14 +606,14 @@ fn write_exodus(h5: &Path, exodus: &Path, verbosity: u8) -> u8 {
 /// and its exit code.
 fn claim_on_root(
     comm: &dyn Comm,
-    inputs: &RunInputs,
+    inputs: Option<&RunInputs>,
     output: &Path,
     exodus: Option<&Path>,
     verbosity: u8,
 ) -> Result<Option<OutputClaim>, u8> {
-    let claimed = comm
-        .is_root()
-        .then(|| claim(inputs, output, exodus, verbosity));
+    let claimed = inputs
+        .filter(|_| comm.is_root())
+        .map(|inputs| claim(inputs, output, exodus, verbosity));
     // The exit code travels as the message's first character.
     let err = match &claimed {
         Some(Err(e)) => Some(format!("{}{e}", e.exit_code())),

@@ -15,7 +15,7 @@ mod outcome;
 mod plastic;
 mod restart;
 pub use decompose::Partition;
-pub use driver::{run_from, run_owned};
+pub use driver::{run_from, run_from_root, run_owned};
 use gather::Gather;
 pub use mesh::output_mesh;
 pub use outcome::{peak_memory, ActiveConstraint, GlobalState, RunOptions, RunSummary};

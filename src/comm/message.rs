@@ -330,6 +330,27 @@ pub fn broadcast<T: Message, C: Comm + ?Sized>(comm: &C, x: Option<&T>) -> T {
     one_sent(&words)
 }
 
+/// Rank 0's `x` on every rank, for a value of many types (serde's, sent as `postcard`'s
+/// bytes: little-endian, so every f64 arrives bitwise): the problem rank 0 loaded. Rank 0
+/// gets its own back, the others a copy (`x` is read on rank 0 only). Collective.
+pub fn broadcast_value<T, C>(comm: &C, x: Option<T>) -> T
+where
+    T: serde::Serialize + serde::de::DeserializeOwned,
+    C: Comm + ?Sized,
+{
+    if comm.is_root() {
+        let x = x.expect("rank 0 gives the value it broadcasts");
+        if comm.size() > 1 {
+            let mut bytes = postcard::to_stdvec(&x).expect("a value of plain data serializes");
+            comm.broadcast_bytes(0, &mut bytes);
+        }
+        return x;
+    }
+    let mut bytes = Vec::new();
+    comm.broadcast_bytes(0, &mut bytes);
+    postcard::from_bytes(&bytes).expect("rank 0's value deserializes")
+}
+
 /// Rank 0 makes every rank's message in turn (`make(r)`, called on rank 0 only) and sends
 /// it before making the next (`Comm::scatter_f64`); every rank returns its own. Collective.
 pub fn scatter<T: Message, C: Comm + ?Sized>(comm: &C, mut make: impl FnMut(usize) -> T) -> T {

@@ -8,7 +8,9 @@ use crate::fem::hex8;
 use crate::fem::tet10::reference as tet10;
 
 /// The kind of a body's elements.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(
+    serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq, Hash,
+)]
 pub enum ElementKind {
     /// The trilinear 8-node hexahedron (`fem::hex8`).
     #[default]

@@ -27,7 +27,7 @@ pub fn from_sym6(v: &[f64; 6]) -> Mat3 {
 }
 
 /// Parameters of the J2 model (both kinematics).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct J2Plastic {
     pub lambda: f64,
     pub mu: f64,

@@ -7,7 +7,7 @@ use super::tangent::PointTangent;
 use crate::math::{Mat3, ZERO33};
 use serde::Deserialize;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct LinearElastic {
     pub lambda: f64,
     pub mu: f64,

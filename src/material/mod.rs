@@ -28,7 +28,7 @@ pub use tangent::{Moduli, PointTangent};
 use crate::math::Mat3;
 
 /// A body's material: one variant per model, each delegating to its `PointModel`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Material {
     LinearElastic(LinearElastic),

@@ -7,7 +7,7 @@ use super::tangent::PointTangent;
 use crate::math::{det, inverse, matmul, transpose, Mat3, IDENTITY, ZERO33};
 use serde::Deserialize;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub struct NeoHookean {
     pub lambda: f64,
     pub mu: f64,

@@ -14,7 +14,7 @@
 //! "Memory" section has the table).
 
 /// What the estimate needs to know about a scene.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counts {
     pub elements: u64,
     pub nodes: u64,

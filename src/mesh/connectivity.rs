@@ -5,7 +5,7 @@
 
 use partition::Cells;
 
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default, PartialEq, Eq)]
 pub struct Connectivity {
     nodes: Vec<u32>,
     /// Nodes of every element while `start` is empty.

@@ -15,7 +15,7 @@ use crate::math::Vec3;
 pub use connectivity::Connectivity;
 
 /// A body: a contiguous range of nodes and elements of one kind with one material.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Body {
     pub name: String,
     pub kind: ElementKind,
@@ -27,7 +27,7 @@ pub struct Body {
 
 /// The whole mesh. Node and element indices are 0-based here; files and messages show
 /// them 1-based (the paper numbering).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct GlobalMesh {
     pub coords: Vec<Vec3>,
     pub elements: Connectivity,

@@ -4,7 +4,7 @@ use crate::mesh::GlobalMesh;
 use std::sync::Arc;
 
 /// How a pair's contact constraints are formed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Discretization {
     /// Each slave node tied to one point of a master face (the paper's).
     #[default]
@@ -36,7 +36,7 @@ pub type Tributaries = Arc<Vec<Vec<[crate::math::Vec3; 2]>>>;
 
 /// A validated contact pair. The lists are shared: the passes of general contact that have
 /// a body in the same role hold one copy of its lists (`scene::validate::general`).
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct ContactPair {
     pub name: String,
     /// (element, local face) of each master facet, ascending: a "face" of the pair is a

@@ -2,7 +2,7 @@
 
 /// A piecewise-linear function through points (t_i, v_i), t strictly increasing, held
 /// constant before the first and after the last point.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq)]
 pub struct PiecewiseLinear {
     points: Vec<(f64, f64)>,
 }

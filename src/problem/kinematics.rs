@@ -5,7 +5,7 @@ use serde::Deserialize;
 
 /// `small`: linearised strain, equations on the undeformed configuration; `large`: the
 /// deformation gradient, equilibrium on the deformed configuration.
-#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(serde::Serialize, Deserialize, Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Kinematics {
     #[default]

@@ -16,47 +16,47 @@ pub use function::PiecewiseLinear;
 pub use kinematics::Kinematics;
 pub use outline::{frame_of, BoundaryFace, Retained};
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct BodyModel {
     pub material: Material,
     pub formulation: Formulation,
     pub density: f64,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct NodeSet {
     pub name: String,
     pub nodes: Vec<u32>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct SideSet {
     pub name: String,
     pub faces: Vec<(u32, u8)>,
 }
 
 /// u . direction = function(t) on every node of the set.
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Dirichlet {
     pub node_set: usize,
     pub direction: Vec3,
     pub function: PiecewiseLinear,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Pressure {
     pub side_set: usize,
     pub function: PiecewiseLinear,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Traction {
     pub side_set: usize,
     pub vector: Vec3,
     pub function: PiecewiseLinear,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct BodyForce {
     pub body: usize,
     /// Force per unit reference volume (density times acceleration).
@@ -64,7 +64,7 @@ pub struct BodyForce {
     pub function: PiecewiseLinear,
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct SolverSettings {
     /// Converged when |r| <= tolerance * reference force.
     pub tolerance: f64,
@@ -82,7 +82,7 @@ pub struct SolverSettings {
 }
 
 /// The solver of the model problem when a body is nonlinear.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum NonlinearSolver {
     /// Today the nonlinear CG: Newton-Krylov measured slower on every plastic scene tried
     /// (docs/plasticity-solve.md).
@@ -110,7 +110,7 @@ impl NonlinearSolver {
 }
 
 /// The CG preconditioner.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Preconditioner {
     /// By the mesh and its bodies (`solver::choice`): multilevel from `MULTILEVEL_NODES`
     /// nodes up, block Jacobi with multilevel on standby below, the full tangent for small
@@ -210,7 +210,7 @@ impl Default for SolverSettings {
     }
 }
 
-#[derive(Clone, Debug)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug)]
 pub struct Problem {
     pub name: String,
     /// The scene file's full text, kept for the result file.

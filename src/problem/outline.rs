@@ -13,7 +13,7 @@ use crate::math::Vec3;
 use crate::mesh::GlobalMesh;
 
 /// What a set-up run keeps of the whole mesh (see the module's note).
-#[derive(Clone, Debug, Default)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, Default)]
 pub struct Retained {
     /// Global ids, ascending, and their reference positions.
     ids: Vec<u32>,

@@ -87,26 +87,44 @@ pub fn run_from<C: Comm + ?Sized>(
 }
 
 /// `run_from` taking the problem: its whole mesh is freed once the run is set up (every
-/// rank's copy of it, 60 MB per rank at 10^6 elements). The pairs' `adjust` moves slave
-/// nodes onto their master surfaces first (`contact::adjust`), the same on every rank.
+/// rank's copy of it, 60 MB per rank at 10^6 elements): `run_from_root` of rank 0's.
 pub fn run_owned<C: Comm + ?Sized>(
     comm: &C,
-    mut problem: Problem,
+    problem: Problem,
     opts: &RunOptions,
     restart: Option<&Path>,
 ) -> Result<(RunSummary, GlobalState), String> {
-    let adjusted = crate::contact::adjust::adjust(&mut problem);
+    run_from_root(comm, comm.is_root().then_some(problem), opts, restart)
+}
+
+/// `run_from` of the problem rank 0 holds (None on the other ranks): only rank 0 holds its
+/// whole mesh, and it frees it once the run is set up. The pairs' `adjust` moves slave
+/// nodes onto their master surfaces first (`contact::adjust`); rank 0 then sends every
+/// rank the problem's outline (`Problem::outline`), and makes and sends what the set-up
+/// needs of the whole mesh (`mesh::whole`).
+pub fn run_from_root<C: Comm + ?Sized>(
+    comm: &C,
+    problem: Option<Problem>,
+    opts: &RunOptions,
+    restart: Option<&Path>,
+) -> Result<(RunSummary, GlobalState), String> {
     let log = Log {
         root: comm.is_root(),
         verbosity: opts.verbosity,
     };
-    for line in crate::contact::adjust::describe(&problem, &adjusted) {
-        log.at(1, &line);
-    }
-    let (outline, whole) = problem.into_outline();
-    // Only rank 0 reads the whole mesh while the run is set up (`mesh::whole`).
-    let whole = comm.is_root().then_some(Cow::Owned(whole));
-    run_outline(comm, &outline, whole, opts, restart)
+    let (outline, whole) = match problem.filter(|_| comm.is_root()) {
+        Some(mut problem) => {
+            let adjusted = crate::contact::adjust::adjust(&mut problem);
+            for line in crate::contact::adjust::describe(&problem, &adjusted) {
+                log.at(1, &line);
+            }
+            let (outline, whole) = problem.into_outline();
+            (Some(outline), Some(whole))
+        }
+        None => (None, None),
+    };
+    let outline = message::broadcast_value(comm, outline);
+    run_outline(comm, &outline, whole.map(Cow::Owned), opts, restart)
 }
 
 /// `run_from` of a problem's outline, with its whole mesh for the set-up on rank 0 (None

@@ -16,7 +16,7 @@ use std::path::Path;
 pub const MAX_IDS: u64 = u32::MAX as u64 / 2;
 
 /// What the memory estimate needs of a scene.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Debug, PartialEq)]
 pub struct SceneSize {
     pub counts: Counts,
     /// The scene's `solver.preconditioner` (the two-level choice of `counts` follows it).

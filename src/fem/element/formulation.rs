@@ -1,7 +1,7 @@
 //! What an element is asked for (its integration and hourglass control) and how it fails.
 
 /// How an element is integrated.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub enum Formulation {
     /// 2x2x2 Gauss.
     Full,
@@ -13,7 +13,7 @@ pub enum Formulation {
 }
 
 /// The hourglass control of a one-point element (`stabilization`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Clone, Copy, Debug, PartialEq)]
 pub enum Stabilization {
     /// Assumed-strain physical stabilisation: the stiffness from the moduli and the
     /// geometry (Belytschko-Bindeman, Puso), by name (`hourglass = "assumed_strain"`).

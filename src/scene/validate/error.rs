@@ -1,7 +1,7 @@
 //! A scene that cannot be run, and the builder whose checks report one at a key.
 
 /// A scene that cannot be run, with where and why.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(serde::Serialize, serde::Deserialize, Debug, Clone, PartialEq)]
 pub struct SceneError {
     pub file: String,
     pub key: String,
