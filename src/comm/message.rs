@@ -15,45 +15,79 @@ pub trait Message: Sized {
     fn read(r: &mut Reader) -> Option<Self>;
 }
 
-/// Appends the fields of messages to a buffer of words.
+/// Appends the fields of messages to a buffer of words, or counts them (`count`).
 pub struct Writer<'a> {
     words: &'a mut Vec<f64>,
+    /// Words counted instead of written: `Some` while counting.
+    counted: Option<usize>,
 }
 
 impl<'a> Writer<'a> {
     pub fn new(words: &'a mut Vec<f64>) -> Self {
-        Writer { words }
+        Writer {
+            words,
+            counted: None,
+        }
+    }
+
+    fn word(&mut self, x: f64) {
+        match &mut self.counted {
+            Some(n) => *n += 1,
+            None => self.words.push(x),
+        }
     }
 
     pub fn real(&mut self, x: f64) {
-        self.words.push(x);
+        self.word(x);
     }
 
     pub fn id(&mut self, x: u32) {
-        self.words.push(x as f64);
+        self.word(x as f64);
     }
 
     pub fn index(&mut self, x: usize) {
         debug_assert!(x < 1 << 53, "an index beyond 2^53 is not exact as a word");
-        self.words.push(x as f64);
+        self.word(x as f64);
     }
 
     pub fn flag(&mut self, x: bool) {
-        self.words.push(if x { 1.0 } else { 0.0 });
+        self.word(if x { 1.0 } else { 0.0 });
     }
 
     pub fn reals(&mut self, x: &[f64]) {
-        self.words.extend_from_slice(x);
+        match &mut self.counted {
+            Some(n) => *n += x.len(),
+            None => self.words.extend_from_slice(x),
+        }
     }
 
     /// Zero words where an absent optional part of a fixed-size message would stand.
     pub fn pad(&mut self, n: usize) {
-        self.words.resize(self.words.len() + n, 0.0);
+        match &mut self.counted {
+            Some(k) => *k += n,
+            None => self.words.resize(self.words.len() + n, 0.0),
+        }
     }
 
     pub fn put<T: Message>(&mut self, x: &T) {
         x.write(self);
     }
+}
+
+/// The words of `x`, in a buffer of exactly their number (counted first: a large message
+/// written into a growing buffer would hold up to twice its words).
+pub fn words_of<T: Message>(x: &T) -> Vec<f64> {
+    let mut none = Vec::new();
+    let mut counter = Writer {
+        words: &mut none,
+        counted: Some(0),
+    };
+    x.write(&mut counter);
+    let n = counter.counted.unwrap_or(0);
+    let mut words = Vec::with_capacity(n);
+    x.write(&mut Writer::new(&mut words));
+    debug_assert_eq!(words.len(), n);
+    words
 }
 
 /// Reads the fields of messages from a buffer of words, in the order they were written.
@@ -69,6 +103,11 @@ impl<'a> Reader<'a> {
 
     pub fn is_done(&self) -> bool {
         self.at == self.words.len()
+    }
+
+    /// The words not read yet.
+    pub fn words_left(&self) -> usize {
+        self.words.len() - self.at
     }
 
     pub fn real(&mut self) -> Option<f64> {
@@ -221,8 +260,10 @@ impl<T: Message> Message for Vec<T> {
     }
     fn read(r: &mut Reader) -> Option<Self> {
         let n = r.index()?;
-        // No reservation from the length word: a corrupt length must not allocate.
-        let mut out = Vec::new();
+        // Reserved at the list's length (held at its size: a list read by pushing would keep
+        // up to twice its items' room), but never beyond the words left, since each item
+        // takes at least one: a corrupt length must not allocate.
+        let mut out = Vec::with_capacity(n.min(r.words_left()));
         for _ in 0..n {
             out.push(r.get()?);
         }
@@ -315,8 +356,7 @@ fn joined<T: Message>(parts: &[Vec<f64>]) -> Vec<T> {
 pub fn broadcast<T: Message, C: Comm + ?Sized>(comm: &C, x: Option<&T>) -> T {
     let mut bytes = Vec::new();
     if comm.is_root() {
-        let mut words = Vec::new();
-        push(&mut words, x.expect("rank 0 gives the value it broadcasts"));
+        let words = words_of(x.expect("rank 0 gives the value it broadcasts"));
         bytes = words.iter().flat_map(|w| w.to_le_bytes()).collect();
     }
     comm.broadcast_bytes(0, &mut bytes);
@@ -354,11 +394,7 @@ where
 /// Rank 0 makes every rank's message in turn (`make(r)`, called on rank 0 only) and sends
 /// it before making the next (`Comm::scatter_f64`); every rank returns its own. Collective.
 pub fn scatter<T: Message, C: Comm + ?Sized>(comm: &C, mut make: impl FnMut(usize) -> T) -> T {
-    let words = comm.scatter_f64(&mut |r| {
-        let mut words = Vec::new();
-        push(&mut words, &make(r));
-        words
-    });
+    let words = comm.scatter_f64(&mut |r| words_of(&make(r)));
     one_sent(&words)
 }
 
@@ -405,5 +441,35 @@ mod tests {
         assert_eq!(decode::<(u32, f64)>(&[1.0, 2.0, 3.0]), None);
         let mut r = Reader::new(&[2.0]);
         assert_eq!(r.flag(), None);
+    }
+
+    #[test]
+    fn texts_options_and_results_round_trip_in_counted_words() {
+        let x: (String, Option<u32>, Result<Vec<bool>, String>, Option<f64>) = (
+            "t\u{ea}te".to_string(),
+            Some(7),
+            Err("no".to_string()),
+            None,
+        );
+        let words = words_of(&x);
+        // "tête" is 5 bytes: length + 5; Some(7): 2; Err("no"): 1 + 3; None: 1.
+        assert_eq!(words.len(), 6 + 2 + 4 + 1);
+        assert_eq!(words.capacity(), words.len());
+        let mut r = Reader::new(&words);
+        assert_eq!(r.get(), Some(x));
+        assert!(r.is_done());
+        let ok: Result<Vec<bool>, String> = Ok(vec![true, false]);
+        assert_eq!(one_sent::<Result<Vec<bool>, String>>(&words_of(&ok)), ok);
+        // A byte beyond 255 is not text.
+        assert_eq!(decode::<String>(&[1.0, 256.0]), None);
+    }
+
+    #[test]
+    fn a_list_is_read_at_its_size_and_a_corrupt_length_allocates_nothing() {
+        let list: Vec<u32> = (0..1000).collect();
+        let read: Vec<u32> = one_sent(&words_of(&list));
+        assert_eq!((read.len(), read.capacity()), (1000, 1000));
+        // A length of 2^40 over two words: refused, having reserved two items' room.
+        assert_eq!(decode::<Vec<u32>>(&[(1u64 << 40) as f64, 1.0, 2.0]), None);
     }
 }

@@ -88,7 +88,7 @@ impl Fit {
             }
             None => {
                 s += &format!(
-                    "; no number of {unit} fits it{each}: every rank holds the whole mesh ({})",
+                    "; no number of {unit} fits it{each}: rank 0 holds the whole mesh ({}) while the run is set up",
                     fb(e.whole_mesh)
                 )
             }

@@ -399,4 +399,50 @@ mod tests {
             assert!((crate::math::dot(&v, &v) - normal).abs() < 1e-15);
         }
     }
+
+    #[test]
+    fn each_aggregate_is_summed_once_by_the_owner_of_its_lowest_node() {
+        // Twelve nodes on a line; aggregate 1 (nodes 3..7) crosses from rank 0's nodes
+        // (0..6) into rank 1's (6..12).
+        let agg = [0u32, 0, 0, 1, 1, 1, 1, 2, 2, 2, 3, 3];
+        let coords: Vec<Vec3> = (0..12).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let members = Members::new(&agg, 4);
+        assert_eq!(members.of(1), [3, 4, 5, 6]);
+        let centre = vec![
+            [1.0, 0.0, 0.0],
+            [4.5, 0.0, 0.0],
+            [8.0, 0.0, 0.0],
+            [10.5, 0.0, 0.0],
+        ];
+        let scale = vec![1.0, 1.5, 1.0, 0.5];
+        let whole = (&agg[..], &coords[..], &members);
+        // Each rank's local nodes: owned ascending, then ghosts ascending.
+        let zero: Vec<u32> = (0..8).collect();
+        let one: Vec<u32> = [6, 7, 8, 9, 10, 11, 4, 5].to_vec();
+        let p0 = Part::of(whole, (&centre, &scale), &zero, 6);
+        let p1 = Part::of(whole, (&centre, &scale), &one, 6);
+        assert_eq!(p0.agg, [0, 0, 0, 1, 1, 1, 1, 2]);
+        assert_eq!(p1.agg, [1, 2, 2, 2, 3, 3, 1, 1]);
+        assert_eq!(
+            (p0.sum_agg.as_slice(), p1.sum_agg.as_slice()),
+            (&[0, 1][..], &[2, 3][..])
+        );
+        assert_eq!(p0.sum_ptr, [0, 3, 7]);
+        assert_eq!(p0.members, [0, 1, 2, 3, 4, 5, 6]);
+        // Node 6 is rank 1's: its offset from aggregate 1's centre, scaled, comes along.
+        assert_eq!(p0.far_offset, [[1.0, 0.0, 0.0]]);
+        assert_eq!(
+            (p1.sum_ptr.as_slice(), p1.members.as_slice()),
+            (&[0, 3, 5][..], &[7, 8, 9, 10, 11][..])
+        );
+        assert!(p1.far_offset.is_empty());
+        // The part travels as words and back.
+        let back: Part = message::decode::<Part>(&message::words_of(&p0))
+            .and_then(|mut v| v.pop())
+            .expect("a part decodes");
+        assert_eq!(
+            (back.agg, back.members, back.far_offset),
+            (p0.agg, p0.members, p0.far_offset)
+        );
+    }
 }

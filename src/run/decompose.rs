@@ -6,6 +6,7 @@
 //! computes and sends.
 
 use crate::mesh::GlobalMesh;
+use partition::Groups;
 
 /// How the elements are partitioned over the ranks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -55,16 +56,25 @@ pub fn centres(mesh: &GlobalMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// The part (rank) of every element, on the rank that holds the whole mesh (rank 0):
-/// `partition::partition_for_ranks`, the groups' METIS runs one after the other, so that
-/// no more than one group's graph is held at a time.
+/// The part (rank) of every element, on the rank that holds the whole mesh (rank 0): the
+/// parts `partition::partition_for_ranks` gives, the groups' METIS runs one after the
+/// other, so that no more than one group's graph is held at a time, and the element
+/// centres freed once the groups are cut.
 pub fn element_parts(
     mesh: &GlobalMesh,
     method: Partition,
     ranks: usize,
 ) -> Result<Vec<u32>, String> {
-    let groups = method.groups(ranks) && partition::grouped(mesh.num_elements(), ranks);
-    let centres = if groups { centres(mesh) } else { Vec::new() };
-    partition::partition_for_ranks(mesh.num_nodes(), &mesh.elements, &centres, ranks, groups)
-        .map_err(|e| e.to_string())
+    if !(method.groups(ranks) && partition::grouped(mesh.num_elements(), ranks)) {
+        return partition::partition_elements(mesh.num_nodes(), &mesh.elements, ranks)
+            .map_err(|e| e.to_string());
+    }
+    let groups = Groups::new(&centres(mesh), ranks);
+    let lists = (0..groups.count())
+        .map(|g| {
+            partition::partition_group(&mesh.elements, &groups, g)
+                .map_err(|e| format!("{e} (partitioning the elements of group {g})"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(groups.assemble(|g| &lists[g]))
 }

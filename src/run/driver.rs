@@ -143,7 +143,12 @@ fn run_outline<C: Comm + ?Sized>(
     let mut progress = Progress::start();
     let (decomposition, local) = partition(comm, problem, whole.as_deref(), opts, &log)?;
     let continued = match restart {
-        Some(path) => Some(restart::resume(comm, problem, path)?),
+        Some(path) => Some(restart::resume(
+            comm,
+            problem,
+            path,
+            decomposition.as_ref(),
+        )?),
         None => None,
     };
     let mut writer = open_writer(
@@ -169,7 +174,7 @@ fn run_outline<C: Comm + ?Sized>(
     if let Some(c) = continued {
         let with_pressure = continue_from(
             comm,
-            problem,
+            (problem, &local),
             &mut stepper,
             writer.as_mut(),
             c,
@@ -397,7 +402,7 @@ const NO_PRESSURE: &str = "; that file has no contact pressure (written before t
 /// `output::datasets`). Collective.
 fn continue_from<C: Comm + ?Sized>(
     comm: &C,
-    problem: &Problem,
+    (problem, local): (&Problem, &LocalMesh),
     stepper: &mut Stepper<C>,
     writer: Option<&mut ResultWriter>,
     c: Continued,
@@ -411,7 +416,7 @@ fn continue_from<C: Comm + ?Sized>(
         (state.multilevel_switched, c.state.hierarchy.clone()),
         c.contact,
     );
-    plastic::restore(stepper, problem, &state.history);
+    plastic::restore(stepper, problem, local, &state.history);
     progress.first_step = state.step as usize;
     progress.rows_written = c.steps.len() as u64;
     let with_pressure = c

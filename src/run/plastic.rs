@@ -6,6 +6,7 @@ use super::Gather;
 use crate::comm::Comm;
 use crate::fem::history;
 use crate::material::{PlasticState, STATE_LEN};
+use crate::mesh::local::LocalMesh;
 use crate::problem::Problem;
 use crate::solver::Stepper;
 
@@ -69,33 +70,56 @@ pub(super) fn stream_history<C: Comm + ?Sized>(
     }
 }
 
-/// Sets the stepper's committed history from a restart state's `history` (of length
-/// `history_len`, checked when the state was read).
-pub(super) fn restore<C: Comm + ?Sized>(stepper: &mut Stepper<C>, problem: &Problem, flat: &[f64]) {
+/// Where each element's history lies in a restart state's `history` (of length
+/// `history_len`, in global element order): None for an element of a body that is not
+/// plastic.
+pub(super) fn history_starts(problem: &Problem) -> Vec<Option<std::ops::Range<usize>>> {
+    let mut at = 0;
+    (0..problem.mesh.num_elements())
+        .map(|e| {
+            let b = problem.mesh.body_of_element(e);
+            let m = &problem.body_models[b];
+            m.material.is_plastic().then(|| {
+                let n = history::points_of(problem.mesh.bodies[b].kind, m.formulation) * STATE_LEN;
+                at += n;
+                at - n..at
+            })
+        })
+        .collect()
+}
+
+/// Sets the stepper's committed history from a restart state's history of this rank's
+/// local elements (`local`'s, in local element order, the plastic ones only; `Fields`).
+pub(super) fn restore<C: Comm + ?Sized>(
+    stepper: &mut Stepper<C>,
+    problem: &Problem,
+    local: &LocalMesh,
+    flat: &[f64],
+) {
     if flat.is_empty() {
         return;
     }
-    let mut start = vec![usize::MAX; problem.mesh.num_elements()];
-    let mut at = 0;
-    for (e, s) in start.iter_mut().enumerate() {
-        let b = problem.mesh.body_of_element(e);
+    let points = |e: u32| {
+        let b = problem.mesh.body_of_element(e as usize);
         let m = &problem.body_models[b];
-        if m.material.is_plastic() {
-            *s = at;
-            at += history::points_of(problem.mesh.bodies[b].kind, m.formulation) * STATE_LEN;
-        }
-    }
+        m.material
+            .is_plastic()
+            .then(|| history::points_of(problem.mesh.bodies[b].kind, m.formulation))
+    };
+    let mut at = 0;
+    // (global element, first value) of each local plastic element, ascending.
+    let starts: Vec<(u32, usize, usize)> = local
+        .element_global
+        .iter()
+        .filter_map(|&g| {
+            let n = points(g)?;
+            at += n * STATE_LEN;
+            Some((g, at - n * STATE_LEN, n))
+        })
+        .collect();
     stepper.assembly_mut().set_history(|g| {
-        let e = g as usize;
-        let s = *start.get(e)?;
-        if s == usize::MAX {
-            return None;
-        }
-        let b = problem.mesh.body_of_element(e);
-        let n = history::points_of(
-            problem.mesh.bodies[b].kind,
-            problem.body_models[b].formulation,
-        );
+        let k = starts.binary_search_by_key(&g, |s| u64::from(s.0)).ok()?;
+        let (_, s, n) = starts[k];
         Some(
             (0..n)
                 .map(|q| PlasticState::from_slice(&flat[s + q * STATE_LEN..]))

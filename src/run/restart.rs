@@ -4,17 +4,19 @@
 
 use super::gather::Gather;
 use super::plastic;
-use crate::comm::{self, Comm};
+use crate::comm::{self, message, Comm};
 use crate::contact::active::ContactState;
 use crate::math::Vec3;
 use crate::mesh::local::LocalMesh;
 use crate::output::{RestartState, ResultFile, ResultWriter, StepOutput, StepStats};
 use crate::problem::Problem;
 use crate::solver::Stepper;
+use partition::{Decomposition, RankPart};
 use std::path::Path;
 
-/// An earlier run to continue, as every rank holds it: its restart state, the records of
-/// its steps, the contact state decoded, and (rank 0 only) its step results.
+/// An earlier run to continue, as every rank holds it: its restart state (its
+/// displacements and plastic history those of the rank's local nodes and elements), the
+/// records of its steps, the contact state decoded, and (rank 0 only) its step results.
 pub(super) struct Continued {
     pub(super) state: RestartState,
     pub(super) records: Vec<(f64, StepStats)>,
@@ -23,19 +25,30 @@ pub(super) struct Continued {
 }
 
 /// Reads the earlier run on rank 0 (before this run's file can replace it) and sends its
-/// state to every rank. Collective.
+/// state to every rank: the contact state, the preconditioner's rows and the records to
+/// every rank, the displacements and plastic history of each rank's local nodes and
+/// elements to that rank alone (`decomposition`, rank 0's, says which), so that no rank
+/// but 0 holds the whole mesh's. Collective.
 pub(super) fn resume<C: Comm + ?Sized>(
     comm: &C,
     problem: &Problem,
     path: &Path,
+    decomposition: Option<&Decomposition>,
 ) -> Result<Continued, String> {
     let mut bytes = Vec::new();
     let mut steps = Vec::new();
+    let mut whole = None;
     let mut local_err = None;
     if comm.is_root() {
         match read_restart(path, problem) {
             Ok(r) => {
-                bytes = encode_restart(&r.state, &r.steps);
+                let mut state = r.state;
+                whole = Some(Fields {
+                    displacement: std::mem::take(&mut state.displacement),
+                    previous: std::mem::take(&mut state.previous_displacement),
+                    history: std::mem::take(&mut state.history),
+                });
+                bytes = encode_restart(&state, &r.steps);
                 steps = r.steps;
             }
             Err(e) => local_err = Some(e),
@@ -45,7 +58,19 @@ pub(super) fn resume<C: Comm + ?Sized>(
         return Err(e);
     }
     comm.broadcast_bytes(0, &mut bytes);
-    let (state, records) = decode_restart(&bytes, problem.mesh.num_nodes());
+    let (mut state, records) = decode_restart(&bytes, 0);
+    drop(bytes);
+    let starts = whole.as_ref().map(|_| plastic::history_starts(problem));
+    let mine: Fields = message::scatter(comm, |r| {
+        let (Some(w), Some(d), Some(starts)) = (&whole, decomposition, &starts) else {
+            unreachable!("rank 0 holds the restart state and the decomposition")
+        };
+        w.of(d.part(r), starts)
+    });
+    drop(whole);
+    state.displacement = mine.displacement;
+    state.previous_displacement = mine.previous;
+    state.history = mine.history;
     let contact = ContactState::decode(problem, &state.contact, &state.released, &state.ties)
         .ok_or_else(|| {
             format!(
@@ -60,6 +85,50 @@ pub(super) fn resume<C: Comm + ?Sized>(
         contact,
         steps,
     })
+}
+
+/// A restart state's fields of nodes and elements: the whole mesh's on rank 0, or a rank's
+/// part (its local nodes' displacements, in `LocalMesh`'s order, and its local plastic
+/// elements' history, in local element order).
+struct Fields {
+    displacement: Vec<Vec3>,
+    previous: Vec<Vec3>,
+    history: Vec<f64>,
+}
+
+impl Fields {
+    /// The part of rank part `part` (`starts`: `plastic::history_starts`).
+    fn of(&self, part: &RankPart, starts: &[Option<std::ops::Range<usize>>]) -> Fields {
+        let nodes = part.local_nodes();
+        Fields {
+            displacement: nodes
+                .iter()
+                .map(|&g| self.displacement[g as usize])
+                .collect(),
+            previous: nodes.iter().map(|&g| self.previous[g as usize]).collect(),
+            history: part
+                .local_elements()
+                .iter()
+                .filter_map(|&e| starts[e as usize].clone())
+                .flat_map(|range| self.history[range].iter().copied())
+                .collect(),
+        }
+    }
+}
+
+impl message::Message for Fields {
+    fn write(&self, w: &mut message::Writer<'_>) {
+        w.put(&self.displacement);
+        w.put(&self.previous);
+        w.put(&self.history);
+    }
+    fn read(r: &mut message::Reader) -> Option<Self> {
+        Some(Fields {
+            displacement: r.get()?,
+            previous: r.get()?,
+            history: r.get()?,
+        })
+    }
 }
 
 /// The steps an earlier run finished, read from its result file on rank 0.

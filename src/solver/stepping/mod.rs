@@ -257,7 +257,8 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         &self.u_prev
     }
 
-    /// Continues from a saved state: displacements in global node order, the scalars of
+    /// Continues from a saved state: displacements of the local nodes (in the local mesh's
+    /// order: the restart sends each rank its own), the scalars of
     /// `scalars`, whether the multilevel standby had taken over and the rows its hierarchy
     /// was built from (`hierarchy_words`), and the contact state.
     pub fn restore(
@@ -268,10 +269,8 @@ impl<'a, C: Comm + ?Sized, E: Enforcement> Stepper<'a, C, E> {
         (multilevel_switched, hierarchy): (bool, Vec<f64>),
         contact: E,
     ) {
-        for (l, &g) in self.mesh.node_global.iter().enumerate() {
-            self.u[l] = u[g as usize];
-            self.u_prev[l] = u_prev[g as usize];
-        }
+        self.u.copy_from_slice(u);
+        self.u_prev.copy_from_slice(u_prev);
         self.time = time;
         self.dt_prev = dt_prev;
         self.reference_floor = reference_floor;
