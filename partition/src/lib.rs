@@ -213,6 +213,17 @@ pub fn partition_elements(
     Ok(part)
 }
 
+/// The parts of a group's elements given alone (`elements`, in ascending element order, with
+/// their nodes' global ids): the parts [`partition_group`] gives the group, on a rank that
+/// holds only the group's elements.
+pub fn partition_group_elements(
+    elements: &dyn Cells,
+    parts: std::ops::Range<usize>,
+) -> Result<Vec<u32>, PartitionError> {
+    let ids: Vec<u32> = (0..elements.count() as u32).collect();
+    partition_ids(elements, &ids, parts)
+}
+
 /// The parts of group `g`'s elements (ascending element order): METIS on their dual graph
 /// alone ([`partition_elements`], into the group's parts), the parts numbered globally.
 pub fn partition_group(

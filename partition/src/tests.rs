@@ -567,6 +567,14 @@ fn grouped_partition_is_the_groups_partitioned_alone_and_valid() {
             .map(|g| partition_group(&el, &groups, g).unwrap())
             .collect();
         assert_eq!(groups.assemble(|g| &lists[g]), part);
+        // And on a rank given only the group's elements (global node ids): the same parts.
+        for (g, ids) in groups.members().iter().enumerate() {
+            let alone: Vec<[u32; 8]> = ids.iter().map(|&e| el[e as usize]).collect();
+            assert_eq!(
+                partition_group_elements(&alone, groups.parts(g)).unwrap(),
+                lists[g]
+            );
+        }
         let sizes = part_sizes(&part, nparts);
         assert!(sizes.iter().all(|&s| s > 0), "{nparts} parts: {sizes:?}");
         let d = Decomposition::new(nn, &el, &part, nparts);

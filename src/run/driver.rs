@@ -297,9 +297,10 @@ fn partition<C: Comm + ?Sized>(
     opts: &RunOptions,
     log: &Log,
 ) -> Result<(Option<Decomposition>, LocalMesh), String> {
+    let parts =
+        super::decompose::element_parts(comm, whole, problem.mesh.num_elements(), opts.partition);
     let decomposition = whole.map(|mesh| {
-        let parts = super::decompose::element_parts(mesh, opts.partition, comm.size())?;
-        Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts, comm.size())
+        Decomposition::try_new(mesh.num_nodes(), &mesh.elements, &parts?, comm.size())
             .map_err(|e| e.to_string())
     });
     let failure = match &decomposition {

@@ -36,9 +36,9 @@ const GRID_BITS: i64 = 46;
 const ELEMENTS_PER_MATRIX: usize = 8;
 
 /// Which bodies are evaluated by element matrices, and the grid their shapes are taken
-/// on: a function of the whole mesh, the same on every rank, so the same elements use
-/// matrices on any number of ranks (a matrix's force differs from the kernel's in
-/// rounding).
+/// on: a function of the whole mesh, made on rank 0 and given to every rank
+/// (`solver::survey`), so the same elements use matrices on any number of ranks (a
+/// matrix's force differs from the kernel's in rounding).
 #[derive(Clone, Debug, Default)]
 pub struct Plan {
     pub matrices: Vec<bool>,
