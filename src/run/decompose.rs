@@ -103,20 +103,28 @@ fn by_groups<C: Comm + ?Sized>(
         if parts.start != r {
             return (Connectivity::new(), 0, 0);
         }
+        if r == 0 {
+            // Rank 0 reads its own group from the whole mesh (below): no copy.
+            return (Connectivity::new(), parts.start, parts.len());
+        }
         let ids = std::mem::take(&mut members[g]);
         let elements = mesh.elements.select(ids.iter().map(|&e| e as usize), |n| n);
         (elements, parts.start, parts.len())
     });
     drop(members);
     let mine: Vec<Result<Vec<u32>, String>> = if count > 0 {
-        vec![
-            partition::partition_group_elements(&elements, first..first + count).map_err(|e| {
-                format!(
-                    "{e} (partitioning the elements of the group of ranks {first} to {})",
-                    first + count - 1
-                )
-            }),
-        ]
+        let parts = match (whole, &groups) {
+            (Some(mesh), Some(groups)) => {
+                partition::partition_group(&mesh.elements, groups, groups.of_part(first))
+            }
+            _ => partition::partition_group_elements(&elements, first..first + count),
+        };
+        vec![parts.map_err(|e| {
+            format!(
+                "{e} (partitioning the elements of the group of ranks {first} to {})",
+                first + count - 1
+            )
+        })]
     } else {
         Vec::new()
     };
