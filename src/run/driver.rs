@@ -142,15 +142,9 @@ fn run_outline<C: Comm + ?Sized>(
     };
     let mut progress = Progress::start();
     let (decomposition, local) = partition(comm, problem, whole.as_deref(), opts, &log)?;
-    let continued = match restart {
-        Some(path) => Some(restart::resume(
-            comm,
-            problem,
-            path,
-            decomposition.as_ref(),
-        )?),
-        None => None,
-    };
+    let continued = restart
+        .map(|path| restart::resume(comm, problem, path, decomposition.as_ref()))
+        .transpose()?;
     let mut writer = open_writer(
         comm,
         (problem, whole.as_deref()),
@@ -171,7 +165,7 @@ fn run_outline<C: Comm + ?Sized>(
         .map(|(w, d)| Whole::new(w, d));
     let mut stepper = new_stepper(comm, problem, (&local, whole), opts, &log)?;
     drop(decomposition);
-    if let Some(c) = continued {
+    if let Some((c, path)) = continued.zip(restart) {
         let with_pressure = continue_from(
             comm,
             (problem, &local),
@@ -182,13 +176,7 @@ fn run_outline<C: Comm + ?Sized>(
         )?;
         log.at(
             1,
-            &format!(
-                "continuing from step {} (t = {}) of {}{}",
-                progress.first_step,
-                stepper.time,
-                restart.map(|p| p.display().to_string()).unwrap_or_default(),
-                if with_pressure { "" } else { NO_PRESSURE }
-            ),
+            &continuing_line(&progress, stepper.time, path, with_pressure),
         );
     }
     let sent_before = comm.traffic();
@@ -390,6 +378,16 @@ fn open_writer<C: Comm + ?Sized>(
         Some(e) => Err(e),
         None => Ok(writer),
     }
+}
+
+/// The log's line on a run continued from `path`.
+fn continuing_line(progress: &Progress, time: f64, path: &Path, with_pressure: bool) -> String {
+    format!(
+        "continuing from step {} (t = {time}) of {}{}",
+        progress.first_step,
+        path.display(),
+        if with_pressure { "" } else { NO_PRESSURE }
+    )
 }
 
 /// The note on a continued run whose earlier file has no contact pressure.
