@@ -156,10 +156,8 @@ fn run_outline<C: Comm + ?Sized>(
         problem.mesh.num_nodes(),
         problem.mesh.num_elements(),
     );
-    // The stepper frees an owned whole mesh once it has what it needs of it: the steps
-    // read the outline only. Only the set-up needs the decomposition (which rank owns each
-    // element, every rank's nodes): not held through the run (its lists of every rank's
-    // part, 21 MB at n = 80).
+    // The stepper frees an owned whole mesh once read (the steps read the outline), and the
+    // decomposition goes once the stepper is built (21 MB of lists at n = 80).
     let whole = whole
         .zip(decomposition.as_ref())
         .map(|(w, d)| Whole::new(w, d));
