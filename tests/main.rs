@@ -7,6 +7,7 @@
 mod common;
 
 mod adjust;
+mod block_die;
 mod bracket;
 mod cli;
 mod communication;
