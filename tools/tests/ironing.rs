@@ -1,4 +1,5 @@
-//! The ironing example (run/examples/ironing.toml) beside CalculiX, through the bench
+//! The ironing example (run/examples/ironing.toml) and the block die with sharp edges
+//! (run/scenes/sliding/ironing_block_shallow.toml) beside CalculiX, through the bench
 //! (`bench --ironing`). The bench runs the `solver` binary built beside it
 //! (target/<profile>/solver), which `cargo test --workspace` builds for the solver crate's
 //! tests; alone: `cargo build --release -p solver --bin solver` first. The example's own
@@ -15,14 +16,7 @@ fn fresh_dir(name: &str) -> PathBuf {
     d
 }
 
-/// The example beside CalculiX (`bench --ironing`: NLGEOM, NEO HOOKE with the same initial
-/// moduli, node-to-surface penalty contact with friction, the deck written by the bench):
-/// the die's horizontal and vertical force during steady sliding (medians over the second
-/// half of the drag) within 5% of CalculiX's, the bound. What separates the two is
-/// of that order at most: the two neo-Hookean energies agree to second order in the strain
-/// only (the slab's strains reach about 0.2), the penalty lets the die 0.6% deeper into the
-/// slab, and ccx's node-to-surface contact differs from ours in how a node's force is
-/// spread over the face. Measured: F_x +0.5%, F_y -0.1%.
+/// `bench --ironing` once, for both of its scenes.
 #[test]
 fn ironing_beside_calculix() {
     let out = fresh_dir("ironing-bench");
@@ -32,6 +26,19 @@ fn ironing_beside_calculix() {
         .status()
         .expect("bench runs");
     assert!(status.success(), "bench --ironing failed");
+    example_beside_calculix(&out);
+    block_die_beside_calculix(&out);
+}
+
+/// The example beside CalculiX (`bench --ironing`: NLGEOM, NEO HOOKE with the same initial
+/// moduli, node-to-surface penalty contact with friction, the deck written by the bench):
+/// the die's horizontal and vertical force during steady sliding (medians over the second
+/// half of the drag) within 5% of CalculiX's, the bound. What separates the two is
+/// of that order at most: the two neo-Hookean energies agree to second order in the strain
+/// only (the slab's strains reach about 0.2), the penalty lets the die 0.6% deeper into the
+/// slab, and ccx's node-to-surface contact differs from ours in how a node's force is
+/// spread over the face. Measured: F_x +0.5%, F_y -0.1%.
+fn example_beside_calculix(out: &std::path::Path) {
     let text = std::fs::read_to_string(out.join("ironing/results.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let diff = &v["difference"];
@@ -42,4 +49,48 @@ fn ironing_beside_calculix() {
         assert!(d.abs() <= 5.0, "{key} = {d}%");
     }
     assert!(out.join("ironing/forces.png").exists());
+}
+
+/// The block die with sharp edges (run/scenes/sliding/ironing_block_shallow.toml, pressed
+/// 0.1 into a plane-strain slice of the slab) beside CalculiX, from the same bench run's
+/// `ironing/block/`. Both codes' vertical force takes two levels as the die slides, about
+/// 160 and 195: four or five rows of slab nodes held at the die's bottom (the die's edges
+/// between rows or over one). The levels agree within 5%, the bound (measured +2.2%
+/// and +1.6%); the codes differ in whether a row 0.033 past the die's front or back edge
+/// is held (ours holds it: at the high level in 3 of every 5 steps against CalculiX's 1),
+/// so the mean vertical force differs by about 10% on this mesh of four slab elements
+/// under the die (docs/contact.md, "Known limitation: the block die").
+/// The horizontal force, friction on the die's bottom, agrees within 5% over steady
+/// sliding: median and mean (measured +1.8% and -0.6%).
+fn block_die_beside_calculix(out: &std::path::Path) {
+    let text = std::fs::read_to_string(out.join("ironing/block/results.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for key in ["fx_median_percent", "fx_mean_percent"] {
+        let d = v["difference"][key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no {key} in {text}"));
+        assert!(d.abs() <= 5.0, "{key} = {d}%");
+    }
+    let from = v["steady_from"].as_f64().unwrap();
+    let levels = |c: &serde_json::Value| {
+        let fy: Vec<f64> = c["curve"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| p["time"].as_f64().unwrap() > from + 1e-9)
+            .map(|p| p["force"][1].as_f64().unwrap().abs())
+            .collect();
+        assert!(fy.len() >= 10);
+        let lo = fy.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = fy.iter().copied().fold(0.0, f64::max);
+        (lo, hi)
+    };
+    let (ours, ccx) = (levels(&v["ours"]), levels(&v["calculix"]));
+    for (a, b, what) in [(ours.0, ccx.0, "low"), (ours.1, ccx.1, "high")] {
+        assert!(
+            (a - b).abs() <= 0.05 * b,
+            "the {what} level of |F_y|: ours {a}, CalculiX {b}"
+        );
+    }
+    assert!(out.join("ironing/block/forces.png").exists());
 }

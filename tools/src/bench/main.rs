@@ -35,8 +35,9 @@
 //! of its own (the other sections are left as they are; a later normal run keeps it)
 //! (`large`).
 //!
-//! `bench --ironing [--out DIR]` runs only the ironing example with CalculiX beside it
-//! (`peers::calculix::ironing`) into `<out>/ironing/`.
+//! `bench --ironing [--out DIR]` runs only the ironing example and the block die with
+//! CalculiX beside them (`peers::calculix::ironing`) into `<out>/ironing/` and
+//! `<out>/ironing/block/`.
 //!
 //! `bench --plasticity [--quick] [--out DIR]` runs only the flat punch in a J2 block,
 //! prescribed (40 x 40, 80 x 80) and through contact (n = 48, 96; `--quick`: 40 x 40 and
@@ -115,8 +116,8 @@ const USAGE: &str = concat!(
     "  --large      only the block on block at n = 80 (about 10^6 elements), after\n",
     "               a memory check; merged into results.json and report.md as a section of\n",
     "               its own\n",
-    "  --ironing    only the ironing example beside CalculiX: die forces, a picture, in\n",
-    "               <out>/ironing/\n",
+    "  --ironing    only the ironing example and the block die beside CalculiX: die\n",
+    "               forces, a picture, in <out>/ironing/ and <out>/ironing/block/\n",
     "  --pyamg      only PyAMG's smoothed aggregation beside our multilevel preconditioner on\n",
     "               the exported first model problem (block on block n = 20, 40; Hertz x2):\n",
     "               CG iterations of both; merged into results.json and report.md\n",

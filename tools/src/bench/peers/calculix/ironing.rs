@@ -1,10 +1,12 @@
-//! The ironing example (`run/examples/ironing.toml`: a rigid half-cylinder die pressed into
-//! a neo-Hookean slab, then dragged along it with Coulomb friction) run by the solver and
-//! by CalculiX (NLGEOM, node-to-surface penalty contact with friction, the deck from
-//! `scene`): the die's horizontal and vertical force against the slide distance for both
-//! codes in one picture, their means over steady sliding and the differences.
-//! `bench --ironing [--out DIR]` writes `<out>/ironing/`: `report.md`, `results.json`,
-//! `forces.png`, the deck and both codes' outputs.
+//! Ironing run by the solver and by CalculiX (NLGEOM, node-to-surface penalty contact with
+//! friction, the deck from `scene`): the ironing example (`run/examples/ironing.toml`: a
+//! rigid half-cylinder die pressed into a neo-Hookean slab, then dragged along it with
+//! Coulomb friction) and the block die with sharp edges pressed into a plane-strain slice
+//! of the slab (`run/scenes/sliding/ironing_block_shallow.toml`). For each, the die's
+//! horizontal and vertical force against the slide distance for both codes in one picture,
+//! their medians and means over steady sliding and the differences. `bench --ironing [--out
+//! DIR]` writes `<out>/ironing/` (the example) and `<out>/ironing/block/` (the block die):
+//! `report.md`, `results.json`, `forces.png`, the deck and both codes' outputs.
 
 use super::output::total_forces;
 use super::run::{version, Job, Outcome};
@@ -16,9 +18,34 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-pub const IRONING_SCENE: &str = "run/examples/ironing.toml";
-/// The die's node set: every node prescribed, its total reaction is the die force.
-pub const DIE_SET: &str = "die";
+/// One die dragged over a slab, run by both codes.
+pub struct Case {
+    /// Its directory under `<out>/ironing/` ("" for the example).
+    pub dir: &'static str,
+    pub scene: &'static str,
+    /// The die's node set: every node prescribed, its total reaction is the die force.
+    pub die_set: &'static str,
+    /// What the scene is, for the report.
+    pub about: &'static str,
+}
+
+/// The ironing example.
+pub const EXAMPLE: Case = Case {
+    dir: "",
+    scene: "run/examples/ironing.toml",
+    die_set: "die",
+    about: "a rigid half-cylinder die pressed 0.2 into a neo-Hookean slab, then dragged 3.0 along it, Coulomb mu = 0.3",
+};
+
+/// The block die with sharp edges. Its contact pressure (about 200 over the die's bottom of
+/// area 1) lets ccx's penalty take the die 1e-3 deeper into the slab, 1% of the 0.1 it is
+/// pressed in.
+pub const BLOCK: Case = Case {
+    dir: "block",
+    scene: "run/scenes/sliding/ironing_block_shallow.toml",
+    die_set: "die_top",
+    about: "a rigid block die with sharp edges pressed 0.1 into a plane-strain slice of a neo-Hookean slab (four slab elements under it), then dragged 3.0 along it, Coulomb mu = 0.3",
+};
 /// Slope of ccx's pressure-overclosure law: with contact pressures of about 250 the
 /// overclosure is about 1.2e-3, 0.6% of the 0.2 the die is pressed in (a penalty of 5e4
 /// gives a vertical force 0.9% lower, one of 1e6 does not converge).
@@ -31,6 +58,7 @@ pub const STEADY_FROM: f64 = 1.5;
 pub type Curve = Vec<(f64, Vec3)>;
 
 pub struct Ironing {
+    pub case: &'static Case,
     pub ours: Curve,
     pub ours_wall: f64,
     /// CalculiX's history and wall time, or why there is none.
@@ -81,28 +109,36 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
 }
 
 /// Runs both codes into `<out>/ironing/` and writes the report there.
-pub fn run(out: &Path) -> Result<Ironing, String> {
-    let dir = report_dir(out);
+pub fn run(out: &Path) -> Result<Vec<Ironing>, String> {
+    [&EXAMPLE, &BLOCK]
+        .into_iter()
+        .map(|case| run_case(case, out))
+        .collect()
+}
+
+fn run_case(case: &'static Case, out: &Path) -> Result<Ironing, String> {
+    let dir = report_dir(out).join(case.dir);
     std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let scene_path = repo_root().join(IRONING_SCENE);
+    let scene_path = repo_root().join(case.scene);
     let problem = load_scene_refined(&scene_path, 1).map_err(|e| e.to_string())?;
     let die = problem
-        .node_set(DIE_SET)
-        .ok_or_else(|| format!("{IRONING_SCENE} has no node set '{DIE_SET}'"))?
+        .node_set(case.die_set)
+        .ok_or_else(|| format!("{} has no node set '{}'", case.scene, case.die_set))?
         .nodes
         .clone();
-    let (ours, ours_wall) = ours(&scene_path, &dir, &die)?;
+    let (ours, ours_wall) = ours(case, &scene_path, &dir, &die)?;
     let ccx_version = version();
     let ccx = match &ccx_version {
         None => Err("CalculiX not available (no ccx on PATH; `run/setup --calculix`)".into()),
-        Some(_) => calculix(&problem, &dir),
+        Some(_) => calculix(case, &problem, &dir),
     };
     let ironing = Ironing {
+        case,
         ours,
         ours_wall,
         ccx,
         ccx_version,
-        slide: slide(&problem),
+        slide: slide(case, &problem),
     };
     plot(&ironing, &dir.join("forces.png"))?;
     let (md, json) = (markdown(&ironing), json(&ironing));
@@ -112,8 +148,8 @@ pub fn run(out: &Path) -> Result<Ironing, String> {
     Ok(ironing)
 }
 
-/// Our run of the example, and the die force at every step from its result file.
-fn ours(scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
+/// Our run of the scene, and the die force at every step from its result file.
+fn ours(case: &Case, scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
     let h5 = dir.join("ours.h5");
     let _ = std::fs::remove_file(&h5);
     let start = Instant::now();
@@ -127,7 +163,8 @@ fn ours(scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
     let wall = start.elapsed().as_secs_f64();
     if !o.status.success() {
         return Err(format!(
-            "the solver failed on {IRONING_SCENE}: {}",
+            "the solver failed on {}: {}",
+            case.scene,
             String::from_utf8_lossy(&o.stderr).trim()
         ));
     }
@@ -147,8 +184,8 @@ fn ours(scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
     Ok((curve, wall))
 }
 
-/// CalculiX on the deck of the example, the die's total reaction at every increment.
-fn calculix(problem: &Problem, dir: &Path) -> Result<(Curve, f64), String> {
+/// CalculiX on the deck of the scene, the die's total reaction at every increment.
+fn calculix(case: &Case, problem: &Problem, dir: &Path) -> Result<(Curve, f64), String> {
     let job = Job {
         dir: dir.join("calculix"),
         name: "ironing".into(),
@@ -156,7 +193,7 @@ fn calculix(problem: &Problem, dir: &Path) -> Result<(Curve, f64), String> {
         timeout_s: 600.0,
     };
     job.write_deck(&scene::deck(problem, IRONING_PENALTY)?)?;
-    let set = name("N_", DIE_SET);
+    let set = name("N_", case.die_set);
     match job.run_repeated(1, |o| Ok(total_forces(&o.dat, &set)))? {
         Outcome::Finished { timed, values } => Ok((values, timed.wall.median)),
         Outcome::Stopped(why) | Outcome::Failed(why) | Outcome::Skipped(why) => Err(why),
@@ -164,8 +201,11 @@ fn calculix(problem: &Problem, dir: &Path) -> Result<(Curve, f64), String> {
 }
 
 /// The die's prescribed x displacement at the breakpoints of its function.
-fn slide(problem: &Problem) -> Vec<(f64, f64)> {
-    let set = problem.node_sets.iter().position(|s| s.name == DIE_SET);
+fn slide(case: &Case, problem: &Problem) -> Vec<(f64, f64)> {
+    let set = problem
+        .node_sets
+        .iter()
+        .position(|s| s.name == case.die_set);
     problem
         .dirichlet
         .iter()
@@ -221,7 +261,7 @@ fn plot(ir: &Ironing, path: &Path) -> Result<(), String> {
     root.fill(&WHITE).map_err(|x| e(&x))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            "ironing: die force against slide distance",
+            format!("{}: die force against slide distance", title(ir.case)),
             ("sans-serif", 24),
         )
         .margin(15)
@@ -252,15 +292,25 @@ fn plot(ir: &Ironing, path: &Path) -> Result<(), String> {
     root.present().map_err(|x| e(&x))
 }
 
+fn title(case: &Case) -> &'static str {
+    if case.dir.is_empty() {
+        "Ironing"
+    } else {
+        "Ironing with the block die"
+    }
+}
+
 fn percent(ours: f64, peer: f64) -> f64 {
     100.0 * (ours - peer) / peer.abs()
 }
 
 fn markdown(ir: &Ironing) -> String {
-    let mut w = String::from("## Ironing: the solver beside CalculiX\n\n");
+    let mut w = format!("## {}: the solver beside CalculiX\n\n", title(ir.case));
     let _ = writeln!(
         w,
-        "`{IRONING_SCENE}` (a rigid half-cylinder die pressed 0.2 into a neo-Hookean slab, then dragged 3.0 along it, Coulomb mu = 0.3): the die's force over steady sliding (t > {STEADY_FROM}), median and mean. CalculiX {}: NLGEOM, NEO HOOKE with the same initial moduli, node-to-surface penalty contact (slope {IRONING_PENALTY:e}) with friction, the scene's increments (it cuts some). Picture: `forces.png`.\n",
+        "`{}` ({}): the die's force over steady sliding (t > {STEADY_FROM}), median and mean. CalculiX {}: NLGEOM, NEO HOOKE with the same initial moduli, node-to-surface penalty contact (slope {IRONING_PENALTY:e}) with friction, the scene's increments (it cuts some). Picture: `forces.png`.\n",
+        ir.case.scene,
+        ir.case.about,
         ir.ccx_version.as_deref().unwrap_or("(not run)")
     );
     let _ = writeln!(
@@ -286,6 +336,14 @@ fn markdown(ir: &Ironing) -> String {
                 let _ = writeln!(
                     w,
                     "\nDifference of the medians (ours - CalculiX) / CalculiX: F_x {:+.2}%, F_y {:+.2}%.",
+                    percent(a.0, b.0),
+                    percent(a.1, b.1)
+                );
+            }
+            if let (Some(a), Some(b)) = (steady_mean(&ir.ours), steady_mean(c)) {
+                let _ = writeln!(
+                    w,
+                    "Difference of the means: F_x {:+.2}%, F_y {:+.2}%.",
                     percent(a.0, b.0),
                     percent(a.1, b.1)
                 );
@@ -318,14 +376,19 @@ fn json(ir: &Ironing) -> String {
         }),
         Err(why) => serde_json::json!({"error": why}),
     };
-    let diff = match (&ir.ccx, steady(&ir.ours)) {
-        (Ok((c, _)), Some(a)) => steady(c).map(|b| {
-            serde_json::json!({"fx_median_percent": percent(a.0, b.0), "abs_fy_median_percent": percent(a.1, b.1)})
+    let diff = match (&ir.ccx, steady(&ir.ours), steady_mean(&ir.ours)) {
+        (Ok((c, _)), Some(a), Some(am)) => steady(c).zip(steady_mean(c)).map(|(b, bm)| {
+            serde_json::json!({
+                "fx_median_percent": percent(a.0, b.0),
+                "abs_fy_median_percent": percent(a.1, b.1),
+                "fx_mean_percent": percent(am.0, bm.0),
+                "abs_fy_mean_percent": percent(am.1, bm.1),
+            })
         }),
         _ => None,
     };
     let v = serde_json::json!({
-        "scene": IRONING_SCENE,
+        "scene": ir.case.scene,
         "steady_from": STEADY_FROM,
         "ours": {"wall_s": ir.ours_wall, "steady": steady_of(&ir.ours), "curve": curve(&ir.ours)},
         "calculix": ccx,
