@@ -466,7 +466,7 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
             "{} elements, {} nodes (counted from the divisions)",
             c.elements, c.nodes
         );
-        let fit = solver::memory::check_fit(c, r, ranks.is_some(), r, &available::bounds());
+        let fit = solver::memory::check_fit(c, r, ranks.is_some(), (r, true), &available::bounds());
         println!("{}", solver::preflight::fit_line(&fit));
         if on_mesh(size) {
             println!(
@@ -518,8 +518,13 @@ fn check_command(scene: &Path, refine: u32, ranks: Option<u32>, partition: Parti
     };
     if sized.is_none() || refused || recounted.is_some() {
         let size = recounted.unwrap_or_else(|| solver::preflight::loaded_size(&p));
-        let fit =
-            solver::memory::check_fit(&size.counts, r, ranks.is_some(), r, &available::bounds());
+        let fit = solver::memory::check_fit(
+            &size.counts,
+            r,
+            ranks.is_some(),
+            (r, true),
+            &available::bounds(),
+        );
         println!("{}", solver::preflight::fit_line(&fit));
         if let Some(why) = fit.refusal() {
             eprintln!("error: {why}");

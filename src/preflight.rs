@@ -16,20 +16,19 @@ fn host_name() -> String {
         .unwrap_or_default()
 }
 
-/// How many ranks of the run share this machine (the same host name): they share its
-/// memory.
-pub fn ranks_on_this_machine<C: Comm + ?Sized>(comm: &C) -> usize {
+/// How many ranks of the run share this machine (the same host name), and whether rank 0
+/// is one of them: they share its memory.
+pub fn ranks_on_this_machine<C: Comm + ?Sized>(comm: &C) -> (usize, bool) {
     if comm.size() == 1 {
-        return 1;
+        return (1, true);
     }
     let mut h = std::collections::hash_map::DefaultHasher::new();
     host_name().hash(&mut h);
     // 52 bits travel exactly as an f64.
     let mine = (h.finish() >> 12) as f64;
-    comm.all_gather_f64(&[mine])
-        .iter()
-        .filter(|v| v.first() == Some(&mine))
-        .count()
+    let all = comm.all_gather_f64(&[mine]);
+    let here = all.iter().filter(|v| v.first() == Some(&mine)).count();
+    (here, all[0].first() == Some(&mine))
 }
 
 /// The size of a loaded scene (`scene::counts::problem_size`) with, where the multilevel
@@ -131,7 +130,10 @@ fn held(p: &Problem) -> Vec<u8> {
 /// What the gate decided.
 pub enum Gate {
     /// Run: the fit (this rank's), and the refusal overridden by `--force`, if any.
-    Go { fit: Fit, forced: Option<String> },
+    Go {
+        fit: Box<Fit>,
+        forced: Option<String>,
+    },
     /// Do not run: the message (the same on every rank).
     Refuse(String),
 }
@@ -140,7 +142,13 @@ pub enum Gate {
 /// Collective: every rank takes the same branch.
 pub fn memory_gate<C: Comm + ?Sized>(comm: &C, size: &SceneSize, mpi: bool, force: bool) -> Gate {
     let here = ranks_on_this_machine(comm);
-    let fit = check_fit(&size.counts, comm.size(), mpi, here, &available::bounds());
+    let fit = Box::new(check_fit(
+        &size.counts,
+        comm.size(),
+        mpi,
+        here,
+        &available::bounds(),
+    ));
     let refused = comm::first_error(comm, fit.refusal());
     match refused {
         None => Gate::Go { fit, forced: None },

@@ -1,6 +1,7 @@
-//! Does a run fit the memory it may use? The estimate per rank against every bound: the
-//! machine's (MemAvailable, the cgroup's headroom) shared by the ranks on the machine, the
-//! address space limit per process.
+//! Does a run fit the memory it may use? The estimate against every bound: the machine's
+//! (MemAvailable, the cgroup's headroom) shared by the ranks on the machine (rank 0 at its
+//! peak with the whole mesh, the others without it), the address space limit per process
+//! (rank 0's peak).
 
 use super::available::Bound;
 use super::bytes::format_bytes as fb;
@@ -13,31 +14,38 @@ pub struct Fit {
     pub estimate: Estimate,
     /// Ranks of the run on this machine.
     pub ranks_here: usize,
+    /// Whether rank 0 is one of them.
+    pub root_here: bool,
     /// The bound the run exceeds (the first, tightest first), if any.
     pub exceeded: Option<Bound>,
 }
 
-/// What the ranks on this machine need against `b`.
-fn need(e: &Estimate, ranks_here: usize, b: &Bound) -> f64 {
+/// What the ranks on this machine (`here`: how many, and whether rank 0 is one) need
+/// against `b`.
+fn need(e: &Estimate, (ranks_here, root_here): (usize, bool), b: &Bound) -> f64 {
     if b.shared {
-        e.per_rank() * ranks_here as f64
+        e.on_machine(ranks_here, root_here)
     } else {
         e.per_rank()
     }
 }
 
-/// Compares the estimate for `ranks` ranks (under mpirun when `mpi`), `ranks_here` of
-/// them on this machine, with `bounds`.
-pub fn check_fit(c: &Counts, ranks: usize, mpi: bool, ranks_here: usize, bounds: &[Bound]) -> Fit {
+/// Compares the estimate for `ranks` ranks (under mpirun when `mpi`), `here.0` of them on
+/// this machine, rank 0 among them when `here.1`, with `bounds`.
+pub fn check_fit(
+    c: &Counts,
+    ranks: usize,
+    mpi: bool,
+    here: (usize, bool),
+    bounds: &[Bound],
+) -> Fit {
     let e = estimate_run(c, ranks, mpi);
-    let exceeded = bounds
-        .iter()
-        .find(|b| need(&e, ranks_here, b) > b.bytes)
-        .cloned();
+    let exceeded = bounds.iter().find(|b| need(&e, here, b) > b.bytes).cloned();
     Fit {
         counts: *c,
         estimate: e,
-        ranks_here,
+        ranks_here: here.0,
+        root_here: here.1,
         exceeded,
     }
 }
@@ -52,7 +60,7 @@ impl Fit {
     pub fn refusal(&self) -> Option<String> {
         let b = self.exceeded.as_ref()?;
         let (c, e) = (&self.counts, &self.estimate);
-        let here = need(e, self.ranks_here, b);
+        let here = need(e, (self.ranks_here, self.root_here), b);
         let machine = if b.shared && self.ranks_here > 1 {
             format!(" ({} on this machine)", fb(here))
         } else {
@@ -143,8 +151,8 @@ mod tests {
             ..Counts::default()
         };
         let one = estimate(&c, 1).per_rank();
-        assert!(check_fit(&c, 1, true, 1, &[bound(one * 1.01, true)]).fits());
-        let f = check_fit(&c, 1, true, 1, &[bound(one * 0.99, true)]);
+        assert!(check_fit(&c, 1, true, (1, true), &[bound(one * 1.01, true)]).fits());
+        let f = check_fit(&c, 1, true, (1, true), &[bound(one * 0.99, true)]);
         assert!(!f.fits());
         let m = ranks_to_fit(&c, one * 0.99).unwrap();
         assert!(m >= 2);
@@ -157,8 +165,37 @@ mod tests {
         );
         assert!(text.contains("1000000 elements"), "{text}");
         // Two ranks on one machine share it; a per-process limit is not shared.
-        let two = estimate(&c, 2).per_rank();
-        assert!(!check_fit(&c, 2, true, 2, &[bound(two * 1.5, true)]).fits());
-        assert!(check_fit(&c, 2, true, 2, &[bound(two * 1.5, false)]).fits());
+        let e = estimate(&c, 2);
+        let two = e.per_rank();
+        let both = two + (two - e.whole_mesh);
+        assert!(!check_fit(&c, 2, true, (2, true), &[bound(both * 0.99, true)]).fits());
+        assert!(check_fit(&c, 2, true, (2, true), &[bound(both * 1.01, true)]).fits());
+        assert!(check_fit(&c, 2, true, (2, true), &[bound(two * 1.01, false)]).fits());
+    }
+
+    /// Rank 0 alone holds the whole mesh: a machine's ranks need rank 0's peak once (when
+    /// rank 0 is there) and the rest without the whole mesh.
+    #[test]
+    fn a_machine_counts_the_whole_mesh_once() {
+        let c = Counts {
+            elements: 1_000_000,
+            nodes: 1_000_000,
+            multilevel: true,
+            ..Counts::default()
+        };
+        let e = estimate(&c, 16);
+        assert!(e.whole_mesh > 0.0);
+        let rest = e.fixed + e.share + e.coarse;
+        assert_eq!(e.other_rank(), rest);
+        assert_eq!(e.on_machine(8, true), e.per_rank() + 7.0 * rest);
+        assert_eq!(e.on_machine(8, false), 8.0 * rest);
+        assert_eq!(e.total(), e.per_rank() + 15.0 * rest);
+        assert_eq!(estimate(&c, 1).total(), estimate(&c, 1).per_rank());
+        // The check: 8 ranks with rank 0 fit where 8 times rank 0's peak would not.
+        let b = [bound(e.on_machine(8, true) * 1.01, true)];
+        assert!(check_fit(&c, 16, true, (8, true), &b).fits());
+        assert!(e.per_rank() * 8.0 > b[0].bytes);
+        let b = [bound(e.on_machine(8, false) * 0.99, true)];
+        assert!(!check_fit(&c, 16, true, (8, false), &b).fits());
     }
 }
