@@ -142,6 +142,9 @@ pub struct ContactState {
     /// (slave node, pair) released during the current step: not pulled back in by the
     /// capture tolerance until the next step (a penetrating node is still pushed out).
     pub(super) released: Vec<(u32, usize)>,
+    /// (slave node, pair) released by the present contact update (ascending): a mortar
+    /// pair does not capture them again in that update.
+    pub(super) let_go: Vec<(u32, usize)>,
     /// The ties of the active constraints of mortar pairs, ordered by (slave node, pair),
     /// frozen between contact updates.
     pub(super) ties: Vec<(usize, Tie)>,

@@ -225,6 +225,7 @@ impl ContactState {
         .then_some(ContactState {
             active,
             released,
+            let_go: Vec::new(),
             ties,
             tangent: false,
             onset: false,

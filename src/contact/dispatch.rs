@@ -24,6 +24,7 @@ impl Enforcement for ContactState {
     /// the point a node that turns out not to slip in this step sticks to.
     fn begin_step(&mut self) {
         self.released.clear();
+        self.let_go.clear();
         self.newton_turns.clear();
         self.newton_off.clear();
         self.steady = false;
@@ -328,7 +329,8 @@ impl Enforcement for ContactState {
         tied.extend(held_by_partner(self, problem));
         tied.extend(self_contact::held_masters(self, problem));
         tied.sort_unstable();
-        audit::audit(comm, problem, mesh, u, &tied)
+        let findings = audit::audit(comm, problem, mesh, u, &tied);
+        super::mortar::enforce::open_weighted_gaps(comm, problem, mesh, u, findings)
     }
 
     fn recapture<C: Comm + ?Sized>(

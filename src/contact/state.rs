@@ -165,9 +165,11 @@ impl ContactState {
     pub(super) fn release_tensile(&mut self, problem: &Problem, force_tol: f64) -> bool {
         let mut changed = false;
         let mut kept = Vec::with_capacity(self.active.len());
+        self.let_go.clear();
         for mut a in self.active.drain(..) {
             changed |= let_go_of_fold(&mut a, force_tol);
             if tensile(&a, problem.contacts[a.pair].mu, force_tol) {
+                self.let_go.push((a.slave, a.pair));
                 if !self.released.contains(&(a.slave, a.pair)) {
                     self.released.push((a.slave, a.pair));
                 }
@@ -177,6 +179,7 @@ impl ContactState {
             }
         }
         self.active = kept;
+        self.let_go.sort_unstable();
         self.prune_ties();
         changed
     }

@@ -114,7 +114,7 @@ pub fn ties(
                 for i in 0..3 {
                     s.normal[i] += o.n[a] * m.normal[i];
                 }
-                if o.d[a] > s.best.0 {
+                if outweighs((o.d[a], fm as u32), s.best) {
                     s.best = (o.d[a], fm as u32);
                 }
                 for k in 0..4 {
@@ -127,6 +127,21 @@ pub fn ties(
         .filter_map(|(j, s)| tie(j, s, &position))
         .collect()
 }
+
+/// Whether the overlap `(integral, face)` names the node's face rather than `best`: a larger
+/// integral, or one equal to `SAME_SHARE` (a node on the edge between two faces of its
+/// support, as on the mid-plane of a symmetric slice) and a lower face index, so that the
+/// face named does not turn with the solution's error from one contact update to the
+/// next.
+fn outweighs((d, face): (f64, u32), (best, best_face): (f64, u32)) -> bool {
+    d > best + SAME_SHARE * best.abs() || (d >= best - SAME_SHARE * best.abs() && face < best_face)
+}
+
+/// Two faces' shares of a node's support that differ by less than this fraction are
+/// equal: the positions they are computed at carry the model problem's error (a node
+/// on the edge of two faces of a symmetric slice comes out off the edge by 1e-9 of a
+/// face, and the shares differ by about 1e-8).
+const SAME_SHARE: f64 = 1e-6;
 
 fn tie(slave: u32, s: Sums, position: &impl Fn(u32) -> Vec3) -> Option<Tie> {
     let l = norm(&s.normal);
@@ -254,5 +269,72 @@ impl crate::comm::message::Message for Tie {
             offset: r.reals()?,
             masters: r.get()?,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two master faces side by side (x in [0, 1] and [1, 2], normal +z) under two slave
+    /// faces whose shared nodes 12 and 13 lie on the masters' shared edge x = 1, shifted
+    /// along x by `dx`.
+    fn edge_ties(dx: f64) -> Vec<Tie> {
+        let q = |x: [[f64; 2]; 4], z: f64| x.map(|p| [p[0], p[1], z]);
+        let master = [
+            Face::new(
+                [0, 1, 2, 3],
+                q([[0., 0.], [1., 0.], [1., 1.], [0., 1.]], 0.0),
+                None,
+            ),
+            Face::new(
+                [1, 4, 5, 2],
+                q([[1., 0.], [2., 0.], [2., 1.], [1., 1.]], 0.0),
+                None,
+            ),
+        ];
+        let s = |x: f64| x + dx;
+        let slave = [
+            Face::new(
+                [10, 11, 12, 13],
+                q([[s(0.5), 0.], [s(0.5), 1.], [s(1.), 1.], [s(1.), 0.]], 1e-3),
+                None,
+            ),
+            Face::new(
+                [13, 12, 14, 15],
+                q([[s(1.), 0.], [s(1.), 1.], [s(1.5), 1.], [s(1.5), 0.]], 1e-3),
+                None,
+            ),
+        ];
+        let at = |g: u32| {
+            let f = slave.iter().chain(&master).find(|f| f.nodes.contains(&g));
+            let f = f.expect("a node of the faces");
+            f.x[f.nodes.iter().position(|&n| n == g).expect("its corner")]
+        };
+        ties(&slave, &master, &[12, 13], 0.01, at)
+    }
+
+    #[test]
+    fn a_node_on_the_edge_of_two_faces_names_the_same_face_on_either_side_of_it() {
+        // Off the edge by 1e-9 of a face either way (the model problem's error), the
+        // shares of the two masters differ by about that much: the lower face is named
+        // both times. By 1e-3, the face the node stands over.
+        for dx in [-1e-9, 0.0, 1e-9] {
+            let t = edge_ties(dx);
+            assert_eq!(t.len(), 2);
+            assert!(t.iter().all(|t| t.face == 0), "dx = {dx}: {t:?}");
+        }
+        assert!(edge_ties(1e-3).iter().all(|t| t.face == 1));
+        assert!(edge_ties(-1e-3).iter().all(|t| t.face == 0));
+    }
+
+    #[test]
+    fn a_share_outweighs_another_beyond_the_solutions_error() {
+        assert!(outweighs((1.1, 1), (1.0, 0)));
+        assert!(!outweighs((1.0 + 1e-9, 1), (1.0, 0)));
+        assert!(outweighs((1.0 - 1e-9, 0), (1.0, 1)));
+        assert!(!outweighs((0.9, 0), (1.0, 1)));
+        // The first overlap against the empty start.
+        assert!(outweighs((0.5, 3), (0.0, 0)));
     }
 }
