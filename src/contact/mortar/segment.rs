@@ -195,6 +195,7 @@ mod tests {
         assert!(integrate(&s, &quad(2.0, 0.0, 1.0, 0.0, true), 0.1).is_none());
         assert!(integrate(&s, &quad(0.0, 0.0, 1.0, -0.05, true), 0.1).is_some());
     }
+
     /// A master face 3 wide through the slave face's centre (0.5, 0.5, 0), turned about
     /// the y axis by `deg` from facing it (outward normal up): up to 70 degrees its
     /// projection covers the unit slave face.

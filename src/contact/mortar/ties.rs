@@ -129,10 +129,10 @@ pub fn ties(
 }
 
 /// Whether the overlap `(integral, face)` names the node's face rather than `best`: a larger
-/// integral, or one equal to `SAME_SHARE` (a node on the edge between two faces of its
-/// support, as on the mid-plane of a symmetric slice) and a lower face index, so that the
-/// face named does not turn with the solution's error from one contact update to the
-/// next.
+/// integral, or one equal to it within `SAME_SHARE` (a node on the edge between two faces
+/// of its support, as on the mid-plane of a symmetric slice) and a lower face index, so
+/// that the face named does not turn with the solution's error from one contact update to
+/// the next.
 fn outweighs((d, face): (f64, u32), (best, best_face): (f64, u32)) -> bool {
     d > best + SAME_SHARE * best.abs() || (d >= best - SAME_SHARE * best.abs() && face < best_face)
 }
