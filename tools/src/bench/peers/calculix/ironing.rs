@@ -18,6 +18,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// One of our other discretisations of a case: (label, scene, its die force history and
+/// wall time, or why there is none).
+pub type Variant = (&'static str, &'static str, Result<(Curve, f64), String>);
+
 /// One die dragged over a slab, run by both codes.
 pub struct Case {
     /// Its directory under `<out>/ironing/` ("" for the example).
@@ -27,6 +31,9 @@ pub struct Case {
     pub die_set: &'static str,
     /// What the scene is, for the report.
     pub about: &'static str,
+    /// Our runs of the same problem otherwise discretised (a row each beside ours):
+    /// (label, scene).
+    pub variants: &'static [(&'static str, &'static str)],
 }
 
 /// The ironing example.
@@ -35,6 +42,7 @@ pub const EXAMPLE: Case = Case {
     scene: "run/examples/ironing.toml",
     die_set: "die",
     about: "a rigid half-cylinder die pressed 0.2 into a neo-Hookean slab, then dragged 3.0 along it, Coulomb mu = 0.3",
+    variants: &[],
 };
 
 /// The block die with sharp edges. Its contact pressure (about 200 over the die's bottom of
@@ -45,6 +53,10 @@ pub const BLOCK: Case = Case {
     scene: "run/scenes/sliding/ironing_block_shallow.toml",
     die_set: "die_top",
     about: "a rigid block die with sharp edges pressed 0.1 into a plane-strain slice of a neo-Hookean slab (four slab elements under it), then dragged 3.0 along it, Coulomb mu = 0.3",
+    variants: &[(
+        "ours, mortar",
+        "run/scenes/sliding/ironing_block_shallow_mortar.toml",
+    )],
 };
 /// Slope of ccx's pressure-overclosure law: with contact pressures of about 250 the
 /// overclosure is about 1.2e-3, 0.6% of the 0.2 the die is pressed in (a penalty of 5e4
@@ -61,6 +73,8 @@ pub struct Ironing {
     pub case: &'static Case,
     pub ours: Curve,
     pub ours_wall: f64,
+    /// `Case::variants` run: (label, scene, history and wall time or why there is none).
+    pub variants: Vec<Variant>,
     /// CalculiX's history and wall time, or why there is none.
     pub ccx: Result<(Curve, f64), String>,
     pub ccx_version: Option<String>,
@@ -126,7 +140,20 @@ fn run_case(case: &'static Case, out: &Path) -> Result<Ironing, String> {
         .ok_or_else(|| format!("{} has no node set '{}'", case.scene, case.die_set))?
         .nodes
         .clone();
-    let (ours, ours_wall) = ours(case, &scene_path, &dir, &die)?;
+    let (ours, ours_wall) = run_ours(case.scene, &scene_path, &dir.join("ours.h5"), &die)?;
+    let variants = case
+        .variants
+        .iter()
+        .enumerate()
+        .map(|(k, &(label, scene))| {
+            let h5 = dir.join(format!("ours_variant{k}.h5"));
+            (
+                label,
+                scene,
+                run_ours(scene, &repo_root().join(scene), &h5, &die),
+            )
+        })
+        .collect();
     let ccx_version = version();
     let ccx = match &ccx_version {
         None => Err("CalculiX not available (no ccx on PATH; `run/setup --calculix`)".into()),
@@ -136,6 +163,7 @@ fn run_case(case: &'static Case, out: &Path) -> Result<Ironing, String> {
         case,
         ours,
         ours_wall,
+        variants,
         ccx,
         ccx_version,
         slide: slide(case, &problem),
@@ -148,27 +176,27 @@ fn run_case(case: &'static Case, out: &Path) -> Result<Ironing, String> {
     Ok(ironing)
 }
 
-/// Our run of the scene, and the die force at every step from its result file.
-fn ours(case: &Case, scene: &Path, dir: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
-    let h5 = dir.join("ours.h5");
-    let _ = std::fs::remove_file(&h5);
+/// Our run of the scene (`name` in messages) into `h5`, and the die force at every step
+/// from its result file.
+fn run_ours(name: &str, scene: &Path, h5: &Path, die: &[u32]) -> Result<(Curve, f64), String> {
+    let _ = std::fs::remove_file(h5);
     let start = Instant::now();
     let o = std::process::Command::new(solver_exe()?)
         .args(["-q", "run"])
         .arg(scene)
         .arg("-o")
-        .arg(&h5)
+        .arg(h5)
         .output()
         .map_err(|e| format!("cannot start the solver: {e}"))?;
     let wall = start.elapsed().as_secs_f64();
     if !o.status.success() {
         return Err(format!(
             "the solver failed on {}: {}",
-            case.scene,
+            name,
             String::from_utf8_lossy(&o.stderr).trim()
         ));
     }
-    let f = ResultFile::open(&h5).map_err(|e| e.to_string())?;
+    let f = ResultFile::open(h5).map_err(|e| e.to_string())?;
     let times = f.time().map_err(|e| e.to_string())?;
     let mut curve = Vec::new();
     for (k, &t) in times.iter().enumerate() {
@@ -233,6 +261,9 @@ fn slide_at(slide: &[(f64, f64)], t: f64) -> f64 {
     slide.last().map_or(0.0, |s| s.1)
 }
 
+/// A curve of the picture: its label, points and colour.
+type Line = (String, Vec<(f64, f64)>, RGBColor);
+
 fn plot(ir: &Ironing, path: &Path) -> Result<(), String> {
     let series = |c: &Curve, i: usize| -> Vec<(f64, f64)> {
         c.iter()
@@ -240,13 +271,23 @@ fn plot(ir: &Ironing, path: &Path) -> Result<(), String> {
             .map(|(t, f)| (slide_at(&ir.slide, *t), if i == 0 { f[0] } else { -f[1] }))
             .collect()
     };
-    let mut lines = vec![
-        ("ours: F_x", series(&ir.ours, 0), RED),
-        ("ours: -F_y", series(&ir.ours, 1), BLUE),
+    let mut lines: Vec<Line> = vec![
+        ("ours: F_x".into(), series(&ir.ours, 0), RED),
+        ("ours: -F_y".into(), series(&ir.ours, 1), BLUE),
     ];
     if let Ok((c, _)) = &ir.ccx {
-        lines.push(("CalculiX: F_x", series(c, 0), RGBColor(240, 150, 0)));
-        lines.push(("CalculiX: -F_y", series(c, 1), RGBColor(0, 160, 200)));
+        lines.push(("CalculiX: F_x".into(), series(c, 0), RGBColor(240, 150, 0)));
+        lines.push(("CalculiX: -F_y".into(), series(c, 1), RGBColor(0, 160, 200)));
+    }
+    for (label, _, run) in &ir.variants {
+        if let Ok((c, _)) = run {
+            lines.push((format!("{label}: F_x"), series(c, 0), RGBColor(0, 150, 0)));
+            lines.push((
+                format!("{label}: -F_y"),
+                series(c, 1),
+                RGBColor(200, 0, 200),
+            ));
+        }
     }
     let xmax = lines
         .iter()
@@ -329,31 +370,57 @@ fn markdown(ir: &Ironing) -> String {
         }
     };
     row(&mut w, "ours", &ir.ours, ir.ours_wall);
+    for (label, _, run) in &ir.variants {
+        if let Ok((c, wall)) = run {
+            row(&mut w, label, c, *wall);
+        }
+    }
     match &ir.ccx {
         Ok((c, wall)) => {
             row(&mut w, "CalculiX", c, *wall);
-            if let (Some(a), Some(b)) = (steady(&ir.ours), steady(c)) {
-                let _ = writeln!(
-                    w,
-                    "\nDifference of the medians (ours - CalculiX) / CalculiX: F_x {:+.2}%, F_y {:+.2}%.",
-                    percent(a.0, b.0),
-                    percent(a.1, b.1)
-                );
-            }
-            if let (Some(a), Some(b)) = (steady_mean(&ir.ours), steady_mean(c)) {
-                let _ = writeln!(
-                    w,
-                    "Difference of the means: F_x {:+.2}%, F_y {:+.2}%.",
-                    percent(a.0, b.0),
-                    percent(a.1, b.1)
-                );
+            let _ = writeln!(w);
+            differences(&mut w, "ours", &ir.ours, c);
+            for (label, _, run) in &ir.variants {
+                if let Ok((v, _)) = run {
+                    differences(&mut w, label, v, c);
+                }
             }
         }
         Err(why) => {
             let _ = writeln!(w, "\nCalculiX: {why}");
         }
     }
+    for (label, scene, run) in &ir.variants {
+        match run {
+            Ok(_) => {
+                let _ = writeln!(w, "`{label}`: `{scene}`.");
+            }
+            Err(why) => {
+                let _ = writeln!(w, "`{label}` (`{scene}`): {why}");
+            }
+        }
+    }
     w
+}
+
+/// The differences (`label` - CalculiX) / CalculiX of the medians and of the means.
+fn differences(w: &mut String, label: &str, ours: &Curve, ccx: &Curve) {
+    if let (Some(a), Some(b)) = (steady(ours), steady(ccx)) {
+        let _ = writeln!(
+            w,
+            "Difference of the medians ({label} - CalculiX) / CalculiX: F_x {:+.2}%, F_y {:+.2}%.",
+            percent(a.0, b.0),
+            percent(a.1, b.1)
+        );
+    }
+    if let (Some(a), Some(b)) = (steady_mean(ours), steady_mean(ccx)) {
+        let _ = writeln!(
+            w,
+            "Difference of the means ({label} - CalculiX) / CalculiX: F_x {:+.2}%, F_y {:+.2}%.\n",
+            percent(a.0, b.0),
+            percent(a.1, b.1)
+        );
+    }
 }
 
 fn json(ir: &Ironing) -> String {
@@ -376,7 +443,7 @@ fn json(ir: &Ironing) -> String {
         }),
         Err(why) => serde_json::json!({"error": why}),
     };
-    let diff = match (&ir.ccx, steady(&ir.ours), steady_mean(&ir.ours)) {
+    let diff = |ours: &Curve| match (&ir.ccx, steady(ours), steady_mean(ours)) {
         (Ok((c, _)), Some(a), Some(am)) => steady(c).zip(steady_mean(c)).map(|(b, bm)| {
             serde_json::json!({
                 "fx_median_percent": percent(a.0, b.0),
@@ -387,12 +454,28 @@ fn json(ir: &Ironing) -> String {
         }),
         _ => None,
     };
+    let variants: Vec<serde_json::Value> = ir
+        .variants
+        .iter()
+        .map(|(label, scene, run)| match run {
+            Ok((c, wall)) => serde_json::json!({
+                "label": label,
+                "scene": scene,
+                "wall_s": wall,
+                "steady": steady_of(c),
+                "curve": curve(c),
+                "difference": diff(c),
+            }),
+            Err(why) => serde_json::json!({"label": label, "scene": scene, "error": why}),
+        })
+        .collect();
     let v = serde_json::json!({
         "scene": ir.case.scene,
         "steady_from": STEADY_FROM,
         "ours": {"wall_s": ir.ours_wall, "steady": steady_of(&ir.ours), "curve": curve(&ir.ours)},
         "calculix": ccx,
-        "difference": diff,
+        "difference": diff(&ir.ours),
+        "variants": variants,
     });
     serde_json::to_string_pretty(&v).unwrap_or_default()
 }
